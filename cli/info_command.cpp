@@ -1,0 +1,34 @@
+#include <iostream>
+
+#include "cli/commands.h"
+#include "frep/registry_docs.h"
+
+namespace frep::cli {
+
+int infoCommand(const Args& args) {
+  std::string type;
+  bool json = false, markdown = false;
+  for (const auto& a : args) {
+    if (a == "--json") json = true;
+    else if (a == "--markdown") markdown = true;
+    else if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + a + "' for info");
+    else type = a;
+  }
+  if (markdown) {
+    std::cout << registryMarkdown();
+    return 0;
+  }
+  if (!type.empty()) {
+    const NodeType& t = registry().get(type);  // ModelError lists the known types
+    std::cout << (json ? nodeTypeJson(t) : nodeTypeText(t));
+    return 0;
+  }
+  if (json) {
+    std::cout << registryJson();
+    return 0;
+  }
+  for (const NodeType* t : registry().all()) std::cout << nodeTypeText(*t) << "\n";
+  return 0;
+}
+
+}  // namespace frep::cli

@@ -1,0 +1,207 @@
+// The only translation unit that includes CGAL (slow to compile: keep it alone).
+#include "check/mesh_check.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <algorithm>
+#include <atomic>
+#include <boost/iterator/function_output_iterator.hpp>
+#include <cmath>
+#include <numeric>
+#include <tuple>
+
+namespace frep {
+
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using SurfaceMesh = CGAL::Surface_mesh<Point>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+struct UnionFind {
+  std::vector<std::uint32_t> parent;
+  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  std::uint32_t find(std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void join(std::uint32_t a, std::uint32_t b) { parent[find(a)] = find(b); }
+};
+
+std::string count(std::size_t n, const char* what) { return std::to_string(n) + " " + what; }
+
+// Welds vertices with identical coordinates; returns old -> new index.
+std::vector<std::uint32_t> weld(const std::vector<Vec3f>& pos, std::vector<Vec3f>& welded) {
+  std::vector<std::uint32_t> order(pos.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return pos[a] < pos[b] || (pos[a] == pos[b] && a < b);
+  });
+  std::vector<std::uint32_t> map(pos.size());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    if (i == 0 || !(pos[order[i]] == pos[order[i - 1]])) welded.push_back(pos[order[i]]);
+    map[order[i]] = static_cast<std::uint32_t>(welded.size() - 1);
+  }
+  return map;
+}
+
+}  // namespace
+
+CheckReport checkMesh(const TriangleMesh& mesh) {
+  CheckReport r;
+  r.inputVertices = mesh.positions.size();
+  r.faces = mesh.triangles.size();
+  for (const Vec3f& p : mesh.positions)
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) ++r.nonFiniteVertices;
+  if (r.faces == 0) r.reasons.push_back("empty: the mesh has no triangles");
+  if (r.nonFiniteVertices) {
+    r.reasons.push_back(count(r.nonFiniteVertices, "vertices with non-finite coordinates"));
+    return r;
+  }
+  for (const Triangle& t : mesh.triangles)
+    for (std::uint32_t v : t)
+      if (v >= mesh.positions.size()) {
+        r.reasons.push_back("a triangle refers to a vertex that does not exist");
+        return r;
+      }
+
+  std::vector<Vec3f> pos;
+  const std::vector<std::uint32_t> map = weld(mesh.positions, pos);
+  r.vertices = pos.size();
+  std::vector<Point> points;
+  points.reserve(pos.size());
+  for (const Vec3f& p : pos) points.emplace_back(p[0], p[1], p[2]);
+
+  // Faces, degenerate ones, volume, area, bounding box.
+  std::vector<std::array<std::size_t, 3>> faces;  // faces with three distinct vertices
+  faces.reserve(mesh.triangles.size());
+  for (const Triangle& t : mesh.triangles) {
+    const std::uint32_t a = map[t[0]], b = map[t[1]], c = map[t[2]];
+    if (a == b || b == c || a == c) {
+      ++r.degenerateFaces;
+      continue;
+    }
+    if (CGAL::collinear(points[a], points[b], points[c])) ++r.degenerateFaces;
+    faces.push_back({a, b, c});
+    const Vec3f &p = pos[a], &q = pos[b], &s = pos[c];
+    const double u[3] = {double(q[0]) - p[0], double(q[1]) - p[1], double(q[2]) - p[2]};
+    const double v[3] = {double(s[0]) - p[0], double(s[1]) - p[1], double(s[2]) - p[2]};
+    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                         u[0] * v[1] - u[1] * v[0]};
+    r.area += 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    r.volume += (double(p[0]) * (double(q[1]) * s[2] - double(q[2]) * s[1]) -
+                 double(p[1]) * (double(q[0]) * s[2] - double(q[2]) * s[0]) +
+                 double(p[2]) * (double(q[0]) * s[1] - double(q[1]) * s[0])) / 6.0;
+  }
+  if (!pos.empty()) {
+    r.bbox.lo = {pos[0][0], pos[0][1], pos[0][2]};
+    r.bbox.hi = r.bbox.lo;
+    for (const Vec3f& p : pos)
+      for (int a = 0; a < 3; ++a) {
+        r.bbox.lo[a] = std::min(r.bbox.lo[a], double(p[a]));
+        r.bbox.hi[a] = std::max(r.bbox.hi[a], double(p[a]));
+      }
+  }
+
+  // Edges: border, non-manifold, orientation consistency.
+  std::vector<std::tuple<std::uint32_t, std::uint32_t, bool>> edges;
+  edges.reserve(faces.size() * 3);
+  for (const auto& f : faces)
+    for (int i = 0; i < 3; ++i) {
+      const auto a = static_cast<std::uint32_t>(f[i]), b = static_cast<std::uint32_t>(f[(i + 1) % 3]);
+      edges.emplace_back(std::min(a, b), std::max(a, b), a < b);
+    }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i, forward = 0;
+    while (j < edges.size() && std::get<0>(edges[j]) == std::get<0>(edges[i]) &&
+           std::get<1>(edges[j]) == std::get<1>(edges[i]))
+      forward += std::get<2>(edges[j++]);
+    const std::size_t n = j - i;
+    if (n == 1) ++r.borderEdges;
+    if (n > 2) ++r.nonManifoldEdges;
+    if (n == 2 && forward != 1) ++r.misorientedEdges;
+    i = j;
+  }
+  r.closed = r.borderEdges == 0 && !faces.empty();
+
+  // Non-manifold vertices: the triangles around a vertex must form a single fan.
+  std::vector<std::uint32_t> start(pos.size() + 1, 0), incident(faces.size() * 3);
+  for (const auto& f : faces)
+    for (std::size_t v : f) ++start[v + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t fi = 0; fi < faces.size(); ++fi)
+      for (std::size_t v : faces[fi]) incident[fill[v]++] = static_cast<std::uint32_t>(fi);
+  }
+  for (std::size_t v = 0; v < pos.size(); ++v) {
+    const std::uint32_t b = start[v], e = start[v + 1];
+    if (e - b < 2) continue;
+    UnionFind fans(e - b);
+    std::vector<std::pair<std::size_t, std::uint32_t>> neighbours;  // other vertex, local face
+    for (std::uint32_t k = b; k < e; ++k)
+      for (std::size_t w : faces[incident[k]])
+        if (w != v) neighbours.emplace_back(w, k - b);
+    std::sort(neighbours.begin(), neighbours.end());
+    for (std::size_t i = 1; i < neighbours.size(); ++i)
+      if (neighbours[i].first == neighbours[i - 1].first)
+        fans.join(neighbours[i].second, neighbours[i - 1].second);
+    std::size_t roots = 0;
+    for (std::uint32_t k = 0; k < e - b; ++k) roots += fans.find(k) == k;
+    if (roots > 1) ++r.nonManifoldVertices;
+  }
+
+  // Connected components (through shared edges and vertices).
+  UnionFind parts(pos.size());
+  for (const auto& f : faces) {
+    parts.join(static_cast<std::uint32_t>(f[0]), static_cast<std::uint32_t>(f[1]));
+    parts.join(static_cast<std::uint32_t>(f[0]), static_cast<std::uint32_t>(f[2]));
+  }
+  for (std::uint32_t v = 0; v < pos.size(); ++v)
+    if (start[v + 1] > start[v] && parts.find(v) == v) ++r.components;
+
+  // CGAL: self-intersections and orientation. A soup that is not a valid polygon mesh is
+  // first made one by CGAL's orient_polygon_soup (which splits non-manifold vertices).
+  if (!faces.empty()) {
+    std::vector<Point> soupPoints = points;
+    std::vector<std::array<std::size_t, 3>> soup = faces;
+    const bool isMesh = PMP::is_polygon_soup_a_polygon_mesh(soup);
+    if (!isMesh) PMP::orient_polygon_soup(soupPoints, soup);
+    SurfaceMesh sm;
+    PMP::polygon_soup_to_polygon_mesh(soupPoints, soup, sm);
+    std::atomic<std::size_t> pairs{0};
+    PMP::self_intersections<CGAL::Parallel_if_available_tag>(
+        sm, boost::make_function_output_iterator([&](const auto&) { ++pairs; }));
+    r.selfIntersections = pairs;
+    const bool manifold = isMesh && r.nonManifoldEdges == 0 && r.nonManifoldVertices == 0 &&
+                          r.misorientedEdges == 0;
+    if (r.closed && manifold && r.selfIntersections == 0)
+      r.outward = PMP::does_bound_a_volume(sm) && r.volume > 0;
+  }
+
+  if (r.borderEdges)
+    r.reasons.push_back(count(r.borderEdges, "border edges: the mesh is not closed (holes)"));
+  if (r.nonManifoldEdges)
+    r.reasons.push_back(count(r.nonManifoldEdges, "non-manifold edges (shared by more than two triangles)"));
+  if (r.nonManifoldVertices)
+    r.reasons.push_back(count(r.nonManifoldVertices, "non-manifold vertices (triangles touching at a point)"));
+  if (r.misorientedEdges)
+    r.reasons.push_back(count(r.misorientedEdges, "edges where neighbouring triangles disagree on orientation"));
+  if (r.degenerateFaces)
+    r.reasons.push_back(count(r.degenerateFaces, "degenerate triangles (repeated or collinear vertices)"));
+  if (r.selfIntersections)
+    r.reasons.push_back(count(r.selfIntersections, "pairs of self-intersecting triangles"));
+  if (!r.outward && r.closed && r.nonManifoldEdges == 0 && r.misorientedEdges == 0 &&
+      r.selfIntersections == 0 && r.nonManifoldVertices == 0)
+    r.reasons.push_back("not outward-oriented: the triangles face into the solid");
+  return r;
+}
+
+}  // namespace frep

@@ -1,0 +1,42 @@
+// Printability check of a triangle mesh. CGAL's Polygon Mesh Processing is the judge of
+// self-intersections and orientation; the counts below are computed on the mesh with
+// identical coordinates welded (STL has no indices, so a mesh that only looks closed through
+// near-duplicate vertices fails).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "frep/vec.h"
+#include "mesh/triangle_mesh.h"
+
+namespace frep {
+
+struct CheckReport {
+  std::size_t inputVertices = 0;
+  std::size_t vertices = 0;  // after welding identical coordinates
+  std::size_t faces = 0;
+  std::size_t borderEdges = 0;          // edges with one triangle: holes
+  std::size_t nonManifoldEdges = 0;     // edges with more than two triangles
+  std::size_t nonManifoldVertices = 0;  // vertices whose triangles form more than one fan
+  std::size_t misorientedEdges = 0;     // edges whose two triangles run the same way
+  std::size_t degenerateFaces = 0;      // repeated or collinear vertices
+  std::size_t selfIntersections = 0;    // pairs of intersecting triangles
+  std::size_t components = 0;
+  std::size_t nonFiniteVertices = 0;
+  bool closed = false;
+  bool outward = false;  // bounds a volume with normals pointing out (CGAL does_bound_a_volume)
+  double volume = 0.0;   // signed
+  double area = 0.0;
+  Box3 bbox;
+  std::vector<std::string> reasons;  // empty when printable
+
+  bool printable() const { return reasons.empty(); }
+};
+
+CheckReport checkMesh(const TriangleMesh& mesh);
+
+std::string reportToText(const CheckReport& r, const std::string& name);
+std::string reportToJson(const CheckReport& r, const std::string& name);
+
+}  // namespace frep

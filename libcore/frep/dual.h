@@ -1,0 +1,53 @@
+// Forward-mode automatic differentiation: a value and its gradient in x, y, z.
+// Used by the gradient evaluator mode (analytic normals).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+namespace frep {
+
+struct Dual {
+  double v = 0.0;
+  double d[3] = {0.0, 0.0, 0.0};
+
+  Dual() = default;
+  Dual(double value) : v(value) {}  // NOLINT: implicit from a constant
+  Dual(double value, double dx, double dy, double dz) : v(value), d{dx, dy, dz} {}
+};
+
+inline Dual operator+(const Dual& a, const Dual& b) {
+  return {a.v + b.v, a.d[0] + b.d[0], a.d[1] + b.d[1], a.d[2] + b.d[2]};
+}
+inline Dual operator-(const Dual& a, const Dual& b) {
+  return {a.v - b.v, a.d[0] - b.d[0], a.d[1] - b.d[1], a.d[2] - b.d[2]};
+}
+inline Dual operator-(const Dual& a) { return {-a.v, -a.d[0], -a.d[1], -a.d[2]}; }
+inline Dual operator*(const Dual& a, const Dual& b) {
+  return {a.v * b.v, a.d[0] * b.v + a.v * b.d[0], a.d[1] * b.v + a.v * b.d[1],
+          a.d[2] * b.v + a.v * b.d[2]};
+}
+inline Dual operator/(const Dual& a, const Dual& b) {
+  const double inv = 1.0 / b.v;
+  const double q = a.v * inv;
+  return {q, (a.d[0] - q * b.d[0]) * inv, (a.d[1] - q * b.d[1]) * inv, (a.d[2] - q * b.d[2]) * inv};
+}
+inline Dual chain(const Dual& a, double value, double slope) {
+  return {value, a.d[0] * slope, a.d[1] * slope, a.d[2] * slope};
+}
+inline Dual sqr(const Dual& a) { return chain(a, a.v * a.v, 2.0 * a.v); }
+inline Dual sqrt(const Dual& a) {
+  const double s = std::sqrt(a.v);
+  return chain(a, s, s > 0.0 ? 0.5 / s : 0.0);
+}
+inline Dual abs(const Dual& a) { return a.v < 0.0 ? -a : a; }
+inline Dual min(const Dual& a, const Dual& b) { return b.v < a.v ? b : a; }
+inline Dual max(const Dual& a, const Dual& b) { return b.v > a.v ? b : a; }
+inline Dual exp(const Dual& a) {
+  const double e = std::exp(a.v);
+  return chain(a, e, e);
+}
+inline Dual sin(const Dual& a) { return chain(a, std::sin(a.v), std::cos(a.v)); }
+inline Dual cos(const Dual& a) { return chain(a, std::cos(a.v), -std::sin(a.v)); }
+
+}  // namespace frep

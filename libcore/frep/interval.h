@@ -1,0 +1,90 @@
+// Interval arithmetic for the interval evaluator mode.
+// Inclusion property: the result interval contains f(x) for every x in the input intervals.
+// Rounding is round-to-nearest (no directed rounding); callers that need a proof of sign
+// leave a small relative margin (see mesh/mesher.cpp).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace frep {
+
+struct Interval {
+  double lo = 0.0;
+  double hi = 0.0;
+
+  Interval() = default;
+  constexpr Interval(double v) : lo(v), hi(v) {}  // NOLINT: implicit from a constant
+  constexpr Interval(double l, double h) : lo(l), hi(h) {}
+
+  bool contains(double v) const { return v >= lo && v <= hi; }
+  double width() const { return hi - lo; }
+  static Interval entire() {
+    return {-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  }
+};
+
+inline Interval operator+(Interval a, Interval b) { return {a.lo + b.lo, a.hi + b.hi}; }
+inline Interval operator-(Interval a, Interval b) { return {a.lo - b.hi, a.hi - b.lo}; }
+inline Interval operator-(Interval a) { return {-a.hi, -a.lo}; }
+
+inline Interval operator*(Interval a, Interval b) {
+  const double p1 = a.lo * b.lo, p2 = a.lo * b.hi, p3 = a.hi * b.lo, p4 = a.hi * b.hi;
+  return {std::min(std::min(p1, p2), std::min(p3, p4)), std::max(std::max(p1, p2), std::max(p3, p4))};
+}
+
+inline Interval operator/(Interval a, Interval b) {
+  if (b.lo <= 0.0 && b.hi >= 0.0) return Interval::entire();
+  const double p1 = a.lo / b.lo, p2 = a.lo / b.hi, p3 = a.hi / b.lo, p4 = a.hi / b.hi;
+  return {std::min(std::min(p1, p2), std::min(p3, p4)), std::max(std::max(p1, p2), std::max(p3, p4))};
+}
+
+inline Interval sqr(Interval a) {
+  const double l2 = a.lo * a.lo, h2 = a.hi * a.hi;
+  if (a.lo >= 0.0) return {l2, h2};
+  if (a.hi <= 0.0) return {h2, l2};
+  return {0.0, std::max(l2, h2)};
+}
+
+// sqrt of the non-negative part; a fully negative argument has no real value (NaN interval).
+inline Interval sqrt(Interval a) {
+  if (a.hi < 0.0) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    return {nan, nan};
+  }
+  return {std::sqrt(std::max(a.lo, 0.0)), std::sqrt(a.hi)};
+}
+
+inline Interval abs(Interval a) {
+  if (a.lo >= 0.0) return a;
+  if (a.hi <= 0.0) return -a;
+  return {0.0, std::max(-a.lo, a.hi)};
+}
+
+inline Interval min(Interval a, Interval b) { return {std::min(a.lo, b.lo), std::min(a.hi, b.hi)}; }
+inline Interval max(Interval a, Interval b) { return {std::max(a.lo, b.lo), std::max(a.hi, b.hi)}; }
+
+inline Interval exp(Interval a) { return {std::exp(a.lo), std::exp(a.hi)}; }
+
+// sin over an interval: the endpoint values plus any extremum (pi/2 + k*pi) inside.
+inline Interval sin(Interval a) {
+  constexpr double kTwoPi = 6.283185307179586476925286766559;
+  constexpr double kHalfPi = 1.5707963267948966192313216916398;
+  if (!(a.hi - a.lo < kTwoPi)) return {-1.0, 1.0};
+  double lo = std::min(std::sin(a.lo), std::sin(a.hi));
+  double hi = std::max(std::sin(a.lo), std::sin(a.hi));
+  // maxima at pi/2 + 2k*pi, minima at -pi/2 + 2k*pi
+  const double kMax = std::ceil((a.lo - kHalfPi) / kTwoPi);
+  if (kHalfPi + kMax * kTwoPi <= a.hi) hi = 1.0;
+  const double kMin = std::ceil((a.lo + kHalfPi) / kTwoPi);
+  if (-kHalfPi + kMin * kTwoPi <= a.hi) lo = -1.0;
+  return {lo, hi};
+}
+
+inline Interval cos(Interval a) {
+  constexpr double kHalfPi = 1.5707963267948966192313216916398;
+  return sin(Interval{a.lo + kHalfPi, a.hi + kHalfPi});
+}
+
+}  // namespace frep

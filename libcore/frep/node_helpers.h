@@ -1,0 +1,94 @@
+// Small compile-time helpers shared by the node type definitions.
+#pragma once
+
+#include <cmath>
+
+#include "frep/registry.h"
+
+namespace frep {
+
+constexpr double kPi = 3.14159265358979323846;
+
+inline Vec3 normalized(const Vec3& v) {
+  const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  return {v[0] / n, v[1] / n, v[2] / n};
+}
+
+// Orthonormal frame (u, v, w) with w along `axis`.
+struct Frame {
+  Vec3 u, v, w;
+};
+inline Frame frameAlong(const Vec3& axis) {
+  const Vec3 w = normalized(axis);
+  // Pick the world axis least aligned with w to build u.
+  const Vec3 helper = std::abs(w[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  const double d = helper[0] * w[0] + helper[1] * w[1] + helper[2] * w[2];
+  const Vec3 u = normalized({helper[0] - d * w[0], helper[1] - d * w[1], helper[2] - d * w[2]});
+  const Vec3 v = {w[1] * u[2] - w[2] * u[1], w[2] * u[0] - w[0] * u[2], w[0] * u[1] - w[1] * u[0]};
+  return {u, v, w};
+}
+
+// Coordinates of p relative to `origin` in the frame (u, v, w): three affine instructions.
+inline Point3Slots localCoordinates(ProgramBuilder& b, Point3Slots p, const Vec3& origin,
+                                    const Frame& f) {
+  auto along = [&](const Vec3& d) {
+    const double off = -(d[0] * origin[0] + d[1] * origin[1] + d[2] * origin[2]);
+    return b.affine(p.x, p.y, p.z, d[0], d[1], d[2], off);
+  };
+  return {along(f.u), along(f.v), along(f.w)};
+}
+
+// p - origin, component-wise (no rotation).
+inline Point3Slots shifted(ProgramBuilder& b, Point3Slots p, const Vec3& origin) {
+  return {b.sub(p.x, b.constant(origin[0])), b.sub(p.y, b.constant(origin[1])),
+          b.sub(p.z, b.constant(origin[2]))};
+}
+
+// Applies the affine map q = M p + t given as a row-major 3x4 matrix.
+inline Point3Slots applyAffine(ProgramBuilder& b, Point3Slots p, const Mat34& m) {
+  return {b.affine(p.x, p.y, p.z, m[0], m[1], m[2], m[3]),
+          b.affine(p.x, p.y, p.z, m[4], m[5], m[6], m[7]),
+          b.affine(p.x, p.y, p.z, m[8], m[9], m[10], m[11])};
+}
+
+// Inverse of a row-major 3x4 affine matrix (assumed invertible: validated by the registry).
+inline Mat34 invertAffine(const Mat34& m) {
+  const double a = m[0], b = m[1], c = m[2], d = m[4], e = m[5], f = m[6], g = m[8], h = m[9],
+               i = m[10];
+  const double det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+  const double r[9] = {(e * i - f * h) / det, (c * h - b * i) / det, (b * f - c * e) / det,
+                       (f * g - d * i) / det, (a * i - c * g) / det, (c * d - a * f) / det,
+                       (d * h - e * g) / det, (b * g - a * h) / det, (a * e - b * d) / det};
+  const double t[3] = {m[3], m[7], m[11]};
+  Mat34 out{};
+  for (int row = 0; row < 3; ++row) {
+    out[row * 4 + 0] = r[row * 3 + 0];
+    out[row * 4 + 1] = r[row * 3 + 1];
+    out[row * 4 + 2] = r[row * 3 + 2];
+    out[row * 4 + 3] = -(r[row * 3 + 0] * t[0] + r[row * 3 + 1] * t[1] + r[row * 3 + 2] * t[2]);
+  }
+  return out;
+}
+
+// Rotation by `angleDeg` about `axis` through `center`, as a 3x4 matrix (Rodrigues).
+inline Mat34 rotationMatrix(const Vec3& axis, double angleDeg, const Vec3& center) {
+  const Vec3 k = normalized(axis);
+  const double th = angleDeg * kPi / 180.0, c = std::cos(th), s = std::sin(th), C = 1 - c;
+  const double R[9] = {c + k[0] * k[0] * C,        k[0] * k[1] * C - k[2] * s,
+                       k[0] * k[2] * C + k[1] * s, k[1] * k[0] * C + k[2] * s,
+                       c + k[1] * k[1] * C,        k[1] * k[2] * C - k[0] * s,
+                       k[2] * k[0] * C - k[1] * s, k[2] * k[1] * C + k[0] * s,
+                       c + k[2] * k[2] * C};
+  Mat34 m{};
+  for (int row = 0; row < 3; ++row) {
+    m[row * 4 + 0] = R[row * 3 + 0];
+    m[row * 4 + 1] = R[row * 3 + 1];
+    m[row * 4 + 2] = R[row * 3 + 2];
+    // q = R (p - c) + c
+    m[row * 4 + 3] = center[row] - (R[row * 3 + 0] * center[0] + R[row * 3 + 1] * center[1] +
+                                    R[row * 3 + 2] * center[2]);
+  }
+  return m;
+}
+
+}  // namespace frep

@@ -1,0 +1,152 @@
+// Primitive solids (leaves of the tree). Fields are positive inside and, where the shape
+// allows, equal to the Euclidean distance to the surface near it (so blends and offsets behave
+// the same on every primitive).
+#include <algorithm>
+
+#include "frep/node_helpers.h"
+#include "frep/registry.h"
+#include "frep/tree.h"
+
+namespace frep {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+ParamTemplate positiveLength(const char* name, double def, const char* doc) {
+  ParamTemplate p = realParam(name, def, "length", doc);
+  range(p, 0.0, kInf, true);
+  return p;
+}
+
+ParamTemplate axisParam(const char* doc) {
+  ParamTemplate p = vec3Param("axis", {0, 0, 1}, "", doc);
+  p.nonZeroVector = true;
+  return p;
+}
+
+ParamTemplate centerParam(const char* doc) { return vec3Param("center", {0, 0, 0}, "length", doc); }
+
+// s/2 - |p| along one axis: positive inside a slab of width s centred on 0.
+Slot slab(ProgramBuilder& b, Slot t, double width) {
+  return b.sub(b.constant(width / 2), b.abs(t));
+}
+
+}  // namespace
+
+void registerPrimitives(Registry& r) {
+  r.add({"sphere", "primitive", "Ball with a centre and a radius (HyperFun hfSphere).",
+         "F = radius - |p - center|", 0, 0,
+         {centerParam("Centre of the sphere."), positiveLength("radius", 1.0, "Radius.")},
+         [](CompileContext& c) {
+           auto& b = c.b;
+           const Point3Slots d = shifted(b, c.p, c.vec3("center"));
+           return b.sub(b.constant(c.real("radius")), b.length3(d.x, d.y, d.z));
+         }});
+
+  {
+    ParamTemplate size = vec3Param("size", {1, 1, 1}, "length", "Edge lengths along x, y, z.");
+    range(size, 0.0, kInf, true);
+    r.add({"box", "primitive",
+           "Axis-aligned block from a corner and its edge lengths (HyperFun hfBlock).",
+           "F = min_i(size_i/2 - |p_i - m_i|), m = corner + size/2", 0, 0,
+           {vec3Param("corner", {0, 0, 0}, "length", "Corner with the smallest coordinates."),
+            size},
+           [](CompileContext& c) {
+             auto& b = c.b;
+             const Vec3 lo = c.vec3("corner"), s = c.vec3("size");
+             const Point3Slots d =
+                 shifted(b, c.p, {lo[0] + s[0] / 2, lo[1] + s[1] / 2, lo[2] + s[2] / 2});
+             return b.min(b.min(slab(b, d.x, s[0]), slab(b, d.y, s[1])), slab(b, d.z, s[2]));
+           }});
+  }
+
+  {
+    ParamTemplate length = realParam("length", 2.0, "length",
+                                     "Length along the axis, centred on the centre; 0 = infinite.");
+    range(length, 0.0, kInf);
+    r.add({"cylinder", "primitive",
+           "Circular cylinder around an axis through a centre; finite or infinite.",
+           "F = min(radius - dist(p, axis), length/2 - |(p - center).axis|)", 0, 0,
+           {centerParam("Middle of the cylinder's axis segment."),
+            axisParam("Direction of the axis."), positiveLength("radius", 1.0, "Radius."), length},
+           [](CompileContext& c) {
+             auto& b = c.b;
+             const Point3Slots q = localCoordinates(b, c.p, c.vec3("center"), frameAlong(c.vec3("axis")));
+             const Slot side = b.sub(b.constant(c.real("radius")), b.length2(q.x, q.y));
+             const double len = c.real("length");
+             return len == 0.0 ? side : b.min(side, slab(b, q.z, len));
+           }});
+  }
+
+  {
+    ParamTemplate r1 = realParam("radius1", 1.0, "length", "Radius at the base.");
+    range(r1, 0.0, kInf);
+    ParamTemplate r2 = realParam("radius2", 0.0, "length", "Radius at the top (0: pointed).");
+    range(r2, 0.0, kInf);
+    r.add({"cone", "primitive",
+           "Cone or truncated cone from a base centre along an axis (base radius1, top radius2).",
+           "t = (p - base).axis, rho = dist(p, axis), k = (radius2 - radius1)/height;\n"
+           "F = min((radius1 + k t - rho)/sqrt(1 + k^2), t, height - t)",
+           0, 0,
+           {vec3Param("base", {0, 0, 0}, "length", "Centre of the base disc."),
+            axisParam("Direction from the base to the top."), r1, r2,
+            positiveLength("height", 1.0, "Distance from base to top.")},
+           [](CompileContext& c) {
+             auto& b = c.b;
+             const double h = c.real("height"), ra = c.real("radius1"), rb = c.real("radius2");
+             const double k = (rb - ra) / h, s = std::sqrt(1 + k * k);
+             const Point3Slots q = localCoordinates(b, c.p, c.vec3("base"), frameAlong(c.vec3("axis")));
+             const Slot rho = b.length2(q.x, q.y);
+             const Slot side = b.affine(q.z, rho, rho, k / s, -1.0 / s, 0.0, ra / s);
+             const Slot caps = slab(b, b.sub(q.z, b.constant(h / 2)), h);
+             return b.min(side, caps);
+           }});
+  }
+
+  r.add({"torus", "primitive", "Torus around an axis through its centre.",
+         "F = minor_radius - sqrt((dist(p, axis) - major_radius)^2 + ((p - center).axis)^2)", 0, 0,
+         {centerParam("Centre of the torus."), axisParam("Axis of revolution."),
+          positiveLength("major_radius", 1.0, "Distance from the centre to the tube's centre."),
+          positiveLength("minor_radius", 0.25, "Radius of the tube.")},
+         [](CompileContext& c) {
+           auto& b = c.b;
+           const Point3Slots q = localCoordinates(b, c.p, c.vec3("center"), frameAlong(c.vec3("axis")));
+           const Slot ring = b.sub(b.length2(q.x, q.y), b.constant(c.real("major_radius")));
+           return b.sub(b.constant(c.real("minor_radius")), b.length2(ring, q.z));
+         }});
+
+  {
+    ParamTemplate radii = vec3Param("radii", {1, 1, 1}, "length", "Semi-axes along x, y, z.");
+    range(radii, 0.0, kInf, true);
+    r.add({"ellipsoid", "primitive", "Axis-aligned ellipsoid (HyperFun hfEllipsoid).",
+           "F = min(radii) * (1 - sqrt(sum_i ((p_i - center_i)/radii_i)^2))", 0, 0,
+           {centerParam("Centre of the ellipsoid."), radii},
+           [](CompileContext& c) {
+             auto& b = c.b;
+             const Vec3 m = c.vec3("center"), a = c.vec3("radii");
+             const double s = std::min(a[0], std::min(a[1], a[2]));
+             auto axis = [&](Slot v, int i) {
+               return b.affine(v, v, v, 1.0 / a[i], 0.0, 0.0, -m[i] / a[i]);
+             };
+             const Slot len = b.length3(axis(c.p.x, 0), axis(c.p.y, 1), axis(c.p.z, 2));
+             return b.affine(len, len, len, -s, 0.0, 0.0, s);
+           }});
+  }
+
+  {
+    ParamTemplate normal = vec3Param("normal", {0, 0, 1}, "", "Outward normal (points away from the solid).");
+    normal.nonZeroVector = true;
+    r.add({"halfspace", "primitive",
+           "Half-space bounded by a plane: the solid is on the side opposite the normal.",
+           "F = (point - p) . normal/|normal|", 0, 0,
+           {vec3Param("point", {0, 0, 0}, "length", "A point on the plane."), normal},
+           [](CompileContext& c) {
+             const Vec3 n = normalized(c.vec3("normal")), o = c.vec3("point");
+             return c.b.affine(c.p.x, c.p.y, c.p.z, -n[0], -n[1], -n[2],
+                               n[0] * o[0] + n[1] * o[1] + n[2] * o[2]);
+           }});
+  }
+}
+
+}  // namespace frep

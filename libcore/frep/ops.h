@@ -1,0 +1,100 @@
+// The instruction set of compiled FRep programs and the meaning of each instruction.
+// Every operation is written once as a template over the number type, so the point, batch
+// and gradient modes share the same arithmetic; the interval mode uses the overloads in
+// interval.h, plus tighter monotonicity rules where a generic formula would be loose.
+#pragma once
+
+#include <cstdint>
+
+#include "frep/dual.h"
+#include "frep/interval.h"
+#include "frep/scalar_math.h"
+
+namespace frep {
+
+enum class Op : std::uint8_t {
+  Const,       // k0
+  Add,         // a + b
+  Sub,         // a - b
+  Mul,         // a * b
+  Div,         // a / b
+  Neg,         // -a
+  Sqr,         // a^2
+  Sqrt,        // sqrt(a)
+  Abs,         // |a|
+  Min,         // min(a, b)
+  Max,         // max(a, b)
+  Exp,         // e^a
+  Sin,         // sin(a)
+  Cos,         // cos(a)
+  Affine,      // k0*a + k1*b + k2*c + k3
+  RUnion,      // R-function union with alpha = k0
+  RIntersect,  // R-function intersection with alpha = k0
+  BlendBump,   // k0 / (1 + (a/k1)^2 + (b/k2)^2): Pasko's blend displacement
+  Count_
+};
+
+const char* opName(Op op);
+int opArity(Op op);
+int opConstantCount(Op op);
+bool opIsCommutative(Op op);
+
+// R-functions (Rvachev): alpha in (-1, 1]. Normalised by 1/(1+alpha) so that alpha = 1 is
+// exactly max / min. Both are non-decreasing in each argument for |alpha| <= 1.
+template <class T>
+inline T rUnion(const T& a, const T& b, double alpha) {
+  if (alpha == 1.0) return max(a, b);
+  const T s = max(sqr(a) + sqr(b) - T(2.0 * alpha) * a * b, T(0.0));
+  return (a + b + sqrt(s)) * T(1.0 / (1.0 + alpha));
+}
+template <class T>
+inline T rIntersect(const T& a, const T& b, double alpha) {
+  if (alpha == 1.0) return min(a, b);
+  const T s = max(sqr(a) + sqr(b) - T(2.0 * alpha) * a * b, T(0.0));
+  return (a + b - sqrt(s)) * T(1.0 / (1.0 + alpha));
+}
+inline Interval rUnion(const Interval& a, const Interval& b, double alpha) {
+  return {rUnion(a.lo, b.lo, alpha), rUnion(a.hi, b.hi, alpha)};
+}
+inline Interval rIntersect(const Interval& a, const Interval& b, double alpha) {
+  return {rIntersect(a.lo, b.lo, alpha), rIntersect(a.hi, b.hi, alpha)};
+}
+
+template <class T>
+inline T blendBump(const T& a, const T& b, const double* k) {
+  return T(k[0]) / (T(1.0) + sqr(a * T(1.0 / k[1])) + sqr(b * T(1.0 / k[2])));
+}
+
+template <class T>
+inline T affine(const T& a, const T& b, const T& c, const double* k) {
+  return T(k[0]) * a + T(k[1]) * b + T(k[2]) * c + T(k[3]);
+}
+
+// Applies one instruction to its operand values. k points at its constants.
+template <class T>
+inline T applyOp(Op op, const T& a, const T& b, const T& c, const double* k) {
+  switch (op) {
+    case Op::Const: return T(k[0]);
+    case Op::Add: return a + b;
+    case Op::Sub: return a - b;
+    case Op::Mul: return a * b;
+    case Op::Div: return a / b;
+    case Op::Neg: return -a;
+    case Op::Sqr: return sqr(a);
+    case Op::Sqrt: return sqrt(a);
+    case Op::Abs: return abs(a);
+    case Op::Min: return min(a, b);
+    case Op::Max: return max(a, b);
+    case Op::Exp: return exp(a);
+    case Op::Sin: return sin(a);
+    case Op::Cos: return cos(a);
+    case Op::Affine: return affine(a, b, c, k);
+    case Op::RUnion: return rUnion(a, b, k[0]);
+    case Op::RIntersect: return rIntersect(a, b, k[0]);
+    case Op::BlendBump: return blendBump(a, b, k);
+    case Op::Count_: break;
+  }
+  return T(0.0);
+}
+
+}  // namespace frep

@@ -1,0 +1,134 @@
+#include "frep/program.h"
+
+#include <sstream>
+#include <utility>
+
+namespace frep {
+
+namespace {
+struct OpInfo {
+  const char* name;
+  int arity;
+  int constants;
+  bool commutative;
+};
+constexpr OpInfo kOpInfo[] = {
+    {"const", 0, 1, false},    {"add", 2, 0, true},         {"sub", 2, 0, false},
+    {"mul", 2, 0, true},       {"div", 2, 0, false},        {"neg", 1, 0, false},
+    {"sqr", 1, 0, false},      {"sqrt", 1, 0, false},       {"abs", 1, 0, false},
+    {"min", 2, 0, true},       {"max", 2, 0, true},         {"exp", 1, 0, false},
+    {"sin", 1, 0, false},      {"cos", 1, 0, false},        {"affine", 3, 4, false},
+    {"runion", 2, 1, true},    {"rintersect", 2, 1, true},  {"blendbump", 2, 3, false},
+};
+static_assert(sizeof(kOpInfo) / sizeof(kOpInfo[0]) == static_cast<int>(Op::Count_),
+              "every op needs an entry");
+}  // namespace
+
+const char* opName(Op op) { return kOpInfo[static_cast<int>(op)].name; }
+int opArity(Op op) { return kOpInfo[static_cast<int>(op)].arity; }
+int opConstantCount(Op op) { return kOpInfo[static_cast<int>(op)].constants; }
+bool opIsCommutative(Op op) { return kOpInfo[static_cast<int>(op)].commutative; }
+
+Program::Program(std::vector<Instruction> code, std::vector<double> constants, Slot result)
+    : code_(std::move(code)), constants_(std::move(constants)), result_(result) {}
+
+template <class T>
+T Program::evalGeneric(const T& x, const T& y, const T& z) const {
+  // One scratch buffer per thread and type: evaluation is called from TBB workers.
+  thread_local std::vector<T> slots;
+  slots.resize(code_.size() + kFirstInstructionSlot);
+  slots[kSlotX] = x;
+  slots[kSlotY] = y;
+  slots[kSlotZ] = z;
+  T* s = slots.data();
+  const double* k = constants_.data();
+  for (std::size_t i = 0; i < code_.size(); ++i) {
+    const Instruction& in = code_[i];
+    s[i + kFirstInstructionSlot] = applyOp<T>(in.op, s[in.a], s[in.b], s[in.c], k + in.k);
+  }
+  return s[result_];
+}
+
+double Program::eval(double x, double y, double z) const { return evalGeneric<double>(x, y, z); }
+
+Interval Program::evalInterval(const Interval& x, const Interval& y, const Interval& z) const {
+  return evalGeneric<Interval>(x, y, z);
+}
+
+Dual Program::evalGradient(double x, double y, double z) const {
+  return evalGeneric<Dual>(Dual(x, 1, 0, 0), Dual(y, 0, 1, 0), Dual(z, 0, 0, 1));
+}
+
+// The switch is outside the loops so that each loop is a straight vectorisable kernel; each
+// kernel calls the same scalar function applyOp uses, so values are bit-identical.
+void Program::evalChunk(const double* x, const double* y, const double* z, std::size_t n,
+                        double* out, double* slots) const {
+  constexpr std::size_t B = kBatchSize;
+  for (std::size_t j = 0; j < n; ++j) {
+    slots[kSlotX * B + j] = x[j];
+    slots[kSlotY * B + j] = y[j];
+    slots[kSlotZ * B + j] = z[j];
+  }
+  const double* kbase = constants_.data();
+  for (std::size_t i = 0; i < code_.size(); ++i) {
+    const Instruction& in = code_[i];
+    double* o = slots + (i + kFirstInstructionSlot) * B;
+    const double* a = slots + in.a * B;
+    const double* b = slots + in.b * B;
+    const double* c = slots + in.c * B;
+    const double* k = kbase + in.k;
+#define FREP_KERNEL(expr) \
+  for (std::size_t j = 0; j < n; ++j) o[j] = (expr); \
+  break
+    switch (in.op) {
+      case Op::Const: FREP_KERNEL(k[0]);
+      case Op::Add: FREP_KERNEL(a[j] + b[j]);
+      case Op::Sub: FREP_KERNEL(a[j] - b[j]);
+      case Op::Mul: FREP_KERNEL(a[j] * b[j]);
+      case Op::Div: FREP_KERNEL(a[j] / b[j]);
+      case Op::Neg: FREP_KERNEL(-a[j]);
+      case Op::Sqr: FREP_KERNEL(sqr(a[j]));
+      case Op::Sqrt: FREP_KERNEL(std::sqrt(a[j]));
+      case Op::Abs: FREP_KERNEL(std::abs(a[j]));
+      case Op::Min: FREP_KERNEL(frep::min(a[j], b[j]));
+      case Op::Max: FREP_KERNEL(frep::max(a[j], b[j]));
+      case Op::Exp: FREP_KERNEL(std::exp(a[j]));
+      case Op::Sin: FREP_KERNEL(std::sin(a[j]));
+      case Op::Cos: FREP_KERNEL(std::cos(a[j]));
+      case Op::Affine: FREP_KERNEL(affine<double>(a[j], b[j], c[j], k));
+      case Op::RUnion: FREP_KERNEL(rUnion<double>(a[j], b[j], k[0]));
+      case Op::RIntersect: FREP_KERNEL(rIntersect<double>(a[j], b[j], k[0]));
+      case Op::BlendBump: FREP_KERNEL(blendBump<double>(a[j], b[j], k));
+      case Op::Count_: break;
+    }
+#undef FREP_KERNEL
+  }
+  const double* r = slots + result_ * B;
+  for (std::size_t j = 0; j < n; ++j) out[j] = r[j];
+}
+
+void Program::evalBatch(const double* x, const double* y, const double* z, std::size_t n,
+                        double* out) const {
+  thread_local std::vector<double> slots;
+  slots.resize((code_.size() + kFirstInstructionSlot) * kBatchSize);
+  for (std::size_t start = 0; start < n; start += kBatchSize) {
+    const std::size_t m = std::min(kBatchSize, n - start);
+    evalChunk(x + start, y + start, z + start, m, out + start, slots.data());
+  }
+}
+
+std::string Program::disassemble() const {
+  std::ostringstream os;
+  for (std::size_t i = 0; i < code_.size(); ++i) {
+    const Instruction& in = code_[i];
+    os << '%' << i + kFirstInstructionSlot << " = " << opName(in.op);
+    const Slot args[3] = {in.a, in.b, in.c};
+    for (int j = 0; j < opArity(in.op); ++j) os << " %" << args[j];
+    for (int j = 0; j < opConstantCount(in.op); ++j) os << ' ' << constants_[in.k + j];
+    os << '\n';
+  }
+  os << "result %" << result_ << '\n';
+  return os.str();
+}
+
+}  // namespace frep

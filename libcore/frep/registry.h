@@ -1,0 +1,104 @@
+// The node registry: the single table of FRep node types. Each type declares its id,
+// category, inputs and parameter templates (name, type, default, range, unit, doc) and how
+// it compiles into program instructions. The JSON model format, `frepcad info`, the docs'
+// node reference and (later) the FreeCAD features are all derived from this table.
+// Types are always looked up by id, never by an instance's name.
+#pragma once
+
+#include <functional>
+#include <limits>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "frep/program_builder.h"
+#include "frep/vec.h"
+
+namespace frep {
+
+enum class ParamType { Real, Integer, Boolean, Vector3, Matrix3x4, Choice };
+const char* paramTypeName(ParamType t);
+
+// A parameter value. Numbers hold 1 (Real, Integer, Boolean), 3 (Vector3) or 12 (Matrix3x4)
+// values; Choice uses text.
+struct ParamValue {
+  std::vector<double> numbers;
+  std::string text;
+  bool operator==(const ParamValue& o) const { return numbers == o.numbers && text == o.text; }
+};
+
+struct ParamTemplate {
+  std::string name;
+  ParamType type = ParamType::Real;
+  ParamValue defaultValue;
+  // Allowed range of each number (Real, Integer, Vector3 components).
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+  bool minExclusive = false;
+  bool maxExclusive = false;
+  bool nonZeroVector = false;  // Vector3 that must not be (0, 0, 0), e.g. an axis
+  std::vector<std::string> choices;
+  std::string unit;  // "length", "angle" (degrees) or "" (dimensionless)
+  std::string doc;
+
+  // Returns an empty string when v is allowed, else what is wrong and what is allowed.
+  std::string check(const ParamValue& v) const;
+  std::string rangeText() const;
+  std::string valueText(const ParamValue& v) const;
+};
+
+// Parameter template constructors, chained with the setters below.
+ParamTemplate realParam(std::string name, double def, std::string unit, std::string doc);
+ParamTemplate intParam(std::string name, int def, std::string doc);
+ParamTemplate boolParam(std::string name, bool def, std::string doc);
+ParamTemplate vec3Param(std::string name, Vec3 def, std::string unit, std::string doc);
+ParamTemplate matrixParam(std::string name, std::string doc);
+ParamTemplate choiceParam(std::string name, std::vector<std::string> choices, std::string doc);
+ParamTemplate& range(ParamTemplate& p, double lo, double hi, bool loOpen = false,
+                     bool hiOpen = false);
+
+struct Point3Slots {
+  Slot x, y, z;
+};
+
+class CompileContext;
+using CompileFn = std::function<Slot(CompileContext&)>;
+
+constexpr int kVariadic = -1;
+
+struct NodeType {
+  std::string id;        // "sphere", "union", ...
+  std::string category;  // "primitive", "transform", "set operation", "blend"
+  std::string doc;       // one paragraph
+  std::string formula;   // the defining function, in plain text
+  int minInputs = 0;
+  int maxInputs = 0;  // kVariadic for no upper limit
+  std::vector<ParamTemplate> params;
+  CompileFn compile;
+
+  const ParamTemplate* findParam(const std::string& name) const;
+  std::string inputsText() const;
+};
+
+class Registry {
+ public:
+  void add(NodeType type);
+  const NodeType* find(const std::string& id) const;
+  const NodeType& get(const std::string& id) const;  // throws ModelError naming the id
+  std::vector<const NodeType*> all() const;          // in registration order
+
+ private:
+  std::vector<std::unique_ptr<NodeType>> types_;
+  std::map<std::string, const NodeType*> byId_;
+};
+
+// The registry with every built-in node type.
+const Registry& registry();
+
+// Registration functions, one per family (node_types_*.cpp).
+void registerPrimitives(Registry& r);
+void registerTransforms(Registry& r);
+void registerSetOperations(Registry& r);
+
+}  // namespace frep

@@ -1,0 +1,20 @@
+// The scalar versions of the math functions the instruction set uses, so that one template
+// per operation serves double (point, batch), Dual (gradient) and, where no tighter rule
+// exists, Interval.
+#pragma once
+
+#include <cmath>
+
+namespace frep {
+
+inline double sqr(double a) { return a * a; }
+using std::abs;
+using std::cos;
+using std::exp;
+using std::sin;
+using std::sqrt;
+// min/max that return the first argument on ties and propagate a NaN in the first one.
+inline double min(double a, double b) { return b < a ? b : a; }
+inline double max(double a, double b) { return b > a ? b : a; }
+
+}  // namespace frep

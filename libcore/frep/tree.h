@@ -1,0 +1,62 @@
+// An FRep tree (a DAG: a node may feed several parents): typed nodes with parameter values and
+// inputs. Nodes are immutable once made; makeNode validates them against the registry.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "frep/registry.h"
+
+namespace frep {
+
+struct Node;
+using NodePtr = std::shared_ptr<const Node>;
+
+struct Node {
+  const NodeType* type = nullptr;
+  std::map<std::string, ParamValue> params;  // every parameter of the type, defaults filled in
+  std::vector<NodePtr> inputs;
+
+  const ParamValue& param(const std::string& name) const;
+  double real(const std::string& name) const { return param(name).numbers.at(0); }
+  Vec3 vec3(const std::string& name) const;
+};
+
+// Makes a validated node. `params` may omit parameters (their defaults are used). `path` names
+// the node in error messages (e.g. "root.inputs[1]"). Throws ModelError.
+NodePtr makeNode(const std::string& typeId, std::map<std::string, ParamValue> params,
+                 std::vector<NodePtr> inputs, const std::string& path = "node");
+
+// Shorthands for building trees in code and tests.
+ParamValue realValue(double v);
+ParamValue vec3Value(const Vec3& v);
+ParamValue choiceValue(const std::string& s);
+
+// Compiles a tree into a flat program (shared and repeated sub-trees computed once).
+Program compile(const NodePtr& root);
+
+// Compile-time view of one node: its parameters, its point, and a way to compile its inputs.
+class CompileContext {
+ public:
+  CompileContext(ProgramBuilder& builder, const Node& node, Point3Slots point,
+                 std::function<Slot(const NodePtr&, Point3Slots)> compileInput)
+      : b(builder), p(point), node_(node), compileInput_(std::move(compileInput)) {}
+
+  ProgramBuilder& b;
+  Point3Slots p;
+
+  double real(const std::string& name) const { return node_.real(name); }
+  Vec3 vec3(const std::string& name) const { return node_.vec3(name); }
+  const ParamValue& param(const std::string& name) const { return node_.param(name); }
+  int inputCount() const { return static_cast<int>(node_.inputs.size()); }
+  Slot input(int i) { return input(i, p); }
+  Slot input(int i, Point3Slots at) { return compileInput_(node_.inputs.at(i), at); }
+
+ private:
+  const Node& node_;
+  std::function<Slot(const NodePtr&, Point3Slots)> compileInput_;
+};
+
+}  // namespace frep

@@ -1,0 +1,28 @@
+// A file written under a temporary name in the target folder and renamed over the target
+// only on commit(): a failure, an exception or a cancel leaves neither a partial file nor
+// the temporary behind.
+#pragma once
+
+#include <cstdio>
+#include <string>
+
+namespace frep {
+
+class AtomicFile {
+ public:
+  explicit AtomicFile(const std::string& path);  // throws FileError
+  ~AtomicFile();                                  // removes the temporary unless committed
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  void write(const void* data, std::size_t bytes);  // throws FileError
+  void print(const char* fmt, ...);                 // printf-style, throws FileError
+  void commit();                                    // flush, close, rename; throws FileError
+
+ private:
+  std::string path_, temp_;
+  std::FILE* file_ = nullptr;
+  bool committed_ = false;
+};
+
+}  // namespace frep

@@ -1,0 +1,33 @@
+// The Kuhn (Freudenthal) decomposition of a grid cube into six tetrahedra sharing the main
+// diagonal corner 0 -> corner 7, and the marching-tetrahedra polygon for every sign pattern.
+// Neighbouring cubes split their common face along the same diagonal, so the tetrahedra of the
+// whole grid form one simplicial complex: no ambiguous cases, no cracks.
+// Corner c of a cell sits at offset (c & 1, (c >> 1) & 1, (c >> 2) & 1).
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+namespace frep {
+
+struct TetEdge {
+  std::uint8_t low;  // corner with the smaller coordinates (its offset is a subset of the other's)
+  std::uint8_t dir;  // offset from low to high as a bit mask, 1..7
+};
+
+// The surface piece a tetrahedron contributes: nothing, a triangle, or a quad (cyclic order),
+// oriented so that its normal points from the inside (F >= 0) to the outside.
+struct TetPolygon {
+  std::uint8_t count = 0;  // 0, 3 or 4
+  TetEdge edges[4];
+};
+
+struct KuhnTables {
+  std::array<std::array<std::uint8_t, 4>, 6> tets;  // corner ids, positively oriented
+  // polygons[t][mask]: mask bit i set when corner tets[t][i] is inside
+  std::array<std::array<TetPolygon, 16>, 6> polygons;
+};
+
+const KuhnTables& kuhnTables();
+
+}  // namespace frep

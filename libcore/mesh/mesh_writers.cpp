@@ -1,0 +1,169 @@
+#include <cmath>
+#include <cstring>
+
+#include "frep/errors.h"
+#include "mesh/atomic_file.h"
+#include "mesh/mesh_io.h"
+
+namespace frep {
+
+const char* formatName(MeshFormat f) {
+  switch (f) {
+    case MeshFormat::StlBinary: return "stl";
+    case MeshFormat::StlAscii: return "stl-ascii";
+    case MeshFormat::Obj: return "obj";
+    case MeshFormat::Ply: return "ply";
+  }
+  return "?";
+}
+
+MeshFormat parseFormat(const std::string& name) {
+  for (MeshFormat f : {MeshFormat::StlBinary, MeshFormat::StlAscii, MeshFormat::Obj, MeshFormat::Ply})
+    if (name == formatName(f)) return f;
+  throw ModelError("unknown format '" + name + "'; allowed: stl, stl-ascii, obj, ply");
+}
+
+MeshFormat formatFromPath(const std::string& path) {
+  const auto dot = path.find_last_of('.');
+  std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == "stl") return MeshFormat::StlBinary;
+  if (ext == "obj") return MeshFormat::Obj;
+  if (ext == "ply") return MeshFormat::Ply;
+  throw FileError(path + ": unknown mesh file type '." + ext +
+                  "'; supported: .stl, .obj, .ply");
+}
+
+namespace {
+
+Vec3f facetNormal(const TriangleMesh& m, const Triangle& t) {
+  const Vec3f &a = m.positions[t[0]], &b = m.positions[t[1]], &c = m.positions[t[2]];
+  const double u[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
+  const double v[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
+  double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+  const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (len > 0)
+    for (double& x : n) x /= len;
+  return {float(n[0]), float(n[1]), float(n[2])};
+}
+
+// Reports progress every 64k items; throws Cancelled when the callback says so.
+class Ticker {
+ public:
+  Ticker(const WriteProgress& p, std::size_t total) : p_(p), total_(total) {}
+  void tick(std::size_t done) {
+    if (p_ && (done & 0xFFFF) == 0 && !p_(total_ ? double(done) / double(total_) : 1.0))
+      throw Cancelled();
+  }
+
+ private:
+  const WriteProgress& p_;
+  std::size_t total_;
+};
+
+void writeStlBinary(const TriangleMesh& m, AtomicFile& f, Ticker& tick) {
+  char header[80] = {};
+  std::strncpy(header, "FRepCAD binary STL", sizeof(header));
+  f.write(header, 80);
+  if (m.triangles.size() > 0xFFFFFFFFull) throw FileError("too many triangles for STL");
+  const std::uint32_t n = static_cast<std::uint32_t>(m.triangles.size());
+  f.write(&n, 4);
+  std::vector<char> buffer;
+  buffer.reserve(50 * 4096);
+  for (std::size_t i = 0; i < m.triangles.size(); ++i) {
+    const Triangle& t = m.triangles[i];
+    float rec[12];
+    const Vec3f nn = facetNormal(m, t);
+    std::memcpy(rec, nn.data(), 12);
+    for (int c = 0; c < 3; ++c) std::memcpy(rec + 3 + 3 * c, m.positions[t[c]].data(), 12);
+    const char* bytes = reinterpret_cast<const char*>(rec);
+    buffer.insert(buffer.end(), bytes, bytes + 48);
+    buffer.push_back(0);
+    buffer.push_back(0);
+    if (buffer.size() >= 50 * 4096) {
+      f.write(buffer.data(), buffer.size());
+      buffer.clear();
+    }
+    tick.tick(i);
+  }
+  f.write(buffer.data(), buffer.size());
+}
+
+void writeStlAscii(const TriangleMesh& m, AtomicFile& f, Ticker& tick) {
+  f.print("solid frepcad\n");
+  for (std::size_t i = 0; i < m.triangles.size(); ++i) {
+    const Triangle& t = m.triangles[i];
+    const Vec3f n = facetNormal(m, t);
+    f.print("  facet normal %.9g %.9g %.9g\n    outer loop\n", n[0], n[1], n[2]);
+    for (int c = 0; c < 3; ++c) {
+      const Vec3f& p = m.positions[t[c]];
+      f.print("      vertex %.9g %.9g %.9g\n", p[0], p[1], p[2]);
+    }
+    f.print("    endloop\n  endfacet\n");
+    tick.tick(i);
+  }
+  f.print("endsolid frepcad\n");
+}
+
+void writeObj(const TriangleMesh& m, AtomicFile& f, Ticker& tick) {
+  const bool normals = m.normals.size() == m.positions.size() && !m.normals.empty();
+  f.print("# FRepCAD mesh: %zu vertices, %zu triangles\n", m.positions.size(), m.triangles.size());
+  for (const Vec3f& p : m.positions) f.print("v %.9g %.9g %.9g\n", p[0], p[1], p[2]);
+  if (normals)
+    for (const Vec3f& n : m.normals) f.print("vn %.9g %.9g %.9g\n", n[0], n[1], n[2]);
+  for (std::size_t i = 0; i < m.triangles.size(); ++i) {
+    const Triangle& t = m.triangles[i];
+    if (normals)
+      f.print("f %u//%u %u//%u %u//%u\n", t[0] + 1, t[0] + 1, t[1] + 1, t[1] + 1, t[2] + 1,
+              t[2] + 1);
+    else
+      f.print("f %u %u %u\n", t[0] + 1, t[1] + 1, t[2] + 1);
+    tick.tick(i);
+  }
+}
+
+void writePly(const TriangleMesh& m, AtomicFile& f, Ticker& tick) {
+  const bool normals = m.normals.size() == m.positions.size() && !m.normals.empty();
+  f.print("ply\nformat binary_little_endian 1.0\ncomment FRepCAD mesh\n");
+  f.print("element vertex %zu\nproperty float x\nproperty float y\nproperty float z\n",
+          m.positions.size());
+  if (normals) f.print("property float nx\nproperty float ny\nproperty float nz\n");
+  f.print("element face %zu\nproperty list uchar int vertex_indices\nend_header\n",
+          m.triangles.size());
+  std::vector<char> buffer;
+  for (std::size_t v = 0; v < m.positions.size(); ++v) {
+    const char* p = reinterpret_cast<const char*>(m.positions[v].data());
+    buffer.insert(buffer.end(), p, p + 12);
+    if (normals) {
+      const char* n = reinterpret_cast<const char*>(m.normals[v].data());
+      buffer.insert(buffer.end(), n, n + 12);
+    }
+  }
+  f.write(buffer.data(), buffer.size());
+  buffer.clear();
+  for (std::size_t i = 0; i < m.triangles.size(); ++i) {
+    buffer.push_back(3);
+    const char* t = reinterpret_cast<const char*>(m.triangles[i].data());
+    buffer.insert(buffer.end(), t, t + 12);
+    tick.tick(i);
+  }
+  f.write(buffer.data(), buffer.size());
+}
+
+}  // namespace
+
+void writeMesh(const TriangleMesh& mesh, const std::string& path, MeshFormat format,
+               const WriteProgress& progress) {
+  AtomicFile file(path);
+  Ticker tick(progress, mesh.triangles.size());
+  switch (format) {
+    case MeshFormat::StlBinary: writeStlBinary(mesh, file, tick); break;
+    case MeshFormat::StlAscii: writeStlAscii(mesh, file, tick); break;
+    case MeshFormat::Obj: writeObj(mesh, file, tick); break;
+    case MeshFormat::Ply: writePly(mesh, file, tick); break;
+  }
+  if (progress && !progress(1.0)) throw Cancelled();
+  file.commit();
+}
+
+}  // namespace frep

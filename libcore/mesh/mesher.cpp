@@ -1,0 +1,437 @@
+#include "mesh/mesher.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <sstream>
+
+#include "frep/errors.h"
+#include "mesh/kuhn_tetrahedra.h"
+
+namespace frep {
+
+namespace {
+
+// A vertex is kept at least this fraction of its edge away from both grid points, so no two
+// vertices coincide and no triangle degenerates, whatever the field does at grid points.
+constexpr double kEdgeMargin = 0.01;
+
+// The sampling grid. Grid point j on an axis sits at lo + (j - 0.5) h, j = 0 .. n + 1: points 0
+// and n + 1 lie half a cell outside the box, so the surface closes there (box caps).
+struct Grid {
+  Vec3 lo, hi;
+  double h[3];
+  std::int64_t points[3];  // grid points per axis (n + 2)
+
+  double coord(int axis, std::int64_t j) const {
+    return lo[axis] + (static_cast<double>(j) - 0.5) * h[axis];
+  }
+  std::uint64_t linear(std::int64_t i, std::int64_t j, std::int64_t k) const {
+    return static_cast<std::uint64_t>(i + points[0] * (j + points[1] * k));
+  }
+  // The box as a field: positive inside, intersected (min) with the model's field.
+  double boxField(double x, double y, double z) const {
+    const double dx = std::min(x - lo[0], hi[0] - x), dy = std::min(y - lo[1], hi[1] - y),
+                 dz = std::min(z - lo[2], hi[2] - z);
+    return std::min(dx, std::min(dy, dz));
+  }
+  Interval boxField(const Interval& x, const Interval& y, const Interval& z) const {
+    const Interval dx = min(x - Interval(lo[0]), Interval(hi[0]) - x);
+    const Interval dy = min(y - Interval(lo[1]), Interval(hi[1]) - y);
+    const Interval dz = min(z - Interval(lo[2]), Interval(hi[2]) - z);
+    return min(dx, min(dy, dz));
+  }
+};
+
+// min(F, B) that keeps a NaN from F (NaN counts as outside).
+inline double combine(double f, double b) { return b < f ? b : f; }
+inline bool isInside(double g) { return g >= 0.0; }
+
+struct CellRange {
+  std::int64_t lo[3], hi[3];  // cells [lo, hi) per axis
+};
+
+// Interval proof that every grid point of the range has the same side. The relative margin
+// absorbs round-to-nearest differences between interval and point evaluation.
+bool provenUniform(const Program& program, const Grid& g, const CellRange& r) {
+  Interval p[3];
+  for (int a = 0; a < 3; ++a) p[a] = {g.coord(a, r.lo[a]), g.coord(a, r.hi[a])};
+  const Interval f = program.evalInterval(p[0], p[1], p[2]);
+  const Interval v = min(f, g.boxField(p[0], p[1], p[2]));
+  if (!(v.lo == v.lo) || !(v.hi == v.hi)) return false;  // NaN: prove nothing
+  const double margin = 1e-9 * std::max(1.0, std::max(std::abs(v.lo), std::abs(v.hi)));
+  return v.hi < -margin || v.lo > margin;
+}
+
+struct BrickResult {
+  std::vector<std::uint64_t> keys;  // global edge key per local vertex
+  std::vector<Vec3f> positions;
+  std::vector<Vec3f> normals;
+  std::vector<Triangle> triangles;  // local vertex ids
+};
+
+struct Scratch {
+  std::vector<double> x, y, z, f;
+  std::vector<std::int32_t> edgeVertex;  // local edge key -> local vertex id
+  std::vector<std::uint32_t> touched;
+  std::vector<std::uint32_t> polys;  // 4 ids per polygon, last = UINT32_MAX for triangles
+  // root finding, one entry per new vertex
+  std::vector<double> px, py, pz, dx, dy, dz, ta, tb, fa, fb;
+  std::vector<std::int8_t> lastSide;
+};
+
+double quality(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
+  const double u[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
+  const double v[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
+  const double w[3] = {double(c[0]) - b[0], double(c[1]) - b[1], double(c[2]) - b[2]};
+  const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+                       u[0] * v[1] - u[1] * v[0]};
+  const double area2 = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  const double edges = u[0] * u[0] + u[1] * u[1] + u[2] * u[2] + v[0] * v[0] + v[1] * v[1] +
+                       v[2] * v[2] + w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+  return edges > 0 ? area2 / edges : 0.0;
+}
+
+class BrickMesher {
+ public:
+  BrickMesher(const Program& program, const Grid& grid, const MeshingOptions& opt)
+      : program_(program), g_(grid), opt_(opt) {}
+
+  std::size_t run(const CellRange& r, Scratch& s, BrickResult& out) const {
+    const std::int64_t n[3] = {r.hi[0] - r.lo[0] + 1, r.hi[1] - r.lo[1] + 1,
+                               r.hi[2] - r.lo[2] + 1};
+    const std::size_t count = static_cast<std::size_t>(n[0] * n[1] * n[2]);
+    auto local = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
+      return static_cast<std::uint32_t>(i + n[0] * (j + n[1] * k));
+    };
+
+    // 1. Field at every grid point of the brick.
+    s.x.resize(count);
+    s.y.resize(count);
+    s.z.resize(count);
+    s.f.resize(count);
+    for (std::int64_t k = 0; k < n[2]; ++k)
+      for (std::int64_t j = 0; j < n[1]; ++j)
+        for (std::int64_t i = 0; i < n[0]; ++i) {
+          const std::uint32_t id = local(i, j, k);
+          s.x[id] = g_.coord(0, r.lo[0] + i);
+          s.y[id] = g_.coord(1, r.lo[1] + j);
+          s.z[id] = g_.coord(2, r.lo[2] + k);
+        }
+    program_.evalBatch(s.x.data(), s.y.data(), s.z.data(), count, s.f.data());
+    for (std::size_t id = 0; id < count; ++id)
+      s.f[id] = combine(s.f[id], g_.boxField(s.x[id], s.y[id], s.z[id]));
+
+    // 2. Polygons of every tetrahedron the surface crosses; one vertex per crossed edge.
+    const KuhnTables& kt = kuhnTables();
+    s.edgeVertex.assign(count * 7, -1);
+    s.polys.clear();
+    std::vector<std::uint32_t>& edgeOf = s.touched;  // new vertex -> local edge key
+    edgeOf.clear();
+    const std::uint32_t cornerOffset[8] = {
+        0, local(1, 0, 0), local(0, 1, 0), local(1, 1, 0),
+        local(0, 0, 1), local(1, 0, 1), local(0, 1, 1), local(1, 1, 1)};
+    for (std::int64_t k = 0; k + 1 < n[2]; ++k)
+      for (std::int64_t j = 0; j + 1 < n[1]; ++j)
+        for (std::int64_t i = 0; i + 1 < n[0]; ++i) {
+          const std::uint32_t base = local(i, j, k);
+          int cellMask = 0;
+          for (int c = 0; c < 8; ++c) cellMask |= isInside(s.f[base + cornerOffset[c]]) << c;
+          if (cellMask == 0 || cellMask == 255) continue;
+          for (int t = 0; t < 6; ++t) {
+            const auto& tet = kt.tets[t];
+            int mask = 0;
+            for (int v = 0; v < 4; ++v) mask |= ((cellMask >> tet[v]) & 1) << v;
+            const TetPolygon& poly = kt.polygons[t][mask];
+            if (poly.count == 0) continue;
+            std::uint32_t ids[4] = {0, 0, 0, UINT32_MAX};
+            for (int e = 0; e < poly.count; ++e) {
+              const std::uint32_t key = (base + cornerOffset[poly.edges[e].low]) * 7 +
+                                        (poly.edges[e].dir - 1);
+              std::int32_t& slot = s.edgeVertex[key];
+              if (slot < 0) {
+                slot = static_cast<std::int32_t>(edgeOf.size());
+                edgeOf.push_back(key);
+              }
+              ids[e] = static_cast<std::uint32_t>(slot);
+            }
+            s.polys.insert(s.polys.end(), ids, ids + 4);
+          }
+        }
+
+    // 3. Vertices: root of the field along each crossed edge.
+    const std::size_t m = edgeOf.size();
+    out.keys.resize(m);
+    out.positions.resize(m);
+    locateRoots(s, edgeOf, n, r, out);
+
+    // 4. Triangles; a quad is split along the diagonal giving the better-shaped pair.
+    out.triangles.clear();
+    out.triangles.reserve(s.polys.size() / 2);
+    for (std::size_t p = 0; p < s.polys.size(); p += 4) {
+      const std::uint32_t* q = &s.polys[p];
+      if (q[3] == UINT32_MAX) {
+        out.triangles.push_back({q[0], q[1], q[2]});
+        continue;
+      }
+      const auto& P = out.positions;
+      const double splitA = std::min(quality(P[q[0]], P[q[1]], P[q[2]]),
+                                     quality(P[q[0]], P[q[2]], P[q[3]]));
+      const double splitB = std::min(quality(P[q[0]], P[q[1]], P[q[3]]),
+                                     quality(P[q[1]], P[q[2]], P[q[3]]));
+      if (splitA >= splitB) {
+        out.triangles.push_back({q[0], q[1], q[2]});
+        out.triangles.push_back({q[0], q[2], q[3]});
+      } else {
+        out.triangles.push_back({q[0], q[1], q[3]});
+        out.triangles.push_back({q[1], q[2], q[3]});
+      }
+    }
+    return count + m * static_cast<std::size_t>(opt_.rootIterations);
+  }
+
+ private:
+  // Illinois (modified regula falsi), all edges of the brick at once so each iteration is one
+  // batch evaluation. The edge is parametrised from its lower grid point, so a vertex on a
+  // face shared by two bricks is computed identically from both sides.
+  void locateRoots(Scratch& s, const std::vector<std::uint32_t>& edgeOf, const std::int64_t n[3],
+                   const CellRange& r, BrickResult& out) const {
+    const std::size_t m = edgeOf.size();
+    for (auto* v : {&s.px, &s.py, &s.pz, &s.dx, &s.dy, &s.dz, &s.ta, &s.tb, &s.fa, &s.fb})
+      v->resize(m);
+    s.lastSide.assign(m, 0);
+    for (std::size_t e = 0; e < m; ++e) {
+      const std::uint32_t key = edgeOf[e];
+      const std::uint32_t low = key / 7, dir = key % 7 + 1;
+      const std::int64_t li = low % n[0], lj = (low / n[0]) % n[1], lk = low / (n[0] * n[1]);
+      const std::int64_t gi = r.lo[0] + li, gj = r.lo[1] + lj, gk = r.lo[2] + lk;
+      const std::int64_t hi = gi + (dir & 1), hj = gj + ((dir >> 1) & 1), hk = gk + ((dir >> 2) & 1);
+      out.keys[e] = g_.linear(gi, gj, gk) * 7 + (dir - 1);
+      s.px[e] = g_.coord(0, gi);
+      s.py[e] = g_.coord(1, gj);
+      s.pz[e] = g_.coord(2, gk);
+      s.dx[e] = g_.coord(0, hi) - s.px[e];
+      s.dy[e] = g_.coord(1, hj) - s.py[e];
+      s.dz[e] = g_.coord(2, hk) - s.pz[e];
+      const std::uint32_t highLocal = static_cast<std::uint32_t>(
+          (li + (dir & 1)) + n[0] * ((lj + ((dir >> 1) & 1)) + n[1] * (lk + ((dir >> 2) & 1))));
+      s.ta[e] = 0.0;
+      s.tb[e] = 1.0;
+      s.fa[e] = s.f[low];
+      s.fb[e] = s.f[highLocal];
+    }
+    std::vector<double>& t = s.x;  // reuse the grid buffers: the grid values are consumed
+    std::vector<double>& ft = s.y;
+    std::vector<double> qx(m), qy(m), qz(m);
+    t.resize(m);
+    ft.resize(m);
+    auto interpolate = [&](std::size_t e) {
+      const double a = s.ta[e], b = s.tb[e], fa = s.fa[e], fb = s.fb[e];
+      double x = (a * fb - b * fa) / (fb - fa);
+      if (!(x > a && x < b)) x = 0.5 * (a + b);  // NaN, infinities, flat: bisect
+      return x;
+    };
+    for (int it = 0; it < opt_.rootIterations; ++it) {
+      for (std::size_t e = 0; e < m; ++e) {
+        t[e] = interpolate(e);
+        qx[e] = s.px[e] + t[e] * s.dx[e];
+        qy[e] = s.py[e] + t[e] * s.dy[e];
+        qz[e] = s.pz[e] + t[e] * s.dz[e];
+      }
+      program_.evalBatch(qx.data(), qy.data(), qz.data(), m, ft.data());
+      for (std::size_t e = 0; e < m; ++e) {
+        const double v = combine(ft[e], g_.boxField(qx[e], qy[e], qz[e]));
+        if (isInside(v) == isInside(s.fa[e])) {
+          s.ta[e] = t[e];
+          s.fa[e] = v;
+          if (s.lastSide[e] == 1) s.fb[e] *= 0.5;
+          s.lastSide[e] = 1;
+        } else {
+          s.tb[e] = t[e];
+          s.fb[e] = v;
+          if (s.lastSide[e] == -1) s.fa[e] *= 0.5;
+          s.lastSide[e] = -1;
+        }
+      }
+    }
+    for (std::size_t e = 0; e < m; ++e) {
+      const double x = std::clamp(interpolate(e), kEdgeMargin, 1.0 - kEdgeMargin);
+      out.positions[e] = {static_cast<float>(s.px[e] + x * s.dx[e]),
+                          static_cast<float>(s.py[e] + x * s.dy[e]),
+                          static_cast<float>(s.pz[e] + x * s.dz[e])};
+    }
+  }
+
+  const Program& program_;
+  const Grid& g_;
+  const MeshingOptions& opt_;
+};
+
+void collectBricks(const Program& program, const Grid& g, const CellRange& cells, int bc,
+                   const std::int64_t b0[3], const std::int64_t b1[3],
+                   std::vector<CellRange>& out) {
+  CellRange r;
+  for (int a = 0; a < 3; ++a) {
+    r.lo[a] = b0[a] * bc;
+    r.hi[a] = std::min(b1[a] * bc, cells.hi[a]);
+  }
+  if (provenUniform(program, g, r)) return;
+  if (b1[0] - b0[0] == 1 && b1[1] - b0[1] == 1 && b1[2] - b0[2] == 1) {
+    out.push_back(r);
+    return;
+  }
+  std::int64_t mid[3];
+  for (int a = 0; a < 3; ++a) mid[a] = b0[a] + std::max<std::int64_t>(1, (b1[a] - b0[a]) / 2);
+  for (int child = 0; child < 8; ++child) {
+    std::int64_t c0[3], c1[3];
+    bool empty = false;
+    for (int a = 0; a < 3; ++a) {
+      const bool upper = (child >> a) & 1;
+      c0[a] = upper ? mid[a] : b0[a];
+      c1[a] = upper ? b1[a] : mid[a];
+      empty = empty || c0[a] >= c1[a];
+    }
+    if (!empty) collectBricks(program, g, cells, bc, c0, c1, out);
+  }
+}
+
+void computeNormals(const Program& program, const Grid& g, TriangleMesh& mesh) {
+  mesh.normals.resize(mesh.positions.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.positions.size(), 1024),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t v = range.begin(); v != range.end(); ++v) {
+      const Vec3f& p = mesh.positions[v];
+      const Dual d = program.evalGradient(p[0], p[1], p[2]);
+      double n[3] = {-d.d[0], -d.d[1], -d.d[2]};
+      // On a box cap the box's face is the surface.
+      if (g.boxField(p[0], p[1], p[2]) < d.v) {
+        const double dist[6] = {p[0] - g.lo[0], g.hi[0] - p[0], p[1] - g.lo[1],
+                                g.hi[1] - p[1], p[2] - g.lo[2], g.hi[2] - p[2]};
+        const int face = static_cast<int>(std::min_element(dist, dist + 6) - dist);
+        n[0] = n[1] = n[2] = 0.0;
+        n[face / 2] = face % 2 ? 1.0 : -1.0;
+      }
+      const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      mesh.normals[v] = len > 0 && std::isfinite(len)
+                            ? Vec3f{float(n[0] / len), float(n[1] / len), float(n[2] / len)}
+                            : Vec3f{0.f, 0.f, 0.f};
+    }
+  });
+}
+
+}  // namespace
+
+TriangleMesh polygonize(const Program& program, const MeshingOptions& opt, MeshingStats* stats) {
+  const auto start = std::chrono::steady_clock::now();
+  const Box3& box = opt.bbox;
+  for (int a = 0; a < 3; ++a)
+    if (!std::isfinite(box.lo[a]) || !std::isfinite(box.hi[a]) || !(box.lo[a] < box.hi[a]))
+      throw ModelError("mesher: the bounding box must be finite with min < max on every axis");
+  if (!(opt.resolution > 0.0) || !std::isfinite(opt.resolution))
+    throw ModelError("mesher: resolution (cell size) must be a number > 0");
+  if (opt.brickCells < 2 || opt.brickCells > 64)
+    throw ModelError("mesher: brick size must be between 2 and 64 cells");
+
+  Grid g;
+  g.lo = box.lo;
+  g.hi = box.hi;
+  CellRange cells;
+  for (int a = 0; a < 3; ++a) {
+    const double extent = box.hi[a] - box.lo[a];
+    const double want = std::ceil(extent / opt.resolution - 1e-9);
+    if (want > static_cast<double>(kMaxCellsPerAxis)) {
+      std::ostringstream os;
+      os << "mesher: resolution " << opt.resolution << " needs " << want
+         << " cells along an axis of the bounding box; at most " << kMaxCellsPerAxis
+         << " are allowed: use a larger cell size";
+      throw ModelError(os.str());
+    }
+    const std::int64_t n = std::max<std::int64_t>(1, static_cast<std::int64_t>(want));
+    g.h[a] = extent / static_cast<double>(n);
+    g.points[a] = n + 2;
+    cells.lo[a] = 0;
+    cells.hi[a] = n + 1;
+  }
+
+  const int bc = opt.brickCells;
+  std::int64_t b0[3] = {0, 0, 0}, b1[3];
+  for (int a = 0; a < 3; ++a) b1[a] = (cells.hi[a] + bc - 1) / bc;
+  std::vector<CellRange> bricks;
+  collectBricks(program, g, cells, bc, b0, b1, bricks);
+
+  std::vector<BrickResult> results(bricks.size());
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  BrickMesher mesher(program, g, opt);
+  std::atomic<std::size_t> done{0}, evaluated{0};
+  std::atomic<bool> cancelled{false};
+  std::mutex progressMutex;
+  const std::size_t reportEvery = std::max<std::size_t>(1, bricks.size() / 100);
+  tbb::parallel_for(std::size_t(0), bricks.size(), [&](std::size_t i) {
+    if (cancelled.load(std::memory_order_relaxed)) return;
+    evaluated += mesher.run(bricks[i], scratch.local(), results[i]);
+    const std::size_t d = ++done;
+    if (opt.progress && d % reportEvery == 0) {
+      std::lock_guard<std::mutex> lock(progressMutex);
+      if (!opt.progress(0.95 * static_cast<double>(d) / static_cast<double>(bricks.size())))
+        cancelled = true;
+    }
+  });
+  if (cancelled) throw Cancelled();
+
+  // Weld: a vertex on a face shared by two bricks was computed identically by both; merge by
+  // its global edge key.
+  std::vector<std::size_t> first(results.size() + 1, 0);
+  for (std::size_t i = 0; i < results.size(); ++i)
+    first[i + 1] = first[i] + results[i].keys.size();
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> order(first.back());
+  tbb::parallel_for(std::size_t(0), results.size(), [&](std::size_t i) {
+    for (std::size_t v = 0; v < results[i].keys.size(); ++v)
+      order[first[i] + v] = {results[i].keys[v], static_cast<std::uint32_t>(first[i] + v)};
+  });
+  tbb::parallel_sort(order.begin(), order.end());
+  std::vector<std::uint32_t> unique(order.size());
+  std::vector<std::uint32_t> owner;  // unique vertex -> its first entry
+  owner.reserve(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    if (i == 0 || order[i].first != order[i - 1].first) owner.push_back(order[i].second);
+    unique[order[i].second] = static_cast<std::uint32_t>(owner.size() - 1);
+  }
+
+  TriangleMesh mesh;
+  mesh.positions.resize(owner.size());
+  std::vector<std::size_t> brickOf(order.size());
+  for (std::size_t i = 0; i < results.size(); ++i)
+    for (std::size_t v = first[i]; v < first[i + 1]; ++v) brickOf[v] = i;
+  for (std::size_t u = 0; u < owner.size(); ++u) {
+    const std::size_t entry = owner[u];
+    mesh.positions[u] = results[brickOf[entry]].positions[entry - first[brickOf[entry]]];
+  }
+  std::size_t triangleCount = 0;
+  for (const auto& r : results) triangleCount += r.triangles.size();
+  mesh.triangles.reserve(triangleCount);
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const std::uint32_t base = static_cast<std::uint32_t>(first[i]);
+    for (const Triangle& t : results[i].triangles)
+      mesh.triangles.push_back({unique[base + t[0]], unique[base + t[1]], unique[base + t[2]]});
+    results[i] = BrickResult();  // free as we go
+  }
+  if (opt.normals) computeNormals(program, g, mesh);
+  if (opt.progress) opt.progress(1.0);
+
+  if (stats) {
+    for (int a = 0; a < 3; ++a) stats->cells[a] = static_cast<std::size_t>(cells.hi[a]);
+    stats->bricksTotal = static_cast<std::size_t>(b1[0] * b1[1] * b1[2]);
+    stats->bricksActive = bricks.size();
+    stats->pointsEvaluated = evaluated;
+    stats->seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  return mesh;
+}
+
+}  // namespace frep

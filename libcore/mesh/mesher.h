@@ -1,0 +1,46 @@
+// Polygonisation of an FRep program inside a bounding box at a given cell size.
+//
+// Guarantees, for any function: the mesh is closed, 2-manifold, consistently oriented with
+// normals pointing out of the solid F >= 0, free of self-intersections, and every triangle
+// has three distinct, non-collinear vertices. How (see docs/mesher.md): marching tetrahedra on
+// the Kuhn decomposition of a regular grid (no ambiguous cases, each triangle stays inside its
+// tetrahedron), the bounding box intersected into the field (so cut solids get caps), vertices
+// found by bracketed root finding and kept strictly inside their grid edge.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+
+#include "frep/program.h"
+#include "frep/vec.h"
+#include "mesh/triangle_mesh.h"
+
+namespace frep {
+
+struct MeshingOptions {
+  Box3 bbox;
+  double resolution = 0.05;  // target cell size; the grid fits the box exactly (cells <= this)
+  int brickCells = 16;       // cells per brick edge: the unit of pruning and of threading
+  int rootIterations = 8;    // Illinois iterations per edge vertex
+  bool normals = true;       // per-vertex normals from the gradient
+  // Called with the fraction done (0..1), possibly from worker threads (one call at a time).
+  // Return false to cancel: polygonize then throws frep::Cancelled.
+  std::function<bool(double)> progress;
+};
+
+struct MeshingStats {
+  std::size_t cells[3] = {0, 0, 0};  // grid cells per axis (including the outside layer)
+  std::size_t bricksTotal = 0;
+  std::size_t bricksActive = 0;  // bricks interval pruning could not prove empty or full
+  std::size_t pointsEvaluated = 0;
+  double seconds = 0.0;
+};
+
+// Throws ModelError on bad options (empty box, resolution <= 0, grid too large), Cancelled.
+TriangleMesh polygonize(const Program& program, const MeshingOptions& options,
+                        MeshingStats* stats = nullptr);
+
+// Largest grid polygonize accepts, in cells per axis.
+constexpr std::size_t kMaxCellsPerAxis = 1u << 16;
+
+}  // namespace frep
