@@ -87,7 +87,13 @@ class Parser {
                          "\"; a node has \"type\", \"params\", \"inputs\" and \"name\"");
     const std::string typeId = j["type"].get<std::string>();
     const NodeType* type = registry().find(typeId);
-    if (!type) registry().get(typeId);  // throws the "unknown type" message
+    if (!type) {
+      try {
+        registry().get(typeId);
+      } catch (const ModelError& e) {
+        throw ModelError(where + ": " + e.what());
+      }
+    }
     const std::string nodeWhere = where + " (" + typeId + ")";
 
     std::map<std::string, ParamValue> params;

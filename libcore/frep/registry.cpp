@@ -104,8 +104,9 @@ std::string ParamTemplate::rangeText() const {
     case ParamType::Matrix3x4: return "12 finite numbers (rows of a 3x4 affine matrix, invertible)";
     default: break;
   }
-  std::string s = (minExclusive ? "(" : "[") + number(min) + ", " + number(max) +
-                  (maxExclusive ? ")" : "]");
+  // an infinite bound is never attained: always shown open
+  std::string s = (minExclusive || std::isinf(min) ? "(" : "[") + number(min) + ", " +
+                  number(max) + (maxExclusive || std::isinf(max) ? ")" : "]");
   if (type == ParamType::Integer) s = "an integer in " + s;
   if (type == ParamType::Vector3) {
     s = "3 numbers, each in " + s;

@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# frepcad command-line behaviour: exit codes and one-line messages for each bad-input class.
+# usage: cli_test.sh FREPCAD SOURCE_DIR
+set -u
+frepcad=$1
+src=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+passes=0
+
+# expect CODE PATTERN -- command...: exit code and a pattern in stdout+stderr
+expect() {
+  local code=$1 pattern=$2
+  shift 3
+  local out rc
+  out=$("$@" 2>&1)
+  rc=$?
+  if [ "$rc" -ne "$code" ] || ! grep -qE -- "$pattern" <<<"$out"; then
+    echo "FAIL: $* -> exit $rc (want $code), output:"
+    echo "$out" | head -20
+    failures=$((failures + 1))
+  else
+    passes=$((passes + 1))
+  fi
+}
+
+expect 0 "verdict: printable" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/s.stl" --resolution 0.1
+expect 0 "verdict: printable" -- "$frepcad" check "$work/s.stl"
+expect 0 '"printable": true' -- "$frepcad" check "$work/s.stl" --json
+expect 0 "wrote .*s.obj" -- "$frepcad" export "$src/examples/csg.json" -o "$work/s.obj" --resolution 0.1
+expect 0 "wrote .*s.ply" -- "$frepcad" export "$src/examples/csg.json" -o "$work/s.ply" --format ply --resolution 0.1
+expect 0 "verdict: printable" -- "$frepcad" check "$work/s.ply"
+expect 0 "wrote" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/a.stl" --format stl-ascii --resolution 0.2 --bbox -2 -2 -2 2 2 2
+head -c 5 "$work/a.stl" | grep -q solid || { echo "FAIL: stl-ascii not ASCII"; failures=$((failures + 1)); }
+expect 0 "radius : real = 1 \[length\]" -- "$frepcad" info sphere
+expect 0 '"type": "blend_union"' -- "$frepcad" info --json
+expect 0 "^# Node reference" -- "$frepcad" info --markdown
+
+# bad input: exit 2, one clear line
+expect 2 "unknown node type 'spere'" -- "$frepcad" info spere
+expect 2 "cannot open the model file" -- "$frepcad" export "$work/none.json" -o "$work/x.stl"
+echo '{"root": {"type": "sphere", "params": {"radius": -1}}, "export": {"bbox": [-1,-1,-1,1,1,1]}}' >"$work/bad.json"
+expect 2 "root \(sphere\): parameter 'radius' -1 is out of range; allowed: \(0, inf\)" -- "$frepcad" export "$work/bad.json" -o "$work/x.stl"
+echo '{"root": {"type": "sphere"}}' >"$work/nobox.json"
+expect 2 "no bounding box" -- "$frepcad" export "$work/nobox.json" -o "$work/x.stl"
+expect 2 "not valid JSON" -- "$frepcad" export "$work/s.stl" -o "$work/x.stl"
+expect 2 "unknown mesh file type '.step'" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/x.step"
+expect 2 "unknown format 'vrml'" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/x.stl" --format vrml
+expect 2 "--resolution expects a number" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/x.stl" --resolution fine
+expect 2 "larger cell size" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/x.stl" --resolution 1e-7
+expect 2 "unknown command 'exprt'" -- "$frepcad" exprt
+expect 2 "cannot open the file" -- "$frepcad" check "$work/none.stl"
+echo "not a mesh" >"$work/junk.stl"
+expect 2 "not an STL file" -- "$frepcad" check "$work/junk.stl"
+
+# not printable: exit 1, nothing written unless --force
+echo '{"root": {"type": "sphere", "params": {"center": [9, 9, 9]}}, "export": {"bbox": [-1,-1,-1,1,1,1], "resolution": 0.1}}' >"$work/empty.json"
+expect 1 "refusing to write" -- "$frepcad" export "$work/empty.json" -o "$work/empty.stl"
+[ ! -e "$work/empty.stl" ] || { echo "FAIL: refused export left a file"; failures=$((failures + 1)); }
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n' >"$work/open.obj"
+expect 1 "3 border edges" -- "$frepcad" check "$work/open.obj"
+ls -a "$work" | grep -q '\.tmp-' && { echo "FAIL: temporary file left"; failures=$((failures + 1)); }
+
+echo "$passes passed, $failures failed"
+[ "$failures" -eq 0 ]
