@@ -1,0 +1,59 @@
+// Meshing speed and memory of the reference models (make bench). Peak memory is the process's
+// resident high-water mark over each benchmark (reset before it through /proc/self/clear_refs).
+#include <benchmark/benchmark.h>
+
+#include <fstream>
+#include <string>
+
+#include "frep/model_json.h"
+#include "mesh/mesher.h"
+
+namespace {
+
+long residentPeakKiB() {
+  std::ifstream in("/proc/self/status");
+  std::string key;
+  long value = 0;
+  while (in >> key) {
+    if (key == "VmHWM:") {
+      in >> value;
+      return value;
+    }
+    in.ignore(1 << 16, '\n');
+  }
+  return 0;
+}
+
+void resetResidentPeak() { std::ofstream("/proc/self/clear_refs") << "5"; }
+
+void meshModel(benchmark::State& state, const std::string& name) {
+  const frep::Model model =
+      frep::loadModel(std::string(FREP_SOURCE_DIR) + "/examples/" + name + ".json");
+  const frep::Program program = frep::compile(model.root);
+  frep::MeshingOptions options;
+  options.bbox = *model.bbox;
+  options.resolution = 1.0 / static_cast<double>(state.range(0));
+  resetResidentPeak();
+  const long before = residentPeakKiB();
+  std::size_t triangles = 0;
+  for (auto _ : state) {
+    const frep::TriangleMesh mesh = frep::polygonize(program, options);
+    triangles = mesh.triangleCount();
+    benchmark::DoNotOptimize(mesh.triangles.data());
+  }
+  const long peak = residentPeakKiB();
+  state.counters["triangles"] = static_cast<double>(triangles);
+  state.counters["peak_MiB"] = static_cast<double>(peak) / 1024.0;
+  state.counters["added_MiB"] = static_cast<double>(peak - before) / 1024.0;
+  state.counters["bytes_per_tri"] = triangles ? (peak - before) * 1024.0 / triangles : 0.0;
+}
+
+void BM_MeshSphere(benchmark::State& s) { meshModel(s, "sphere"); }
+void BM_MeshCsg(benchmark::State& s) { meshModel(s, "csg"); }
+
+BENCHMARK(BM_MeshSphere)->Arg(64)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_MeshCsg)->Arg(64)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();
