@@ -102,12 +102,7 @@ class Parser {
         throw ModelError(nodeWhere + ": \"params\" must be an object");
       for (auto it = j["params"].begin(); it != j["params"].end(); ++it) {
         const ParamTemplate* t = type->findParam(it.key());
-        if (!t) {
-          std::string known;
-          for (const auto& p : type->params) known += (known.empty() ? "" : ", ") + p.name;
-          throw ModelError(nodeWhere + ": unknown parameter '" + it.key() + "'; parameters of " +
-                           typeId + ": " + (known.empty() ? "none" : known));
-        }
+        if (!t) throw ModelError(nodeWhere + ": " + type->unknownParamText(it.key()));
         params[it.key()] = paramFromJson(*t, it.value(), nodeWhere);
       }
     }

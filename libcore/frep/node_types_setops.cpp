@@ -34,6 +34,16 @@ Slot fold(CompileContext& c, const std::function<Slot(Slot, Slot)>& op) {
   return acc;
 }
 
+// Pasko blend: the R-function `setOp` plus the displacement a0 / (1 + (f1/a1)^2 + (f2/a2)^2).
+CompileFn blendCompiler(Op setOp) {
+  return [setOp](CompileContext& c) {
+    const double a = c.real("alpha"), k0 = c.real("a0"), k1 = c.real("a1"), k2 = c.real("a2");
+    return fold(c, [&](Slot x, Slot y) {
+      return c.b.add(c.b.emit(setOp, x, y, 0, {a}), c.b.emit(Op::BlendBump, x, y, 0, {k0, k1, k2}));
+    });
+  };
+}
+
 }  // namespace
 
 void registerSetOperations(Registry& r) {
@@ -70,27 +80,13 @@ void registerSetOperations(Registry& r) {
          "Union with a smooth fillet where the inputs meet (Pasko's blending union).",
          "F = union_alpha(f1, f2) + a0 / (1 + (f1/a1)^2 + (f2/a2)^2)", 2, kVariadic,
          blendParams(),
-         [](CompileContext& c) {
-           const double a = c.real("alpha"), k0 = c.real("a0"), k1 = c.real("a1"),
-                        k2 = c.real("a2");
-           return fold(c, [&](Slot x, Slot y) {
-             return c.b.add(c.b.emit(Op::RUnion, x, y, 0, {a}),
-                            c.b.emit(Op::BlendBump, x, y, 0, {k0, k1, k2}));
-           });
-         }});
+         blendCompiler(Op::RUnion)});
 
   r.add({"blend_intersection", "blend",
          "Intersection with a smooth fillet along the common edge (Pasko's blending intersection).",
          "F = intersection_alpha(f1, f2) + a0 / (1 + (f1/a1)^2 + (f2/a2)^2)", 2, kVariadic,
          blendParams(),
-         [](CompileContext& c) {
-           const double a = c.real("alpha"), k0 = c.real("a0"), k1 = c.real("a1"),
-                        k2 = c.real("a2");
-           return fold(c, [&](Slot x, Slot y) {
-             return c.b.add(c.b.emit(Op::RIntersect, x, y, 0, {a}),
-                            c.b.emit(Op::BlendBump, x, y, 0, {k0, k1, k2}));
-           });
-         }});
+         blendCompiler(Op::RIntersect)});
 }
 
 }  // namespace frep

@@ -161,6 +161,13 @@ const ParamTemplate* NodeType::findParam(const std::string& name) const {
   return nullptr;
 }
 
+std::string NodeType::unknownParamText(const std::string& name) const {
+  std::string known;
+  for (const auto& p : params) known += (known.empty() ? "" : ", ") + p.name;
+  return "unknown parameter '" + name + "'; parameters of " + id + ": " +
+         (known.empty() ? "none" : known);
+}
+
 std::string NodeType::inputsText() const {
   if (maxInputs == kVariadic) return std::to_string(minInputs) + " or more";
   if (minInputs == maxInputs) return std::to_string(minInputs);

@@ -78,6 +78,8 @@ struct NodeType {
   CompileFn compile;
 
   const ParamTemplate* findParam(const std::string& name) const;
+  // "unknown parameter 'x'; parameters of T: a, b" for error messages
+  std::string unknownParamText(const std::string& name) const;
   std::string inputsText() const;
 };
 

@@ -35,12 +35,7 @@ NodePtr makeNode(const std::string& typeId, std::map<std::string, ParamValue> pa
   }
   const std::string where = path + " (" + type->id + ")";
   for (const auto& kv : params) {
-    if (!type->findParam(kv.first)) {
-      std::string known;
-      for (const auto& p : type->params) known += (known.empty() ? "" : ", ") + p.name;
-      throw ModelError(where + ": unknown parameter '" + kv.first + "'; parameters of " +
-                       type->id + ": " + (known.empty() ? "none" : known));
-    }
+    if (!type->findParam(kv.first)) throw ModelError(where + ": " + type->unknownParamText(kv.first));
   }
   auto node = std::make_shared<Node>();
   node->type = type;
