@@ -67,8 +67,8 @@ TEST(Check, SharedEdgeIsNonManifold) {
 }
 
 TEST(Check, TouchingVertexIsNonManifold) {
-  TriangleMesh b = tetra(-1, -1, -1);  // its (0,0,0)... corner at (-1,-1,-1); move to touch
-  b.positions[0] = {-1, -1, -1};
+  // A mirrored tetrahedron meeting the first one at the origin only.
+  TriangleMesh b;
   b.positions = {{0, 0, 0}, {-1, 0, 0}, {0, -1, 0}, {0, 0, -1}};
   b.triangles = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}};
   const CheckReport r = checkMesh(merged(tetra(), b));

@@ -71,14 +71,13 @@ bool provenUniform(const Program& program, const Grid& g, const CellRange& r) {
 struct BrickResult {
   std::vector<std::uint64_t> keys;  // global edge key per local vertex
   std::vector<Vec3f> positions;
-  std::vector<Vec3f> normals;
   std::vector<Triangle> triangles;  // local vertex ids
 };
 
 struct Scratch {
   std::vector<double> x, y, z, f;
   std::vector<std::int32_t> edgeVertex;  // local edge key -> local vertex id
-  std::vector<std::uint32_t> touched;
+  std::vector<std::uint32_t> edgeOf;  // new local vertex -> local edge key
   std::vector<std::uint32_t> polys;  // 4 ids per polygon, last = UINT32_MAX for triangles
   // root finding, one entry per new vertex
   std::vector<double> px, py, pz, dx, dy, dz, ta, tb, fa, fb;
@@ -131,7 +130,7 @@ class BrickMesher {
     const KuhnTables& kt = kuhnTables();
     s.edgeVertex.assign(count * 7, -1);
     s.polys.clear();
-    std::vector<std::uint32_t>& edgeOf = s.touched;  // new vertex -> local edge key
+    std::vector<std::uint32_t>& edgeOf = s.edgeOf;
     edgeOf.clear();
     const std::uint32_t cornerOffset[8] = {
         0, local(1, 0, 0), local(0, 1, 0), local(1, 1, 0),
