@@ -1,5 +1,6 @@
 // The only translation unit that includes CGAL (slow to compile: keep it alone).
 #include "check/mesh_check.h"
+#include "mesh/triangle_geometry.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
@@ -89,15 +90,8 @@ CheckReport checkMesh(const TriangleMesh& mesh) {
     }
     if (CGAL::collinear(points[a], points[b], points[c])) ++r.degenerateFaces;
     faces.push_back({a, b, c});
-    const Vec3f &p = pos[a], &q = pos[b], &s = pos[c];
-    const double u[3] = {double(q[0]) - p[0], double(q[1]) - p[1], double(q[2]) - p[2]};
-    const double v[3] = {double(s[0]) - p[0], double(s[1]) - p[1], double(s[2]) - p[2]};
-    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
-                         u[0] * v[1] - u[1] * v[0]};
-    r.area += 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    r.volume += (double(p[0]) * (double(q[1]) * s[2] - double(q[2]) * s[1]) -
-                 double(p[1]) * (double(q[0]) * s[2] - double(q[2]) * s[0]) +
-                 double(p[2]) * (double(q[0]) * s[1] - double(q[1]) * s[0])) / 6.0;
+    r.area += triangleArea(pos[a], pos[b], pos[c]);
+    r.volume += signedTetraVolume(pos[a], pos[b], pos[c]);
   }
   if (!pos.empty()) {
     r.bbox.lo = {pos[0][0], pos[0][1], pos[0][2]};

@@ -4,6 +4,7 @@
 #include "frep/errors.h"
 #include "mesh/atomic_file.h"
 #include "mesh/mesh_io.h"
+#include "mesh/triangle_geometry.h"
 
 namespace frep {
 
@@ -37,11 +38,8 @@ MeshFormat formatFromPath(const std::string& path) {
 namespace {
 
 Vec3f facetNormal(const TriangleMesh& m, const Triangle& t) {
-  const Vec3f &a = m.positions[t[0]], &b = m.positions[t[1]], &c = m.positions[t[2]];
-  const double u[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
-  const double v[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
-  double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-  const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  Vec3d n = triangleCross(m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]);
+  const double len = norm(n);
   if (len > 0)
     for (double& x : n) x /= len;
   return {float(n[0]), float(n[1]), float(n[2])};

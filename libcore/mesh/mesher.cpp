@@ -1,4 +1,5 @@
 #include "mesh/mesher.h"
+#include "mesh/triangle_geometry.h"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -85,14 +86,12 @@ struct Scratch {
 };
 
 double quality(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
-  const double u[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
-  const double v[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
-  const double w[3] = {double(c[0]) - b[0], double(c[1]) - b[1], double(c[2]) - b[2]};
-  const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
-                       u[0] * v[1] - u[1] * v[0]};
-  const double area2 = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  const double edges = u[0] * u[0] + u[1] * u[1] + u[2] * u[2] + v[0] * v[0] + v[1] * v[1] +
-                       v[2] * v[2] + w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+  const double area2 = norm(triangleCross(a, b, c));
+  auto sq = [](const Vec3f& p, const Vec3f& q) {
+    const double d[3] = {double(q[0]) - p[0], double(q[1]) - p[1], double(q[2]) - p[2]};
+    return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+  };
+  const double edges = sq(a, b) + sq(a, c) + sq(b, c);
   return edges > 0 ? area2 / edges : 0.0;
 }
 

@@ -1,0 +1,41 @@
+// Triangle geometry in double precision on float vertices: the one cross product that the
+// mesher (quad split quality), the STL writer (facet normals), the checker and the mesh
+// measures share.
+#pragma once
+
+#include <array>
+#include <cmath>
+
+#include "mesh/triangle_mesh.h"
+
+namespace frep {
+
+using Vec3d = std::array<double, 3>;
+
+// (b - a) x (c - a): twice the area, along the right-handed normal.
+inline Vec3d triangleCross(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
+  const double u[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
+  const double v[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
+  return {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+}
+
+inline double norm(const Vec3d& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+inline double triangleArea(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
+  return 0.5 * norm(triangleCross(a, b, c));
+}
+
+// Signed volume of the tetrahedron (origin, a, b, c); summed over a closed outward mesh it is
+// the enclosed volume.
+inline double signedTetraVolume(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
+  return (double(a[0]) * (double(b[1]) * c[2] - double(b[2]) * c[1]) -
+          double(a[1]) * (double(b[0]) * c[2] - double(b[2]) * c[0]) +
+          double(a[2]) * (double(b[0]) * c[1] - double(b[1]) * c[0])) /
+         6.0;
+}
+
+// Enclosed signed volume and surface area of a mesh (no welding, no checks).
+double meshVolume(const TriangleMesh& mesh);
+double meshArea(const TriangleMesh& mesh);
+
+}  // namespace frep

@@ -1,0 +1,252 @@
+"""FRepCAD's core as a Python module: FRep solids as functions F(x, y, z) >= 0 inside.
+
+Every node type of the registry is a function here, with the registry's parameter names::
+
+    import frepcore as fc
+    part = fc.box((2, 2, 2), corner=(-1, -1, -1)) & fc.sphere(1.3)
+    for axis in ((1, 0, 0), (0, 1, 0), (0, 0, 1)):
+        part = part - fc.cylinder(0.5, 0, axis=axis)     # length 0: infinite
+    report = part.export("part.stl", resolution=0.02)  # checked by CGAL first
+    print(report["text"])
+
+Operators: ``a | b`` union, ``a & b`` intersection, ``a - b`` difference, ``~a``
+complement. One-input operations are also methods: ``s.translate((1, 0, 0))``,
+``s.rotate((0, 0, 1), 45)``, ``s.scale(2)``. Long work (``mesh``, ``export``) releases
+the GIL, takes ``progress=callable(fraction) -> bool`` and raises ``Cancelled`` when the
+callback returns False; a cancelled export writes no file.
+"""
+
+import os
+
+from ._frepcore import Cancelled, Mesh, Node, node_types, parse_model, read_mesh
+from ._frepcore import node_reference_markdown
+
+__all__ = ["Cancelled", "Mesh", "Node", "Shape", "node_types", "parse_model", "read_mesh",
+           "load", "automatic_box", "NotPrintable"]
+
+# Positional order of the parameters of the primitive functions, where the registry's order
+# (placement first) would be awkward to call: fc.cylinder(radius, length).
+_POSITIONAL = {
+    "sphere": ["radius", "center"],
+    "box": ["size", "corner"],
+    "cylinder": ["radius", "length", "center", "axis"],
+    "cone": ["radius1", "radius2", "height", "base", "axis"],
+    "torus": ["major_radius", "minor_radius", "center", "axis"],
+    "ellipsoid": ["radii", "center"],
+    "halfspace": ["normal", "point"],
+    "rotate": ["axis", "angle", "center"],
+}
+
+DEFAULT_CELLS = 128  # grid cells along the longest side when no resolution is given
+
+
+class NotPrintable(ValueError):
+    """An export refused because the mesh failed the CGAL check; .report has the details."""
+
+    def __init__(self, message, report):
+        super().__init__(message)
+        self.report = report
+
+
+class Shape:
+    """An FRep solid: an immutable tree node with operators and meshing."""
+
+    __slots__ = ("node",)
+
+    def __init__(self, node):
+        if not isinstance(node, Node):
+            raise TypeError("Shape wraps a frepcore.Node, got %s" % type(node).__name__)
+        self.node = node
+
+    # -- tree ---------------------------------------------------------------------------
+    @property
+    def type(self):
+        return self.node.type
+
+    @property
+    def params(self):
+        return self.node.params
+
+    @property
+    def inputs(self):
+        return [Shape(n) for n in self.node.inputs]
+
+    def __repr__(self):
+        return "<frepcore.Shape %s %s>" % (self.type, self.params)
+
+    # -- operators ------------------------------------------------------------------------
+    def __or__(self, other):
+        return _flattened("union", self, other)
+
+    def __and__(self, other):
+        return _flattened("intersection", self, other)
+
+    def __sub__(self, other):
+        if self.type == "difference" and self.params["alpha"] == 1.0:
+            return Shape(Node("difference", {}, self.node.inputs + [_node(other)]))
+        return difference(self, other)
+
+    def __invert__(self):
+        return complement(self)
+
+    # -- evaluation ---------------------------------------------------------------------
+    def __call__(self, x, y, z):
+        return self.node.value(x, y, z)
+
+    def values(self, points):
+        """F at each (x, y, z) of points, evaluated in batches without the GIL."""
+        return self.node.values(points)
+
+    def gradient(self, x, y, z):
+        return self.node.gradient(x, y, z)
+
+    def interval(self, lo, hi):
+        return self.node.interval(lo, hi)
+
+    def bounds(self, search=1e6, tolerance=1e-4):
+        """dict(empty, bounded, unbounded_sides, box) from interval branch and bound."""
+        return self.node.bounds(search, tolerance)
+
+    # -- meshing and export ---------------------------------------------------------------
+    def mesh(self, resolution=None, bbox=None, cells=None, progress=None, normals=False):
+        """Polygonises the solid; bbox and resolution default to automatic_box."""
+        box, cell = automatic_box(self, resolution=resolution, bbox=bbox, cells=cells)
+        return self.node.mesh(box, cell, progress, normals)
+
+    def export(self, path, resolution=None, bbox=None, cells=None, format="", check=True,
+               progress=None):
+        """Meshes, checks with CGAL and writes path atomically; returns the check report.
+
+        Raises NotPrintable (nothing written) when the check fails, Cancelled when progress
+        returns False.
+        """
+        mesh = self.mesh(resolution=resolution, bbox=bbox, cells=cells,
+                         progress=_scaled(progress, 0.0, 0.5))
+        report = None
+        if check:
+            report = mesh.check(os.path.basename(path), _scaled(progress, 0.5, 0.9))
+            if not report["printable"]:
+                raise NotPrintable("%s: not written, the mesh is not printable: %s"
+                                   % (path, "; ".join(report["reasons"])), report)
+        mesh.write(path, format, _scaled(progress, 0.9, 1.0))
+        return report
+
+    def to_json(self, bbox=None, resolution=None, description=""):
+        return self.node.to_json(bbox, resolution, description)
+
+
+def _node(value):
+    if isinstance(value, Shape):
+        return value.node
+    if isinstance(value, Node):
+        return value
+    raise TypeError("expected a frepcore.Shape, got %s" % type(value).__name__)
+
+
+def _flattened(type_id, a, b):
+    """a | b | c gives one union of three, not a union of a union."""
+    inputs = []
+    for s in (a, b):
+        n = _node(s)
+        if n.type == type_id and n.params["alpha"] == 1.0:
+            inputs.extend(n.inputs)
+        else:
+            inputs.append(n)
+    return Shape(Node(type_id, {}, inputs))
+
+
+def _scaled(progress, lo, hi):
+    if progress is None:
+        return None
+    return lambda f: progress(lo + (hi - lo) * f)
+
+
+def automatic_box(shape, resolution=None, bbox=None, cells=None, padding_cells=1.5):
+    """The meshing box and cell size for shape.
+
+    bbox defaults to the solid's interval bounds, padded so the surface never touches the
+    box; resolution (cell size) defaults to the longest side over `cells` (default 128).
+    Raises ValueError for an empty or unbounded solid when bbox is not given.
+    """
+    if bbox is not None:
+        lo, hi = _box_pair(bbox)
+        longest = max(h - l for l, h in zip(lo, hi))
+        cell = resolution if resolution else longest / (cells or DEFAULT_CELLS)
+        return (tuple(lo), tuple(hi)), cell
+    b = shape.bounds()
+    if b["empty"]:
+        raise ValueError("the solid is empty: no point of the search box is inside")
+    if not b["bounded"]:
+        raise ValueError("the solid is unbounded towards %s; give a bounding box or intersect "
+                         "it with a bounded solid" % ", ".join(b["unbounded_sides"]))
+    lo, hi = b["box"]
+    longest = max(max(h - l for l, h in zip(lo, hi)), 1e-9)
+    cell = resolution if resolution else longest / (cells or DEFAULT_CELLS)
+    pad = padding_cells * cell + 1e-3 * longest
+    return (tuple(l - pad for l in lo), tuple(h + pad for h in hi)), cell
+
+
+def _box_pair(bbox):
+    if len(bbox) == 6:
+        return list(bbox[:3]), list(bbox[3:])
+    if len(bbox) == 2:
+        return list(bbox[0]), list(bbox[1])
+    raise ValueError("bounding box: needs (xmin, ymin, zmin, xmax, ymax, zmax) or (min, max)")
+
+
+def load(path):
+    """Reads a .json model: (Shape, export settings dict with bbox and resolution)."""
+    with open(path, encoding="utf-8") as f:
+        model = parse_model(f.read(), path)
+    return Shape(model["root"]), {"bbox": model["bbox"], "resolution": model["resolution"]}
+
+
+def _make_function(info):
+    type_id = info["id"]
+    names = [p["name"] for p in info["params"]]
+    order = _POSITIONAL.get(type_id, names)
+    min_in, max_in = info["min_inputs"], info["max_inputs"]
+
+    def params_from(args, kwargs):
+        if len(args) > len(order):
+            raise TypeError("%s() takes at most %d parameters (%s), got %d"
+                            % (type_id, len(order), ", ".join(order), len(args)))
+        params = dict(zip(order, args))
+        for k, v in kwargs.items():
+            if k in params:
+                raise TypeError("%s(): parameter '%s' given twice" % (type_id, k))
+            params[k] = v
+        return params
+
+    if min_in == 0:
+        def make(*args, **kwargs):
+            return Shape(Node(type_id, params_from(args, kwargs), [], type_id))
+    elif max_in == 1:
+        def make(shape, *args, **kwargs):
+            return Shape(Node(type_id, params_from(args, kwargs), [_node(shape)], type_id))
+    else:
+        def make(*shapes, **kwargs):
+            return Shape(Node(type_id, kwargs, [_node(s) for s in shapes], type_id))
+
+    lines = ["%s: %s" % (type_id, info["doc"]), "", "F = " + info["formula"], "",
+             "Parameters:"]
+    for p in info["params"]:
+        unit = " [%s]" % p["unit"] if p["unit"] else ""
+        lines.append("  %s%s = %r: %s (allowed: %s)" % (p["name"], unit, p["default"], p["doc"],
+                                                        p["range"]))
+    make.__name__ = type_id
+    make.__qualname__ = type_id
+    make.__doc__ = "\n".join(lines)
+    return make
+
+
+def _install_node_functions():
+    for info in node_types():
+        fn = _make_function(info)
+        globals()[info["id"]] = fn
+        __all__.append(info["id"])
+        if info["min_inputs"] == 1 and info["max_inputs"] == 1 and info["id"] != "complement":
+            setattr(Shape, info["id"], fn)
+
+
+_install_node_functions()

@@ -1,0 +1,396 @@
+// _frepcore: the thin pybind11 layer over libcore. It converts Python values to libcore types
+// and back, releases the GIL for long work, and runs that work on a worker thread so that the
+// Python progress callback is always called on the caller's thread (FreeCAD's progress bar and
+// its cancel live in the GUI thread). The pythonic modelling API is in frepcore/__init__.py.
+#include <pybind11/functional.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+#include "check/mesh_check.h"
+#include "frep/bounds.h"
+#include "frep/errors.h"
+#include "frep/model_json.h"
+#include "frep/registry.h"
+#include "frep/registry_docs.h"
+#include "frep/tree.h"
+#include "mesh/mesh_io.h"
+#include "mesh/mesher.h"
+#include "mesh/triangle_geometry.h"
+
+namespace py = pybind11;
+
+namespace frep {
+namespace {
+
+// ---- values -------------------------------------------------------------------------------
+
+ParamValue toParamValue(const ParamTemplate& t, const py::handle& v, const std::string& where) {
+  ParamValue out;
+  auto fail = [&](const std::string& what) {
+    throw ModelError(where + ": parameter '" + t.name + "' " + what + "; allowed: " +
+                     t.rangeText());
+  };
+  if (t.type == ParamType::Choice) {
+    if (!py::isinstance<py::str>(v)) fail("must be text");
+    out.text = v.cast<std::string>();
+    return out;
+  }
+  std::size_t expected = t.type == ParamType::Vector3 ? 3 : t.type == ParamType::Matrix3x4 ? 12 : 1;
+  if (expected == 1) {
+    if (py::isinstance<py::str>(v) || py::isinstance<py::sequence>(v)) fail("must be a number");
+    try {
+      out.numbers = {v.cast<double>()};
+    } catch (const py::cast_error&) {
+      fail("must be a number");
+    }
+    return out;
+  }
+  if (py::isinstance<py::str>(v) || !py::isinstance<py::sequence>(v))
+    fail("must be a sequence of " + std::to_string(expected) + " numbers");
+  auto seq = v.cast<py::sequence>();
+  if (seq.size() != expected)
+    fail("has " + std::to_string(seq.size()) + " values, needs " + std::to_string(expected));
+  for (auto item : seq) {
+    try {
+      out.numbers.push_back(item.cast<double>());
+    } catch (const py::cast_error&) {
+      fail("must be a sequence of " + std::to_string(expected) + " numbers");
+    }
+  }
+  return out;
+}
+
+py::object fromParamValue(const ParamTemplate& t, const ParamValue& v) {
+  switch (t.type) {
+    case ParamType::Choice: return py::str(v.text);
+    case ParamType::Boolean: return py::bool_(v.numbers.at(0) != 0.0);
+    case ParamType::Integer: return py::int_(static_cast<long long>(v.numbers.at(0)));
+    case ParamType::Real: return py::float_(v.numbers.at(0));
+    default: return py::tuple(py::cast(v.numbers));
+  }
+}
+
+Box3 toBox(const py::sequence& s) {
+  if (s.size() == 6) {
+    Box3 b;
+    for (int a = 0; a < 3; ++a) {
+      b.lo[a] = s[a].cast<double>();
+      b.hi[a] = s[a + 3].cast<double>();
+    }
+    return b;
+  }
+  if (s.size() == 2) {
+    auto lo = s[0].cast<Vec3>(), hi = s[1].cast<Vec3>();
+    return Box3{lo, hi};
+  }
+  throw ModelError("bounding box: needs (xmin, ymin, zmin, xmax, ymax, zmax) or (min, max)");
+}
+
+py::tuple fromBox(const Box3& b) { return py::make_tuple(py::cast(b.lo), py::cast(b.hi)); }
+
+py::dict paramTemplateDict(const ParamTemplate& p) {
+  py::dict d;
+  d["name"] = p.name;
+  d["type"] = paramTypeName(p.type);
+  d["default"] = fromParamValue(p, p.defaultValue);
+  d["min"] = p.min;
+  d["max"] = p.max;
+  d["min_exclusive"] = p.minExclusive;
+  d["max_exclusive"] = p.maxExclusive;
+  d["nonzero"] = p.nonZeroVector;
+  d["choices"] = p.choices;
+  d["unit"] = p.unit;
+  d["doc"] = p.doc;
+  d["range"] = p.rangeText();
+  return d;
+}
+
+py::dict nodeTypeDict(const NodeType& t) {
+  py::dict d;
+  d["id"] = t.id;
+  d["category"] = t.category;
+  d["doc"] = t.doc;
+  d["formula"] = t.formula;
+  d["min_inputs"] = t.minInputs;
+  d["max_inputs"] = t.maxInputs;
+  py::list params;
+  for (const auto& p : t.params) params.append(paramTemplateDict(p));
+  d["params"] = params;
+  return d;
+}
+
+// ---- long work with progress --------------------------------------------------------------
+
+// Runs work(progress) on a worker thread with the GIL released. The Python callback
+// `progress(fraction) -> bool|None` is polled on this thread every 50 ms; False (or an
+// exception in it) cancels the work at its next progress report.
+template <class Result, class Work>
+Result runWithProgress(Work work, const py::object& progress) {
+  std::atomic<double> fraction{0.0};
+  std::atomic<bool> cancel{false};
+  std::mutex m;
+  std::condition_variable cv;
+  bool done = false;
+  Result result{};
+  std::exception_ptr workError, callbackError;
+  {
+    py::gil_scoped_release release;
+    std::thread worker([&] {
+      try {
+        result = work([&](double f) {
+          fraction = f;
+          return !cancel.load();
+        });
+      } catch (...) {
+        workError = std::current_exception();
+      }
+      std::lock_guard<std::mutex> lock(m);
+      done = true;
+      cv.notify_all();
+    });
+    std::unique_lock<std::mutex> lock(m);
+    while (!cv.wait_for(lock, std::chrono::milliseconds(50), [&] { return done; })) {
+      if (progress.is_none() || cancel) continue;
+      lock.unlock();
+      {
+        py::gil_scoped_acquire acquire;
+        try {
+          py::object keep = progress(fraction.load());
+          if (!keep.is_none() && !keep.cast<bool>()) cancel = true;
+        } catch (...) {
+          callbackError = std::current_exception();
+          cancel = true;
+        }
+      }
+      lock.lock();
+    }
+    lock.unlock();
+    worker.join();
+  }
+  if (callbackError) std::rethrow_exception(callbackError);
+  if (workError) std::rethrow_exception(workError);
+  // Work that does not report progress (the CGAL check) runs to its end; a cancel asked for
+  // meanwhile still holds, so the caller does not go on to write a file.
+  if (cancel) throw Cancelled();
+  if (!progress.is_none()) progress(1.0);
+  return result;
+}
+
+// ---- wrapped types --------------------------------------------------------------------------
+
+struct PyNode {
+  NodePtr node;
+  std::shared_ptr<const Program> program;  // compiled on first use
+
+  const Program& compiled() {
+    if (!program) program = std::make_shared<const Program>(compile(node));
+    return *program;
+  }
+};
+
+PyNode makePyNode(const std::string& typeId, const py::dict& params,
+                  const std::vector<PyNode>& inputs, const std::string& path) {
+  const NodeType& type = registry().get(typeId);
+  std::map<std::string, ParamValue> values;
+  for (auto item : params) {
+    const std::string name = item.first.cast<std::string>();
+    const ParamTemplate* t = type.findParam(name);
+    if (!t) throw ModelError(path + " (" + typeId + "): " + type.unknownParamText(name));
+    values[name] = toParamValue(*t, item.second, path + " (" + typeId + ")");
+  }
+  std::vector<NodePtr> in;
+  for (const auto& p : inputs) in.push_back(p.node);
+  return PyNode{makeNode(typeId, std::move(values), std::move(in), path), nullptr};
+}
+
+py::dict nodeParams(const PyNode& n) {
+  py::dict d;
+  for (const auto& p : n.node->type->params) d[p.name.c_str()] = fromParamValue(p, n.node->param(p.name));
+  return d;
+}
+
+py::dict boundsDict(const SolidBounds& b) {
+  py::dict d;
+  d["empty"] = b.empty;
+  d["bounded"] = b.bounded();
+  py::list sides;
+  const char* names[3][2] = {{"-x", "+x"}, {"-y", "+y"}, {"-z", "+z"}};
+  for (int a = 0; a < 3; ++a)
+    for (int s = 0; s < 2; ++s)
+      if (b.unbounded[a][s]) sides.append(names[a][s]);
+  d["unbounded_sides"] = sides;
+  d["box"] = b.empty ? py::object(py::none()) : py::object(fromBox(b.box));
+  return d;
+}
+
+py::dict reportDict(const CheckReport& r) {
+  py::dict d;
+  d["printable"] = r.printable();
+  d["reasons"] = r.reasons;
+  d["input_vertices"] = r.inputVertices;
+  d["vertices"] = r.vertices;
+  d["faces"] = r.faces;
+  d["border_edges"] = r.borderEdges;
+  d["non_manifold_edges"] = r.nonManifoldEdges;
+  d["non_manifold_vertices"] = r.nonManifoldVertices;
+  d["misoriented_edges"] = r.misorientedEdges;
+  d["degenerate_faces"] = r.degenerateFaces;
+  d["self_intersections"] = r.selfIntersections;
+  d["components"] = r.components;
+  d["closed"] = r.closed;
+  d["outward"] = r.outward;
+  d["volume"] = r.volume;
+  d["area"] = r.area;
+  d["bbox"] = fromBox(r.bbox);
+  return d;
+}
+
+}  // namespace
+}  // namespace frep
+
+PYBIND11_MODULE(_frepcore, m) {
+  using namespace frep;
+  m.doc() = "FRepCAD core: FRep trees, evaluation, meshing, checking and mesh files.";
+
+  static py::exception<Cancelled> cancelled(m, "Cancelled");
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const Cancelled& e) {
+      cancelled(e.what());
+    } catch (const ModelError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const FileError& e) {
+      PyErr_SetString(PyExc_OSError, e.what());
+    }
+  });
+
+  m.def("node_types", [] {
+    py::list out;
+    for (const NodeType* t : registry().all()) out.append(nodeTypeDict(*t));
+    return out;
+  }, "Every registered node type as a dict: id, category, doc, formula, inputs and params.");
+  m.def("node_reference_markdown", [] { return registryMarkdown(); });
+
+  py::class_<PyNode>(m, "Node", "An immutable, validated FRep tree node.")
+      .def(py::init(&makePyNode), py::arg("type"), py::arg("params") = py::dict(),
+           py::arg("inputs") = std::vector<PyNode>{}, py::arg("path") = "node",
+           "Makes a node; raises ValueError naming the path, the parameter and what is allowed.")
+      .def_property_readonly("type", [](const PyNode& n) { return n.node->type->id; })
+      .def_property_readonly("params", &nodeParams)
+      .def_property_readonly("inputs", [](const PyNode& n) {
+        std::vector<PyNode> out;
+        for (const auto& i : n.node->inputs) out.push_back(PyNode{i, nullptr});
+        return out;
+      })
+      .def("value", [](PyNode& n, double x, double y, double z) { return n.compiled().eval(x, y, z); },
+           py::arg("x"), py::arg("y"), py::arg("z"), "F(x, y, z): >= 0 inside.")
+      .def("values", [](PyNode& n, const std::vector<Vec3>& points) {
+        const Program& p = n.compiled();
+        std::vector<double> x(points.size()), y(points.size()), z(points.size()), out(points.size());
+        for (std::size_t i = 0; i < points.size(); ++i) {
+          x[i] = points[i][0];
+          y[i] = points[i][1];
+          z[i] = points[i][2];
+        }
+        py::gil_scoped_release release;
+        p.evalBatch(x.data(), y.data(), z.data(), points.size(), out.data());
+        return out;
+      }, py::arg("points"))
+      .def("gradient", [](PyNode& n, double x, double y, double z) {
+        Dual d = n.compiled().evalGradient(x, y, z);
+        return py::make_tuple(d.v, py::make_tuple(d.d[0], d.d[1], d.d[2]));
+      }, "(F, (dF/dx, dF/dy, dF/dz)) at a point.")
+      .def("interval", [](PyNode& n, const Vec3& lo, const Vec3& hi) {
+        Interval v = n.compiled().evalInterval(Interval(lo[0], hi[0]), Interval(lo[1], hi[1]),
+                                               Interval(lo[2], hi[2]));
+        return py::make_tuple(v.lo, v.hi);
+      }, "Bounds of F over the box [lo, hi].")
+      .def("bounds", [](PyNode& n, double search, double tolerance) {
+        BoundsOptions o;
+        o.search = Box3{{-search, -search, -search}, {search, search, search}};
+        o.tolerance = tolerance;
+        const Program& p = n.compiled();
+        SolidBounds b;
+        {
+          py::gil_scoped_release release;
+          b = findBounds(p, o);
+        }
+        return boundsDict(b);
+      }, py::arg("search") = 1e6, py::arg("tolerance") = 1e-4,
+      "Tight box of the solid by interval branch and bound: dict(empty, bounded, "
+      "unbounded_sides, box).")
+      .def("instruction_count", [](PyNode& n) { return n.compiled().instructionCount(); })
+      .def("mesh", [](PyNode& n, py::object bbox, double resolution, py::object progress,
+                      bool normals) {
+        MeshingOptions o;
+        o.bbox = toBox(bbox.cast<py::sequence>());
+        o.resolution = resolution;
+        o.normals = normals;
+        auto program = std::make_shared<const Program>(n.compiled());
+        return runWithProgress<TriangleMesh>([program, o](std::function<bool(double)> tick) mutable {
+          o.progress = tick;
+          return polygonize(*program, o);
+        }, progress);
+      }, py::arg("bbox"), py::arg("resolution"), py::arg("progress") = py::none(),
+      py::arg("normals") = false,
+      "Polygonises inside bbox with cells of at most `resolution`. progress(fraction) is "
+      "called on this thread; returning False cancels (raises Cancelled).")
+      .def("to_json", [](const PyNode& n, py::object bbox, py::object resolution,
+                         const std::string& description) {
+        Model model;
+        model.root = n.node;
+        if (!bbox.is_none()) model.bbox = toBox(bbox.cast<py::sequence>());
+        if (!resolution.is_none()) model.resolution = resolution.cast<double>();
+        model.description = description;
+        return modelToJson(model);
+      }, py::arg("bbox") = py::none(), py::arg("resolution") = py::none(),
+      py::arg("description") = "");
+
+  m.def("parse_model", [](const std::string& text, const std::string& source) {
+    Model model = parseModel(text, source);
+    py::dict d;
+    d["root"] = PyNode{model.root, nullptr};
+    d["bbox"] = model.bbox ? py::object(fromBox(*model.bbox)) : py::object(py::none());
+    d["resolution"] = model.resolution ? py::object(py::float_(*model.resolution)) : py::object(py::none());
+    d["description"] = model.description;
+    return d;
+  }, py::arg("text"), py::arg("source") = "model");
+
+  py::class_<TriangleMesh>(m, "Mesh", "An indexed triangle mesh (float coordinates).")
+      .def_property_readonly("vertex_count", &TriangleMesh::vertexCount)
+      .def_property_readonly("triangle_count", &TriangleMesh::triangleCount)
+      .def_property_readonly("points", [](const TriangleMesh& t) { return t.positions; })
+      .def_property_readonly("triangles", [](const TriangleMesh& t) { return t.triangles; })
+      .def("volume", &meshVolume, "Enclosed signed volume (no checks).")
+      .def("area", &meshArea)
+      .def("check", [](const TriangleMesh& t, const std::string& name, py::object progress) {
+        CheckReport r = runWithProgress<CheckReport>(
+            [&t](std::function<bool(double)>) { return checkMesh(t); }, progress);
+        py::dict d = reportDict(r);
+        d["text"] = reportToText(r, name);
+        return d;
+      }, py::arg("name") = "mesh", py::arg("progress") = py::none(),
+      "CGAL printability check: a dict with printable, reasons, the counts and a text report.")
+      .def("write", [](const TriangleMesh& t, const std::string& path, const std::string& format,
+                       py::object progress) {
+        MeshFormat f = format.empty() ? formatFromPath(path) : parseFormat(format);
+        runWithProgress<bool>([&](std::function<bool(double)> tick) {
+          writeMesh(t, path, f, tick);
+          return true;
+        }, progress);
+      }, py::arg("path"), py::arg("format") = "", py::arg("progress") = py::none(),
+      "Writes through a temporary file and a rename: a cancel or failure leaves no file.");
+
+  m.def("read_mesh", [](const std::string& path) {
+    py::gil_scoped_release release;
+    return readMesh(path);
+  }, py::arg("path"));
+}
