@@ -19,11 +19,17 @@ bool SolidBounds::bounded() const {
 namespace {
 
 constexpr double kAspect = 8.0;
+constexpr int kBisectionSteps = 6;
+constexpr double kCoarseCellsPerSpan = 8.0;
+constexpr std::size_t kMaxCoarseCells = 4096;
 
 struct Cell {
   Box3 box;
   double priority;  // how far the cell reaches in the searched direction
   int depth;
+  // Coordinate along the searched axis from which the outer slab is not known to be empty:
+  // where the last bisection stopped, so a revisit after shrinking goes on from there.
+  double keep;
 };
 
 struct CellOrder {
@@ -43,10 +49,12 @@ bool mayBeInside(const Program& p, const Box3& b) {
 
 // Returns the extent of the solid along `axis` in direction `sign` (+1: max, -1: min), or
 // nothing when every cell is proven outside.
-bool extremeAlong(const Program& p, const BoundsOptions& o, int axis, int sign, double* out) {
+bool extremeAlong(const Program& p, const BoundsOptions& o, const std::vector<Box3>& start,
+                  int axis, int sign, double* out) {
   auto reach = [&](const Box3& b) { return sign > 0 ? b.hi[axis] : -b.lo[axis]; };
   std::priority_queue<Cell, std::vector<Cell>, CellOrder> queue;
-  queue.push({o.search, reach(o.search), 0});
+  auto inner = [&](const Box3& b) { return sign > 0 ? b.lo[axis] : b.hi[axis]; };
+  for (const Box3& b : start) queue.push({b, reach(b), 0, inner(b)});
   std::size_t evaluations = 0;
   while (!queue.empty()) {
     Cell c = queue.top();
@@ -63,9 +71,12 @@ bool extremeAlong(const Program& p, const BoundsOptions& o, int axis, int sign, 
     // direction (even unbounded ones, where splitting sideways would never end).
     bool shrunk = false;
     {
-      double keep = sign > 0 ? c.box.lo[axis] : c.box.hi[axis];  // slab from here: not empty
+      double keep = c.keep;                                      // slab from here: not empty
       double cut = sign > 0 ? c.box.hi[axis] : c.box.lo[axis];   // slab from here: empty
-      while (std::abs(cut - keep) > o.tolerance && evaluations < o.maxEvaluations) {
+      // A few steps per visit: any cut found is valid, and a shrunk cell is visited again.
+      for (int step = 0; step < kBisectionSteps && std::abs(cut - keep) > o.tolerance &&
+                         evaluations < o.maxEvaluations;
+           ++step) {
         const double t = 0.5 * (keep + cut);
         Box3 slab = c.box;
         (sign > 0 ? slab.lo : slab.hi)[axis] = t;
@@ -77,9 +88,10 @@ bool extremeAlong(const Program& p, const BoundsOptions& o, int axis, int sign, 
         side = cut;
         shrunk = true;
       }
+      c.keep = keep;
     }
     if (shrunk) {  // other cells may now reach further: back into the queue
-      queue.push({c.box, reach(c.box), c.depth});
+      queue.push({c.box, reach(c.box), c.depth, c.keep});
       continue;
     }
     // Then split: the searched axis while the cell is at most kAspect times wider across it,
@@ -92,8 +104,9 @@ bool extremeAlong(const Program& p, const BoundsOptions& o, int axis, int sign, 
     Box3 a = c.box, b = c.box;
     a.hi[split] = mid;
     b.lo[split] = mid;
-    queue.push({a, reach(a), c.depth + 1});
-    queue.push({b, reach(b), c.depth + 1});
+    // Smaller cells have tighter intervals: their bisection starts afresh.
+    queue.push({a, reach(a), c.depth + 1, inner(a)});
+    queue.push({b, reach(b), c.depth + 1, inner(b)});
   }
   if (queue.empty()) return false;
   double r = queue.top().priority;
@@ -101,15 +114,57 @@ bool extremeAlong(const Program& p, const BoundsOptions& o, int axis, int sign, 
   return true;
 }
 
+// Level by level, splits every cell that may hold part of the solid into eight, until the cells
+// are small next to the box they span (or too many). Far cells are ruled out while they are
+// about as large as their distance to the solid, which plain interval arithmetic manages; a
+// best-first search from the whole search box would need cells far smaller than that.
+std::vector<Box3> coarseCells(const Program& p, const BoundsOptions& o) {
+  std::vector<Box3> cells;
+  if (mayBeInside(p, o.search)) cells.push_back(o.search);
+  for (int level = 0; level < 64 && !cells.empty(); ++level) {
+    Box3 span = cells[0];
+    for (const Box3& c : cells)
+      for (int a = 0; a < 3; ++a) {
+        span.lo[a] = std::min(span.lo[a], c.lo[a]);
+        span.hi[a] = std::max(span.hi[a], c.hi[a]);
+      }
+    double cellSize = 0.0, spanSize = 0.0;
+    for (int a = 0; a < 3; ++a) {
+      cellSize = std::max(cellSize, cells[0].hi[a] - cells[0].lo[a]);
+      spanSize = std::max(spanSize, span.hi[a] - span.lo[a]);
+    }
+    if (cellSize * kCoarseCellsPerSpan <= spanSize || cells.size() * 8 > kMaxCoarseCells ||
+        cellSize <= o.tolerance)
+      break;
+    std::vector<Box3> next;
+    for (const Box3& c : cells) {
+      const Vec3 mid{0.5 * (c.lo[0] + c.hi[0]), 0.5 * (c.lo[1] + c.hi[1]),
+                     0.5 * (c.lo[2] + c.hi[2])};
+      for (int k = 0; k < 8; ++k) {
+        Box3 child;
+        for (int a = 0; a < 3; ++a) {
+          const bool high = (k >> a) & 1;
+          child.lo[a] = high ? mid[a] : c.lo[a];
+          child.hi[a] = high ? c.hi[a] : mid[a];
+        }
+        if (mayBeInside(p, child)) next.push_back(child);
+      }
+    }
+    cells.swap(next);
+  }
+  return cells;
+}
+
 }  // namespace
 
 SolidBounds findBounds(const Program& program, const BoundsOptions& options) {
   SolidBounds result;
+  const std::vector<Box3> start = coarseCells(program, options);
   for (int axis = 0; axis < 3; ++axis) {
     for (int side = 0; side < 2; ++side) {
       int sign = side == 0 ? -1 : 1;
       double v = 0.0;
-      if (!extremeAlong(program, options, axis, sign, &v)) {
+      if (!extremeAlong(program, options, start, axis, sign, &v)) {
         result.empty = true;
         result.box = Box3{};
         return result;

@@ -277,6 +277,18 @@ PYBIND11_MODULE(_frepcore, m) {
     for (const NodeType* t : registry().all()) out.append(nodeTypeDict(*t));
     return out;
   }, "Every registered node type as a dict: id, category, doc, formula, inputs and params.");
+  m.def("check_param", [](const std::string& typeId, const std::string& name, py::handle value) {
+    const NodeType& type = registry().get(typeId);
+    const ParamTemplate* t = type.findParam(name);
+    if (!t) return type.unknownParamText(name);
+    try {
+      return t->check(toParamValue(*t, value, typeId));
+    } catch (const ModelError& e) {
+      return std::string(e.what());
+    }
+  }, py::arg("type"), py::arg("name"), py::arg("value"),
+  "What is wrong with a parameter value (\"-1 is out of range; allowed: (0, inf)\"), or "
+  "an empty string when the registry allows it.");
   m.def("node_reference_markdown", [] { return registryMarkdown(); });
 
   py::class_<PyNode>(m, "Node", "An immutable, validated FRep tree node.")

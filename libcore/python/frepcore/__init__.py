@@ -19,7 +19,7 @@ callback returns False; a cancelled export writes no file.
 import os
 
 from ._frepcore import Cancelled, Mesh, Node, node_types, parse_model, read_mesh
-from ._frepcore import node_reference_markdown
+from ._frepcore import check_param, node_reference_markdown
 
 __all__ = ["Cancelled", "Mesh", "Node", "Shape", "node_types", "parse_model", "read_mesh",
            "load", "automatic_box", "NotPrintable"]
@@ -161,19 +161,21 @@ def _scaled(progress, lo, hi):
     return lambda f: progress(lo + (hi - lo) * f)
 
 
-def automatic_box(shape, resolution=None, bbox=None, cells=None, padding_cells=1.5):
+def automatic_box(shape, resolution=None, bbox=None, cells=None, padding_cells=1.5,
+                  bounds=None):
     """The meshing box and cell size for shape.
 
     bbox defaults to the solid's interval bounds, padded so the surface never touches the
     box; resolution (cell size) defaults to the longest side over `cells` (default 128).
-    Raises ValueError for an empty or unbounded solid when bbox is not given.
+    Raises ValueError for an empty or unbounded solid when bbox is not given. `bounds` may
+    pass a result of shape.bounds() already at hand.
     """
     if bbox is not None:
         lo, hi = _box_pair(bbox)
         longest = max(h - l for l, h in zip(lo, hi))
         cell = resolution if resolution else longest / (cells or DEFAULT_CELLS)
         return (tuple(lo), tuple(hi)), cell
-    b = shape.bounds()
+    b = bounds if bounds is not None else shape.bounds()
     if b["empty"]:
         raise ValueError("the solid is empty: no point of the search box is inside")
     if not b["bounded"]:

@@ -1,0 +1,79 @@
+"""Checked export of FRep solids: File > Export "FRep mesh (*.stl *.obj *.ply)", the Export
+command and `frepcad export part.FCStd` all come here.
+
+The solid is meshed from its tree (not from the preview), checked with CGAL, and written
+through a temporary file and a rename: a mesh that fails the check, a cancel or an error
+leaves no file. Selected Polygonize features export with their own box and resolution.
+"""
+
+import os
+
+import FreeCAD
+
+import FRepMeshing
+import FRepPolygonize
+import FRepTree
+from FRepPaths import frepcore
+
+FILTER = "FRep mesh (*.stl *.obj *.ply)"
+
+
+def export(objects, filename):
+    """FreeCAD's export filter entry point."""
+    try:
+        report = export_objects(objects, filename)
+        FreeCAD.Console.PrintMessage(report["text"] + "\n")
+    except Exception as e:
+        FreeCAD.Console.PrintError("FRep export: %s\n" % e)
+        if FreeCAD.GuiUp:
+            from PySide import QtGui
+            QtGui.QMessageBox.critical(None, "FRep export", str(e))
+        raise
+
+
+def solid_and_box(objects, cells=None):
+    """The union of the objects' solids and its meshing box and cell size."""
+    if not objects:
+        raise ValueError("nothing to export: select FRep features or Polygonize features")
+    shapes, boxes = [], []
+    for obj in objects:
+        if isinstance(getattr(obj, "Proxy", None), FRepPolygonize.Polygonize):
+            if obj.Source is None:
+                raise ValueError("%s: property 'Source' is empty" % obj.Label)
+            shape = FRepTree.shape_of(obj.Source)
+            boxes.append(FRepPolygonize.meshing_box(obj, shape))
+        elif FRepTree.is_frep_input(obj):
+            shape = FRepTree.shape_of(obj)
+        else:
+            raise ValueError("%s is not an FRep feature, a Polygonize feature or a Part "
+                             "primitive" % FRepTree.describe(obj))
+        shapes.append(shape)
+    solid = shapes[0] if len(shapes) == 1 else frepcore.union(*shapes)
+    if len(objects) == 1 and boxes:
+        return solid, boxes[0]
+    label = ", ".join(o.Label for o in objects)
+    try:
+        return solid, frepcore.automatic_box(
+            solid, cells=cells or FRepMeshing.DEFAULT_EXPORT_CELLS)
+    except ValueError as e:
+        raise ValueError("%s: %s" % (label, e))
+
+
+def export_objects(objects, filename, progress=None, cells=None, fmt=""):
+    """Meshes, checks and writes; returns the check report (a dict with 'text').
+
+    Raises frepcore.NotPrintable (nothing written) when the check fails, RuntimeError when
+    cancelled (nothing written), ValueError for bad input.
+    """
+    solid, (box, cell) = solid_and_box(objects, cells)
+    name = os.path.basename(filename)
+
+    def work(tick):
+        try:
+            return solid.export(filename, resolution=cell, bbox=box, format=fmt, progress=tick)
+        except frepcore.Cancelled:
+            raise RuntimeError("export of %s cancelled; no file written" % name)
+
+    if progress is not None:
+        return work(progress)
+    return FRepMeshing.run_with_progress("Exporting %s" % name, work)

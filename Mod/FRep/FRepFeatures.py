@@ -1,0 +1,245 @@
+"""The FRep feature classes: one per registry node type, generated at import.
+
+Each feature is a Mesh::FeaturePython whose state is entirely its properties: the registry's
+parameters (typed, with units, ranges and tooltips), its inputs (a link `Base` for one-input
+operations, a link list `Shapes` for the others), `Bypass` on operations, and the Placement.
+Its Mesh property holds the preview at the document's preview resolution; a hidden feature
+keeps an empty one until it is shown again.
+
+Scripting:
+    import FRepFeatures as F
+    s = F.make("sphere", doc, radius=1.3)
+    b = F.make("box", doc, corner=(-1, -1, -1), size=(2, 2, 2))
+    i = F.make("intersection", doc, inputs=[b, s])
+    doc.recompute()
+"""
+
+import FreeCAD
+
+import FRepMeshing
+import FRepProperties as props
+import FRepTree
+from FRepPaths import frepcore
+
+NODE_TYPES = {t["id"]: t for t in frepcore.node_types()}
+
+# (document name, object name) of each execute, in order: lets tests and benchmarks count
+# exactly what a change recomputed. Bounded so a long session does not grow it forever.
+EXECUTIONS = []
+_MAX_LOG = 10000
+
+
+def input_property(info):
+    """'Base' (one input), 'Shapes' (several) or None (a primitive)."""
+    if info["max_inputs"] == 0:
+        return None
+    return "Base" if info["max_inputs"] == 1 else "Shapes"
+
+
+def linked_inputs(obj):
+    prop = input_property(NODE_TYPES[obj.Proxy.FREP_TYPE])
+    if prop == "Base":
+        return [obj.Base] if obj.Base is not None else []
+    if prop == "Shapes":
+        return list(obj.Shapes)
+    return []
+
+
+def depends_on(obj, target):
+    """Whether obj reaches target through its links (safe on cyclic graphs)."""
+    seen, todo = set(), [obj]
+    while todo:
+        o = todo.pop()
+        if o == target:
+            return True
+        if o.Name in seen:
+            continue
+        seen.add(o.Name)
+        todo.extend(o.OutList)
+    return False
+
+
+def cycle_offenders(obj, inputs):
+    return [i for i in inputs if i is not None and depends_on(i, obj)]
+
+
+def cycle_message(obj, offenders):
+    return ("%s: refused to link %s: %s already depend%s on %s, so the link would make a "
+            "cycle" % (obj.Label, ", ".join("'%s'" % o.Label for o in offenders),
+                       "they" if len(offenders) > 1 else "it",
+                       "" if len(offenders) > 1 else "s", obj.Label))
+
+
+def set_inputs(obj, inputs):
+    """Links inputs to an operation; raises ValueError (and links nothing) on a cycle."""
+    offenders = cycle_offenders(obj, inputs)
+    if offenders:
+        raise ValueError(cycle_message(obj, offenders))
+    info = NODE_TYPES[obj.Proxy.FREP_TYPE]
+    prop = input_property(info)
+    if prop is None:
+        raise ValueError("%s: a %s takes no inputs" % (obj.Label, info["id"]))
+    if prop == "Base":
+        if len(inputs) != 1:
+            raise ValueError("%s: property 'Base' takes exactly one input, got %d"
+                             % (obj.Label, len(inputs)))
+        obj.Base = inputs[0]
+    else:
+        obj.Shapes = list(inputs)
+
+
+class FRepFeature:
+    """Proxy of every FRep feature; subclasses only set FREP_TYPE."""
+
+    FREP_TYPE = None
+
+    def __init__(self, obj):
+        obj.Proxy = self
+        self.setup(obj)
+
+    def setup(self, obj):
+        """Adds the properties the registry defines (also to documents saved before a
+        parameter existed)."""
+        info = NODE_TYPES[self.FREP_TYPE]
+        for p in info["params"]:
+            props.add_param_property(obj, p)
+        prop = input_property(info)
+        if prop == "Base" and "Base" not in obj.PropertiesList:
+            obj.addProperty("App::PropertyLink", "Base", props.INPUT_GROUP,
+                            "The solid this operation applies to.")
+        elif prop == "Shapes" and "Shapes" not in obj.PropertiesList:
+            obj.addProperty("App::PropertyLinkList", "Shapes", props.INPUT_GROUP,
+                            "The solids combined, in order (at least %d)." % info["min_inputs"])
+        if prop and "Bypass" not in obj.PropertiesList:
+            obj.addProperty("App::PropertyBool", "Bypass", props.PARAM_GROUP,
+                            "Pass the first input through unchanged, ignoring this operation.")
+
+    # -- persistence: nothing in the proxy that properties cannot rebuild ------------------
+    def __getstate__(self):
+        return None
+
+    def __setstate__(self, state):
+        return None
+
+    def dumps(self):
+        return None
+
+    def loads(self, state):
+        return None
+
+    def onDocumentRestored(self, obj):
+        self.setup(obj)
+
+    # -- the tree ------------------------------------------------------------------------------
+    def local_shape(self, obj, builder):
+        """This node over its inputs' shapes, before its own Placement."""
+        info = NODE_TYPES[self.FREP_TYPE]
+        params = {p["name"]: props.check_value(obj, self.FREP_TYPE, p) for p in info["params"]}
+        inputs = linked_inputs(obj)
+        prop = input_property(info)
+        if prop and len(inputs) < info["min_inputs"]:
+            raise ValueError("%s: property '%s' needs at least %d input%s (FRep features or "
+                             "Part primitives); it has %d" % (
+                                 obj.Label, prop, info["min_inputs"],
+                                 "s" if info["min_inputs"] > 1 else "", len(inputs)))
+        if prop and obj.Bypass:
+            return builder.shape(inputs[0])
+        nodes = [builder.shape(i).node for i in inputs]
+        return frepcore.Shape(frepcore.Node(self.FREP_TYPE, params, nodes, obj.Label))
+
+    def execute(self, obj):
+        EXECUTIONS.append((obj.Document.Name, obj.Name))
+        del EXECUTIONS[:-_MAX_LOG]
+        builder = FRepTree.Builder()
+        builder.stack.append(obj)
+        shape = self.local_shape(obj, builder)
+        # Bounds are cheap and find empty results even for hidden features.
+        bounds = shape.bounds()
+        FRepMeshing.require_not_empty(obj.Label, bounds)
+        if not obj.Visibility:
+            if obj.Mesh.CountFacets:
+                FRepMeshing.set_mesh(obj, _empty_mesh())
+            return
+        box, cell = FRepMeshing.display_box(obj.Label, shape,
+                                            FRepMeshing.preview_cells(obj.Document), bounds)
+        mesh = shape.node.mesh(box, cell)
+        FRepMeshing.set_mesh(obj, FRepMeshing.to_freecad_mesh(mesh))
+
+    def onBeforeChange(self, obj, prop):
+        # The links before an assignment, to put back if it would make a cycle. Transient:
+        # used within the one assignment, never saved.
+        if prop in ("Base", "Shapes") and prop == input_property(NODE_TYPES[self.FREP_TYPE]):
+            self._links_before = getattr(obj, prop)
+
+    def onChanged(self, obj, prop):
+        if "Restore" in obj.State:
+            return
+        if prop in ("Base", "Shapes") and prop == input_property(NODE_TYPES[self.FREP_TYPE]):
+            offenders = cycle_offenders(obj, linked_inputs(obj))
+            if offenders:
+                message = cycle_message(obj, offenders)
+                before = getattr(self, "_links_before", None)
+                if before is None or (prop == "Shapes" and cycle_offenders(obj, before)):
+                    kept = [i for i in linked_inputs(obj) if i not in offenders]
+                    before = (kept[0] if kept else None) if prop == "Base" else kept
+                setattr(obj, prop, before)
+                FreeCAD.Console.PrintError(message + "\n")
+        elif prop == "Visibility" and obj.Visibility and obj.Mesh.CountFacets == 0:
+            _refresh_preview_later(obj)
+
+
+def _empty_mesh():
+    import Mesh
+    return Mesh.Mesh()
+
+
+def _refresh_preview_later(obj):
+    """A hidden feature has no preview; build it when shown, without touching dependents."""
+    if "Invalid" in obj.State:
+        return
+    if FreeCAD.GuiUp:
+        from PySide import QtCore
+        QtCore.QTimer.singleShot(0, lambda: obj.recompute() if obj.Document else None)
+    else:
+        obj.recompute()
+
+
+def _generate_feature_classes():
+    classes = {}
+    for type_id in NODE_TYPES:
+        name = props.type_class_name(type_id)
+        cls = type(name, (FRepFeature,), {"FREP_TYPE": type_id,
+                                          "__doc__": NODE_TYPES[type_id]["doc"],
+                                          "__module__": __name__})
+        globals()[name] = cls
+        classes[type_id] = cls
+    return classes
+
+
+FEATURE_CLASSES = _generate_feature_classes()
+
+
+def make(type_id, doc=None, inputs=(), name=None, hide_inputs=True, **params):
+    """Adds an FRep feature of a registry type; params use the registry's names."""
+    if type_id not in NODE_TYPES:
+        raise ValueError("unknown FRep node type '%s'; known types: %s"
+                         % (type_id, ", ".join(NODE_TYPES)))
+    doc = doc or FreeCAD.ActiveDocument
+    info = NODE_TYPES[type_id]
+    obj = doc.addObject("Mesh::FeaturePython", name or props.type_class_name(type_id))
+    FEATURE_CLASSES[type_id](obj)
+    if FreeCAD.GuiUp:
+        import FRepViewProviders
+        FRepViewProviders.ViewProviderFRep(obj.ViewObject)
+    by_name = {p["name"]: p for p in info["params"]}
+    for key, value in params.items():
+        if key not in by_name:
+            raise ValueError("%s: unknown parameter '%s'; parameters of %s: %s"
+                             % (obj.Label, key, type_id, ", ".join(by_name)))
+        props.set_value(obj, by_name[key], value)
+    if inputs:
+        set_inputs(obj, list(inputs))
+        if hide_inputs:
+            for i in inputs:
+                i.Visibility = False
+    return obj

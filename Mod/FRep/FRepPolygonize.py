@@ -1,0 +1,115 @@
+"""The Polygonize feature: the full-resolution mesh of an FRep solid, as a Mesh feature.
+
+Seed 000's polygoniser settings: bounding box (automatic from the tree's interval bounds by
+default), grid resolution and method. Long meshing shows FreeCAD's progress indicator and can
+be cancelled; a cancelled recompute leaves the previous mesh in place.
+"""
+
+import FreeCAD
+
+import FRepMeshing
+import FRepTree
+from FRepPaths import frepcore
+
+GROUP = "Polygonize"
+METHODS = ["Marching tetrahedra"]  # Kuhn decomposition: closed, manifold, oriented by design
+
+
+class Polygonize:
+    def __init__(self, obj):
+        obj.Proxy = self
+        self.setup(obj)
+
+    def setup(self, obj):
+        def add(kind, name, doc, value=None):
+            if name not in obj.PropertiesList:
+                obj.addProperty(kind, name, GROUP, doc)
+                if value is not None:
+                    setattr(obj, name, value)
+
+        add("App::PropertyLink", "Source", "The FRep feature (or Part primitive) to mesh.")
+        add("App::PropertyBool", "AutoBounds",
+            "Bounding box from the solid's interval bounds (padded by 1.5 cells).", True)
+        add("App::PropertyVectorDistance", "BoundsMin", "Low corner of the box when "
+            "AutoBounds is off.", FreeCAD.Vector(-10, -10, -10))
+        add("App::PropertyVectorDistance", "BoundsMax", "High corner of the box when "
+            "AutoBounds is off.", FreeCAD.Vector(10, 10, 10))
+        add("App::PropertyLength", "Resolution", "Cell size; 0 derives it from Cells.", 0)
+        add("App::PropertyInteger", "Cells", "Cells along the longest side of the box when "
+            "Resolution is 0. Allowed: 4 to 4096.", FRepMeshing.DEFAULT_EXPORT_CELLS)
+        add("App::PropertyEnumeration", "Method", "Polygonisation method.", METHODS)
+        for name, doc in (("Triangles", "Triangles in the mesh (read-only)."),):
+            if name not in obj.PropertiesList:
+                obj.addProperty("App::PropertyInteger", name, GROUP, doc)
+                obj.setEditorMode(name, 1)
+
+    def __getstate__(self):
+        return None
+
+    def __setstate__(self, state):
+        return None
+
+    def dumps(self):
+        return None
+
+    def loads(self, state):
+        return None
+
+    def onDocumentRestored(self, obj):
+        self.setup(obj)
+
+    def execute(self, obj):
+        if obj.Source is None:
+            raise ValueError("%s: property 'Source' is empty; link the FRep feature to mesh"
+                             % obj.Label)
+        shape = FRepTree.shape_of(obj.Source)
+        box, cell = meshing_box(obj, shape)
+        mesh = FRepMeshing.run_with_progress(
+            "Polygonizing %s" % obj.Source.Label,
+            lambda progress: _mesh_or_cancel(obj, shape, box, cell, progress))
+        obj.Triangles = mesh.triangle_count
+        FRepMeshing.set_mesh(obj, FRepMeshing.to_freecad_mesh(mesh))
+
+
+def _mesh_or_cancel(obj, shape, box, cell, progress):
+    try:
+        return shape.node.mesh(box, cell, progress)
+    except frepcore.Cancelled:
+        raise RuntimeError("%s: polygonizing was cancelled; the previous mesh is kept"
+                           % obj.Label)
+
+
+def meshing_box(obj, shape):
+    """(box, cell size) from a Polygonize feature's settings; errors name the property."""
+    if not FRepMeshing.MIN_CELLS <= obj.Cells <= FRepMeshing.MAX_CELLS:
+        raise ValueError("%s: property 'Cells' = %d is out of range; allowed: %d to %d"
+                         % (obj.Label, obj.Cells, FRepMeshing.MIN_CELLS,
+                            FRepMeshing.MAX_CELLS))
+    resolution = obj.Resolution.Value or None
+    if obj.AutoBounds:
+        try:
+            return frepcore.automatic_box(shape, resolution=resolution, cells=obj.Cells)
+        except ValueError as e:
+            raise ValueError("%s: %s of '%s' (property 'AutoBounds'): %s" % (
+                obj.Label, "cannot bound the result", obj.Source.Label, e))
+    lo, hi = obj.BoundsMin, obj.BoundsMax
+    if not (lo.x < hi.x and lo.y < hi.y and lo.z < hi.z):
+        raise ValueError("%s: properties 'BoundsMin' %s and 'BoundsMax' %s make an empty box; "
+                         "each component of BoundsMin must be below BoundsMax"
+                         % (obj.Label, tuple(lo), tuple(hi)))
+    return frepcore.automatic_box(shape, resolution=resolution, cells=obj.Cells,
+                                  bbox=((lo.x, lo.y, lo.z), (hi.x, hi.y, hi.z)))
+
+
+def make(source, doc=None, name="Polygonize", **settings):
+    doc = doc or source.Document
+    obj = doc.addObject("Mesh::FeaturePython", name)
+    Polygonize(obj)
+    if FreeCAD.GuiUp:
+        import FRepViewProviders
+        FRepViewProviders.ViewProviderPolygonize(obj.ViewObject)
+    obj.Source = source
+    for key, value in settings.items():
+        setattr(obj, key, value)
+    source.Visibility = False
+    return obj

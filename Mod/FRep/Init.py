@@ -1,0 +1,5 @@
+# FRep workbench, application part (runs in freecadcmd too). Exec'd by FreeCAD without
+# __file__: everything that needs paths lives in FRepPaths.
+import FreeCAD
+
+FreeCAD.addExportType("FRep mesh (*.stl *.obj *.ply)", "FRepExport")

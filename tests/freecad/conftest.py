@@ -1,0 +1,26 @@
+"""Runs the workbench tests inside FreeCAD, headless: FreeCAD imported as a module into
+/usr/bin/python3.11, with a private FreeCAD home whose Mod folder links Mod/FRep
+(FREECAD_USER_HOME is set by CTest; see tests/CMakeLists.txt)."""
+
+import os
+import sys
+
+sys.path.append("/usr/lib/freecad-python3/lib")
+sys.path.append("/usr/lib/freecad/lib")
+
+import FreeCAD  # noqa: E402  (after the path set-up)
+import pytest  # noqa: E402
+
+assert FreeCAD.getUserAppDataDir().rstrip("/") == os.environ["FREECAD_USER_HOME"].rstrip("/"), \
+    "tests must run with the private FreeCAD home"
+
+import FRepFeatures  # noqa: E402,F401  (found through the Mod folder)
+
+
+@pytest.fixture
+def doc():
+    d = FreeCAD.newDocument("FRepTest")
+    name = d.Name
+    yield d
+    if name in FreeCAD.listDocuments():
+        FreeCAD.closeDocument(name)
