@@ -13,6 +13,9 @@ using Args = std::vector<std::string>;
 int exportCommand(const Args& args);
 int checkCommand(const Args& args);
 int infoCommand(const Args& args);
+// `export DOC.FCStd ...`: runs the export inside FreeCAD, headless (document_export.cpp).
+bool isDocumentPath(const std::string& path);
+int exportDocument(const Args& args);
 
 // Thrown for a usage error: main prints it as one line and exits 2.
 struct UsageError : std::runtime_error {

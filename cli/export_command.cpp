@@ -14,6 +14,8 @@
 namespace frep::cli {
 
 int exportCommand(const Args& args) {
+  for (const std::string& a : args)
+    if (isDocumentPath(a)) return exportDocument(args);
   std::string modelPath, outPath, formatText;
   std::optional<double> resolution;
   std::optional<Box3> bbox;

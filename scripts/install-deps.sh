@@ -8,6 +8,7 @@ packages=(
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev
   libopenmesh-dev libtbb-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  freecad freecad-python3 python3-dev pybind11-dev python3-pytest xvfb xauth
 )
 
 missing=()

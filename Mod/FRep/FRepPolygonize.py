@@ -90,8 +90,9 @@ def meshing_box(obj, shape):
         try:
             return frepcore.automatic_box(shape, resolution=resolution, cells=obj.Cells)
         except ValueError as e:
-            raise ValueError("%s: %s of '%s' (property 'AutoBounds'): %s" % (
-                obj.Label, "cannot bound the result", obj.Source.Label, e))
+            raise ValueError("%s: property 'AutoBounds': cannot bound '%s': %s; or turn "
+                             "AutoBounds off and set BoundsMin and BoundsMax"
+                             % (obj.Label, obj.Source.Label, e))
     lo, hi = obj.BoundsMin, obj.BoundsMax
     if not (lo.x < hi.x and lo.y < hi.y and lo.z < hi.z):
         raise ValueError("%s: properties 'BoundsMin' %s and 'BoundsMax' %s make an empty box; "

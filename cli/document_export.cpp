@@ -1,0 +1,84 @@
+// `frepcad export part.FCStd ...`: FRep documents are exported by FreeCAD itself, headless,
+// running the workbench's FRepDocumentExport.py (which opens the document, applies --set
+// overrides, recomputes and exports with the check). FreeCAD only loads FeaturePython classes
+// from its Mod folders and its command-line value options crash on Debian's 0.20, so the
+// workbench is linked into a private, temporary FreeCAD home and the arguments travel in an
+// environment variable.
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli/commands.h"
+#include "frep/errors.h"
+
+extern char** environ;
+
+namespace frep::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string envOr(const char* name, const std::string& fallback) {
+  const char* v = std::getenv(name);
+  return v && *v ? std::string(v) : fallback;
+}
+
+}  // namespace
+
+bool isDocumentPath(const std::string& path) {
+  if (path.size() < 6) return false;
+  std::string ext = path.substr(path.size() - 6);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".fcstd";
+}
+
+int exportDocument(const Args& args) {
+  const fs::path workbench = envOr("FREPCAD_WORKBENCH_DIR", FREP_WORKBENCH_DIR);
+  const fs::path script = workbench / "FRepDocumentExport.py";
+  if (!fs::exists(script))
+    throw FileError("frepcad: the FRep workbench is not at " + workbench.string() +
+                    " (set FREPCAD_WORKBENCH_DIR)");
+  const std::string freecadcmd = envOr("FREPCAD_FREECADCMD", "freecadcmd");
+
+  std::string pattern = (fs::temp_directory_path() / "frepcad-home-XXXXXX").string();
+  if (!mkdtemp(pattern.data())) throw FileError("frepcad: cannot create a temporary folder");
+  const fs::path home = pattern;
+  fs::create_directories(home / "Mod");
+  fs::create_directory_symlink(fs::absolute(workbench), home / "Mod" / "FRep");
+
+  setenv("FREECAD_USER_HOME", home.c_str(), 1);
+  setenv("FREPCORE_PATH", envOr("FREPCORE_PATH", FREPCORE_BUILD_DIR).c_str(), 1);
+  setenv("FREPCAD_EXPORT_ARGS", nlohmann::json(args).dump().c_str(), 1);
+
+  std::string scriptText = script.string();
+  std::vector<char*> argv = {const_cast<char*>(freecadcmd.c_str()), scriptText.data(), nullptr};
+  // FreeCAD prints its banner and console progress on stdout: the child's stdout goes to
+  // /dev/null and the script writes its report to fd 3, our stdout.
+  posix_spawn_file_actions_t files;
+  posix_spawn_file_actions_init(&files);
+  posix_spawn_file_actions_adddup2(&files, STDOUT_FILENO, 3);
+  posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  std::fflush(stdout);
+  pid_t pid = 0;
+  int status = 0;
+  const int err = posix_spawnp(&pid, freecadcmd.c_str(), &files, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&files);
+  if (err == 0) waitpid(pid, &status, 0);
+  std::error_code ignored;
+  fs::remove_all(home, ignored);
+  if (err != 0)
+    throw FileError("frepcad: cannot run " + freecadcmd + " (install FreeCAD: apt-get install "
+                    "freecad freecad-python3)");
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  throw FileError("frepcad: FreeCAD stopped abnormally while exporting the document");
+}
+
+}  // namespace frep::cli

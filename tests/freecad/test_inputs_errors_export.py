@@ -1,0 +1,181 @@
+"""Part primitive inputs, the error classes and their messages, checked export and cancel."""
+
+import math
+import os
+
+import FreeCAD
+import Part  # noqa: F401  (registers Part::Box and the other primitives)
+import pytest
+
+import FRepExamples
+import FRepExport
+import FRepFeatures as F
+import FRepMeshing
+import FRepPolygonize
+import FRepTree
+from FRepPaths import frepcore
+
+
+def rotated(x, y, z, angle):
+    return FreeCAD.Placement(FreeCAD.Vector(x, y, z),
+                             FreeCAD.Rotation(FreeCAD.Vector(1, 2, 3), angle))
+
+
+PART_CASES = [
+    ("Part::Box", dict(Length=2, Width=1, Height=0.5)),
+    ("Part::Sphere", dict(Radius=1.2)),
+    ("Part::Cylinder", dict(Radius=0.5, Height=2)),
+    ("Part::Cone", dict(Radius1=1, Radius2=0.3, Height=1.5)),
+    ("Part::Torus", dict(Radius1=1.5, Radius2=0.4)),
+    ("Part::Ellipsoid", dict(Radius1=0.6, Radius2=1.2, Radius3=0.9)),
+]
+
+
+@pytest.mark.parametrize("angle", [0, 50])
+@pytest.mark.parametrize("type_id,props", PART_CASES, ids=[c[0] for c in PART_CASES])
+def test_part_primitive_matches_frep_primitive(doc, type_id, props, angle):
+    prim = doc.addObject(type_id, "Prim")
+    for k, v in props.items():
+        setattr(prim, k, v)
+    prim.Placement = rotated(0.3, -0.2, 0.5, angle)
+    doc.recompute()
+    exact = prim.Shape
+    shape = FRepTree.shape_of(prim)
+    mesh = shape.mesh(cells=96)
+    assert mesh.volume() == pytest.approx(exact.Volume, rel=0.01)
+    # The same place and orientation: the bounding boxes agree to about a cell.
+    bb = exact.optimalBoundingBox()
+    points = mesh.points
+    for a, (l, h) in enumerate(((bb.XMin, bb.XMax), (bb.YMin, bb.YMax), (bb.ZMin, bb.ZMax))):
+        assert min(p[a] for p in points) == pytest.approx(l, abs=0.04)
+        assert max(p[a] for p in points) == pytest.approx(h, abs=0.04)
+    # Accepted as an input of an FRep operation.
+    t = F.make("translate", doc, inputs=[prim], offset=(1, 0, 0))
+    doc.recompute()
+    assert t.isValid(), t.getStatusString()
+
+
+def test_partial_part_primitive_is_refused(doc):
+    s = doc.addObject("Part::Sphere", "Half")
+    s.Angle3 = 180
+    t = F.make("translate", doc, inputs=[s])
+    doc.recompute()
+    assert not t.isValid()
+    assert "'Half' (Part::Sphere): property 'Angle3' = 180 deg" in t.getStatusString()
+
+
+def error_of(obj):
+    assert not obj.isValid()
+    return obj.getStatusString()
+
+
+def test_bad_parameter_names_feature_property_and_range(doc):
+    s = F.make("sphere", doc, name="Ball", radius=1)
+    s.Radius = 0
+    doc.recompute()
+    assert error_of(s) == ("Ball: property 'Radius' = 0 mm is out of range; "
+                           "allowed: (0, inf) mm")
+    c = F.make("cylinder", doc, name="Rod")
+    c.Axis = FreeCAD.Vector(0, 0, 0)
+    doc.recompute()
+    assert "Rod: property 'Axis'" in error_of(c) and "not all zero" in error_of(c)
+
+
+def test_missing_input_names_property(doc):
+    u = F.make("union", doc, name="Join", inputs=[F.make("sphere", doc)])
+    doc.recompute()
+    assert error_of(u) == ("Join: property 'Shapes' needs at least 2 inputs (FRep features "
+                           "or Part primitives); it has 1")
+    t = F.make("translate", doc, name="Move")
+    doc.recompute()
+    assert "Move: property 'Base' needs at least 1 input" in error_of(t)
+
+
+def test_non_frep_input_is_refused(doc):
+    sheet = doc.addObject("Spreadsheet::Sheet", "Sheet")
+    u = F.make("union", doc, name="Join", inputs=[F.make("sphere", doc), sheet])
+    doc.recompute()
+    assert "'Sheet' (Spreadsheet::Sheet) is not an FRep feature or a Part primitive" in \
+        error_of(u)
+
+
+def test_empty_result(doc):
+    i = F.make("intersection", doc, name="Nothing",
+               inputs=[F.make("sphere", doc), F.make("sphere", doc, center=(5, 0, 0))])
+    doc.recompute()
+    assert error_of(i).startswith("Nothing: the result is empty")
+
+
+def test_unbounded_result_previews_but_cannot_be_polygonized(doc, tmp_path):
+    c = F.make("complement", doc, name="Outside", inputs=[F.make("sphere", doc)])
+    doc.recompute()
+    assert c.isValid() and c.Mesh.CountFacets > 0  # shown clipped
+    p = FRepPolygonize.make(c, doc, name="Mesh")
+    doc.recompute()
+    message = error_of(p)
+    assert message.startswith("Mesh: property 'AutoBounds': cannot bound 'Outside'")
+    assert "unbounded towards -x, +x, -y, +y, -z, +z" in message
+    out = str(tmp_path / "out.stl")
+    with pytest.raises(ValueError, match="unbounded"):
+        FRepExport.export_objects([c], out)
+    assert not os.path.exists(out)
+
+
+def test_polygonize_and_export_checked(doc, tmp_path):
+    part = FRepExamples.build_csg(doc)
+    p = FRepPolygonize.make(part, doc, Cells=64)
+    doc.recompute()
+    assert p.isValid(), p.getStatusString()
+    assert p.Triangles == p.Mesh.CountFacets > 10000
+    out = str(tmp_path / "csg.stl")
+    report = FRepExport.export_objects([p], out)
+    assert report["printable"] and os.path.getsize(out) == 84 + 50 * report["faces"]
+    # The exported solid is the reference model: same volume as the JSON export path.
+    reference, _ = frepcore.load(os.path.join(os.environ["FREP_SOURCE_DIR"], "examples",
+                                              "csg.json"))
+    assert report["volume"] == pytest.approx(reference.mesh(cells=64).volume(), rel=1e-3)
+
+
+def test_export_filter_is_registered():
+    # Registered by the workbench's Init.py for its three extensions.
+    modules = FreeCAD.getExportType()
+    assert {e for e, m in modules.items() if m == "FRepExport"} >= {"stl", "obj", "ply"}
+
+
+def test_cancelled_export_leaves_no_file(doc, tmp_path):
+    part = FRepExamples.build_csg(doc)
+    doc.recompute()
+    out = str(tmp_path / "cancel.stl")
+    seen = []
+
+    def cancel_midway(fraction):
+        seen.append(fraction)
+        return fraction < 0.2
+
+    with pytest.raises(RuntimeError, match="cancelled; no file written"):
+        FRepExport.export_objects([part], out, progress=cancel_midway, cells=400)
+    assert seen and not os.path.exists(out)
+    assert not [f for f in os.listdir(str(tmp_path))]  # no temporary left either
+
+
+def test_cancelled_polygonize_keeps_previous_mesh(doc, monkeypatch):
+    part = FRepExamples.build_csg(doc)
+    p = FRepPolygonize.make(part, doc, Cells=32)
+    doc.recompute()
+    before = p.Mesh.CountFacets
+
+    class CancelAtOnce:
+        def __init__(self, text):
+            pass
+
+        def __call__(self, fraction):
+            return False
+
+        def close(self):
+            pass
+
+    monkeypatch.setattr(FRepMeshing, "progress_factory", CancelAtOnce)
+    p.Cells = 300
+    doc.recompute()
+    assert "cancelled" in error_of(p)
+    assert p.Mesh.CountFacets == before

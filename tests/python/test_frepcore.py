@@ -1,0 +1,105 @@
+"""The frepcore Python module on its own: the pythonic API, errors, progress and cancel,
+checked export."""
+
+import math
+import os
+
+import pytest
+
+import frepcore as fc
+
+
+def csg():
+    part = fc.box((2, 2, 2), corner=(-1, -1, -1)) & fc.sphere(1.3)
+    for axis in ((1, 0, 0), (0, 1, 0), (0, 0, 1)):
+        part = part - fc.cylinder(0.5, 0, axis=axis)
+    return part
+
+
+def test_operators_build_flat_trees():
+    a, b, c = fc.sphere(1), fc.box((1, 1, 1)), fc.torus(2, 0.3)
+    u = a | b | c
+    assert u.type == "union" and len(u.inputs) == 3
+    assert (a & b).type == "intersection"
+    d = a - b - c
+    assert d.type == "difference" and len(d.inputs) == 3
+    assert (~a)(0, 0, 0) == -a(0, 0, 0)
+    assert u(2, 0, 0) == pytest.approx(0.3)  # on the torus' tube centre circle
+
+
+def test_positional_parameters_follow_the_documented_order():
+    cyl = fc.cylinder(0.4, 3)
+    assert cyl.params["radius"] == 0.4 and cyl.params["length"] == 3
+    s = fc.sphere(2, (1, 0, 0))
+    assert s(1, 0, 0) == pytest.approx(2)
+    moved = fc.sphere(1).translate((5, 0, 0))
+    assert moved(5, 0, 0) == pytest.approx(1)
+    with pytest.raises(TypeError, match="at most 2 parameters"):
+        fc.sphere(1, (0, 0, 0), 3)
+
+
+def test_errors_name_the_parameter_and_what_is_allowed():
+    with pytest.raises(ValueError, match=r"parameter 'radius' -1 is out of range; allowed: \(0, inf\)"):
+        fc.sphere(-1)
+    with pytest.raises(ValueError, match="unknown parameter 'radus'"):
+        fc.sphere(radus=1)
+    with pytest.raises(ValueError, match="needs 3"):
+        fc.box((1, 1))
+    assert fc.check_param("sphere", "radius", 2.0) == ""
+    assert "out of range" in fc.check_param("sphere", "radius", 0.0)
+
+
+def test_gradient_and_values_agree_with_point_evaluation():
+    part = csg()
+    pts = [(0.1 * i, 0.07 * i, -0.05 * i) for i in range(-10, 11)]
+    assert part.values(pts) == [part(*p) for p in pts]
+    f, g = part.gradient(0.9, 0.6, 0.7)
+    assert f == part(0.9, 0.6, 0.7) and math.isclose(sum(x * x for x in g), 1.0, rel_tol=1e-9)
+
+
+def test_bounds_and_mesh_volume():
+    b = fc.sphere(1, (2, 0, 0)).bounds()
+    assert b["bounded"] and b["box"][0][0] == pytest.approx(1, abs=1e-3)
+    m = fc.sphere(1).mesh(cells=64)
+    assert m.volume() == pytest.approx(4 / 3 * math.pi, rel=0.01)
+    with pytest.raises(ValueError, match="unbounded"):
+        fc.halfspace().mesh()
+    with pytest.raises(ValueError, match="empty"):
+        (fc.sphere(1) & fc.sphere(1, (3, 0, 0))).mesh()
+
+
+def test_export_checks_and_writes(tmp_path):
+    out = str(tmp_path / "part.stl")
+    seen = []
+    report = csg().export(out, cells=48, progress=lambda f: seen.append(f))
+    assert report["printable"] and os.path.getsize(out) == 84 + 50 * report["faces"]
+    assert seen == sorted(seen) and seen[-1] == 1.0
+    assert fc.read_mesh(out).triangle_count == report["faces"]
+
+
+def test_cancel_raises_and_writes_nothing(tmp_path):
+    out = str(tmp_path / "part.stl")
+    with pytest.raises(fc.Cancelled):
+        csg().export(out, cells=400, progress=lambda f: f < 0.1)
+    assert os.listdir(str(tmp_path)) == []
+
+
+def test_exception_in_progress_callback_propagates():
+    def boom(fraction):
+        raise KeyError("from callback")
+
+    with pytest.raises(KeyError, match="from callback"):
+        fc.sphere(1).mesh(cells=300, progress=boom)
+
+
+def test_json_round_trip_is_exact():
+    part = csg()
+    again = fc.Shape(fc.parse_model(part.to_json())["root"])
+    pts = [(0.3 * i, -0.2 * i, 0.1 * i) for i in range(-5, 6)]
+    assert again.values(pts) == part.values(pts)
+
+
+def test_functions_exist_for_every_registry_type():
+    for info in fc.node_types():
+        fn = getattr(fc, info["id"])
+        assert info["doc"] in fn.__doc__
