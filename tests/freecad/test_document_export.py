@@ -41,7 +41,8 @@ def test_set_changes_the_result(sheet_document, tmp_path):
     assert volume(bigger) > volume(plain) * 1.05
     # A plain property and a spreadsheet cell at once; --object picks the feature.
     r = frepcad(sheet_document, "--set", "Part.Bypass=true", "--set", "Parameters.Size=1.8",
-                "--object", "Part", "-o", moved, "--quiet")
+                "--set", "Parameters.Ball=1.6",
+                "--object", "Part", "--cells", "40", "-o", moved, "--quiet")
     assert r.returncode == 0, r.stderr
     assert r.stdout == ""
     # No holes (bypassed), a smaller cube inside the ball: 1.8^3 exactly, up to the mesh.
