@@ -19,6 +19,7 @@ import FreeCAD
 import FRepMeshing
 import FRepProperties as props
 import FRepTree
+from FRepProxy import StatelessProxy
 from FRepPaths import frepcore
 
 NODE_TYPES = {t["id"]: t for t in frepcore.node_types()}
@@ -88,7 +89,7 @@ def set_inputs(obj, inputs):
         obj.Shapes = list(inputs)
 
 
-class FRepFeature:
+class FRepFeature(StatelessProxy):
     """Proxy of every FRep feature; subclasses only set FREP_TYPE."""
 
     FREP_TYPE = None
@@ -113,19 +114,6 @@ class FRepFeature:
         if prop and "Bypass" not in obj.PropertiesList:
             obj.addProperty("App::PropertyBool", "Bypass", props.PARAM_GROUP,
                             "Pass the first input through unchanged, ignoring this operation.")
-
-    # -- persistence: nothing in the proxy that properties cannot rebuild ------------------
-    def __getstate__(self):
-        return None
-
-    def __setstate__(self, state):
-        return None
-
-    def dumps(self):
-        return None
-
-    def loads(self, state):
-        return None
 
     def onDocumentRestored(self, obj):
         self.setup(obj)

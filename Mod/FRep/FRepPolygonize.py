@@ -9,13 +9,14 @@ import FreeCAD
 
 import FRepMeshing
 import FRepTree
+from FRepProxy import StatelessProxy
 from FRepPaths import frepcore
 
 GROUP = "Polygonize"
 METHODS = ["Marching tetrahedra"]  # Kuhn decomposition: closed, manifold, oriented by design
 
 
-class Polygonize:
+class Polygonize(StatelessProxy):
     def __init__(self, obj):
         obj.Proxy = self
         self.setup(obj)
@@ -42,18 +43,6 @@ class Polygonize:
             if name not in obj.PropertiesList:
                 obj.addProperty("App::PropertyInteger", name, GROUP, doc)
                 obj.setEditorMode(name, 1)
-
-    def __getstate__(self):
-        return None
-
-    def __setstate__(self, state):
-        return None
-
-    def dumps(self):
-        return None
-
-    def loads(self, state):
-        return None
 
     def onDocumentRestored(self, obj):
         self.setup(obj)

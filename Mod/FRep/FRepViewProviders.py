@@ -2,9 +2,10 @@
 booleans do), and inputs shown again when an operation is deleted."""
 
 import FRepPaths
+from FRepProxy import StatelessProxy
 
 
-class ViewProviderFRep:
+class ViewProviderFRep(StatelessProxy):
     def __init__(self, vobj):
         vobj.Proxy = self
 
@@ -23,18 +24,6 @@ class ViewProviderFRep:
         for obj in FRepFeatures.linked_inputs(vobj.Object):
             obj.Visibility = True
         return True
-
-    def __getstate__(self):
-        return None
-
-    def __setstate__(self, state):
-        return None
-
-    def dumps(self):
-        return None
-
-    def loads(self, state):
-        return None
 
 
 class ViewProviderPolygonize(ViewProviderFRep):

@@ -1,0 +1,17 @@
+"""Base of every proxy of the workbench (features and view providers): it saves nothing.
+A feature's state is its properties, so a document reopens from them alone."""
+
+
+class StatelessProxy:
+    def __getstate__(self):
+        return None
+
+    def __setstate__(self, state):
+        return None
+
+    # FreeCAD 0.21+ calls these instead of the two above.
+    def dumps(self):
+        return None
+
+    def loads(self, state):
+        return None
