@@ -22,7 +22,7 @@ import FRepTree
 from FRepProxy import StatelessProxy
 from FRepPaths import frepcore
 
-NODE_TYPES = {t["id"]: t for t in frepcore.node_types()}
+NODE_TYPES = {t["type"]: t for t in frepcore.node_types()}
 
 # (document name, object name) of each execute, in order: lets tests and benchmarks count
 # exactly what a change recomputed. Bounded so a long session does not grow it forever.
@@ -32,9 +32,9 @@ _MAX_LOG = 10000
 
 def input_property(info):
     """'Base' (one input), 'Shapes' (several) or None (a primitive)."""
-    if info["max_inputs"] == 0:
+    if info["inputs"]["max"] == 0:
         return None
-    return "Base" if info["max_inputs"] == 1 else "Shapes"
+    return "Base" if info["inputs"]["max"] == 1 else "Shapes"
 
 
 def linked_inputs(obj):
@@ -79,7 +79,7 @@ def set_inputs(obj, inputs):
     info = NODE_TYPES[obj.Proxy.FREP_TYPE]
     prop = input_property(info)
     if prop is None:
-        raise ValueError("%s: a %s takes no inputs" % (obj.Label, info["id"]))
+        raise ValueError("%s: a %s takes no inputs" % (obj.Label, info["type"]))
     if prop == "Base":
         if len(inputs) != 1:
             raise ValueError("%s: property 'Base' takes exactly one input, got %d"
@@ -110,7 +110,7 @@ class FRepFeature(StatelessProxy):
                             "The solid this operation applies to.")
         elif prop == "Shapes" and "Shapes" not in obj.PropertiesList:
             obj.addProperty("App::PropertyLinkList", "Shapes", props.INPUT_GROUP,
-                            "The solids combined, in order (at least %d)." % info["min_inputs"])
+                            "The solids combined, in order (at least %d)." % info["inputs"]["min"])
         if prop and "Bypass" not in obj.PropertiesList:
             obj.addProperty("App::PropertyBool", "Bypass", props.PARAM_GROUP,
                             "Pass the first input through unchanged, ignoring this operation.")
@@ -125,11 +125,12 @@ class FRepFeature(StatelessProxy):
         params = {p["name"]: props.check_value(obj, self.FREP_TYPE, p) for p in info["params"]}
         inputs = linked_inputs(obj)
         prop = input_property(info)
-        if prop and len(inputs) < info["min_inputs"]:
+        least = info["inputs"]["min"]
+        if prop and len(inputs) < least:
             raise ValueError("%s: property '%s' needs at least %d input%s (FRep features or "
                              "Part primitives); it has %d" % (
-                                 obj.Label, prop, info["min_inputs"],
-                                 "s" if info["min_inputs"] > 1 else "", len(inputs)))
+                                 obj.Label, prop, least, "s" if least > 1 else "",
+                                 len(inputs)))
         if prop and obj.Bypass:
             return builder.shape(inputs[0])
         nodes = [builder.shape(i).node for i in inputs]

@@ -39,10 +39,10 @@ class Polygonize(StatelessProxy):
         add("App::PropertyInteger", "Cells", "Cells along the longest side of the box when "
             "Resolution is 0. Allowed: 4 to 4096.", FRepMeshing.DEFAULT_EXPORT_CELLS)
         add("App::PropertyEnumeration", "Method", "Polygonisation method.", METHODS)
-        for name, doc in (("Triangles", "Triangles in the mesh (read-only)."),):
-            if name not in obj.PropertiesList:
-                obj.addProperty("App::PropertyInteger", name, GROUP, doc)
-                obj.setEditorMode(name, 1)
+        if "Triangles" not in obj.PropertiesList:
+            obj.addProperty("App::PropertyInteger", "Triangles", GROUP,
+                            "Triangles in the mesh (read-only).")
+            obj.setEditorMode("Triangles", 1)
 
     def onDocumentRestored(self, obj):
         self.setup(obj)

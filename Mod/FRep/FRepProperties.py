@@ -26,7 +26,8 @@ def property_type(param):
     t, unit = param["type"], param["unit"]
     if t == "real":
         if unit == "length":
-            return "App::PropertyLength" if param["min"] >= 0 else "App::PropertyDistance"
+            nonnegative = param["min"] is not None and param["min"] >= 0
+            return "App::PropertyLength" if nonnegative else "App::PropertyDistance"
         if unit == "angle":
             return "App::PropertyAngle"
         return "App::PropertyFloat"
@@ -47,7 +48,7 @@ UNIT_SUFFIX = {"length": " mm", "angle": " deg", "": ""}
 
 
 def tooltip(param):
-    return "%s Allowed: %s%s." % (param["doc"], param["range"], UNIT_SUFFIX[param["unit"]])
+    return "%s Allowed: %s%s." % (param["doc"], param["allowed"], UNIT_SUFFIX[param["unit"]])
 
 
 def add_param_property(obj, param):

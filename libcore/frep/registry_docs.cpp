@@ -1,6 +1,7 @@
 #include "frep/registry_docs.h"
 
 #include <nlohmann/json.hpp>
+#include <cmath>
 #include <sstream>
 
 namespace frep {
@@ -32,6 +33,13 @@ nlohmann::json toJson(const NodeType& t) {
     pj["type"] = paramTypeName(p.type);
     pj["default"] = defaultJson(p);
     pj["allowed"] = p.rangeText();
+    // The same range as numbers, for programs (null: unbounded on that side).
+    auto bound = [](double v) { return std::isinf(v) ? nlohmann::json(nullptr) : nlohmann::json(v); };
+    pj["min"] = bound(p.min);
+    pj["max"] = bound(p.max);
+    pj["min_exclusive"] = p.minExclusive;
+    pj["max_exclusive"] = p.maxExclusive;
+    pj["nonzero"] = p.nonZeroVector;
     pj["unit"] = p.unit;
     pj["doc"] = p.doc;
     if (!p.choices.empty()) pj["choices"] = p.choices;

@@ -95,37 +95,6 @@ Box3 toBox(const py::sequence& s) {
 
 py::tuple fromBox(const Box3& b) { return py::make_tuple(py::cast(b.lo), py::cast(b.hi)); }
 
-py::dict paramTemplateDict(const ParamTemplate& p) {
-  py::dict d;
-  d["name"] = p.name;
-  d["type"] = paramTypeName(p.type);
-  d["default"] = fromParamValue(p, p.defaultValue);
-  d["min"] = p.min;
-  d["max"] = p.max;
-  d["min_exclusive"] = p.minExclusive;
-  d["max_exclusive"] = p.maxExclusive;
-  d["nonzero"] = p.nonZeroVector;
-  d["choices"] = p.choices;
-  d["unit"] = p.unit;
-  d["doc"] = p.doc;
-  d["range"] = p.rangeText();
-  return d;
-}
-
-py::dict nodeTypeDict(const NodeType& t) {
-  py::dict d;
-  d["id"] = t.id;
-  d["category"] = t.category;
-  d["doc"] = t.doc;
-  d["formula"] = t.formula;
-  d["min_inputs"] = t.minInputs;
-  d["max_inputs"] = t.maxInputs;
-  py::list params;
-  for (const auto& p : t.params) params.append(paramTemplateDict(p));
-  d["params"] = params;
-  return d;
-}
-
 // ---- long work with progress --------------------------------------------------------------
 
 // Runs work(progress) on a worker thread with the GIL released. The Python callback
@@ -230,26 +199,10 @@ py::dict boundsDict(const SolidBounds& b) {
   return d;
 }
 
-py::dict reportDict(const CheckReport& r) {
-  py::dict d;
-  d["printable"] = r.printable();
-  d["reasons"] = r.reasons;
-  d["input_vertices"] = r.inputVertices;
-  d["vertices"] = r.vertices;
-  d["faces"] = r.faces;
-  d["border_edges"] = r.borderEdges;
-  d["non_manifold_edges"] = r.nonManifoldEdges;
-  d["non_manifold_vertices"] = r.nonManifoldVertices;
-  d["misoriented_edges"] = r.misorientedEdges;
-  d["degenerate_faces"] = r.degenerateFaces;
-  d["self_intersections"] = r.selfIntersections;
-  d["components"] = r.components;
-  d["closed"] = r.closed;
-  d["outward"] = r.outward;
-  d["volume"] = r.volume;
-  d["area"] = r.area;
-  d["bbox"] = fromBox(r.bbox);
-  return d;
+// Registry and check report reach Python through the same JSON the CLI prints
+// (registry_docs.cpp, check_report_format.cpp): one description, two front ends.
+py::object fromJson(const std::string& text) {
+  return py::module_::import("json").attr("loads")(text);
 }
 
 }  // namespace
@@ -272,11 +225,9 @@ PYBIND11_MODULE(_frepcore, m) {
     }
   });
 
-  m.def("node_types", [] {
-    py::list out;
-    for (const NodeType* t : registry().all()) out.append(nodeTypeDict(*t));
-    return out;
-  }, "Every registered node type as a dict: id, category, doc, formula, inputs and params.");
+  m.def("node_types", [] { return fromJson(registryJson()); },
+        "Every registered node type, as `frepcad info --json` lists them: type, category, doc, "
+        "formula, inputs {min, max (None: any number)} and params.");
   m.def("check_param", [](const std::string& typeId, const std::string& name, py::handle value) {
     const NodeType& type = registry().get(typeId);
     const ParamTemplate* t = type.findParam(name);
@@ -346,7 +297,8 @@ PYBIND11_MODULE(_frepcore, m) {
         o.bbox = toBox(bbox.cast<py::sequence>());
         o.resolution = resolution;
         o.normals = normals;
-        auto program = std::make_shared<const Program>(n.compiled());
+        n.compiled();
+        std::shared_ptr<const Program> program = n.program;
         return runWithProgress<TriangleMesh>([program, o](std::function<bool(double)> tick) mutable {
           o.progress = tick;
           return polygonize(*program, o);
@@ -386,11 +338,11 @@ PYBIND11_MODULE(_frepcore, m) {
       .def("check", [](const TriangleMesh& t, const std::string& name, py::object progress) {
         CheckReport r = runWithProgress<CheckReport>(
             [&t](std::function<bool(double)>) { return checkMesh(t); }, progress);
-        py::dict d = reportDict(r);
+        py::dict d = fromJson(reportToJson(r, name));
         d["text"] = reportToText(r, name);
         return d;
       }, py::arg("name") = "mesh", py::arg("progress") = py::none(),
-      "CGAL printability check: a dict with printable, reasons, the counts and a text report.")
+      "CGAL printability check: the dict of `frepcad check --json` plus 'text', the report.")
       .def("write", [](const TriangleMesh& t, const std::string& path, const std::string& format,
                        py::object progress) {
         MeshFormat f = format.empty() ? formatFromPath(path) : parseFormat(format);

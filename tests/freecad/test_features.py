@@ -23,7 +23,7 @@ def mesh_signature(mesh):
 @pytest.mark.parametrize("type_id", sorted(F.NODE_TYPES))
 def test_every_registry_type_is_a_feature(doc, type_id):
     info = F.NODE_TYPES[type_id]
-    inputs = [F.make("sphere", doc, center=(0.3 * i, 0, 0)) for i in range(info["min_inputs"])]
+    inputs = [F.make("sphere", doc, center=(0.3 * i, 0, 0)) for i in range(info["inputs"]["min"])]
     obj = F.make(type_id, doc, inputs=inputs)
     doc.recompute()
     assert obj.isValid(), obj.getStatusString()
@@ -33,7 +33,7 @@ def test_every_registry_type_is_a_feature(doc, type_id):
         assert name in obj.PropertiesList
         assert obj.getTypeIdOfProperty(name) == P.property_type(p)
         assert p["doc"] in obj.getDocumentationOfProperty(name)
-    assert ("Bypass" in obj.PropertiesList) == (info["min_inputs"] > 0)
+    assert ("Bypass" in obj.PropertiesList) == (info["inputs"]["min"] > 0)
     assert obj.Mesh.CountFacets > 0  # visible: it has a preview
 
 

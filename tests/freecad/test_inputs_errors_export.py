@@ -129,7 +129,7 @@ def test_polygonize_and_export_checked(doc, tmp_path):
     assert p.Triangles == p.Mesh.CountFacets > 10000
     out = str(tmp_path / "csg.stl")
     report = FRepExport.export_objects([p], out)
-    assert report["printable"] and os.path.getsize(out) == 84 + 50 * report["faces"]
+    assert report["printable"] and os.path.getsize(out) == 84 + 50 * report["triangles"]
     # The exported solid is the reference model: same volume as the JSON export path.
     reference, _ = frepcore.load(os.path.join(os.environ["FREP_SOURCE_DIR"], "examples",
                                               "csg.json"))

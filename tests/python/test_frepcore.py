@@ -72,9 +72,9 @@ def test_export_checks_and_writes(tmp_path):
     out = str(tmp_path / "part.stl")
     seen = []
     report = csg().export(out, cells=48, progress=lambda f: seen.append(f))
-    assert report["printable"] and os.path.getsize(out) == 84 + 50 * report["faces"]
+    assert report["printable"] and os.path.getsize(out) == 84 + 50 * report["triangles"]
     assert seen == sorted(seen) and seen[-1] == 1.0
-    assert fc.read_mesh(out).triangle_count == report["faces"]
+    assert fc.read_mesh(out).triangle_count == report["triangles"]
 
 
 def test_cancel_raises_and_writes_nothing(tmp_path):
@@ -101,5 +101,5 @@ def test_json_round_trip_is_exact():
 
 def test_functions_exist_for_every_registry_type():
     for info in fc.node_types():
-        fn = getattr(fc, info["id"])
+        fn = getattr(fc, info["type"])
         assert info["doc"] in fn.__doc__

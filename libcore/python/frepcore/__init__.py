@@ -204,10 +204,10 @@ def load(path):
 
 
 def _make_function(info):
-    type_id = info["id"]
+    type_id = info["type"]
     names = [p["name"] for p in info["params"]]
     order = _POSITIONAL.get(type_id, names)
-    min_in, max_in = info["min_inputs"], info["max_inputs"]
+    min_in, max_in = info["inputs"]["min"], info["inputs"]["max"]  # max None: any number
 
     def params_from(args, kwargs):
         if len(args) > len(order):
@@ -235,7 +235,7 @@ def _make_function(info):
     for p in info["params"]:
         unit = " [%s]" % p["unit"] if p["unit"] else ""
         lines.append("  %s%s = %r: %s (allowed: %s)" % (p["name"], unit, p["default"], p["doc"],
-                                                        p["range"]))
+                                                        p["allowed"]))
     make.__name__ = type_id
     make.__qualname__ = type_id
     make.__doc__ = "\n".join(lines)
@@ -245,10 +245,11 @@ def _make_function(info):
 def _install_node_functions():
     for info in node_types():
         fn = _make_function(info)
-        globals()[info["id"]] = fn
-        __all__.append(info["id"])
-        if info["min_inputs"] == 1 and info["max_inputs"] == 1 and info["id"] != "complement":
-            setattr(Shape, info["id"], fn)
+        type_id, inputs = info["type"], info["inputs"]
+        globals()[type_id] = fn
+        __all__.append(type_id)
+        if inputs["min"] == 1 and inputs["max"] == 1 and type_id != "complement":
+            setattr(Shape, type_id, fn)
 
 
 _install_node_functions()
