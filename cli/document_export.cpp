@@ -75,7 +75,8 @@ int exportDocument(const Args& args) {
   std::error_code ignored;
   fs::remove_all(home, ignored);
   if (err != 0)
-    throw FileError("frepcad: cannot run " + freecadcmd + " (install FreeCAD: apt-get install "
+    throw FileError("frepcad: cannot run " + freecadcmd +
+                    " (install FreeCAD: apt-get install "
                     "freecad freecad-python3)");
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   throw FileError("frepcad: FreeCAD stopped abnormally while exporting the document");

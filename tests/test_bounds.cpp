@@ -16,7 +16,9 @@ NodePtr sphere(Vec3 c, double r) {
   return makeNode("sphere", {{"center", vec3Value(c)}, {"radius", realValue(r)}}, {});
 }
 
-SolidBounds boundsOf(const NodePtr& n) { return findBounds(compile(n)); }
+SolidBounds boundsOf(const NodePtr& n) {
+  return findBounds(compile(n));
+}
 
 TEST(Bounds, SphereIsTight) {
   SolidBounds b = boundsOf(sphere({1, -2, 3}, 0.5));
@@ -32,8 +34,8 @@ TEST(Bounds, SphereIsTight) {
 
 TEST(Bounds, RotatedBoxEnclosesItsMesh) {
   NodePtr box = makeNode("box", {{"size", vec3Value({1, 2, 0.5})}}, {});
-  NodePtr rotated = makeNode(
-      "rotate", {{"axis", vec3Value({1, 1, 0})}, {"angle", realValue(37)}}, {box});
+  NodePtr rotated =
+      makeNode("rotate", {{"axis", vec3Value({1, 1, 0})}, {"angle", realValue(37)}}, {box});
   Program p = compile(rotated);
   SolidBounds b = findBounds(p);
   ASSERT_TRUE(b.bounded());
@@ -65,14 +67,14 @@ TEST(Bounds, DisjointIntersectionIsEmpty) {
 }
 
 TEST(Bounds, HalfspaceIsUnboundedOnFiveSides) {
-  NodePtr h = makeNode("halfspace", {{"point", vec3Value({0, 0, 2})},
-                                     {"normal", vec3Value({0, 0, 1})}}, {});
+  NodePtr h = makeNode("halfspace",
+                       {{"point", vec3Value({0, 0, 2})}, {"normal", vec3Value({0, 0, 1})}}, {});
   SolidBounds b = boundsOf(h);
   ASSERT_FALSE(b.empty);
   EXPECT_FALSE(b.bounded());
   // Inside is z <= 2 (F = dot(point - p, normal)); only +z is bounded.
-  EXPECT_TRUE(b.unbounded[0][0] && b.unbounded[0][1] && b.unbounded[1][0] &&
-              b.unbounded[1][1] && b.unbounded[2][0]);
+  EXPECT_TRUE(b.unbounded[0][0] && b.unbounded[0][1] && b.unbounded[1][0] && b.unbounded[1][1] &&
+              b.unbounded[2][0]);
   EXPECT_FALSE(b.unbounded[2][1]);
   EXPECT_NEAR(b.box.hi[2], 2.0, 1e-3);
 }

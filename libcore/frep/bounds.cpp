@@ -71,8 +71,8 @@ bool extremeAlong(const Program& p, const BoundsOptions& o, const std::vector<Bo
     // direction (even unbounded ones, where splitting sideways would never end).
     bool shrunk = false;
     {
-      double keep = c.keep;                                      // slab from here: not empty
-      double cut = sign > 0 ? c.box.hi[axis] : c.box.lo[axis];   // slab from here: empty
+      double keep = c.keep;                                     // slab from here: not empty
+      double cut = sign > 0 ? c.box.hi[axis] : c.box.lo[axis];  // slab from here: empty
       // A few steps per visit: any cut found is valid, and a shrunk cell is visited again.
       for (int step = 0; step < kBisectionSteps && std::abs(cut - keep) > o.tolerance &&
                          evaluations < o.maxEvaluations;

@@ -22,9 +22,9 @@ struct BoundsOptions {
 };
 
 struct SolidBounds {
-  bool empty = false;              // no point of the search box can be inside
-  bool unbounded[3][2] = {};       // [axis][0 = low side, 1 = high side] reaches the search box
-  Box3 box;                        // valid unless empty; unbounded sides hold the search box
+  bool empty = false;         // no point of the search box can be inside
+  bool unbounded[3][2] = {};  // [axis][0 = low side, 1 = high side] reaches the search box
+  Box3 box;                   // valid unless empty; unbounded sides hold the search box
   bool bounded() const;
 };
 

@@ -19,7 +19,9 @@ inline Vec3d triangleCross(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
   return {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
 }
 
-inline double norm(const Vec3d& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+inline double norm(const Vec3d& v) {
+  return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
 
 inline double triangleArea(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
   return 0.5 * norm(triangleCross(a, b, c));

@@ -34,8 +34,8 @@ namespace {
 ParamValue toParamValue(const ParamTemplate& t, const py::handle& v, const std::string& where) {
   ParamValue out;
   auto fail = [&](const std::string& what) {
-    throw ModelError(where + ": parameter '" + t.name + "' " + what + "; allowed: " +
-                     t.rangeText());
+    throw ModelError(where + ": parameter '" + t.name + "' " + what +
+                     "; allowed: " + t.rangeText());
   };
   if (t.type == ParamType::Choice) {
     if (!py::isinstance<py::str>(v)) fail("must be text");
@@ -69,11 +69,16 @@ ParamValue toParamValue(const ParamTemplate& t, const py::handle& v, const std::
 
 py::object fromParamValue(const ParamTemplate& t, const ParamValue& v) {
   switch (t.type) {
-    case ParamType::Choice: return py::str(v.text);
-    case ParamType::Boolean: return py::bool_(v.numbers.at(0) != 0.0);
-    case ParamType::Integer: return py::int_(static_cast<long long>(v.numbers.at(0)));
-    case ParamType::Real: return py::float_(v.numbers.at(0));
-    default: return py::tuple(py::cast(v.numbers));
+    case ParamType::Choice:
+      return py::str(v.text);
+    case ParamType::Boolean:
+      return py::bool_(v.numbers.at(0) != 0.0);
+    case ParamType::Integer:
+      return py::int_(static_cast<long long>(v.numbers.at(0)));
+    case ParamType::Real:
+      return py::float_(v.numbers.at(0));
+    default:
+      return py::tuple(py::cast(v.numbers));
   }
 }
 
@@ -93,7 +98,9 @@ Box3 toBox(const py::sequence& s) {
   throw ModelError("bounding box: needs (xmin, ymin, zmin, xmax, ymax, zmax) or (min, max)");
 }
 
-py::tuple fromBox(const Box3& b) { return py::make_tuple(py::cast(b.lo), py::cast(b.hi)); }
+py::tuple fromBox(const Box3& b) {
+  return py::make_tuple(py::cast(b.lo), py::cast(b.hi));
+}
 
 // ---- long work with progress --------------------------------------------------------------
 
@@ -181,7 +188,8 @@ PyNode makePyNode(const std::string& typeId, const py::dict& params,
 
 py::dict nodeParams(const PyNode& n) {
   py::dict d;
-  for (const auto& p : n.node->type->params) d[p.name.c_str()] = fromParamValue(p, n.node->param(p.name));
+  for (const auto& p : n.node->type->params)
+    d[p.name.c_str()] = fromParamValue(p, n.node->param(p.name));
   return d;
 }
 
@@ -225,21 +233,25 @@ PYBIND11_MODULE(_frepcore, m) {
     }
   });
 
-  m.def("node_types", [] { return fromJson(registryJson()); },
-        "Every registered node type, as `frepcad info --json` lists them: type, category, doc, "
-        "formula, inputs {min, max (None: any number)} and params.");
-  m.def("check_param", [](const std::string& typeId, const std::string& name, py::handle value) {
-    const NodeType& type = registry().get(typeId);
-    const ParamTemplate* t = type.findParam(name);
-    if (!t) return type.unknownParamText(name);
-    try {
-      return t->check(toParamValue(*t, value, typeId));
-    } catch (const ModelError& e) {
-      return std::string(e.what());
-    }
-  }, py::arg("type"), py::arg("name"), py::arg("value"),
-  "What is wrong with a parameter value (\"-1 is out of range; allowed: (0, inf)\"), or "
-  "an empty string when the registry allows it.");
+  m.def(
+      "node_types", [] { return fromJson(registryJson()); },
+      "Every registered node type, as `frepcad info --json` lists them: type, category, doc, "
+      "formula, inputs {min, max (None: any number)} and params.");
+  m.def(
+      "check_param",
+      [](const std::string& typeId, const std::string& name, py::handle value) {
+        const NodeType& type = registry().get(typeId);
+        const ParamTemplate* t = type.findParam(name);
+        if (!t) return type.unknownParamText(name);
+        try {
+          return t->check(toParamValue(*t, value, typeId));
+        } catch (const ModelError& e) {
+          return std::string(e.what());
+        }
+      },
+      py::arg("type"), py::arg("name"), py::arg("value"),
+      "What is wrong with a parameter value (\"-1 is out of range; allowed: (0, inf)\"), or "
+      "an empty string when the registry allows it.");
   m.def("node_reference_markdown", [] { return registryMarkdown(); });
 
   py::class_<PyNode>(m, "Node", "An immutable, validated FRep tree node.")
@@ -248,85 +260,113 @@ PYBIND11_MODULE(_frepcore, m) {
            "Makes a node; raises ValueError naming the path, the parameter and what is allowed.")
       .def_property_readonly("type", [](const PyNode& n) { return n.node->type->id; })
       .def_property_readonly("params", &nodeParams)
-      .def_property_readonly("inputs", [](const PyNode& n) {
-        std::vector<PyNode> out;
-        for (const auto& i : n.node->inputs) out.push_back(PyNode{i, nullptr});
-        return out;
-      })
-      .def("value", [](PyNode& n, double x, double y, double z) { return n.compiled().eval(x, y, z); },
-           py::arg("x"), py::arg("y"), py::arg("z"), "F(x, y, z): >= 0 inside.")
-      .def("values", [](PyNode& n, const std::vector<Vec3>& points) {
-        const Program& p = n.compiled();
-        std::vector<double> x(points.size()), y(points.size()), z(points.size()), out(points.size());
-        for (std::size_t i = 0; i < points.size(); ++i) {
-          x[i] = points[i][0];
-          y[i] = points[i][1];
-          z[i] = points[i][2];
-        }
-        py::gil_scoped_release release;
-        p.evalBatch(x.data(), y.data(), z.data(), points.size(), out.data());
-        return out;
-      }, py::arg("points"))
-      .def("gradient", [](PyNode& n, double x, double y, double z) {
-        Dual d = n.compiled().evalGradient(x, y, z);
-        return py::make_tuple(d.v, py::make_tuple(d.d[0], d.d[1], d.d[2]));
-      }, "(F, (dF/dx, dF/dy, dF/dz)) at a point.")
-      .def("interval", [](PyNode& n, const Vec3& lo, const Vec3& hi) {
-        Interval v = n.compiled().evalInterval(Interval(lo[0], hi[0]), Interval(lo[1], hi[1]),
-                                               Interval(lo[2], hi[2]));
-        return py::make_tuple(v.lo, v.hi);
-      }, "Bounds of F over the box [lo, hi].")
-      .def("bounds", [](PyNode& n, double search, double tolerance) {
-        BoundsOptions o;
-        o.search = Box3{{-search, -search, -search}, {search, search, search}};
-        o.tolerance = tolerance;
-        const Program& p = n.compiled();
-        SolidBounds b;
-        {
-          py::gil_scoped_release release;
-          b = findBounds(p, o);
-        }
-        return boundsDict(b);
-      }, py::arg("search") = 1e6, py::arg("tolerance") = 1e-4,
-      "Tight box of the solid by interval branch and bound: dict(empty, bounded, "
-      "unbounded_sides, box).")
+      .def_property_readonly("inputs",
+                             [](const PyNode& n) {
+                               std::vector<PyNode> out;
+                               for (const auto& i : n.node->inputs)
+                                 out.push_back(PyNode{i, nullptr});
+                               return out;
+                             })
+      .def(
+          "value",
+          [](PyNode& n, double x, double y, double z) { return n.compiled().eval(x, y, z); },
+          py::arg("x"), py::arg("y"), py::arg("z"), "F(x, y, z): >= 0 inside.")
+      .def(
+          "values",
+          [](PyNode& n, const std::vector<Vec3>& points) {
+            const Program& p = n.compiled();
+            std::vector<double> x(points.size()), y(points.size()), z(points.size()),
+                out(points.size());
+            for (std::size_t i = 0; i < points.size(); ++i) {
+              x[i] = points[i][0];
+              y[i] = points[i][1];
+              z[i] = points[i][2];
+            }
+            py::gil_scoped_release release;
+            p.evalBatch(x.data(), y.data(), z.data(), points.size(), out.data());
+            return out;
+          },
+          py::arg("points"))
+      .def(
+          "gradient",
+          [](PyNode& n, double x, double y, double z) {
+            Dual d = n.compiled().evalGradient(x, y, z);
+            return py::make_tuple(d.v, py::make_tuple(d.d[0], d.d[1], d.d[2]));
+          },
+          "(F, (dF/dx, dF/dy, dF/dz)) at a point.")
+      .def(
+          "interval",
+          [](PyNode& n, const Vec3& lo, const Vec3& hi) {
+            Interval v = n.compiled().evalInterval(Interval(lo[0], hi[0]), Interval(lo[1], hi[1]),
+                                                   Interval(lo[2], hi[2]));
+            return py::make_tuple(v.lo, v.hi);
+          },
+          "Bounds of F over the box [lo, hi].")
+      .def(
+          "bounds",
+          [](PyNode& n, double search, double tolerance) {
+            BoundsOptions o;
+            o.search = Box3{{-search, -search, -search}, {search, search, search}};
+            o.tolerance = tolerance;
+            const Program& p = n.compiled();
+            SolidBounds b;
+            {
+              py::gil_scoped_release release;
+              b = findBounds(p, o);
+            }
+            return boundsDict(b);
+          },
+          py::arg("search") = 1e6, py::arg("tolerance") = 1e-4,
+          "Tight box of the solid by interval branch and bound: dict(empty, bounded, "
+          "unbounded_sides, box).")
       .def("instruction_count", [](PyNode& n) { return n.compiled().instructionCount(); })
-      .def("mesh", [](PyNode& n, py::object bbox, double resolution, py::object progress,
-                      bool normals) {
-        MeshingOptions o;
-        o.bbox = toBox(bbox.cast<py::sequence>());
-        o.resolution = resolution;
-        o.normals = normals;
-        n.compiled();
-        std::shared_ptr<const Program> program = n.program;
-        return runWithProgress<TriangleMesh>([program, o](std::function<bool(double)> tick) mutable {
-          o.progress = tick;
-          return polygonize(*program, o);
-        }, progress);
-      }, py::arg("bbox"), py::arg("resolution"), py::arg("progress") = py::none(),
-      py::arg("normals") = false,
-      "Polygonises inside bbox with cells of at most `resolution`. progress(fraction) is "
-      "called on this thread; returning False cancels (raises Cancelled).")
-      .def("to_json", [](const PyNode& n, py::object bbox, py::object resolution,
-                         const std::string& description) {
-        Model model;
-        model.root = n.node;
-        if (!bbox.is_none()) model.bbox = toBox(bbox.cast<py::sequence>());
-        if (!resolution.is_none()) model.resolution = resolution.cast<double>();
-        model.description = description;
-        return modelToJson(model);
-      }, py::arg("bbox") = py::none(), py::arg("resolution") = py::none(),
-      py::arg("description") = "");
+      .def(
+          "mesh",
+          [](PyNode& n, py::object bbox, double resolution, py::object progress, bool normals) {
+            MeshingOptions o;
+            o.bbox = toBox(bbox.cast<py::sequence>());
+            o.resolution = resolution;
+            o.normals = normals;
+            n.compiled();
+            std::shared_ptr<const Program> program = n.program;
+            return runWithProgress<TriangleMesh>(
+                [program, o](std::function<bool(double)> tick) mutable {
+                  o.progress = tick;
+                  return polygonize(*program, o);
+                },
+                progress);
+          },
+          py::arg("bbox"), py::arg("resolution"), py::arg("progress") = py::none(),
+          py::arg("normals") = false,
+          "Polygonises inside bbox with cells of at most `resolution`. progress(fraction) is "
+          "called on this thread; returning False cancels (raises Cancelled).")
+      .def(
+          "to_json",
+          [](const PyNode& n, py::object bbox, py::object resolution,
+             const std::string& description) {
+            Model model;
+            model.root = n.node;
+            if (!bbox.is_none()) model.bbox = toBox(bbox.cast<py::sequence>());
+            if (!resolution.is_none()) model.resolution = resolution.cast<double>();
+            model.description = description;
+            return modelToJson(model);
+          },
+          py::arg("bbox") = py::none(), py::arg("resolution") = py::none(),
+          py::arg("description") = "");
 
-  m.def("parse_model", [](const std::string& text, const std::string& source) {
-    Model model = parseModel(text, source);
-    py::dict d;
-    d["root"] = PyNode{model.root, nullptr};
-    d["bbox"] = model.bbox ? py::object(fromBox(*model.bbox)) : py::object(py::none());
-    d["resolution"] = model.resolution ? py::object(py::float_(*model.resolution)) : py::object(py::none());
-    d["description"] = model.description;
-    return d;
-  }, py::arg("text"), py::arg("source") = "model");
+  m.def(
+      "parse_model",
+      [](const std::string& text, const std::string& source) {
+        Model model = parseModel(text, source);
+        py::dict d;
+        d["root"] = PyNode{model.root, nullptr};
+        d["bbox"] = model.bbox ? py::object(fromBox(*model.bbox)) : py::object(py::none());
+        d["resolution"] =
+            model.resolution ? py::object(py::float_(*model.resolution)) : py::object(py::none());
+        d["description"] = model.description;
+        return d;
+      },
+      py::arg("text"), py::arg("source") = "model");
 
   py::class_<TriangleMesh>(m, "Mesh", "An indexed triangle mesh (float coordinates).")
       .def_property_readonly("vertex_count", &TriangleMesh::vertexCount)
@@ -335,26 +375,37 @@ PYBIND11_MODULE(_frepcore, m) {
       .def_property_readonly("triangles", [](const TriangleMesh& t) { return t.triangles; })
       .def("volume", &meshVolume, "Enclosed signed volume (no checks).")
       .def("area", &meshArea)
-      .def("check", [](const TriangleMesh& t, const std::string& name, py::object progress) {
-        CheckReport r = runWithProgress<CheckReport>(
-            [&t](std::function<bool(double)>) { return checkMesh(t); }, progress);
-        py::dict d = fromJson(reportToJson(r, name));
-        d["text"] = reportToText(r, name);
-        return d;
-      }, py::arg("name") = "mesh", py::arg("progress") = py::none(),
-      "CGAL printability check: the dict of `frepcad check --json` plus 'text', the report.")
-      .def("write", [](const TriangleMesh& t, const std::string& path, const std::string& format,
-                       py::object progress) {
-        MeshFormat f = format.empty() ? formatFromPath(path) : parseFormat(format);
-        runWithProgress<bool>([&](std::function<bool(double)> tick) {
-          writeMesh(t, path, f, tick);
-          return true;
-        }, progress);
-      }, py::arg("path"), py::arg("format") = "", py::arg("progress") = py::none(),
-      "Writes through a temporary file and a rename: a cancel or failure leaves no file.");
+      .def(
+          "check",
+          [](const TriangleMesh& t, const std::string& name, py::object progress) {
+            CheckReport r = runWithProgress<CheckReport>(
+                [&t](std::function<bool(double)>) { return checkMesh(t); }, progress);
+            py::dict d = fromJson(reportToJson(r, name));
+            d["text"] = reportToText(r, name);
+            return d;
+          },
+          py::arg("name") = "mesh", py::arg("progress") = py::none(),
+          "CGAL printability check: the dict of `frepcad check --json` plus 'text', the report.")
+      .def(
+          "write",
+          [](const TriangleMesh& t, const std::string& path, const std::string& format,
+             py::object progress) {
+            MeshFormat f = format.empty() ? formatFromPath(path) : parseFormat(format);
+            runWithProgress<bool>(
+                [&](std::function<bool(double)> tick) {
+                  writeMesh(t, path, f, tick);
+                  return true;
+                },
+                progress);
+          },
+          py::arg("path"), py::arg("format") = "", py::arg("progress") = py::none(),
+          "Writes through a temporary file and a rename: a cancel or failure leaves no file.");
 
-  m.def("read_mesh", [](const std::string& path) {
-    py::gil_scoped_release release;
-    return readMesh(path);
-  }, py::arg("path"));
+  m.def(
+      "read_mesh",
+      [](const std::string& path) {
+        py::gil_scoped_release release;
+        return readMesh(path);
+      },
+      py::arg("path"));
 }
