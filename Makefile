@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
 
-.PHONY: all deps configure build test demo bench format clean
+.PHONY: all deps configure build test demo bench screenshots format clean
 
 all: build
 
@@ -26,6 +26,11 @@ demo: build
 
 bench: build
 	@bash scripts/bench.sh $(BUILD_DIR)
+
+# Screenshots for docs/ from the real GUI under Xvfb (the GUI smoke test takes them).
+screenshots: build
+	bash tests/gui/run_gui.sh $(BUILD_DIR) . $(BUILD_DIR)/gui
+	cp $(BUILD_DIR)/gui/workbench-*.png docs/images/
 
 format:
 	clang-format -i $$(git ls-files '*.h' '*.cpp')

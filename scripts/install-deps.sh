@@ -8,7 +8,8 @@ packages=(
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev
   libopenmesh-dev libtbb-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  freecad freecad-python3 python3-dev pybind11-dev python3-pytest xvfb xauth
+  freecad freecad-python3 python3-dev pybind11-dev python3-pytest
+  xvfb xauth libgl1-mesa-dri  # the GUI test: a display server and software OpenGL
 )
 
 missing=()

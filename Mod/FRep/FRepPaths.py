@@ -12,10 +12,15 @@ ICON_DIR = os.path.join(WORKBENCH_DIR, "resources", "icons")
 REPOSITORY_DIR = os.path.dirname(os.path.dirname(WORKBENCH_DIR))
 
 
-def icon(name):
-    """Path of an SVG icon of the workbench, by base name ("sphere" -> .../sphere.svg)."""
-    path = os.path.join(ICON_DIR, name + ".svg")
-    return path if os.path.exists(path) else os.path.join(ICON_DIR, "frep.svg")
+def icon(name, category=None):
+    """Path of an SVG icon of the workbench by base name ("sphere" -> .../sphere.svg); a
+    node type without its own icon gets its registry category's, then the workbench's."""
+    for base in (name, "category-%s" % category if category else None, "frep"):
+        if base:
+            path = os.path.join(ICON_DIR, base + ".svg")
+            if os.path.exists(path):
+                return path
+    return os.path.join(ICON_DIR, "frep.svg")
 
 
 def frepcore_dirs():

@@ -13,7 +13,9 @@ class ViewProviderFRep(StatelessProxy):
         self.Object = vobj.Object
 
     def getIcon(self):
-        return FRepPaths.icon(self.Object.Proxy.FREP_TYPE)
+        import FRepFeatures
+        type_id = self.Object.Proxy.FREP_TYPE
+        return FRepPaths.icon(type_id, FRepFeatures.NODE_TYPES[type_id]["category"])
 
     def claimChildren(self):
         import FRepFeatures

@@ -1,0 +1,246 @@
+"""The workbench's GUI commands: one per registry node type, Polygonize, Export and the
+preview quality. Registered by InitGui; every command works on the active document inside
+one undo transaction.
+
+Operations take their inputs from the selection in the order it was made (the first
+selected is the base of a difference) and hide them, as Part's booleans do. A selection that
+does not fit gets a message naming the command and what it needs, never an exception.
+"""
+
+import FreeCAD
+import FreeCADGui
+
+import FRepFeatures
+import FRepMeshing
+import FRepPaths
+import FRepPolygonize
+import FRepProperties as props
+import FRepTree
+
+MENU = "FRep"
+TOOLBARS = (
+    ("FRep primitives", ("primitive",)),
+    ("FRep operations", ("set operation", "blend")),
+    ("FRep transforms", ("transform",)),
+)
+MESH_COMMANDS = ["FRep_Polygonize", "FRep_Export", "FRep_PreviewQuality"]
+
+
+def command_name(type_id):
+    return "FRep_" + props.type_class_name(type_id)
+
+
+def commands_by_category():
+    """[(category, [command names])] in registry order, categories in first-seen order."""
+    groups = {}
+    for type_id, info in FRepFeatures.NODE_TYPES.items():
+        groups.setdefault(info["category"], []).append(command_name(type_id))
+    return list(groups.items())
+
+
+def toolbars():
+    """[(toolbar title, [command names])]: the registry's categories, then meshing. A category
+    the registry gains later gets a toolbar of its own."""
+    groups = dict(commands_by_category())
+    bars, placed = [], set()
+    for title, categories in TOOLBARS:
+        names = [n for c in categories for n in groups.get(c, [])]
+        placed.update(categories)
+        if names:
+            bars.append((title, names))
+    for category, names in groups.items():
+        if category not in placed:
+            bars.append(("FRep " + category, names))
+    bars.append(("FRep mesh", MESH_COMMANDS))
+    return bars
+
+
+def report(title, message, error=True):
+    """A message on the console and, in the GUI, in a dialog the user has to acknowledge."""
+    (FreeCAD.Console.PrintError if error else FreeCAD.Console.PrintMessage)(message + "\n")
+    from PySide import QtGui
+    box = QtGui.QMessageBox.warning if error else QtGui.QMessageBox.information
+    box(FreeCADGui.getMainWindow(), title, message)
+
+
+class Transaction:
+    """One undo step; aborted (the document left as it was) when the body raises."""
+
+    def __init__(self, doc, title):
+        self.doc, self.title = doc, title
+
+    def __enter__(self):
+        self.doc.openTransaction(self.title)
+        return self
+
+    def __exit__(self, kind, value, trace):
+        if kind is None:
+            self.doc.commitTransaction()
+        else:
+            self.doc.abortTransaction()
+        return False
+
+
+class NodeCommand:
+    """Creates one FRep feature type; operations take the selection as inputs."""
+
+    def __init__(self, type_id):
+        self.type_id = type_id
+        self.info = FRepFeatures.NODE_TYPES[type_id]
+        self.title = props.type_class_name(type_id)
+        self.inputs = self.info["inputs"]
+
+    def GetResources(self):
+        tip = self.info["doc"]
+        if self.inputs["max"] != 0:
+            tip += "\n\nSelect its input%s first (%s), in order." % (
+                "s" if self.inputs["max"] != 1 else "", self.input_rule())
+        return {"Pixmap": FRepPaths.icon(self.type_id, self.info["category"]),
+                "MenuText": self.type_id.replace("_", " ").capitalize(),
+                "ToolTip": tip}
+
+    def input_rule(self):
+        least, most = self.inputs["min"], self.inputs["max"]
+        if most == least:
+            return "exactly %d" % least
+        return "at least %d" % least if most is None else "%d to %d" % (least, most)
+
+    def IsActive(self):
+        if FreeCAD.ActiveDocument is None:
+            return False
+        if self.inputs["max"] == 0:
+            return True
+        return len(FreeCADGui.Selection.getSelection()) >= self.inputs["min"]
+
+    def selected_inputs(self):
+        """The selection as inputs, or a message saying what is wrong with it."""
+        selection = FreeCADGui.Selection.getSelection()
+        least, most = self.inputs["min"], self.inputs["max"]
+        if len(selection) < least or (most is not None and len(selection) > most):
+            return None, ("%s needs %s input%s selected (FRep features or Part primitives); "
+                          "%d %s selected" % (self.title, self.input_rule(),
+                                              "" if most == 1 else "s", len(selection),
+                                              "is" if len(selection) == 1 else "are"))
+        wrong = [o for o in selection if not FRepTree.is_frep_input(o)]
+        if wrong:
+            return None, ("%s: %s %s not an FRep feature or a Part primitive (Box, Sphere, "
+                          "Cylinder, Cone, Torus, Ellipsoid)"
+                          % (self.title, ", ".join(FRepTree.describe(o) for o in wrong),
+                             "is" if len(wrong) == 1 else "are"))
+        return selection, None
+
+    def Activated(self):
+        doc = FreeCAD.ActiveDocument
+        inputs = []
+        if self.inputs["max"] != 0:
+            inputs, problem = self.selected_inputs()
+            if problem:
+                report("FRep " + self.title, problem)
+                return
+        try:
+            with Transaction(doc, "Create " + self.title):
+                obj = FRepFeatures.make(self.type_id, doc, inputs=inputs)
+                doc.recompute()
+        except ValueError as e:
+            report("FRep " + self.title, str(e))
+            return
+        FreeCADGui.Selection.clearSelection()
+        FreeCADGui.Selection.addSelection(obj)
+        if not inputs and len(doc.Objects) == 1:
+            FreeCADGui.SendMsgToActiveView("ViewFit")
+
+
+class PolygonizeCommand:
+    def GetResources(self):
+        return {"Pixmap": FRepPaths.icon("polygonize"),
+                "MenuText": "Polygonize",
+                "ToolTip": "Mesh the selected FRep solid at full resolution into a Polygonize "
+                           "feature (automatic bounding box, resolution and method in its "
+                           "properties). Shows progress; Esc or the cancel button stops it."}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None and \
+            len(FreeCADGui.Selection.getSelection()) == 1
+
+    def Activated(self):
+        selection = FreeCADGui.Selection.getSelection()
+        if len(selection) != 1 or not FRepTree.is_frep_input(selection[0]):
+            report("FRep Polygonize", "Polygonize needs exactly one FRep feature or Part "
+                   "primitive selected")
+            return
+        doc = selection[0].Document
+        with Transaction(doc, "Polygonize"):
+            obj = FRepPolygonize.make(selection[0], doc)
+        # Recompute outside the transaction: a cancel or an error marks the feature, the user
+        # sees why in the tree and can change its settings, and undo still removes it.
+        doc.recompute()
+        if "Invalid" in obj.State:
+            report("FRep Polygonize", "%s: see the report view for why the mesh could not be "
+                   "made; change its properties and recompute" % obj.Label)
+
+
+class ExportCommand:
+    FILTERS = "STL mesh (*.stl);;Wavefront OBJ (*.obj);;Stanford PLY (*.ply)"
+
+    def GetResources(self):
+        return {"Pixmap": FRepPaths.icon("export"),
+                "MenuText": "Export printable mesh...",
+                "ToolTip": "Mesh the selected FRep solids (or Polygonize features, with their "
+                           "settings), check the mesh with CGAL and write it only when it is "
+                           "printable: closed, manifold, outward, no self-intersections."}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None and bool(FreeCADGui.Selection.getSelection())
+
+    def Activated(self):
+        import os
+        from PySide import QtGui
+        import FRepExport
+        objects = FreeCADGui.Selection.getSelection()
+        start = os.path.join(os.path.dirname(FreeCAD.ActiveDocument.FileName or "") or
+                             os.path.expanduser("~"), objects[0].Label + ".stl")
+        filename, _ = QtGui.QFileDialog.getSaveFileName(
+            FreeCADGui.getMainWindow(), "Export printable mesh", start, self.FILTERS)
+        if not filename:
+            return
+        try:
+            result = FRepExport.export_objects(objects, filename)
+        except (ValueError, RuntimeError, OSError) as e:
+            report("FRep export", str(e))
+            return
+        FreeCAD.Console.PrintMessage("%s\n" % result["text"])
+        FreeCADGui.getMainWindow().statusBar().showMessage(
+            "Wrote %s (%d triangles, printable)" % (filename, result["triangles"]), 10000)
+
+
+class PreviewQualityCommand:
+    def GetResources(self):
+        return {"Pixmap": FRepPaths.icon("preview"),
+                "MenuText": "Preview quality...",
+                "ToolTip": "Grid cells along the longest side of every FRep preview in this "
+                           "document (default %d). Lower is faster to recompute; exports are "
+                           "not affected." % FRepMeshing.DEFAULT_PREVIEW_CELLS}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None
+
+    def Activated(self):
+        from PySide import QtGui
+        doc = FreeCAD.ActiveDocument
+        cells, ok = QtGui.QInputDialog.getInt(
+            FreeCADGui.getMainWindow(), "FRep preview quality",
+            "Grid cells along the longest side of each preview (%d to %d):"
+            % (FRepMeshing.MIN_CELLS, FRepMeshing.MAX_CELLS),
+            FRepMeshing.preview_cells(doc), FRepMeshing.MIN_CELLS, FRepMeshing.MAX_CELLS)
+        if ok:  # a view setting, like FreeCAD's mesh deviation: not an undo step
+            FRepMeshing.set_preview_cells(doc, cells)
+
+
+def register():
+    """Adds every command to FreeCAD; returns the toolbars as (title, command names)."""
+    for type_id in FRepFeatures.NODE_TYPES:
+        FreeCADGui.addCommand(command_name(type_id), NodeCommand(type_id))
+    FreeCADGui.addCommand("FRep_Polygonize", PolygonizeCommand())
+    FreeCADGui.addCommand("FRep_Export", ExportCommand())
+    FreeCADGui.addCommand("FRep_PreviewQuality", PreviewQualityCommand())
+    return toolbars()

@@ -1,0 +1,34 @@
+# FRep workbench, GUI part. FreeCAD execs this file without __file__ and with separate global
+# and local namespaces, so module-level names are not visible inside the class: everything
+# the class needs is computed or imported in its own body.
+import FreeCADGui
+
+
+class FRepWorkbench(FreeCADGui.Workbench):
+    MenuText = "FRep"
+    ToolTip = ("Function-representation solids: exact primitives, set operations, blends and "
+               "transforms, meshed watertight for 3D printing")
+    # The icon path comes from FRepPaths' location without importing it: the import loads
+    # frepcore, and a missing build should be explained when the workbench is activated,
+    # not hide the workbench from the list.
+    import importlib.util as _util
+    import os as _os
+    _spec = _util.find_spec("FRepPaths")
+    Icon = _os.path.join(_os.path.dirname(_os.path.realpath(_spec.origin)) if _spec else "",
+                         "resources", "icons", "frep.svg")
+
+    def Initialize(self):
+        import FRepCommands
+        bars = FRepCommands.register()
+        for title, names in bars:
+            self.appendToolbar(title, names)
+            if names is not FRepCommands.MESH_COMMANDS:  # those go at the menu's top level
+                self.appendMenu([FRepCommands.MENU, title.replace("FRep ", "").capitalize()],
+                                names)
+        self.appendMenu(FRepCommands.MENU, FRepCommands.MESH_COMMANDS)
+
+    def GetClassName(self):
+        return "Gui::PythonWorkbench"
+
+
+FreeCADGui.addWorkbench(FRepWorkbench())
