@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
 
-.PHONY: all deps configure build test demo bench screenshots format clean
+.PHONY: all deps configure build test demo bench screenshots examples format clean
 
 all: build
 
@@ -26,6 +26,10 @@ demo: build
 
 bench: build
 	@bash scripts/bench.sh $(BUILD_DIR)
+
+# The example FreeCAD documents (examples/*.FCStd), rebuilt with the workbench.
+examples: build
+	BUILD_DIR=$(abspath $(BUILD_DIR)) /usr/bin/python3.11 examples/make_documents.py
 
 # Screenshots for docs/ from the real GUI under Xvfb (the GUI smoke test takes them).
 screenshots: build

@@ -1,0 +1,76 @@
+"""The example documents in examples/ (written by examples/make_documents.py): they open,
+recompute, describe exactly the reference solid of examples/csg.json, and the spreadsheet
+drives the part."""
+
+import os
+import random
+
+import FreeCAD
+import pytest
+
+import FRepTree
+from FRepPaths import frepcore
+
+EXAMPLES = os.path.join(os.environ["FREP_SOURCE_DIR"], "examples")
+OBJECTS = {"Cube": "box", "Ball": "sphere", "Core": "intersection", "HoleX": "cylinder",
+           "HoleY": "cylinder", "HoleZ": "cylinder", "Part": "difference"}
+
+
+@pytest.fixture(params=["csg", "csg_spreadsheet"])
+def example(request):
+    doc = FreeCAD.openDocument(os.path.join(EXAMPLES, request.param + ".FCStd"))
+    yield request.param, doc
+    FreeCAD.closeDocument(doc.Name)
+
+
+def sample_points(n=4000, reach=1.6, seed=7):
+    rng = random.Random(seed)
+    return [(rng.uniform(-reach, reach), rng.uniform(-reach, reach),
+             rng.uniform(-reach, reach)) for _ in range(n)]
+
+
+def test_example_is_the_exact_reference_solid(example):
+    name, doc = example
+    for obj_name, type_id in OBJECTS.items():
+        obj = doc.getObject(obj_name)
+        assert obj is not None and obj.Proxy.FREP_TYPE == type_id, (name, obj_name)
+    for obj in doc.Objects:
+        obj.touch()
+    doc.recompute()
+    assert not [o.Label for o in doc.Objects if "Invalid" in o.State]
+    reference, _ = frepcore.load(os.path.join(EXAMPLES, "csg.json"))
+    points = sample_points()
+    mine = FRepTree.shape_of(doc.getObject("Part")).values(points)
+    exact = reference.values(points)
+    # Same tree, same formulas: equal to rounding (the Placement adds an identity transform).
+    assert max(abs(a - b) for a, b in zip(mine, exact)) < 1e-12
+
+
+def test_saved_meshes_are_there_and_printable(example):
+    name, doc = example
+    shown = doc.getObject("PartMesh" if name == "csg_spreadsheet" else "Part")
+    assert shown.Visibility and shown.Mesh.CountFacets > 1000
+    path = os.path.join(os.environ.get("TMPDIR", "/tmp"), "frep-example-%s.ply" % os.getpid())
+    try:
+        shown.Mesh.write(path)
+        report = frepcore.read_mesh(path).check(name)
+    finally:
+        if os.path.exists(path):
+            os.remove(path)
+    assert report["printable"], report["text"]
+
+
+def test_spreadsheet_drives_the_part():
+    doc = FreeCAD.openDocument(os.path.join(EXAMPLES, "csg_spreadsheet.FCStd"))
+    try:
+        sheet, mesh = doc.getObject("Parameters"), doc.getObject("PartMesh")
+        assert doc.getObject("HoleX").Radius.Value == pytest.approx(sheet.get("Hole"))
+        volume = mesh.Mesh.Volume
+        sheet.set("Hole", "0.3")
+        doc.recompute()
+        for axis in "XYZ":
+            assert doc.getObject("Hole" + axis).Radius.Value == pytest.approx(0.3)
+        # Smaller holes: more material.
+        assert mesh.Mesh.Volume > volume + 0.3
+    finally:
+        FreeCAD.closeDocument(doc.Name)
