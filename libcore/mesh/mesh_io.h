@@ -1,4 +1,5 @@
-// Mesh files: binary and ASCII STL, OBJ, binary PLY. Writers go through AtomicFile (no partial
+// Mesh files: binary and ASCII STL, OBJ, binary PLY, and FreeCAD's own binary mesh (.bms:
+// points, facets and facet neighbours, which FreeCAD reads without rebuilding topology). Writers go through AtomicFile (no partial
 // file on failure or cancel). Readers return the triangles exactly as stored; STL has no
 // indices, so its vertices come unwelded (the checker welds identical coordinates).
 #pragma once
@@ -10,10 +11,10 @@
 
 namespace frep {
 
-enum class MeshFormat { StlBinary, StlAscii, Obj, Ply };
+enum class MeshFormat { StlBinary, StlAscii, Obj, Ply, FreecadBms };
 
 const char* formatName(MeshFormat f);
-// "stl", "stl-ascii", "obj", "ply"; throws ModelError naming the allowed values.
+// "stl", "stl-ascii", "obj", "ply", "bms"; throws ModelError naming the allowed values.
 MeshFormat parseFormat(const std::string& name);
 // From the file extension (.stl -> binary STL); throws FileError for an unknown extension.
 MeshFormat formatFromPath(const std::string& path);

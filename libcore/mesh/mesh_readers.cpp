@@ -205,6 +205,36 @@ TriangleMesh readPly(const std::string& path, const std::string& data) {
   return m;
 }
 
+// FreeCAD's binary mesh (layout in mesh_writers.cpp); the stored neighbours are not needed.
+TriangleMesh readFreecadBms(const std::string& path, const std::string& data) {
+  const std::size_t header = 8 + 256 + 8;
+  std::uint32_t head[2] = {0, 0}, counts[2] = {0, 0};
+  if (data.size() >= header) {
+    std::memcpy(head, data.data(), 8);
+    std::memcpy(counts, data.data() + 264, 8);
+  }
+  if (data.size() < header || head[0] != 0xA0B0C0D0u)
+    throw FileError(path + ": not a FreeCAD binary mesh (no magic number)");
+  const std::size_t points = counts[0], facets = counts[1];
+  if (data.size() != header + 12 * points + 24 * facets + 24)
+    throw FileError(path + ": FreeCAD binary mesh of " + std::to_string(points) + " points and " +
+                    std::to_string(facets) + " facets has the wrong size");
+  TriangleMesh m;
+  m.positions.resize(points);
+  std::memcpy(m.positions.data(), data.data() + header, 12 * points);
+  m.triangles.resize(facets);
+  const char* f = data.data() + header + 12 * points;
+  for (std::size_t i = 0; i < facets; ++i, f += 24) {
+    std::memcpy(m.triangles[i].data(), f, 12);
+    for (std::uint32_t id : m.triangles[i])
+      if (id >= points)
+        throw FileError(path + ": facet " + std::to_string(i) + " has point index " +
+                        std::to_string(id) + " out of range (" + std::to_string(points) +
+                        " points)");
+  }
+  return m;
+}
+
 }  // namespace
 
 TriangleMesh readMesh(const std::string& path) {
@@ -215,6 +245,7 @@ TriangleMesh readMesh(const std::string& path) {
     case MeshFormat::StlAscii: return readStl(path, data);
     case MeshFormat::Obj: return readObj(path, data);
     case MeshFormat::Ply: return readPly(path, data);
+    case MeshFormat::FreecadBms: return readFreecadBms(path, data);
   }
   return {};
 }

@@ -1,9 +1,11 @@
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
 #include "frep/errors.h"
 #include "mesh/atomic_file.h"
 #include "mesh/mesh_io.h"
+#include "mesh/triangle_adjacency.h"
 #include "mesh/triangle_geometry.h"
 
 namespace frep {
@@ -14,14 +16,16 @@ const char* formatName(MeshFormat f) {
     case MeshFormat::StlAscii: return "stl-ascii";
     case MeshFormat::Obj: return "obj";
     case MeshFormat::Ply: return "ply";
+    case MeshFormat::FreecadBms: return "bms";
   }
   return "?";
 }
 
 MeshFormat parseFormat(const std::string& name) {
-  for (MeshFormat f : {MeshFormat::StlBinary, MeshFormat::StlAscii, MeshFormat::Obj, MeshFormat::Ply})
+  for (MeshFormat f : {MeshFormat::StlBinary, MeshFormat::StlAscii, MeshFormat::Obj, MeshFormat::Ply,
+                       MeshFormat::FreecadBms})
     if (name == formatName(f)) return f;
-  throw ModelError("unknown format '" + name + "'; allowed: stl, stl-ascii, obj, ply");
+  throw ModelError("unknown format '" + name + "'; allowed: stl, stl-ascii, obj, ply, bms");
 }
 
 MeshFormat formatFromPath(const std::string& path) {
@@ -31,8 +35,9 @@ MeshFormat formatFromPath(const std::string& path) {
   if (ext == "stl") return MeshFormat::StlBinary;
   if (ext == "obj") return MeshFormat::Obj;
   if (ext == "ply") return MeshFormat::Ply;
+  if (ext == "bms") return MeshFormat::FreecadBms;
   throw FileError(path + ": unknown mesh file type '." + ext +
-                  "'; supported: .stl, .obj, .ply");
+                  "'; supported: .stl, .obj, .ply, .bms");
 }
 
 namespace {
@@ -148,6 +153,48 @@ void writePly(const TriangleMesh& m, AtomicFile& f, Ticker& tick) {
   f.write(buffer.data(), buffer.size());
 }
 
+// FreeCAD's MeshKernel binary layout (version 1.0, little endian): magic, version, a 256-byte
+// text block, point and facet counts, float xyz per point, per facet three point indices and
+// three neighbour indices (neighbour i across edge i -> i+1), then the bounding box as
+// min x, max x, min y, max y, min z, max z. FreeCAD adopts the neighbours as they are, so
+// reading it skips the topology rebuild a PLY needs (see docs/file-formats.md).
+void writeFreecadBms(const TriangleMesh& m, AtomicFile& f, Ticker& tick) {
+  if (m.positions.size() >= kNoNeighbour || m.triangles.size() >= kNoNeighbour)
+    throw FileError("too many vertices or triangles for a FreeCAD mesh");
+  const std::uint32_t head[2] = {0xA0B0C0D0u, 0x00010000u};
+  f.write(head, sizeof(head));
+  char text[256];
+  for (int i = 0; i < 255; ++i) text[i] = "MESH-"[i % 5];
+  text[255] = '\n';
+  f.write(text, sizeof(text));
+  const std::uint32_t counts[2] = {std::uint32_t(m.positions.size()),
+                                   std::uint32_t(m.triangles.size())};
+  f.write(counts, sizeof(counts));
+  float box[6] = {0, 0, 0, 0, 0, 0};  // FreeCAD's empty box is inverted; never written empty
+  if (!m.positions.empty())
+    for (int a = 0; a < 3; ++a) box[2 * a] = box[2 * a + 1] = m.positions[0][a];
+  for (const Vec3f& p : m.positions)
+    for (int a = 0; a < 3; ++a) {
+      box[2 * a] = std::min(box[2 * a], p[a]);
+      box[2 * a + 1] = std::max(box[2 * a + 1], p[a]);
+    }
+  f.write(m.positions.data(), m.positions.size() * sizeof(Vec3f));
+  const auto neighbours = facetNeighbours(m);
+  std::vector<std::uint32_t> buffer;
+  buffer.reserve(6 * 8192);
+  for (std::size_t i = 0; i < m.triangles.size(); ++i) {
+    buffer.insert(buffer.end(), m.triangles[i].begin(), m.triangles[i].end());
+    buffer.insert(buffer.end(), neighbours[i].begin(), neighbours[i].end());
+    if (buffer.size() >= 6 * 8192) {
+      f.write(buffer.data(), buffer.size() * 4);
+      buffer.clear();
+    }
+    tick.tick(i);
+  }
+  f.write(buffer.data(), buffer.size() * 4);
+  f.write(box, sizeof(box));
+}
+
 }  // namespace
 
 void writeMesh(const TriangleMesh& mesh, const std::string& path, MeshFormat format,
@@ -159,6 +206,7 @@ void writeMesh(const TriangleMesh& mesh, const std::string& path, MeshFormat for
     case MeshFormat::StlAscii: writeStlAscii(mesh, file, tick); break;
     case MeshFormat::Obj: writeObj(mesh, file, tick); break;
     case MeshFormat::Ply: writePly(mesh, file, tick); break;
+    case MeshFormat::FreecadBms: writeFreecadBms(mesh, file, tick); break;
   }
   if (progress && !progress(1.0)) throw Cancelled();
   file.commit();

@@ -184,3 +184,18 @@ def test_frepcore_tree_matches_json_reference(doc):
     points = [(x * 0.37, y * 0.41, z * 0.29) for x in range(-4, 5) for y in range(-4, 5)
               for z in range(-4, 5)]
     assert tree.values(points) == reference.values(points)
+
+
+def test_preview_hand_over_matches_freecads_own_topology(doc, tmp_path):
+    """The preview reaches FreeCAD as a .bms with frepcore's facet neighbours; they must be
+    exactly those FreeCAD computes itself from the same triangles (read from a PLY)."""
+    import Mesh
+    shape = FRepTree.shape_of(FRepExamples.build_csg(doc))
+    mesh = shape.mesh(cells=40)
+    ply, ours, theirs = (str(tmp_path / n) for n in ("m.ply", "ours.bms", "theirs.bms"))
+    mesh.write(ply, "ply")
+    Mesh.Mesh(ply).write(theirs)
+    FRepMeshing.to_freecad_mesh(mesh).write(ours)
+    with open(ours, "rb") as a, open(theirs, "rb") as b:
+        assert a.read() == b.read()
+    assert FRepMeshing.to_freecad_mesh(mesh).isSolid()
