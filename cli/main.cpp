@@ -10,7 +10,7 @@ namespace {
 const char* kUsage =
     "usage:\n"
     "  frepcad export MODEL.json -o OUT [--resolution R] [--bbox x0 y0 z0 x1 y1 z1]\n"
-    "                 [--format stl|stl-ascii|obj|ply] [--force] [--quiet]\n"
+    "                 [--format stl|stl-ascii|obj|ply|bms] [--force] [--quiet]\n"
     "  frepcad export DOC.FCStd -o OUT [--object NAME] [--set Object.Property=VALUE ...]\n"
     "                 [--set Sheet.Alias=VALUE ...] [--cells N | --resolution R] [--quiet]\n"
     "  frepcad check MESH [--json]\n"

@@ -4,9 +4,11 @@
     examples/csg.FCStd              the csg reference model (examples/csg.json) as features
     examples/csg_spreadsheet.FCStd  the same part driven by a spreadsheet, with a Polygonize
 
-Run with `make examples` (after `make`). The documents hold their preview meshes at a modest
-preview resolution so that they stay small in the repository; a recompute in FreeCAD or
-`frepcad export` rebuilds everything from the exact tree.
+Run with `make examples` (after `make`). It starts the FreeCAD GUI under Xvfb and runs itself
+there: a document saved headless has no GuiDocument.xml, and FreeCAD then opens it with
+every object shown, the consumed inputs included. The documents hold their preview meshes
+at a modest preview resolution so that they stay small in the repository; a recompute in
+FreeCAD or `frepcad export` rebuilds everything from the exact tree.
 """
 
 import os
@@ -15,30 +17,44 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-BUILD = os.environ.get("BUILD_DIR", os.path.join(ROOT, "build"))
-HOME = os.path.join(BUILD, "freecad-home")
 
 # Saved previews and the saved Polygonize mesh: coarse, to keep the files small.
 PREVIEW_CELLS = 48
 POLYGONIZE_CELLS = 48
 
 
-def setup_freecad():
-    """FreeCAD with a private home whose Mod folder links the workbench (set before import)."""
-    subprocess.run(["bash", os.path.join(ROOT, "scripts", "install-workbench.sh"), HOME],
+def launch():
+    """Outside FreeCAD: start the GUI under Xvfb with this file as its macro."""
+    build = os.path.abspath(os.environ.get("BUILD_DIR", os.path.join(ROOT, "build")))
+    home = os.path.join(build, "freecad-home")
+    subprocess.run(["bash", os.path.join(ROOT, "scripts", "install-workbench.sh"), home],
                    check=True, stdout=subprocess.DEVNULL)
-    os.environ["FREECAD_USER_HOME"] = HOME
-    os.environ.setdefault("FREPCORE_PATH", os.path.join(BUILD, "python"))
-    sys.path.append("/usr/lib/freecad-python3/lib")
-    import FreeCAD
-    return FreeCAD
+    env = dict(os.environ, FREECAD_USER_HOME=home, QTWEBENGINE_DISABLE_SANDBOX="1",
+               FREPCORE_PATH=os.environ.get("FREPCORE_PATH", os.path.join(build, "python")),
+               FREP_MAKE_DOCUMENTS="1")
+    log = os.path.join(build, "make_documents.log")
+    with open(log, "w") as out:
+        rc = subprocess.run(["timeout", "300", "xvfb-run", "-a", "-s", "-screen 0 1280x1024x24",
+                             "freecad", os.path.abspath(__file__)], env=env, stdout=out,
+                            stderr=subprocess.STDOUT).returncode
+    with open(log) as f:
+        lines = [line for line in f if line.startswith(("wrote ", "error"))]
+    sys.stdout.write("".join(lines))
+    if rc != 0:
+        sys.stdout.write("make_documents failed (exit %d); see %s\n" % (rc, log))
+    return rc
 
 
-def save(FreeCAD, doc, name):
+def save(doc, name):
     """Saves atomically: a temporary file in examples/, then a rename."""
+    import FreeCAD
+    import FreeCADGui
     broken = [o.Label for o in doc.Objects if "Invalid" in o.State]
     if broken:
         raise RuntimeError("%s: recompute failed for %s" % (name, ", ".join(broken)))
+    view = FreeCADGui.getDocument(doc.Name).ActiveView
+    view.viewIsometric()
+    view.fitAll()
     path = os.path.join(HERE, name + ".FCStd")
     tmp = os.path.join(HERE, ".%s.tmp.FCStd" % name)
     doc.saveAs(tmp)
@@ -47,7 +63,8 @@ def save(FreeCAD, doc, name):
     print("wrote %s (%d kB)" % (os.path.relpath(path, ROOT), os.path.getsize(path) // 1024))
 
 
-def new_document(FreeCAD, name, comment):
+def new_document(name, comment):
+    import FreeCAD
     import FRepMeshing
     doc = FreeCAD.newDocument(name)
     doc.Comment = comment
@@ -55,26 +72,36 @@ def new_document(FreeCAD, name, comment):
     return doc
 
 
-def main():
-    FreeCAD = setup_freecad()
+def build():
+    """Inside the FreeCAD GUI."""
     import FRepExamples
 
-    doc = new_document(FreeCAD, "csg", "Reference model csg (examples/csg.json): cube [-1,1]^3 "
+    doc = new_document("csg", "Reference model csg (examples/csg.json): cube [-1,1]^3 "
                        "intersected with a sphere of radius 1.3, minus three infinite "
                        "cylinders of radius 0.5 along x, y and z.")
     FRepExamples.build_csg(doc)
     doc.recompute()
-    save(FreeCAD, doc, "csg")
+    save(doc, "csg")
 
-    doc = new_document(FreeCAD, "csg_spreadsheet", "The csg part driven by the spreadsheet "
+    doc = new_document("csg_spreadsheet", "The csg part driven by the spreadsheet "
                        "'Parameters' (aliases Size, Ball, Hole). Try: frepcad export "
                        "examples/csg_spreadsheet.FCStd --set Parameters.Hole=0.3 -o part.stl")
     mesh = FRepExamples.build_csg_spreadsheet(doc)
     mesh.Cells = POLYGONIZE_CELLS
     doc.recompute()
-    save(FreeCAD, doc, "csg_spreadsheet")
-    return 0
+    save(doc, "csg_spreadsheet")
 
 
-if __name__ == "__main__":
-    sys.exit(main())
+if os.environ.get("FREP_MAKE_DOCUMENTS") == "1" and "FreeCADGui" in sys.modules:
+    rc = 1
+    try:
+        build()
+        rc = 0
+    except Exception as e:
+        import traceback
+        traceback.print_exc()
+        print("error: %s" % e)
+    sys.stdout.flush()
+    os._exit(rc)
+elif __name__ == "__main__":
+    sys.exit(launch())

@@ -11,7 +11,7 @@ from FRepPaths import frepcore
 
 PREFERENCES = "User parameter:BaseApp/Preferences/Mod/FRep"
 PREVIEW_KEY = "FRepPreviewCells"
-DEFAULT_PREVIEW_CELLS = 64
+DEFAULT_PREVIEW_CELLS = 48
 DEFAULT_EXPORT_CELLS = 160
 MIN_CELLS, MAX_CELLS = 4, 4096
 

@@ -43,9 +43,21 @@ class Polygonize(StatelessProxy):
             obj.addProperty("App::PropertyInteger", "Triangles", GROUP,
                             "Triangles in the mesh (read-only).")
             obj.setEditorMode("Triangles", 1)
+        self.show_box_mode(obj)
 
     def onDocumentRestored(self, obj):
         self.setup(obj)
+
+    def onChanged(self, obj, prop):
+        if prop == "AutoBounds":
+            self.show_box_mode(obj)
+
+    @staticmethod
+    def show_box_mode(obj):
+        """BoundsMin/BoundsMax are read-only while AutoBounds decides the box."""
+        if "BoundsMin" in obj.PropertiesList:
+            for name in ("BoundsMin", "BoundsMax"):
+                obj.setEditorMode(name, 1 if obj.AutoBounds else 0)
 
     def execute(self, obj):
         if obj.Source is None:
