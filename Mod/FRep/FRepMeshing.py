@@ -100,8 +100,8 @@ def set_mesh(obj, mesh):
 
 
 class Progress:
-    """FreeCAD's progress indicator as a frepcore progress callback: status bar and cancel in
-    the GUI, nothing in a console. progress(fraction) returns False once the user cancels."""
+    """FreeCAD's progress indicator as a frepcore progress callback (no GUI: the console).
+    progress(fraction) returns False once the user cancels."""
 
     STEPS = 100
 
@@ -125,8 +125,53 @@ class Progress:
         self.indicator.stop()
 
 
+class GuiProgress:
+    """A modal progress dialog with a Cancel button (Esc cancels too), shown when work lasts
+    longer than SHOW_AFTER_MS.
+
+    Why not FreeCAD's status-bar indicator: in FreeCAD 0.20 an indicator started inside a
+    recompute (where Polygonize and every preview mesh) is nested in the recompute's own, and
+    nested indicators are ignored: no progress, no cancel, and no event processing, so the
+    window froze. The dialog is modal, so while it processes events (to draw itself and see the
+    Cancel) the user cannot edit the document underneath."""
+
+    STEPS = 1000
+    SHOW_AFTER_MS = 800
+
+    def __init__(self, text):
+        import FreeCADGui
+        from PySide import QtCore, QtGui
+        self.QtCore = QtCore
+        self.dialog = QtGui.QProgressDialog(text + "...", "Cancel", 0, self.STEPS,
+                                            FreeCADGui.getMainWindow())
+        self.dialog.setWindowTitle("FRep")
+        self.dialog.setWindowModality(QtCore.Qt.ApplicationModal)
+        self.dialog.setMinimumDuration(self.SHOW_AFTER_MS)
+        self.dialog.setAutoClose(False)
+        self.dialog.setAutoReset(False)
+        self.dialog.setValue(0)
+        self.cancelled = False
+
+    def __call__(self, fraction):
+        self.dialog.setValue(min(self.STEPS, int(fraction * self.STEPS)))
+        if self.dialog.isVisible():
+            # setValue only processes events when the value changes; a slow stretch must
+            # still see the Cancel button.
+            self.QtCore.QCoreApplication.processEvents()
+        self.cancelled = self.cancelled or self.dialog.wasCanceled()
+        return not self.cancelled
+
+    def close(self):
+        self.dialog.close()
+        self.dialog.deleteLater()
+
+
+def default_progress(text):
+    return GuiProgress(text) if FreeCAD.GuiUp else Progress(text)
+
+
 # Tests (and scripts) can replace this to drive cancel without a GUI.
-progress_factory = Progress
+progress_factory = default_progress
 
 
 def run_with_progress(text, work):
