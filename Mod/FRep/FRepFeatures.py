@@ -151,7 +151,9 @@ class FRepFeature(StatelessProxy):
             return
         box, cell = FRepMeshing.display_box(obj.Label, shape,
                                             FRepMeshing.preview_cells(obj.Document), bounds)
-        mesh = shape.node.mesh(box, cell)
+        mesh = FRepMeshing.run_with_progress(
+            "Meshing the preview of %s" % obj.Label,
+            lambda progress: _preview_or_cancel(obj, shape, box, cell, progress))
         FRepMeshing.set_mesh(obj, FRepMeshing.to_freecad_mesh(mesh))
 
     def onBeforeChange(self, obj, prop):
@@ -175,6 +177,14 @@ class FRepFeature(StatelessProxy):
                 FreeCAD.Console.PrintError(message + "\n")
         elif prop == "Visibility" and obj.Visibility and obj.Mesh.CountFacets == 0:
             _refresh_preview_later(obj)
+
+
+def _preview_or_cancel(obj, shape, box, cell, progress):
+    try:
+        return shape.node.mesh(box, cell, progress)
+    except frepcore.Cancelled:
+        raise RuntimeError("%s: the preview was cancelled; lower the preview quality (FRep > "
+                           "Preview quality) or hide the feature, then recompute" % obj.Label)
 
 
 def _empty_mesh():

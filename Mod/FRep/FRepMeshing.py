@@ -136,13 +136,18 @@ class GuiProgress:
     Cancel) the user cannot edit the document underneath."""
 
     STEPS = 1000
-    SHOW_AFTER_MS = 800
+    SHOW_AFTER_MS = 800  # counted from the first report, which comes after 50 ms of work
 
     def __init__(self, text):
+        self.text = text
+        self.dialog = None  # made at the first report: quick work (most previews) has none
+        self.cancelled = False
+
+    def _make_dialog(self):
         import FreeCADGui
         from PySide import QtCore, QtGui
         self.QtCore = QtCore
-        self.dialog = QtGui.QProgressDialog(text + "...", "Cancel", 0, self.STEPS,
+        self.dialog = QtGui.QProgressDialog(self.text + "...", "Cancel", 0, self.STEPS,
                                             FreeCADGui.getMainWindow())
         self.dialog.setWindowTitle("FRep")
         self.dialog.setWindowModality(QtCore.Qt.ApplicationModal)
@@ -150,9 +155,10 @@ class GuiProgress:
         self.dialog.setAutoClose(False)
         self.dialog.setAutoReset(False)
         self.dialog.setValue(0)
-        self.cancelled = False
 
     def __call__(self, fraction):
+        if self.dialog is None:
+            self._make_dialog()
         self.dialog.setValue(min(self.STEPS, int(fraction * self.STEPS)))
         if self.dialog.isVisible():
             # setValue only processes events when the value changes; a slow stretch must
@@ -162,8 +168,9 @@ class GuiProgress:
         return not self.cancelled
 
     def close(self):
-        self.dialog.close()
-        self.dialog.deleteLater()
+        if self.dialog is not None:
+            self.dialog.close()
+            self.dialog.deleteLater()
 
 
 def default_progress(text):
