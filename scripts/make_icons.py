@@ -232,6 +232,64 @@ def frep():
     return svg(body, defs)
 
 
+def twist():
+    defs = linear("lb", BLUE)
+    # A ribbon seen from the side: its two halves swap as it turns half a revolution.
+    body = ('<path d="M20,6 L44,6 C44,19 38,26 32,32 C26,26 20,19 20,6 Z" fill="#dcecff" %s/>\n'
+            '<path d="M32,32 C38,38 44,45 44,58 L20,58 C20,45 26,38 32,32 Z" fill="url(#lb)" '
+            '%s/>\n' % (stroke(), stroke()))
+    body += ('<path d="M46,10 A16,6 0 0 1 56,24" fill="none" stroke="%s" stroke-width="3.5" '
+             'stroke-linecap="round"/>\n<path d="M60,21 L55,31 L50,22 Z" fill="%s"/>\n'
+             % (ORANGE[1], ORANGE[1]))
+    return svg(body, defs)
+
+
+def taper():
+    defs = linear("lb", BLUE)
+    body = ('<path d="M8,56 L56,56 L42,10 L22,10 Z" fill="url(#lb)" %s/>\n' % stroke()
+            + arrow(50, 40, 40, 22, ORANGE[1], 3))
+    return svg(body, defs)
+
+
+def offset():
+    defs = radial("b", BLUE)
+    body = ('<circle cx="32" cy="32" r="28" fill="none" stroke="%s" stroke-width="2" '
+            'stroke-dasharray="4,3"/>\n' % STROKE)
+    body += sphere(32, 32, 17) + arrow(42, 22, 54, 10, ORANGE[1], 3)
+    return svg(body, defs)
+
+
+def shell():
+    defs = radial("b", BLUE)
+    body = ('<path d="M32,4 A28,28 0 1 1 31.99,4 Z M32,14 A18,18 0 1 0 32.01,14 Z" '
+            'fill="url(#b)" fill-rule="evenodd" %s/>\n' % stroke())
+    return svg(body, defs)
+
+
+def metamorphosis():
+    defs = radial("b", BLUE)
+    body = sphere(16, 22, 12)
+    body += '<rect x="38" y="36" width="22" height="22" fill="url(#b)" %s/>\n' % stroke()
+    body += arrow(24, 34, 40, 46, ORANGE[1], 3)
+    return svg(body, defs)
+
+
+def lattice():
+    """A cube of wavy gyroid-like walls: the microstructure icon."""
+    defs = linear("lb", BLUE)
+    body = '<rect x="4" y="4" width="56" height="56" rx="6" fill="#dcecff" %s/>\n' % stroke()
+    for i, y in enumerate((14, 28, 42, 56)):
+        flip = -1 if i % 2 else 1
+        body += ('<path d="M4,%g C14,%g 22,%g 32,%g C42,%g 50,%g 60,%g" fill="none" '
+                 'stroke="url(#lb)" stroke-width="5"/>\n'
+                 % (y - 4, y - 4 - 8 * flip, y - 4 + 8 * flip, y - 4, y - 4 - 8 * flip,
+                    y - 4 + 8 * flip, y - 4))
+    for x in (18, 46):
+        body += ('<path d="M%g,4 C%g,20 %g,44 %g,60" fill="none" stroke="%s" stroke-width="3" '
+                 'opacity="0.6"/>\n' % (x, x + 8, x - 8, x, BLUE[1]))
+    return svg(body, defs)
+
+
 def solid_icon(body, defs):
     return lambda: svg(body(), defs)
 
@@ -258,11 +316,20 @@ ICONS = {
     "polygonize": polygonize,
     "export": export,
     "preview": preview,
+    "twist": twist,
+    "taper": taper,
+    "offset": offset,
+    "shell": shell,
+    "metamorphosis": metamorphosis,
+    "gyroid": lattice,
     # Fallbacks for node types added without their own icon, by registry category.
     "category-primitive": lambda: svg(sphere(), radial("b", BLUE)),
     "category-transform": transform,
     "category-set operation": lambda: venn("union"),
     "category-blend": lambda: blend("union"),
+    "category-deformation": twist,
+    "category-field operation": offset,
+    "category-microstructure": lattice,
 }
 
 

@@ -46,7 +46,8 @@ TEST_P(ExamplesPrintable, CgalSaysPrintable) {
   const TriangleMesh mesh = meshModel(example(c.model), 1.0 / c.cellsPerUnit);
   const CheckReport r = checkMesh(mesh);
   EXPECT_TRUE(r.printable()) << c.model << " at 1/" << c.cellsPerUnit << ": " << reasons(r);
-  EXPECT_EQ(r.components, 1u);
+  // The gyroid shell cut by the ball leaves small separate pieces at the ball's surface.
+  if (c.model != "gyroid") EXPECT_EQ(r.components, 1u);
   EXPECT_GT(r.volume, 0.0);
   EXPECT_TRUE(r.outward);
 }
@@ -55,6 +56,8 @@ std::vector<ExampleCase> exampleCases() {
   std::vector<ExampleCase> cases;
   for (const char* m : {"sphere", "csg"})
     for (int res : {16, 32, 64, 128}) cases.push_back({m, res});
+  // The reference models of the modelling set at 1/64 (1/128 is in Fine below).
+  for (const char* m : {"twist", "helix", "gyroid"}) cases.push_back({m, 64});
   return cases;
 }
 
@@ -62,10 +65,12 @@ INSTANTIATE_TEST_SUITE_P(Resolutions, ExamplesPrintable, ::testing::ValuesIn(exa
                          [](const ::testing::TestParamInfo<ExampleCase>& i) {
                            return i.param.model + "_1_" + std::to_string(i.param.cellsPerUnit);
                          });
-// The finest resolution of the acceptance range: millions of triangles, its own test binary
+// The finest resolutions of the acceptance ranges: millions of triangles, its own test binary
 // label so ctest can schedule it early.
 INSTANTIATE_TEST_SUITE_P(Fine, ExamplesPrintable,
-                         ::testing::Values(ExampleCase{"sphere", 256}, ExampleCase{"csg", 256}),
+                         ::testing::Values(ExampleCase{"sphere", 256}, ExampleCase{"csg", 256},
+                                           ExampleCase{"twist", 128}, ExampleCase{"helix", 128},
+                                           ExampleCase{"gyroid", 128}),
                          [](const ::testing::TestParamInfo<ExampleCase>& i) {
                            return i.param.model + "_1_" + std::to_string(i.param.cellsPerUnit);
                          });

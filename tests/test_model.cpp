@@ -134,7 +134,7 @@ TEST(ModelFile, RoundTripKeepsTreeSharingAndExportSettings) {
 }
 
 TEST(ModelFile, ExamplesLoad) {
-  for (const char* name : {"sphere", "csg"}) {
+  for (const char* name : {"sphere", "csg", "twist", "helix", "gyroid"}) {
     const Model m = loadModel(std::string(FREP_SOURCE_DIR) + "/examples/" + name + ".json");
     EXPECT_TRUE(m.bbox.has_value()) << name;
   }

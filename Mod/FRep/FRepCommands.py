@@ -20,8 +20,9 @@ import FRepTree
 MENU = "FRep"
 TOOLBARS = (
     ("FRep primitives", ("primitive",)),
-    ("FRep operations", ("set operation", "blend")),
-    ("FRep transforms", ("transform",)),
+    ("FRep operations", ("set operation", "blend", "field operation")),
+    ("FRep transforms", ("transform", "deformation")),
+    ("FRep microstructures", ("microstructure",)),
 )
 MESH_COMMANDS = ["FRep_Polygonize", "FRep_Export", "FRep_PreviewQuality"]
 

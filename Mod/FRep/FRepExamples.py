@@ -4,8 +4,6 @@ Used by examples/make_documents.py (examples/*.FCStd), the tests and the benchma
 documents, the tests and the JSON references describe the same exact solids.
 """
 
-import FreeCAD
-
 import FRepFeatures as F
 import FRepPolygonize
 

@@ -2,12 +2,34 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 
 #include "frep/registry.h"
 
 namespace frep {
 
 constexpr double kPi = 3.14159265358979323846;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Parameter templates several node families share.
+inline ParamTemplate positiveLength(const char* name, double def, const char* doc) {
+  ParamTemplate p = realParam(name, def, "length", doc);
+  range(p, 0.0, kInf, true);
+  return p;
+}
+inline ParamTemplate positiveReal(const char* name, double def, const char* doc) {
+  ParamTemplate p = realParam(name, def, "", doc);
+  range(p, 0.0, kInf, true);
+  return p;
+}
+inline ParamTemplate axisParam(const char* doc) {
+  ParamTemplate p = vec3Param("axis", {0, 0, 1}, "", doc);
+  p.nonZeroVector = true;
+  return p;
+}
+inline ParamTemplate centerParam(const char* doc) {
+  return vec3Param("center", {0, 0, 0}, "length", doc);
+}
 
 inline Vec3 normalized(const Vec3& v) {
   const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);

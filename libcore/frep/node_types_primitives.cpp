@@ -11,22 +11,6 @@ namespace frep {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-ParamTemplate positiveLength(const char* name, double def, const char* doc) {
-  ParamTemplate p = realParam(name, def, "length", doc);
-  range(p, 0.0, kInf, true);
-  return p;
-}
-
-ParamTemplate axisParam(const char* doc) {
-  ParamTemplate p = vec3Param("axis", {0, 0, 1}, "", doc);
-  p.nonZeroVector = true;
-  return p;
-}
-
-ParamTemplate centerParam(const char* doc) { return vec3Param("center", {0, 0, 0}, "length", doc); }
-
 // s/2 - |p| along one axis: positive inside a slab of width s centred on 0.
 Slot slab(ProgramBuilder& b, Slot t, double width) {
   return b.sub(b.constant(width / 2), b.abs(t));

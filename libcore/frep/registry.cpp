@@ -207,6 +207,9 @@ const Registry& registry() {
     registerPrimitives(r);
     registerTransforms(r);
     registerSetOperations(r);
+    registerFieldOperations(r);
+    registerDeformations(r);
+    registerMicrostructures(r);
     return r;
   }();
   return instance;

@@ -69,7 +69,7 @@ constexpr int kVariadic = -1;
 
 struct NodeType {
   std::string id;        // "sphere", "union", ...
-  std::string category;  // "primitive", "transform", "set operation", "blend"
+  std::string category;  // "primitive", "transform", "set operation", "blend", ...
   std::string doc;       // one paragraph
   std::string formula;   // the defining function, in plain text
   int minInputs = 0;
@@ -102,5 +102,8 @@ const Registry& registry();
 void registerPrimitives(Registry& r);
 void registerTransforms(Registry& r);
 void registerSetOperations(Registry& r);
+void registerDeformations(Registry& r);
+void registerFieldOperations(Registry& r);
+void registerMicrostructures(Registry& r);
 
 }  // namespace frep

@@ -199,3 +199,14 @@ def test_preview_hand_over_matches_freecads_own_topology(doc, tmp_path):
     with open(ours, "rb") as a, open(theirs, "rb") as b:
         assert a.read() == b.read()
     assert FRepMeshing.to_freecad_mesh(mesh).isSolid()
+
+
+def test_parameter_properties_do_not_clash_with_the_features_own(doc):
+    """A registry parameter named like an input link or a FreeCAD property would overwrite
+    it (taper's start point was once called 'base', colliding with the link 'Base')."""
+    reserved = {"Base", "Shapes", "Bypass", "Placement", "Label", "Label2", "Mesh",
+                "Visibility", "ExpressionEngine", "Proxy"}
+    for type_id, info in F.NODE_TYPES.items():
+        names = {P.property_name(p["name"]) for p in info["params"]}
+        taken = reserved if F.input_property(info) else reserved - {"Base", "Shapes"}
+        assert not names & taken, (type_id, names & taken)

@@ -1,6 +1,5 @@
 """Part primitive inputs, the error classes and their messages, checked export and cancel."""
 
-import math
 import os
 
 import FreeCAD

@@ -1,0 +1,69 @@
+// Deformations: each evaluates its input at a point moved back by the inverse deformation,
+// F(p) = f(D^-1 p). They are exact maps of space, but not isometries: the field is no longer
+// a distance, so blends and offsets after a strong deformation act less uniformly.
+#include "frep/node_helpers.h"
+#include "frep/registry.h"
+#include "frep/tree.h"
+
+namespace frep {
+
+namespace {
+
+// World point c + a u + b v + h w from frame coordinates.
+Point3Slots fromFrame(ProgramBuilder& b, Slot a, Slot bb, Slot h, const Vec3& c, const Frame& f) {
+  return {b.affine(a, bb, h, f.u[0], f.v[0], f.w[0], c[0]),
+          b.affine(a, bb, h, f.u[1], f.v[1], f.w[1], c[1]),
+          b.affine(a, bb, h, f.u[2], f.v[2], f.w[2], c[2])};
+}
+
+}  // namespace
+
+void registerDeformations(Registry& r) {
+  r.add({"twist", "deformation",
+         "Twists its input about an axis through a centre: each slice across the axis turns by "
+         "`rate` per unit length along it (right-hand rule), so a twist of 0 changes nothing.",
+         "h = (p - center).axis;  F(p) = f(center + R(axis, -rate h)(p - center))", 1, 1,
+         {axisParam("Twist axis direction."),
+          centerParam("A point on the axis; the slice through it does not turn."),
+          realParam("rate", 90.0, "angle", "Turn per unit length along the axis, degrees.")},
+         [](CompileContext& c) {
+           const double rate = c.real("rate") * kPi / 180.0;
+           if (rate == 0.0) return c.input(0);
+           auto& b = c.b;
+           const Vec3 o = c.vec3("center");
+           const Frame f = frameAlong(c.vec3("axis"));
+           const Point3Slots q = localCoordinates(b, c.p, o, f);
+           const Slot theta = b.affine(q.z, q.z, q.z, -rate, 0.0, 0.0, 0.0);
+           const Slot cs = b.emit(Op::Cos, theta), sn = b.emit(Op::Sin, theta);
+           const Slot u = b.sub(b.mul(q.x, cs), b.mul(q.y, sn));
+           const Slot v = b.add(b.mul(q.x, sn), b.mul(q.y, cs));
+           return c.input(0, fromFrame(b, u, v, q.z, o, f));
+         }});
+
+  r.add({"taper", "deformation",
+         "Scales its input across an axis linearly along it: by scale1 at the start point, by "
+         "scale2 at `length` along the axis, and held constant beyond both ends.",
+         "h = (p - start).axis;  s = scale1 + (scale2 - scale1) clamp(h/length, 0, 1);  "
+         "F(p) = f(start + (p_across / s) + h axis)",
+         1, 1,
+         {axisParam("Taper axis direction."),
+          vec3Param("start", {0, 0, 0}, "length", "Where the scale is scale1."),
+          positiveLength("length", 1.0, "Distance along the axis to where the scale is scale2."),
+          positiveReal("scale1", 1.0, "Scale across the axis at the start."),
+          positiveReal("scale2", 0.5, "Scale across the axis at `length` from the start.")},
+         [](CompileContext& c) {
+           auto& b = c.b;
+           const double s1 = c.real("scale1"), s2 = c.real("scale2"), len = c.real("length");
+           if (s1 == 1.0 && s2 == 1.0) return c.input(0);
+           const Vec3 o = c.vec3("start");
+           const Frame f = frameAlong(c.vec3("axis"));
+           const Point3Slots q = localCoordinates(b, c.p, o, f);
+           const Slot t = b.min(b.max(b.affine(q.z, q.z, q.z, 1.0 / len, 0.0, 0.0, 0.0),
+                                      b.constant(0.0)),
+                                b.constant(1.0));
+           const Slot inv = b.div(b.constant(1.0), b.affine(t, t, t, s2 - s1, 0.0, 0.0, s1));
+           return c.input(0, fromFrame(b, b.mul(q.x, inv), b.mul(q.y, inv), q.z, o, f));
+         }});
+}
+
+}  // namespace frep

@@ -1,0 +1,171 @@
+// The defining property of each deformation, field operation and microstructure node: what
+// the node means, checked on shapes whose answer is known exactly.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "check/mesh_check.h"
+#include "frep/tree.h"
+#include "mesh/mesher.h"
+
+namespace frep {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+NodePtr sphere(double r, Vec3 c = {0, 0, 0}) {
+  return makeNode("sphere", {{"radius", realValue(r)}, {"center", vec3Value(c)}}, {});
+}
+NodePtr box(Vec3 corner, Vec3 size) {
+  return makeNode("box", {{"corner", vec3Value(corner)}, {"size", vec3Value(size)}}, {});
+}
+
+std::vector<Vec3> randomPoints(int n, double reach, unsigned seed = 3) {
+  std::mt19937 g(seed);
+  std::uniform_real_distribution<double> u(-reach, reach);
+  std::vector<Vec3> pts(n);
+  for (auto& p : pts) p = {u(g), u(g), u(g)};
+  return pts;
+}
+
+double eval(const Program& p, const Vec3& q) { return p.eval(q[0], q[1], q[2]); }
+double norm3(const Vec3& p) { return std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]); }
+
+double meshVolume(const NodePtr& n, double reach, double h) {
+  MeshingOptions o;
+  o.bbox = {{-reach, -reach, -reach}, {reach, reach, reach}};
+  o.resolution = h;
+  return checkMesh(polygonize(compile(n), o)).volume;
+}
+
+TEST(Offset, MovesASphereSurfaceByTheDistance) {
+  for (double d : {0.2, -0.3}) {
+    const Program p = compile(makeNode("offset", {{"distance", realValue(d)}}, {sphere(1)}));
+    for (const Vec3& q : randomPoints(200, 2)) EXPECT_NEAR(eval(p, q), 1 + d - norm3(q), 1e-12);
+    EXPECT_NEAR(p.eval(1 + d, 0, 0), 0.0, 1e-12);
+  }
+}
+
+TEST(Shell, KeepsAWallOfTheThicknessInside) {
+  const NodePtr s = makeNode("shell", {{"thickness", realValue(0.1)}}, {sphere(1)});
+  const Program p = compile(s);
+  EXPECT_GT(p.eval(0.95, 0, 0), 0.0);  // in the wall
+  EXPECT_LT(p.eval(0.85, 0, 0), 0.0);  // hollow
+  EXPECT_LT(p.eval(1.05, 0, 0), 0.0);  // outside
+  const double exact = 4.0 / 3.0 * kPi * (1 - 0.9 * 0.9 * 0.9);
+  EXPECT_NEAR(meshVolume(s, 1.2, 1.0 / 64), exact, 0.01 * exact);
+}
+
+TEST(Metamorphosis, EndsAreItsInputsAndTheMiddleIsTheAverage) {
+  const NodePtr a = sphere(1), b = box({-0.5, -0.5, -0.5}, {1, 1, 1});
+  const Program pa = compile(a), pb = compile(b);
+  auto morph = [&](double t) {
+    return compile(makeNode("metamorphosis", {{"t", realValue(t)}}, {a, b}));
+  };
+  const Program m0 = morph(0), m1 = morph(1), mh = morph(0.5);
+  for (const Vec3& q : randomPoints(200, 1.5)) {
+    EXPECT_EQ(eval(m0, q), eval(pa, q));
+    EXPECT_EQ(eval(m1, q), eval(pb, q));
+    EXPECT_NEAR(eval(mh, q), 0.5 * (eval(pa, q) + eval(pb, q)), 1e-12);
+  }
+}
+
+TEST(Twist, ZeroIsTheIdentity) {
+  const NodePtr b = box({-0.5, -0.5, -1}, {1, 1, 2});
+  const Program plain = compile(b);
+  const Program twisted = compile(makeNode("twist", {{"rate", realValue(0)}}, {b}));
+  for (const Vec3& q : randomPoints(200, 1.5)) EXPECT_EQ(eval(twisted, q), eval(plain, q));
+}
+
+TEST(Twist, EachSliceTurnsByRateTimesHeight) {
+  // About an axis through (0.3, 0, 0) along z, 40 degrees per unit: the slice at height h
+  // is the input's slice turned by 40 h degrees about the axis.
+  const NodePtr b = box({-0.2, -0.5, -1}, {1.1, 0.6, 2});
+  const Program plain = compile(b);
+  const Program twisted = compile(makeNode(
+      "twist", {{"rate", realValue(40)}, {"center", vec3Value({0.3, 0, 0})}}, {b}));
+  for (const Vec3& q : randomPoints(300, 1.2)) {
+    const double th = 40 * q[2] * kPi / 180, c = std::cos(th), s = std::sin(th);
+    const double x = q[0] - 0.3, y = q[1];
+    const Vec3 moved = {0.3 + c * x - s * y, s * x + c * y, q[2]};
+    EXPECT_NEAR(eval(twisted, moved), eval(plain, q), 1e-12);
+  }
+}
+
+TEST(Twist, ReferenceModelKeepsTheBoxVolume) {
+  // A twist is volume-preserving: the twisted box of examples/twist.json has volume 2.
+  const NodePtr t = makeNode("twist", {{"rate", realValue(90)}},
+                             {box({-0.5, -0.5, -1}, {1, 1, 2})});
+  EXPECT_NEAR(meshVolume(t, 1.2, 1.0 / 48), 2.0, 0.01 * 2.0);
+}
+
+TEST(Taper, ScalesLinearlyAcrossTheAxis) {
+  const NodePtr c = makeNode("cylinder", {{"radius", realValue(1)}, {"length", realValue(0)}}, {});
+  const Program p = compile(makeNode(
+      "taper", {{"scale1", realValue(1)}, {"scale2", realValue(0.5)}, {"length", realValue(2)}},
+      {c}));
+  // The radius goes from 1 at z = 0 to 0.5 at z = 2, and stays beyond.
+  for (double z : {-1.0, 0.0, 0.5, 1.0, 2.0, 3.0}) {
+    const double r = 1 - 0.25 * std::min(std::max(z, 0.0), 2.0);
+    EXPECT_NEAR(p.eval(r, 0, z), 0.0, 1e-12) << z;
+    EXPECT_GT(p.eval(0.9 * r, 0, z), 0.0) << z;
+    EXPECT_LT(p.eval(1.1 * r, 0, z), 0.0) << z;
+  }
+  const Program identity = compile(makeNode(
+      "taper", {{"scale1", realValue(1)}, {"scale2", realValue(1)}}, {c}));
+  EXPECT_EQ(identity.eval(0.3, 0.2, 0.7), compile(c).eval(0.3, 0.2, 0.7));
+}
+
+NodePtr tpms(const std::string& id, double cell, const std::string& kind = "sheet",
+             double level = 0.3) {
+  return makeNode(id, {{"cell", realValue(cell)}, {"level", realValue(level)},
+                       {"kind", choiceValue(kind)}}, {});
+}
+
+TEST(Tpms, PeriodicWithTheCellSize) {
+  for (const char* id : {"gyroid", "schwarz_p", "schwarz_d", "diamond", "neovius", "lidinoid"}) {
+    const Program p = compile(tpms(id, 0.4));
+    for (const Vec3& q : randomPoints(50, 1)) {
+      for (int a = 0; a < 3; ++a) {
+        Vec3 shifted = q;
+        shifted[a] += 0.4;
+        EXPECT_NEAR(eval(p, shifted), eval(p, q), 1e-9) << id;
+      }
+    }
+  }
+}
+
+TEST(Tpms, KnownValuesOfTheNodalForms) {
+  // At the origin: gyroid g = 0, Schwarz P g = 3, Neovius g = 13, diamond g = 1, D g = 0,
+  // lidinoid g = -1.5 + 0.15.
+  EXPECT_DOUBLE_EQ(compile(tpms("gyroid", 1)).eval(0, 0, 0), 0.3);
+  EXPECT_DOUBLE_EQ(compile(tpms("schwarz_p", 1)).eval(0, 0, 0), 0.3 - 3);
+  EXPECT_DOUBLE_EQ(compile(tpms("neovius", 1)).eval(0, 0, 0), 0.3 - 13);
+  EXPECT_DOUBLE_EQ(compile(tpms("diamond", 1)).eval(0, 0, 0), 0.3 - 1);
+  EXPECT_DOUBLE_EQ(compile(tpms("schwarz_d", 1)).eval(0, 0, 0), 0.3);
+  EXPECT_NEAR(compile(tpms("lidinoid", 1)).eval(0, 0, 0), 0.3 - 1.35, 1e-12);
+  // A quarter cell along x: the gyroid is sin(pi/2) cos 0 = 1.
+  EXPECT_NEAR(compile(tpms("gyroid", 1)).eval(0.25, 0, 0), 0.3 - 1, 1e-12);
+  // network: the solid side g <= level, so the origin of Schwarz P (g = 3) is empty and the
+  // cell's centre (g = -3) solid.
+  EXPECT_DOUBLE_EQ(compile(tpms("schwarz_p", 1, "network")).eval(0, 0, 0), 0.3 - 3);
+  EXPECT_DOUBLE_EQ(compile(tpms("schwarz_p", 1, "network")).eval(0.5, 0.5, 0.5), 0.3 + 3);
+}
+
+TEST(Tpms, SheetVolumeFractionGrowsWithTheLevel) {
+  // The gyroid wall |g| <= level fills a growing share of a cube of whole cells.
+  double last = 0;
+  for (double level : {0.2, 0.4, 0.8}) {
+    const NodePtr cube = makeNode("intersection", {},
+                                  {tpms("gyroid", 0.5, "sheet", level),
+                                   box({-0.5, -0.5, -0.5}, {1, 1, 1})});
+    const double v = meshVolume(cube, 0.6, 1.0 / 64);
+    EXPECT_GT(v, last + 0.05) << level;
+    EXPECT_LT(v, 1.0);
+    last = v;
+  }
+}
+
+}  // namespace
+}  // namespace frep
