@@ -31,10 +31,12 @@ bench: build
 examples: build
 	BUILD_DIR=$(abspath $(BUILD_DIR)) /usr/bin/python3.11 examples/make_documents.py
 
-# Screenshots for docs/ from the real GUI under Xvfb (the GUI smoke test takes them).
+# Screenshots for docs/ from the real GUI under Xvfb: the GUI smoke test's, and the node
+# gallery (docs/gallery.md).
 screenshots: build
 	bash tests/gui/run_gui.sh $(BUILD_DIR) . $(BUILD_DIR)/gui
 	cp $(BUILD_DIR)/gui/workbench-*.png docs/images/
+	bash tests/gui/run_gallery.sh $(BUILD_DIR) . docs
 
 format:
 	clang-format -i $$(git ls-files '*.h' '*.cpp')

@@ -5,9 +5,11 @@
 #include <cmath>
 
 #include "frep/bounds.h"
+#include "frep/structural_bounds.h"
 #include "frep/tree.h"
 #include "mesh/mesher.h"
 #include "mesh/triangle_geometry.h"
+#include "random_trees.h"
 
 namespace frep {
 namespace {
@@ -83,6 +85,90 @@ TEST(Bounds, ComplementOfSphereIsUnbounded) {
   SolidBounds b = boundsOf(makeNode("complement", {}, {sphere({0, 0, 0}, 1)}));
   EXPECT_FALSE(b.bounded());
   EXPECT_FALSE(b.empty);
+}
+
+NodePtr box(Vec3 corner, Vec3 size) {
+  return makeNode("box", {{"corner", vec3Value(corner)}, {"size", vec3Value(size)}}, {});
+}
+
+SolidBounds boundsWithStructure(const NodePtr& n) {
+  BoundsOptions o;
+  o.known = structuralBounds(n);
+  return findBounds(compile(n), o);
+}
+
+TEST(StructuralBounds, TwistedBoxIsBoundedByItsCylinder) {
+  // Intervals alone cannot bound a twist (sin and cos of z mix x and y); the structure can.
+  const NodePtr t = makeNode("twist", {{"rate", realValue(90)}}, {box({-0.5, -0.5, -1}, {1, 1, 2})});
+  EXPECT_FALSE(boundsOf(t).bounded());
+  const SolidBounds b = boundsWithStructure(t);
+  ASSERT_TRUE(b.bounded());
+  const double r = std::sqrt(0.5);
+  for (int a = 0; a < 2; ++a) {
+    EXPECT_NEAR(b.box.lo[a], -r, 0.01);
+    EXPECT_NEAR(b.box.hi[a], r, 0.01);
+  }
+  EXPECT_NEAR(b.box.hi[2], 1.0, 0.01);
+}
+
+TEST(StructuralBounds, LatticeInsideASphereAndDisjointBoxes) {
+  const NodePtr lattice = makeNode("gyroid", {{"cell", realValue(0.3)}}, {});
+  const Box3 open = structuralBounds(lattice);
+  EXPECT_TRUE(std::isinf(open.lo[0]) && std::isinf(open.hi[2]));
+  const Box3 b = structuralBounds(makeNode("intersection", {}, {lattice, sphere({1, 0, 0}, 0.5)}));
+  EXPECT_EQ(b.lo[0], 0.5);
+  EXPECT_EQ(b.hi[0], 1.5);
+  const NodePtr apart = makeNode("intersection", {}, {box({0, 0, 0}, {1, 1, 1}), box({2, 0, 0}, {1, 1, 1})});
+  EXPECT_TRUE(boundsWithStructure(apart).empty);
+  // An infinite cylinder along z: bounded across, unbounded along.
+  const Box3 c = structuralBounds(makeNode("cylinder", {{"length", realValue(0)}, {"radius", realValue(2)}}, {}));
+  EXPECT_EQ(c.hi[0], 2.0);
+  EXPECT_TRUE(std::isinf(c.hi[2]));
+}
+
+TEST(StructuralBounds, EncloseEveryInsidePointOfRandomTrees) {
+  // Random trees, some wrapped in the deformations and field operations that have rules:
+  // every sampled point with F > 0 lies in the structural box and in the found box.
+  testing::RandomTrees r(77);
+  int insideChecked = 0;
+  for (int t = 0; t < 60; ++t) {
+    NodePtr n = r.tree(3);
+    switch (t % 5) {
+      case 0:
+        n = makeNode("twist", {{"rate", realValue(r.uniform(-120, 120))},
+                               {"axis", vec3Value(r.direction())}, {"center", vec3Value(r.point(0.3))}},
+                     {n});
+        break;
+      case 1:
+        n = makeNode("taper", {{"axis", vec3Value(r.direction())}, {"scale1", realValue(r.uniform(0.3, 2))},
+                               {"scale2", realValue(r.uniform(0.3, 2))}, {"length", realValue(r.uniform(0.2, 2))}},
+                     {n});
+        break;
+      case 2: n = makeNode("shell", {{"thickness", realValue(0.1)}}, {n}); break;
+      case 3:
+        n = makeNode("metamorphosis", {{"t", realValue(r.uniform(0, 1))}}, {n, r.tree(2)});
+        break;
+      default: break;
+    }
+    const Program p = compile(n);
+    const Box3 known = structuralBounds(n);
+    BoundsOptions o;
+    o.known = known;
+    const SolidBounds found = findBounds(p, o);
+    for (int s = 0; s < 4000; ++s) {
+      const Vec3 q = {r.uniform(-3, 3), r.uniform(-3, 3), r.uniform(-3, 3)};
+      if (p.eval(q[0], q[1], q[2]) <= 0) continue;
+      ++insideChecked;
+      ASSERT_FALSE(found.empty) << "tree " << t;
+      for (int a = 0; a < 3; ++a) {
+        ASSERT_GE(q[a], known.lo[a] - 1e-9) << "tree " << t << " axis " << a;
+        ASSERT_LE(q[a], known.hi[a] + 1e-9) << "tree " << t << " axis " << a;
+        ASSERT_GE(q[a], found.box.lo[a] - 1e-9) << "tree " << t << " axis " << a;
+        ASSERT_LE(q[a], found.box.hi[a] + 1e-9) << "tree " << t << " axis " << a;
+      }
+    }
+  }
+  EXPECT_GT(insideChecked, 10000);
 }
 
 TEST(MeshMeasures, CubeVolumeAndArea) {

@@ -29,8 +29,12 @@ std::vector<Vec3> randomPoints(int n, double reach, unsigned seed = 3) {
   return pts;
 }
 
-double eval(const Program& p, const Vec3& q) { return p.eval(q[0], q[1], q[2]); }
-double norm3(const Vec3& p) { return std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]); }
+double eval(const Program& p, const Vec3& q) {
+  return p.eval(q[0], q[1], q[2]);
+}
+double norm3(const Vec3& p) {
+  return std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+}
 
 double meshVolume(const NodePtr& n, double reach, double h) {
   MeshingOptions o;
@@ -83,8 +87,8 @@ TEST(Twist, EachSliceTurnsByRateTimesHeight) {
   // is the input's slice turned by 40 h degrees about the axis.
   const NodePtr b = box({-0.2, -0.5, -1}, {1.1, 0.6, 2});
   const Program plain = compile(b);
-  const Program twisted = compile(makeNode(
-      "twist", {{"rate", realValue(40)}, {"center", vec3Value({0.3, 0, 0})}}, {b}));
+  const Program twisted = compile(
+      makeNode("twist", {{"rate", realValue(40)}, {"center", vec3Value({0.3, 0, 0})}}, {b}));
   for (const Vec3& q : randomPoints(300, 1.2)) {
     const double th = 40 * q[2] * kPi / 180, c = std::cos(th), s = std::sin(th);
     const double x = q[0] - 0.3, y = q[1];
@@ -95,8 +99,8 @@ TEST(Twist, EachSliceTurnsByRateTimesHeight) {
 
 TEST(Twist, ReferenceModelKeepsTheBoxVolume) {
   // A twist is volume-preserving: the twisted box of examples/twist.json has volume 2.
-  const NodePtr t = makeNode("twist", {{"rate", realValue(90)}},
-                             {box({-0.5, -0.5, -1}, {1, 1, 2})});
+  const NodePtr t =
+      makeNode("twist", {{"rate", realValue(90)}}, {box({-0.5, -0.5, -1}, {1, 1, 2})});
   EXPECT_NEAR(meshVolume(t, 1.2, 1.0 / 48), 2.0, 0.01 * 2.0);
 }
 
@@ -112,15 +116,16 @@ TEST(Taper, ScalesLinearlyAcrossTheAxis) {
     EXPECT_GT(p.eval(0.9 * r, 0, z), 0.0) << z;
     EXPECT_LT(p.eval(1.1 * r, 0, z), 0.0) << z;
   }
-  const Program identity = compile(makeNode(
-      "taper", {{"scale1", realValue(1)}, {"scale2", realValue(1)}}, {c}));
+  const Program identity =
+      compile(makeNode("taper", {{"scale1", realValue(1)}, {"scale2", realValue(1)}}, {c}));
   EXPECT_EQ(identity.eval(0.3, 0.2, 0.7), compile(c).eval(0.3, 0.2, 0.7));
 }
 
 NodePtr tpms(const std::string& id, double cell, const std::string& kind = "sheet",
              double level = 0.3) {
-  return makeNode(id, {{"cell", realValue(cell)}, {"level", realValue(level)},
-                       {"kind", choiceValue(kind)}}, {});
+  return makeNode(
+      id, {{"cell", realValue(cell)}, {"level", realValue(level)}, {"kind", choiceValue(kind)}},
+      {});
 }
 
 TEST(Tpms, PeriodicWithTheCellSize) {
@@ -157,9 +162,9 @@ TEST(Tpms, SheetVolumeFractionGrowsWithTheLevel) {
   // The gyroid wall |g| <= level fills a growing share of a cube of whole cells.
   double last = 0;
   for (double level : {0.2, 0.4, 0.8}) {
-    const NodePtr cube = makeNode("intersection", {},
-                                  {tpms("gyroid", 0.5, "sheet", level),
-                                   box({-0.5, -0.5, -0.5}, {1, 1, 1})});
+    const NodePtr cube =
+        makeNode("intersection", {},
+                 {tpms("gyroid", 0.5, "sheet", level), box({-0.5, -0.5, -0.5}, {1, 1, 1})});
     const double v = meshVolume(cube, 0.6, 1.0 / 64);
     EXPECT_GT(v, last + 0.05) << level;
     EXPECT_LT(v, 1.0);

@@ -157,8 +157,28 @@ std::vector<Box3> coarseCells(const Program& p, const BoundsOptions& o) {
 
 }  // namespace
 
-SolidBounds findBounds(const Program& program, const BoundsOptions& options) {
+SolidBounds findBounds(const Program& program, const BoundsOptions& given) {
+  // Search inside the known box, padded so that a solid touching it is still found inside.
+  BoundsOptions options = given;
+  bool knownSide[3][2] = {};
+  for (int a = 0; a < 3; ++a) {
+    const double lo = given.known.lo[a], hi = given.known.hi[a];
+    const double pad = (std::isfinite(lo) && std::isfinite(hi) ? 1e-3 * (hi - lo) : 0.0) +
+                       4 * given.tolerance;
+    if (std::isfinite(lo) && lo - pad > options.search.lo[a]) {
+      options.search.lo[a] = lo - pad;
+      knownSide[a][0] = true;
+    }
+    if (std::isfinite(hi) && hi + pad < options.search.hi[a]) {
+      options.search.hi[a] = hi + pad;
+      knownSide[a][1] = true;
+    }
+  }
   SolidBounds result;
+  if (!options.search.valid()) {  // the structure says: nothing (an empty intersection)
+    result.empty = true;
+    return result;
+  }
   const std::vector<Box3> start = coarseCells(program, options);
   for (int axis = 0; axis < 3; ++axis) {
     for (int side = 0; side < 2; ++side) {
@@ -171,7 +191,7 @@ SolidBounds findBounds(const Program& program, const BoundsOptions& options) {
       }
       double limit = side == 0 ? options.search.lo[axis] : options.search.hi[axis];
       if (std::abs(v - limit) <= options.tolerance) {
-        result.unbounded[axis][side] = true;
+        result.unbounded[axis][side] = !knownSide[axis][side];
         v = limit;
       }
       (side == 0 ? result.box.lo : result.box.hi)[axis] = v;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 
 #include "frep/program.h"
 #include "frep/vec.h"
@@ -19,6 +20,10 @@ struct BoundsOptions {
   // Interval evaluations allowed per side; past it the bound found so far (still
   // conservative, only looser) is returned.
   std::size_t maxEvaluations = 20000;
+  // A box the solid is known to lie in (structuralBounds): its finite sides narrow the search
+  // and are never reported unbounded, where intervals alone may not prove the far side empty.
+  Box3 known = {{-kNoBound, -kNoBound, -kNoBound}, {kNoBound, kNoBound, kNoBound}};
+  static constexpr double kNoBound = std::numeric_limits<double>::infinity();
 };
 
 struct SolidBounds {

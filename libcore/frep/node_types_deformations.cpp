@@ -3,6 +3,7 @@
 // a distance, so blends and offsets after a strong deformation act less uniformly.
 #include "frep/node_helpers.h"
 #include "frep/registry.h"
+#include "frep/structural_bounds.h"
 #include "frep/tree.h"
 
 namespace frep {
@@ -19,10 +20,13 @@ Point3Slots fromFrame(ProgramBuilder& b, Slot a, Slot bb, Slot h, const Vec3& c,
 }  // namespace
 
 void registerDeformations(Registry& r) {
-  r.add({"twist", "deformation",
+  r.add({"twist",
+         "deformation",
          "Twists its input about an axis through a centre: each slice across the axis turns by "
          "`rate` per unit length along it (right-hand rule), so a twist of 0 changes nothing.",
-         "h = (p - center).axis;  F(p) = f(center + R(axis, -rate h)(p - center))", 1, 1,
+         "h = (p - center).axis;  F(p) = f(center + R(axis, -rate h)(p - center))",
+         1,
+         1,
          {axisParam("Twist axis direction."),
           centerParam("A point on the axis; the slice through it does not turn."),
           realParam("rate", 90.0, "angle", "Turn per unit length along the axis, degrees.")},
@@ -38,14 +42,24 @@ void registerDeformations(Registry& r) {
            const Slot u = b.sub(b.mul(q.x, cs), b.mul(q.y, sn));
            const Slot v = b.add(b.mul(q.x, sn), b.mul(q.y, cs));
            return c.input(0, fromFrame(b, u, v, q.z, o, f));
+         },
+         [](const Node& n, const std::vector<Box3>& in) {
+           // Turning about the axis keeps the distance from it and the height along it.
+           if (!isFinite(in[0])) return unknownBounds();
+           const Vec3 w = normalized(n.vec3("axis")), o = n.vec3("center");
+           double radius, lo, hi;
+           radialExtent(in[0], o, w, &radius, &lo, &hi);
+           return cylinderBounds(o, w, lo, hi, radius);
          }});
 
-  r.add({"taper", "deformation",
+  r.add({"taper",
+         "deformation",
          "Scales its input across an axis linearly along it: by scale1 at the start point, by "
          "scale2 at `length` along the axis, and held constant beyond both ends.",
          "h = (p - start).axis;  s = scale1 + (scale2 - scale1) clamp(h/length, 0, 1);  "
          "F(p) = f(start + (p_across / s) + h axis)",
-         1, 1,
+         1,
+         1,
          {axisParam("Taper axis direction."),
           vec3Param("start", {0, 0, 0}, "length", "Where the scale is scale1."),
           positiveLength("length", 1.0, "Distance along the axis to where the scale is scale2."),
@@ -58,11 +72,19 @@ void registerDeformations(Registry& r) {
            const Vec3 o = c.vec3("start");
            const Frame f = frameAlong(c.vec3("axis"));
            const Point3Slots q = localCoordinates(b, c.p, o, f);
-           const Slot t = b.min(b.max(b.affine(q.z, q.z, q.z, 1.0 / len, 0.0, 0.0, 0.0),
-                                      b.constant(0.0)),
-                                b.constant(1.0));
+           const Slot t =
+               b.min(b.max(b.affine(q.z, q.z, q.z, 1.0 / len, 0.0, 0.0, 0.0), b.constant(0.0)),
+                     b.constant(1.0));
            const Slot inv = b.div(b.constant(1.0), b.affine(t, t, t, s2 - s1, 0.0, 0.0, s1));
            return c.input(0, fromFrame(b, b.mul(q.x, inv), b.mul(q.y, inv), q.z, o, f));
+         },
+         [](const Node& n, const std::vector<Box3>& in) {
+           if (!isFinite(in[0])) return unknownBounds();
+           const Vec3 w = normalized(n.vec3("axis")), o = n.vec3("start");
+           double radius, lo, hi;
+           radialExtent(in[0], o, w, &radius, &lo, &hi);
+           return cylinderBounds(o, w, lo, hi,
+                                 radius * std::max(n.real("scale1"), n.real("scale2")));
          }});
 }
 

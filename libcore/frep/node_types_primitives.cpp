@@ -5,6 +5,7 @@
 
 #include "frep/node_helpers.h"
 #include "frep/registry.h"
+#include "frep/structural_bounds.h"
 #include "frep/tree.h"
 
 namespace frep {
@@ -26,6 +27,11 @@ void registerPrimitives(Registry& r) {
            auto& b = c.b;
            const Point3Slots d = shifted(b, c.p, c.vec3("center"));
            return b.sub(b.constant(c.real("radius")), b.length3(d.x, d.y, d.z));
+         },
+         [](const Node& n, const std::vector<Box3>&) {
+           const Vec3 m = n.vec3("center");
+           const double r = n.real("radius");
+           return Box3{{m[0] - r, m[1] - r, m[2] - r}, {m[0] + r, m[1] + r, m[2] + r}};
          }});
 
   {
@@ -42,6 +48,10 @@ void registerPrimitives(Registry& r) {
              const Point3Slots d =
                  shifted(b, c.p, {lo[0] + s[0] / 2, lo[1] + s[1] / 2, lo[2] + s[2] / 2});
              return b.min(b.min(slab(b, d.x, s[0]), slab(b, d.y, s[1])), slab(b, d.z, s[2]));
+           },
+           [](const Node& n, const std::vector<Box3>&) {
+             const Vec3 lo = n.vec3("corner"), s = n.vec3("size");
+             return Box3{lo, {lo[0] + s[0], lo[1] + s[1], lo[2] + s[2]}};
            }});
   }
 
@@ -60,6 +70,11 @@ void registerPrimitives(Registry& r) {
              const Slot side = b.sub(b.constant(c.real("radius")), b.length2(q.x, q.y));
              const double len = c.real("length");
              return len == 0.0 ? side : b.min(side, slab(b, q.z, len));
+           },
+           [](const Node& n, const std::vector<Box3>&) {
+             const double half = n.real("length") == 0.0 ? kInf : n.real("length") / 2;
+             return cylinderBounds(n.vec3("center"), normalized(n.vec3("axis")), -half, half,
+                                   n.real("radius"));
            }});
   }
 
@@ -85,6 +100,11 @@ void registerPrimitives(Registry& r) {
              const Slot side = b.affine(q.z, rho, rho, k / s, -1.0 / s, 0.0, ra / s);
              const Slot caps = slab(b, b.sub(q.z, b.constant(h / 2)), h);
              return b.min(side, caps);
+           },
+           [](const Node& n, const std::vector<Box3>&) {
+             return cylinderBounds(n.vec3("base"), normalized(n.vec3("axis")), 0.0,
+                                   n.real("height"),
+                                   std::max(n.real("radius1"), n.real("radius2")));
            }});
   }
 
@@ -98,6 +118,11 @@ void registerPrimitives(Registry& r) {
            const Point3Slots q = localCoordinates(b, c.p, c.vec3("center"), frameAlong(c.vec3("axis")));
            const Slot ring = b.sub(b.length2(q.x, q.y), b.constant(c.real("major_radius")));
            return b.sub(b.constant(c.real("minor_radius")), b.length2(ring, q.z));
+         },
+         [](const Node& n, const std::vector<Box3>&) {
+           const double minor = n.real("minor_radius");
+           return cylinderBounds(n.vec3("center"), normalized(n.vec3("axis")), -minor, minor,
+                                 n.real("major_radius") + minor);
          }});
 
   {
@@ -115,6 +140,11 @@ void registerPrimitives(Registry& r) {
              };
              const Slot len = b.length3(axis(c.p.x, 0), axis(c.p.y, 1), axis(c.p.z, 2));
              return b.affine(len, len, len, -s, 0.0, 0.0, s);
+           },
+           [](const Node& n, const std::vector<Box3>&) {
+             const Vec3 m = n.vec3("center"), a = n.vec3("radii");
+             return Box3{{m[0] - a[0], m[1] - a[1], m[2] - a[2]},
+                         {m[0] + a[0], m[1] + a[1], m[2] + a[2]}};
            }});
   }
 

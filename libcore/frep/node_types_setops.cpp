@@ -1,6 +1,7 @@
 // Set-theoretic operations by R-functions and Pasko's blends. Variadic operations fold from
 // the left: op(f1, f2, f3) = op(op(f1, f2), f3).
 #include "frep/registry.h"
+#include "frep/structural_bounds.h"
 #include "frep/tree.h"
 
 namespace frep {
@@ -53,6 +54,12 @@ void registerSetOperations(Registry& r) {
          [](CompileContext& c) {
            const double a = c.real("alpha");
            return fold(c, [&](Slot x, Slot y) { return c.b.emit(Op::RUnion, x, y, 0, {a}); });
+         },
+         [](const Node& n, const std::vector<Box3>& in) {
+           // With alpha < 1 the R-function's zero set is still the union's.
+           Box3 b = in[0];
+           for (const Box3& i : in) b = boxHull(b, i);
+           return b;
          }});
 
   r.add({"intersection", "set operation", "Intersection of its inputs (R-function).",
@@ -61,6 +68,11 @@ void registerSetOperations(Registry& r) {
          [](CompileContext& c) {
            const double a = c.real("alpha");
            return fold(c, [&](Slot x, Slot y) { return c.b.emit(Op::RIntersect, x, y, 0, {a}); });
+         },
+         [](const Node& n, const std::vector<Box3>& in) {
+           Box3 b = in[0];
+           for (const Box3& i : in) b = boxIntersection(b, i);
+           return b;
          }});
 
   r.add({"difference", "set operation",
@@ -71,7 +83,8 @@ void registerSetOperations(Registry& r) {
            return fold(c, [&](Slot x, Slot y) {
              return c.b.emit(Op::RIntersect, x, c.b.neg(y), 0, {a});
            });
-         }});
+         },
+         [](const Node&, const std::vector<Box3>& in) { return in[0]; }});
 
   r.add({"complement", "set operation", "Everything outside its input.", "F = -f", 1, 1, {},
          [](CompileContext& c) { return c.b.neg(c.input(0)); }});

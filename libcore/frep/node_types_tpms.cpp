@@ -19,21 +19,28 @@ struct Trig {
 
 using Surface = std::function<Slot(ProgramBuilder&, Trig&, const Point3Slots&)>;
 
-Slot sum3(ProgramBuilder& b, Slot a, Slot c, Slot d) { return b.add(b.add(a, c), d); }
-Slot mul3(ProgramBuilder& b, Slot a, Slot c, Slot d) { return b.mul(b.mul(a, c), d); }
+Slot sum3(ProgramBuilder& b, Slot a, Slot c, Slot d) {
+  return b.add(b.add(a, c), d);
+}
+Slot mul3(ProgramBuilder& b, Slot a, Slot c, Slot d) {
+  return b.mul(b.mul(a, c), d);
+}
 
-void addTpms(Registry& r, const char* id, const char* doc, const char* formula,
-             Surface surface) {
+void addTpms(Registry& r, const char* id, const char* doc, const char* formula, Surface surface) {
   ParamTemplate cell = positiveLength("cell", 1.0, "Cell size: the period of the lattice.");
   ParamTemplate level = positiveReal(
       "level", 0.3, "Half-width of a sheet wall (or the offset of a network) in units of g.");
-  r.add({id, "microstructure", doc,
+  r.add({id,
+         "microstructure",
+         doc,
          std::string("q = 2 pi (p - origin) / cell;  g = ") + formula +
              ";  sheet: F = level - |g|;  network: F = level - g",
-         0, 0,
-         {cell, level, choiceParam("kind", {"sheet", "network"},
-                                   "sheet: a wall around the surface; network: the solid on "
-                                   "one side of it."),
+         0,
+         0,
+         {cell, level,
+          choiceParam("kind", {"sheet", "network"},
+                      "sheet: a wall around the surface; network: the solid on "
+                      "one side of it."),
           vec3Param("origin", {0, 0, 0}, "length", "Where a cell starts (shifts the lattice).")},
          [surface](CompileContext& c) {
            auto& b = c.b;
@@ -58,15 +65,15 @@ void addTpms(Registry& r, const char* id, const char* doc, const char* formula,
 }  // namespace
 
 void registerMicrostructures(Registry& r) {
-  addTpms(r, "gyroid", "Schoen's gyroid lattice: one connected wall, no straight lines; the "
-                       "most used TPMS for infill.",
+  addTpms(r, "gyroid",
+          "Schoen's gyroid lattice: one connected wall, no straight lines; the "
+          "most used TPMS for infill.",
           "sin qx cos qy + sin qy cos qz + sin qz cos qx",
           [](ProgramBuilder& b, Trig& t, const Point3Slots&) {
             return sum3(b, b.mul(t.s[0], t.c[1]), b.mul(t.s[1], t.c[2]), b.mul(t.s[2], t.c[0]));
           });
   addTpms(r, "schwarz_p", "Schwarz's primitive (P) lattice: channels along the three axes.",
-          "cos qx + cos qy + cos qz",
-          [](ProgramBuilder& b, Trig& t, const Point3Slots&) {
+          "cos qx + cos qy + cos qz", [](ProgramBuilder& b, Trig& t, const Point3Slots&) {
             return sum3(b, t.c[0], t.c[1], t.c[2]);
           });
   addTpms(r, "schwarz_d", "Schwarz's diamond (D) surface, in its four-term nodal form.",
@@ -77,8 +84,9 @@ void registerMicrostructures(Registry& r) {
                               mul3(b, t.c[0], t.s[1], t.c[2])),
                          mul3(b, t.c[0], t.c[1], t.s[2]));
           });
-  addTpms(r, "diamond", "The diamond lattice in the two-term form common in lattice tools (the "
-                        "D surface with another phase than schwarz_d).",
+  addTpms(r, "diamond",
+          "The diamond lattice in the two-term form common in lattice tools (the "
+          "D surface with another phase than schwarz_d).",
           "cos qx cos qy cos qz - sin qx sin qy sin qz",
           [](ProgramBuilder& b, Trig& t, const Point3Slots&) {
             return b.sub(mul3(b, t.c[0], t.c[1], t.c[2]), mul3(b, t.s[0], t.s[1], t.s[2]));
@@ -100,11 +108,11 @@ void registerMicrostructures(Registry& r) {
               t.s2[a] = b.emit(Op::Sin, twice);
               t.c2[a] = b.emit(Op::Cos, twice);
             }
-            const Slot waves = sum3(b, mul3(b, t.s2[0], t.c[1], t.s[2]),
-                                    mul3(b, t.s2[1], t.c[2], t.s[0]),
-                                    mul3(b, t.s2[2], t.c[0], t.s[1]));
-            const Slot pairs = sum3(b, b.mul(t.c2[0], t.c2[1]), b.mul(t.c2[1], t.c2[2]),
-                                    b.mul(t.c2[2], t.c2[0]));
+            const Slot waves =
+                sum3(b, mul3(b, t.s2[0], t.c[1], t.s[2]), mul3(b, t.s2[1], t.c[2], t.s[0]),
+                     mul3(b, t.s2[2], t.c[0], t.s[1]));
+            const Slot pairs =
+                sum3(b, b.mul(t.c2[0], t.c2[1]), b.mul(t.c2[1], t.c2[2]), b.mul(t.c2[2], t.c2[0]));
             return b.affine(waves, pairs, pairs, 0.5, -0.5, 0.0, 0.15);
           });
 }

@@ -4,6 +4,7 @@
 
 #include "frep/node_helpers.h"
 #include "frep/registry.h"
+#include "frep/structural_bounds.h"
 #include "frep/tree.h"
 
 namespace frep {
@@ -11,7 +12,11 @@ namespace frep {
 void registerTransforms(Registry& r) {
   r.add({"translate", "transform", "Moves its input by an offset.", "F(p) = f(p - offset)", 1, 1,
          {vec3Param("offset", {0, 0, 0}, "length", "Displacement.")},
-         [](CompileContext& c) { return c.input(0, shifted(c.b, c.p, c.vec3("offset"))); }});
+         [](CompileContext& c) { return c.input(0, shifted(c.b, c.p, c.vec3("offset"))); },
+         [](const Node& n, const std::vector<Box3>& in) {
+           const Vec3 o = n.vec3("offset");
+           return affineImage({1, 0, 0, o[0], 0, 1, 0, o[1], 0, 0, 1, o[2]}, in[0]);
+         }});
 
   {
     ParamTemplate axis = vec3Param("axis", {0, 0, 1}, "", "Rotation axis direction.");
@@ -24,6 +29,10 @@ void registerTransforms(Registry& r) {
            [](CompileContext& c) {
              const Mat34 m = rotationMatrix(c.vec3("axis"), c.real("angle"), c.vec3("center"));
              return c.input(0, applyAffine(c.b, c.p, invertAffine(m)));
+           },
+           [](const Node& n, const std::vector<Box3>& in) {
+             return affineImage(
+                 rotationMatrix(n.vec3("axis"), n.real("angle"), n.vec3("center")), in[0]);
            }});
   }
 
@@ -36,6 +45,12 @@ void registerTransforms(Registry& r) {
            const auto& n = c.param("matrix").numbers;
            std::copy(n.begin(), n.end(), m.begin());
            return c.input(0, applyAffine(c.b, c.p, invertAffine(m)));
+         },
+         [](const Node& n, const std::vector<Box3>& in) {
+           Mat34 m{};
+           const auto& k = n.param("matrix").numbers;
+           std::copy(k.begin(), k.end(), m.begin());
+           return affineImage(m, in[0]);
          }});
 
   {
@@ -57,6 +72,16 @@ void registerTransforms(Registry& r) {
              };
              const Slot inner = c.input(0, {axis(c.p.x, 0), axis(c.p.y, 1), axis(c.p.z, 2)});
              return b.mul(b.constant(std::min(s[0], std::min(s[1], s[2]))), inner);
+           },
+           [](const Node& n, const std::vector<Box3>& in) {
+             const double u = n.real("factor");
+             const Vec3 f = n.vec3("factors"), o = n.vec3("center");
+             Mat34 m{};
+             for (int i = 0; i < 3; ++i) {
+               m[i * 4 + i] = u * f[i];
+               m[i * 4 + 3] = o[i] - u * f[i] * o[i];
+             }
+             return affineImage(m, in[0]);
            }});
   }
 }

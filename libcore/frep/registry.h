@@ -63,7 +63,11 @@ struct Point3Slots {
 };
 
 class CompileContext;
+struct Node;
 using CompileFn = std::function<Slot(CompileContext&)>;
+// Where the node's solid can be, given the boxes of its inputs' solids (infinite sides where
+// unknown); see structural_bounds.h. Optional: a type without one is "anywhere".
+using BoundsFn = std::function<Box3(const Node&, const std::vector<Box3>& inputs)>;
 
 constexpr int kVariadic = -1;
 
@@ -76,6 +80,7 @@ struct NodeType {
   int maxInputs = 0;  // kVariadic for no upper limit
   std::vector<ParamTemplate> params;
   CompileFn compile;
+  BoundsFn bounds;
 
   const ParamTemplate* findParam(const std::string& name) const;
   // "unknown parameter 'x'; parameters of T: a, b" for error messages

@@ -15,6 +15,7 @@
 
 #include "check/mesh_check.h"
 #include "frep/bounds.h"
+#include "frep/structural_bounds.h"
 #include "frep/errors.h"
 #include "frep/model_json.h"
 #include "frep/registry.h"
@@ -308,6 +309,7 @@ PYBIND11_MODULE(_frepcore, m) {
             BoundsOptions o;
             o.search = Box3{{-search, -search, -search}, {search, search, search}};
             o.tolerance = tolerance;
+            o.known = structuralBounds(n.node);
             const Program& p = n.compiled();
             SolidBounds b;
             {

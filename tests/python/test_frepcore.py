@@ -103,3 +103,31 @@ def test_functions_exist_for_every_registry_type():
     for info in fc.node_types():
         fn = getattr(fc, info["type"])
         assert info["doc"] in fn.__doc__
+
+
+def test_modelling_set_reads_naturally_in_scripts():
+    """Deformations and field operations as methods, microstructures as functions, with the
+    parameter most scripts set first."""
+    bar = fc.box((1, 1, 2), (-0.5, -0.5, -1))
+    twisted = bar.twist(90)
+    assert twisted.node.params["rate"] == 90
+    tapered = bar.taper(0.5, 2)
+    assert (tapered.node.params["scale2"], tapered.node.params["length"]) == (0.5, 2)
+    hollow = fc.sphere(1).shell(0.1)
+    assert hollow(0.95, 0, 0) > 0 > hollow(0.5, 0, 0)
+    assert fc.sphere(1).offset(0.5)(1.4, 0, 0) > 0
+    lattice = fc.gyroid(0.5, 0.2) & fc.sphere(1)
+    assert lattice(0, 0, 0) == pytest.approx(0.2)
+    morph = fc.metamorphosis(fc.sphere(1), bar, t=0.25)
+    assert morph(0, 0, 0) == pytest.approx(0.75 * 1 + 0.25 * 0.5)
+
+
+def test_gallery_shows_every_registry_type():
+    """docs/gallery.md (make screenshots) has a section and a GUI picture per node type."""
+    docs = os.path.join(os.environ["FREP_SOURCE_DIR"], "docs")
+    with open(os.path.join(docs, "gallery.md"), encoding="utf-8") as f:
+        text = f.read()
+    for t in fc.node_types():
+        assert "### %s\n" % t["type"] in text, \
+            "%s missing from docs/gallery.md: run make screenshots" % t["type"]
+        assert os.path.exists(os.path.join(docs, "images", "nodes", t["type"] + ".png"))

@@ -35,6 +35,8 @@ _POSITIONAL = {
     "ellipsoid": ["radii", "center"],
     "halfspace": ["normal", "point"],
     "rotate": ["axis", "angle", "center"],
+    "twist": ["rate", "axis", "center"],
+    "taper": ["scale2", "length", "scale1", "axis", "start"],
 }
 
 DEFAULT_CELLS = 128  # grid cells along the longest side when no resolution is given
