@@ -58,7 +58,9 @@ NodePtr randomInstance(const NodeType& type, RandomTrees& r) {
   std::map<std::string, ParamValue> params;
   for (const auto& p : type.params) params[p.name] = randomValue(p, r);
   std::vector<NodePtr> inputs;
-  const int n = type.maxInputs == kVariadic ? type.minInputs + r.integer(0, 1) : type.minInputs;
+  // Variadic types get one or two more than their least; optional inputs are tried both ways.
+  const int most = type.maxInputs == kVariadic ? type.minInputs + 1 : type.maxInputs;
+  const int n = r.integer(type.minInputs, most);
   for (int i = 0; i < n; ++i) inputs.push_back(r.primitive());
   return makeNode(type.id, params, inputs, "conformance");
 }

@@ -172,5 +172,40 @@ TEST(Tpms, SheetVolumeFractionGrowsWithTheLevel) {
   }
 }
 
+TEST(Tpms, AnInputFieldGradesTheLevel) {
+  // level(p) = the input's value: here 0.5 - z from a half-space, so the walls thin out
+  // upwards and vanish above z = 0.5.
+  const NodePtr ramp = makeNode("halfspace", {{"point", vec3Value({0, 0, 0.5})}}, {});
+  const Program graded = compile(makeNode("gyroid", {{"cell", realValue(1)}}, {ramp}));
+  const Program g0 = compile(tpms("gyroid", 1, "sheet", 1e-9));  // 1e-9 - |g|
+  for (const Vec3& q : randomPoints(200, 2)) {
+    const double level = 0.5 - q[2];
+    EXPECT_NEAR(eval(graded, q), level + (eval(g0, q) - 1e-9), 1e-9);
+  }
+}
+
+TEST(Infill, SkinOutsideLatticeInsidePrintable) {
+  const NodePtr s = makeNode("infill", {{"lattice", choiceValue("gyroid")}, {"wall", realValue(0.1)},
+                                        {"cell", realValue(0.5)}, {"level", realValue(0.3)}},
+                             {sphere(1)});
+  const Program p = compile(s), lattice = compile(tpms("gyroid", 0.5));
+  EXPECT_GT(p.eval(0.95, 0, 0), 0.0);   // in the skin
+  EXPECT_LT(p.eval(1.05, 0, 0), 0.0);   // outside
+  for (const Vec3& q : randomPoints(300, 0.8)) {
+    if (norm3(q) > 0.85) continue;      // deep inside: the lattice decides
+    EXPECT_EQ(eval(p, q) > 0, eval(lattice, q) > 0);
+  }
+  MeshingOptions o;
+  o.bbox = {{-1.1, -1.1, -1.1}, {1.1, 1.1, 1.1}};
+  o.resolution = 1.0 / 64;
+  const CheckReport r = checkMesh(polygonize(compile(s), o));
+  EXPECT_TRUE(r.printable());
+  // The lattice walls close the hollow into sealed chambers: each is a shell of its own in
+  // the check's component count, so that count is not 1 here.
+  const double full = 4.0 / 3.0 * kPi, skin = full * (1 - 0.9 * 0.9 * 0.9);
+  EXPECT_GT(r.volume, skin * 1.1);
+  EXPECT_LT(r.volume, 0.7 * full);
+}
+
 }  // namespace
 }  // namespace frep

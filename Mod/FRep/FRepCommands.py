@@ -93,7 +93,7 @@ class NodeCommand:
 
     def GetResources(self):
         tip = self.info["doc"]
-        if self.inputs["max"] != 0:
+        if self.inputs["min"] > 0:
             tip += "\n\nSelect its input%s first (%s), in order." % (
                 "s" if self.inputs["max"] != 1 else "", self.input_rule())
         return {"Pixmap": FRepPaths.icon(self.type_id, self.info["category"]),
@@ -109,7 +109,7 @@ class NodeCommand:
     def IsActive(self):
         if FreeCAD.ActiveDocument is None:
             return False
-        if self.inputs["max"] == 0:
+        if self.inputs["min"] == 0:  # optional inputs are linked in the property view
             return True
         return len(FreeCADGui.Selection.getSelection()) >= self.inputs["min"]
 
@@ -133,7 +133,7 @@ class NodeCommand:
     def Activated(self):
         doc = FreeCAD.ActiveDocument
         inputs = []
-        if self.inputs["max"] != 0:
+        if self.inputs["min"] > 0:
             inputs, problem = self.selected_inputs()
             if problem:
                 report("FRep " + self.title, problem)

@@ -107,11 +107,12 @@ class FRepFeature(StatelessProxy):
         prop = input_property(info)
         if prop == "Base" and "Base" not in obj.PropertiesList:
             obj.addProperty("App::PropertyLink", "Base", props.INPUT_GROUP,
-                            "The solid this operation applies to.")
+                            "The solid this operation applies to." if info["inputs"]["min"]
+                            else "Optional input field; see the node's documentation.")
         elif prop == "Shapes" and "Shapes" not in obj.PropertiesList:
             obj.addProperty("App::PropertyLinkList", "Shapes", props.INPUT_GROUP,
                             "The solids combined, in order (at least %d)." % info["inputs"]["min"])
-        if prop and "Bypass" not in obj.PropertiesList:
+        if info["inputs"]["min"] > 0 and "Bypass" not in obj.PropertiesList:
             obj.addProperty("App::PropertyBool", "Bypass", props.PARAM_GROUP,
                             "Pass the first input through unchanged, ignoring this operation.")
 
@@ -131,7 +132,7 @@ class FRepFeature(StatelessProxy):
                              "Part primitives); it has %d" % (
                                  obj.Label, prop, least, "s" if least > 1 else "",
                                  len(inputs)))
-        if prop and obj.Bypass:
+        if least > 0 and obj.Bypass:
             return builder.shape(inputs[0])
         nodes = [builder.shape(i).node for i in inputs]
         return frepcore.Shape(frepcore.Node(self.FREP_TYPE, params, nodes, obj.Label))

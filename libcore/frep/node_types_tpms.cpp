@@ -4,6 +4,9 @@
 // a "network" solid the region g <= level on one side of it. `level` is in units of g (the
 // fields range over about [-1.5, 1.5], Neovius over [-13, 13]); the wall is roughly
 // 2 level cell / (2 pi |grad g|) thick, with |grad g| about 1 to 1.5 on the surface.
+// `infill` hollows a solid to a skin and fills it with one of these lattices.
+#include <algorithm>
+
 #include "frep/node_helpers.h"
 #include "frep/registry.h"
 #include "frep/tree.h"
@@ -26,95 +29,147 @@ Slot mul3(ProgramBuilder& b, Slot a, Slot c, Slot d) {
   return b.mul(b.mul(a, c), d);
 }
 
-void addTpms(Registry& r, const char* id, const char* doc, const char* formula, Surface surface) {
-  ParamTemplate cell = positiveLength("cell", 1.0, "Cell size: the period of the lattice.");
-  ParamTemplate level = positiveReal(
-      "level", 0.3, "Half-width of a sheet wall (or the offset of a network) in units of g.");
-  r.add({id,
-         "microstructure",
-         doc,
-         std::string("q = 2 pi (p - origin) / cell;  g = ") + formula +
-             ";  sheet: F = level - |g|;  network: F = level - g",
-         0,
-         0,
-         {cell, level,
+// The surfaces, by id, with their documentation and nodal formula.
+struct TpmsSurface {
+  const char* id;
+  const char* doc;
+  const char* formula;
+  Surface g;
+};
+const std::vector<TpmsSurface>& surfaces();
+
+std::vector<ParamTemplate> latticeParams() {
+  return {positiveLength("cell", 1.0, "Cell size: the period of the lattice."),
+          positiveReal("level", 0.3,
+                       "Half-width of a sheet wall (or the offset of a network) in units of g."),
           choiceParam("kind", {"sheet", "network"},
-                      "sheet: a wall around the surface; network: the solid on "
-                      "one side of it."),
-          vec3Param("origin", {0, 0, 0}, "length", "Where a cell starts (shifts the lattice).")},
-         [surface](CompileContext& c) {
-           auto& b = c.b;
-           const double k = 2.0 * kPi / c.real("cell");
-           const Vec3 o = c.vec3("origin");
-           const Point3Slots q = {b.affine(c.p.x, c.p.x, c.p.x, k, 0.0, 0.0, -k * o[0]),
-                                  b.affine(c.p.y, c.p.y, c.p.y, k, 0.0, 0.0, -k * o[1]),
-                                  b.affine(c.p.z, c.p.z, c.p.z, k, 0.0, 0.0, -k * o[2])};
-           Trig t{};
-           const Slot axes[3] = {q.x, q.y, q.z};
-           for (int a = 0; a < 3; ++a) {
-             t.s[a] = b.emit(Op::Sin, axes[a]);
-             t.c[a] = b.emit(Op::Cos, axes[a]);
-           }
-           const Slot g = surface(b, t, q);
-           const Slot level = b.constant(c.real("level"));
-           if (c.param("kind").text == "network") return b.sub(level, g);
-           return b.sub(level, b.abs(g));
+                      "sheet: a wall around the surface; network: the solid on one side of it."),
+          vec3Param("origin", {0, 0, 0}, "length", "Where a cell starts (shifts the lattice).")};
+}
+
+// level - |g| (sheet) or level - g (network) at the context's point, with the context's
+// cell, kind and origin parameters.
+Slot latticeField(CompileContext& c, const Surface& surface, Slot level) {
+  auto& b = c.b;
+  const double k = 2.0 * kPi / c.real("cell");
+  const Vec3 o = c.vec3("origin");
+  const Point3Slots q = {b.affine(c.p.x, c.p.x, c.p.x, k, 0.0, 0.0, -k * o[0]),
+                         b.affine(c.p.y, c.p.y, c.p.y, k, 0.0, 0.0, -k * o[1]),
+                         b.affine(c.p.z, c.p.z, c.p.z, k, 0.0, 0.0, -k * o[2])};
+  Trig t{};
+  const Slot axes[3] = {q.x, q.y, q.z};
+  for (int a = 0; a < 3; ++a) {
+    t.s[a] = b.emit(Op::Sin, axes[a]);
+    t.c[a] = b.emit(Op::Cos, axes[a]);
+  }
+  const Slot g = surface(b, t, q);
+  if (c.param("kind").text == "network") return b.sub(level, g);
+  return b.sub(level, b.abs(g));
+}
+
+void addTpms(Registry& r, const TpmsSurface& s) {
+  r.add({s.id, "microstructure",
+         std::string(s.doc) +
+             " Optional input: a field whose value replaces `level` point by point (a graded "
+             "lattice, e.g. walls thickening towards a surface).",
+         std::string("q = 2 pi (p - origin) / cell;  g = ") + s.formula +
+             ";  sheet: F = level - |g|;  network: F = level - g  (level = input's value when "
+             "given)",
+         0, 1, latticeParams(), [g = s.g](CompileContext& c) {
+           const Slot level = c.inputCount() ? c.input(0) : c.b.constant(c.real("level"));
+           return latticeField(c, g, level);
          }});
+}
+
+std::vector<std::string> surfaceIds() {
+  std::vector<std::string> ids;
+  for (const TpmsSurface& s : surfaces()) ids.push_back(s.id);
+  return ids;
+}
+
+void addInfill(Registry& r) {
+  std::vector<ParamTemplate> params = {
+      choiceParam("lattice", surfaceIds(), "The lattice filling the inside."),
+      positiveLength("wall", 0.1, "Thickness of the solid skin kept inside the surface.")};
+  for (const ParamTemplate& p : latticeParams()) params.push_back(p);
+  r.add({"infill", "microstructure",
+         "Hollows a solid to a skin of the given wall thickness and fills its inside with a "
+         "lattice: light, printable infill that follows the part's shape.",
+         "F = max(min(f, wall - f), min(f, lattice))", 1, 1, params,
+         [](CompileContext& c) {
+           auto& b = c.b;
+           const std::string& id = c.param("lattice").text;
+           const auto found = std::find_if(surfaces().begin(), surfaces().end(),
+                                           [&](const TpmsSurface& s) { return id == s.id; });
+           const Slot f = c.input(0);
+           const Slot skin = b.min(f, b.sub(b.constant(c.real("wall")), f));
+           const Slot lattice = latticeField(c, found->g, b.constant(c.real("level")));
+           return b.max(skin, b.min(f, lattice));
+         },
+         [](const Node&, const std::vector<Box3>& in) { return in[0]; }});
+}
+
+const std::vector<TpmsSurface>& surfaces() {
+  static const std::vector<TpmsSurface> table = {
+      {"gyroid",
+       "Schoen's gyroid lattice: one connected wall, no straight lines; the most used TPMS for "
+       "infill.",
+       "sin qx cos qy + sin qy cos qz + sin qz cos qx",
+       [](ProgramBuilder& b, Trig& t, const Point3Slots&) {
+         return sum3(b, b.mul(t.s[0], t.c[1]), b.mul(t.s[1], t.c[2]), b.mul(t.s[2], t.c[0]));
+       }},
+      {"schwarz_p", "Schwarz's primitive (P) lattice: channels along the three axes.",
+       "cos qx + cos qy + cos qz",
+       [](ProgramBuilder& b, Trig& t, const Point3Slots&) {
+         return sum3(b, t.c[0], t.c[1], t.c[2]);
+       }},
+      {"schwarz_d", "Schwarz's diamond (D) surface, in its four-term nodal form.",
+       "sin qx sin qy sin qz + sin qx cos qy cos qz + cos qx sin qy cos qz + cos qx cos qy sin qz",
+       [](ProgramBuilder& b, Trig& t, const Point3Slots&) {
+         return b.add(sum3(b, mul3(b, t.s[0], t.s[1], t.s[2]), mul3(b, t.s[0], t.c[1], t.c[2]),
+                           mul3(b, t.c[0], t.s[1], t.c[2])),
+                      mul3(b, t.c[0], t.c[1], t.s[2]));
+       }},
+      {"diamond",
+       "The diamond lattice in the two-term form common in lattice tools (the D surface with "
+       "another phase than schwarz_d).",
+       "cos qx cos qy cos qz - sin qx sin qy sin qz",
+       [](ProgramBuilder& b, Trig& t, const Point3Slots&) {
+         return b.sub(mul3(b, t.c[0], t.c[1], t.c[2]), mul3(b, t.s[0], t.s[1], t.s[2]));
+       }},
+      {"neovius", "Neovius' surface: Schwarz P's channels with extra openings.",
+       "3 (cos qx + cos qy + cos qz) + 4 cos qx cos qy cos qz",
+       [](ProgramBuilder& b, Trig& t, const Point3Slots&) {
+         const Slot sum = sum3(b, t.c[0], t.c[1], t.c[2]);
+         const Slot prod = mul3(b, t.c[0], t.c[1], t.c[2]);
+         return b.affine(sum, prod, prod, 3.0, 4.0, 0.0, 0.0);
+       }},
+      {"lidinoid", "Lidin's lidinoid: a gyroid relative with wavier channels.",
+       "(sin 2qx cos qy sin qz + sin 2qy cos qz sin qx + sin 2qz cos qx sin qy) / 2 - "
+       "(cos 2qx cos 2qy + cos 2qy cos 2qz + cos 2qz cos 2qx) / 2 + 0.15",
+       [](ProgramBuilder& b, Trig& t, const Point3Slots& q) {
+         const Slot axes[3] = {q.x, q.y, q.z};
+         for (int a = 0; a < 3; ++a) {
+           const Slot twice = b.affine(axes[a], axes[a], axes[a], 2.0, 0.0, 0.0, 0.0);
+           t.s2[a] = b.emit(Op::Sin, twice);
+           t.c2[a] = b.emit(Op::Cos, twice);
+         }
+         const Slot waves =
+             sum3(b, mul3(b, t.s2[0], t.c[1], t.s[2]), mul3(b, t.s2[1], t.c[2], t.s[0]),
+                  mul3(b, t.s2[2], t.c[0], t.s[1]));
+         const Slot pairs = sum3(b, b.mul(t.c2[0], t.c2[1]), b.mul(t.c2[1], t.c2[2]),
+                                 b.mul(t.c2[2], t.c2[0]));
+         return b.affine(waves, pairs, pairs, 0.5, -0.5, 0.0, 0.15);
+       }},
+  };
+  return table;
 }
 
 }  // namespace
 
 void registerMicrostructures(Registry& r) {
-  addTpms(r, "gyroid",
-          "Schoen's gyroid lattice: one connected wall, no straight lines; the "
-          "most used TPMS for infill.",
-          "sin qx cos qy + sin qy cos qz + sin qz cos qx",
-          [](ProgramBuilder& b, Trig& t, const Point3Slots&) {
-            return sum3(b, b.mul(t.s[0], t.c[1]), b.mul(t.s[1], t.c[2]), b.mul(t.s[2], t.c[0]));
-          });
-  addTpms(r, "schwarz_p", "Schwarz's primitive (P) lattice: channels along the three axes.",
-          "cos qx + cos qy + cos qz", [](ProgramBuilder& b, Trig& t, const Point3Slots&) {
-            return sum3(b, t.c[0], t.c[1], t.c[2]);
-          });
-  addTpms(r, "schwarz_d", "Schwarz's diamond (D) surface, in its four-term nodal form.",
-          "sin qx sin qy sin qz + sin qx cos qy cos qz + cos qx sin qy cos qz + "
-          "cos qx cos qy sin qz",
-          [](ProgramBuilder& b, Trig& t, const Point3Slots&) {
-            return b.add(sum3(b, mul3(b, t.s[0], t.s[1], t.s[2]), mul3(b, t.s[0], t.c[1], t.c[2]),
-                              mul3(b, t.c[0], t.s[1], t.c[2])),
-                         mul3(b, t.c[0], t.c[1], t.s[2]));
-          });
-  addTpms(r, "diamond",
-          "The diamond lattice in the two-term form common in lattice tools (the "
-          "D surface with another phase than schwarz_d).",
-          "cos qx cos qy cos qz - sin qx sin qy sin qz",
-          [](ProgramBuilder& b, Trig& t, const Point3Slots&) {
-            return b.sub(mul3(b, t.c[0], t.c[1], t.c[2]), mul3(b, t.s[0], t.s[1], t.s[2]));
-          });
-  addTpms(r, "neovius", "Neovius' surface: Schwarz P's channels with extra openings.",
-          "3 (cos qx + cos qy + cos qz) + 4 cos qx cos qy cos qz",
-          [](ProgramBuilder& b, Trig& t, const Point3Slots&) {
-            const Slot sum = sum3(b, t.c[0], t.c[1], t.c[2]);
-            const Slot prod = mul3(b, t.c[0], t.c[1], t.c[2]);
-            return b.affine(sum, prod, prod, 3.0, 4.0, 0.0, 0.0);
-          });
-  addTpms(r, "lidinoid", "Lidin's lidinoid: a gyroid relative with wavier channels.",
-          "(sin 2qx cos qy sin qz + sin 2qy cos qz sin qx + sin 2qz cos qx sin qy) / 2 - "
-          "(cos 2qx cos 2qy + cos 2qy cos 2qz + cos 2qz cos 2qx) / 2 + 0.15",
-          [](ProgramBuilder& b, Trig& t, const Point3Slots& q) {
-            const Slot axes[3] = {q.x, q.y, q.z};
-            for (int a = 0; a < 3; ++a) {
-              const Slot twice = b.affine(axes[a], axes[a], axes[a], 2.0, 0.0, 0.0, 0.0);
-              t.s2[a] = b.emit(Op::Sin, twice);
-              t.c2[a] = b.emit(Op::Cos, twice);
-            }
-            const Slot waves =
-                sum3(b, mul3(b, t.s2[0], t.c[1], t.s[2]), mul3(b, t.s2[1], t.c[2], t.s[0]),
-                     mul3(b, t.s2[2], t.c[0], t.s[1]));
-            const Slot pairs =
-                sum3(b, b.mul(t.c2[0], t.c2[1]), b.mul(t.c2[1], t.c2[2]), b.mul(t.c2[2], t.c2[0]));
-            return b.affine(waves, pairs, pairs, 0.5, -0.5, 0.0, 0.15);
-          });
+  for (const TpmsSurface& s : surfaces()) addTpms(r, s);
+  addInfill(r);
 }
 
 }  // namespace frep
