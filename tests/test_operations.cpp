@@ -43,6 +43,29 @@ double meshVolume(const NodePtr& n, double reach, double h) {
   return checkMesh(polygonize(compile(n), o)).volume;
 }
 
+TEST(BoundedBlend, FullInsideTheBoundNoneOutside) {
+  const NodePtr a = box({-1, -1, -1}, {2, 2, 1}), b = box({-0.25, -1, -0.5}, {0.5, 2, 1.5});
+  const NodePtr bound = sphere(0.6, {0, -1, 0});
+  const NodePtr bounded = makeNode("bounded_blend", {{"a0", realValue(0.3)}, {"a3", realValue(0.2)}},
+                                   {a, b, bound});
+  const Program pb = compile(bounded), pbound = compile(bound);
+  const Program plain = compile(makeNode("union", {}, {a, b}));
+  const Program blend = compile(makeNode("blend_union", {{"a0", realValue(0.3)}}, {a, b}));
+  int outside = 0, deep = 0;
+  for (const Vec3& q : randomPoints(2000, 1.5)) {
+    const double f3 = eval(pbound, q);
+    if (f3 <= 0) {
+      EXPECT_EQ(eval(pb, q), eval(plain, q));  // sharp where the bound is not
+      ++outside;
+    } else if (f3 >= 0.2) {
+      EXPECT_NEAR(eval(pb, q), eval(blend, q), 1e-12);  // the ordinary blend inside
+      ++deep;
+    }
+  }
+  EXPECT_GT(outside, 100);
+  EXPECT_GT(deep, 10);
+}
+
 TEST(Offset, MovesASphereSurfaceByTheDistance) {
   for (double d : {0.2, -0.3}) {
     const Program p = compile(makeNode("offset", {{"distance", realValue(d)}}, {sphere(1)}));

@@ -45,7 +45,42 @@ CompileFn blendCompiler(Op setOp) {
   };
 }
 
+// The weight confining a bounded blend: 0 outside the bounding solid (f3 <= 0), 1 from depth
+// a3 inside it, a C1 smooth step (3t^2 - 2t^3) between.
+Slot boundWeight(ProgramBuilder& b, Slot f3, double a3) {
+  const Slot t = b.min(b.max(b.affine(f3, f3, f3, 1.0 / a3, 0.0, 0.0, 0.0), b.constant(0.0)),
+                       b.constant(1.0));
+  return b.mul(b.sqr(t), b.affine(t, t, t, -2.0, 0.0, 0.0, 3.0));
+}
+
 }  // namespace
+
+void registerBoundedBlend(Registry& r) {
+  std::vector<ParamTemplate> params = {
+      choiceParam("operation", {"union", "intersection"}, "The set operation blended."),
+      blendParam("a0", 0.5, false, "Blend amount: height of the added displacement."),
+      blendParam("a1", 1.0, true, "How far along the first solid the blend reaches."),
+      blendParam("a2", 1.0, true, "How far along the second solid the blend reaches."),
+      blendParam("a3", 0.2, true,
+                 "Depth inside the bounding solid over which the blend fades in."),
+      alphaParam()};
+  r.add({"bounded_blend", "blend",
+         "A Pasko blend confined to a bounding solid (the third input): full inside it, none "
+         "outside, fading in over depth a3, so one edge or corner gets a fillet and the rest "
+         "stays sharp.",
+         "t = clamp(f3/a3, 0, 1);  F = op_alpha(f1, f2) + (3t^2 - 2t^3) a0 / (1 + (f1/a1)^2 + "
+         "(f2/a2)^2)",
+         3, 3, params,
+         [](CompileContext& c) {
+           auto& b = c.b;
+           const Slot f1 = c.input(0), f2 = c.input(1), f3 = c.input(2);
+           const Op op = c.param("operation").text == "union" ? Op::RUnion : Op::RIntersect;
+           const Slot set = b.emit(op, f1, f2, 0, {c.real("alpha")});
+           const Slot bump =
+               b.emit(Op::BlendBump, f1, f2, 0, {c.real("a0"), c.real("a1"), c.real("a2")});
+           return b.add(set, b.mul(boundWeight(b, f3, c.real("a3")), bump));
+         }});
+}
 
 void registerSetOperations(Registry& r) {
   r.add({"union", "set operation", "Union of its inputs (R-function).",

@@ -207,6 +207,7 @@ const Registry& registry() {
     registerPrimitives(r);
     registerTransforms(r);
     registerSetOperations(r);
+    registerBoundedBlend(r);
     registerFieldOperations(r);
     registerDeformations(r);
     registerMicrostructures(r);

@@ -107,6 +107,7 @@ const Registry& registry();
 void registerPrimitives(Registry& r);
 void registerTransforms(Registry& r);
 void registerSetOperations(Registry& r);
+void registerBoundedBlend(Registry& r);
 void registerDeformations(Registry& r);
 void registerFieldOperations(Registry& r);
 void registerMicrostructures(Registry& r);
