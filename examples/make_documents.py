@@ -3,6 +3,9 @@
 
     examples/csg.FCStd              the csg reference model (examples/csg.json) as features
     examples/csg_spreadsheet.FCStd  the same part driven by a spreadsheet, with a Polygonize
+    examples/twist.FCStd, helix.FCStd, gyroid.FCStd
+                                    the reference models of the same names, imported from
+                                    their .json files (File > Open does the same)
 
 Run with `make examples` (after `make`). It starts the FreeCAD GUI under Xvfb and runs itself
 there: a document saved headless has no GuiDocument.xml, and FreeCAD then opens it with
@@ -90,6 +93,13 @@ def build():
     mesh.Cells = POLYGONIZE_CELLS
     doc.recompute()
     save(doc, "csg_spreadsheet")
+
+    import FRepImport
+    for name in ("twist", "helix", "gyroid"):
+        doc = new_document(name, "")
+        FRepImport.import_model(os.path.join(HERE, name + ".json"), doc)
+        doc.recompute()
+        save(doc, name)
 
 
 if os.environ.get("FREP_MAKE_DOCUMENTS") == "1" and "FreeCADGui" in sys.modules:

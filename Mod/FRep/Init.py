@@ -3,3 +3,4 @@
 import FreeCAD
 
 FreeCAD.addExportType("FRep mesh (*.stl *.obj *.ply)", "FRepExport")
+FreeCAD.addImportType("FRep model (*.json)", "FRepImport")

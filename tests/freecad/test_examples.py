@@ -76,10 +76,44 @@ def test_spreadsheet_drives_the_part():
         FreeCAD.closeDocument(doc.Name)
 
 
-@pytest.mark.parametrize("name", ["csg", "csg_spreadsheet"])
+@pytest.mark.parametrize("name", ["twist", "helix", "gyroid"])
+def test_reference_documents_hold_their_json_model(name):
+    doc = FreeCAD.openDocument(os.path.join(EXAMPLES, name + ".FCStd"))
+    try:
+        top = doc.getObject(name) or [o for o in doc.Objects if o.Label == name][0]
+        for o in doc.Objects:
+            o.touch()
+        doc.recompute()
+        reference, _ = frepcore.load(os.path.join(EXAMPLES, name + ".json"))
+        points = sample_points(2000, reach=2.0)
+        mine = FRepTree.shape_of(top).values(points)
+        assert max(abs(a - b) for a, b in zip(mine, reference.values(points))) < 1e-12
+        assert top.Mesh.CountFacets > 1000
+    finally:
+        FreeCAD.closeDocument(doc.Name)
+
+
+@pytest.mark.parametrize("name", ["csg", "csg_spreadsheet", "twist", "helix", "gyroid"])
 def test_examples_were_saved_from_the_gui(name):
     """Without GuiDocument.xml FreeCAD opens a document with every object shown, consumed
     inputs included; make_documents.py saves from the GUI so the inputs stay hidden."""
     import zipfile
     with zipfile.ZipFile(os.path.join(EXAMPLES, name + ".FCStd")) as z:
         assert "GuiDocument.xml" in z.namelist()
+
+
+@pytest.mark.parametrize("name", ["csg", "twist", "helix", "gyroid"])
+def test_json_models_import_as_the_same_solid(doc, name):
+    """File > Open of a .json model: one feature per node, the same field exactly."""
+    import FRepImport
+    path = os.path.join(EXAMPLES, name + ".json")
+    top = FRepImport.import_model(path, doc)
+    doc.recompute()
+    assert not [o.Label for o in doc.Objects if "Invalid" in o.State]
+    assert top.Label == name and top.Visibility
+    assert all(not o.Visibility for o in doc.Objects if o is not top)
+    reference, _ = frepcore.load(path)
+    points = sample_points(2000, reach=2.0)
+    mine = FRepTree.shape_of(top).values(points)
+    assert max(abs(a - b) for a, b in zip(mine, reference.values(points))) < 1e-12
+    assert "FRepImport" in FreeCAD.getImportType("json")
