@@ -47,7 +47,9 @@ TEST_P(ExamplesPrintable, CgalSaysPrintable) {
   const CheckReport r = checkMesh(mesh);
   EXPECT_TRUE(r.printable()) << c.model << " at 1/" << c.cellsPerUnit << ": " << reasons(r);
   // The gyroid shell cut by the ball leaves small separate pieces at the ball's surface.
-  if (c.model != "gyroid") EXPECT_EQ(r.components, 1u);
+  if (c.model != "gyroid") {
+    EXPECT_EQ(r.components, 1u);
+  }
   EXPECT_GT(r.volume, 0.0);
   EXPECT_TRUE(r.outward);
 }

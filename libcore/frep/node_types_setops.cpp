@@ -90,7 +90,7 @@ void registerSetOperations(Registry& r) {
            const double a = c.real("alpha");
            return fold(c, [&](Slot x, Slot y) { return c.b.emit(Op::RUnion, x, y, 0, {a}); });
          },
-         [](const Node& n, const std::vector<Box3>& in) {
+         [](const Node&, const std::vector<Box3>& in) {
            // With alpha < 1 the R-function's zero set is still the union's.
            Box3 b = in[0];
            for (const Box3& i : in) b = boxHull(b, i);
@@ -104,7 +104,7 @@ void registerSetOperations(Registry& r) {
            const double a = c.real("alpha");
            return fold(c, [&](Slot x, Slot y) { return c.b.emit(Op::RIntersect, x, y, 0, {a}); });
          },
-         [](const Node& n, const std::vector<Box3>& in) {
+         [](const Node&, const std::vector<Box3>& in) {
            Box3 b = in[0];
            for (const Box3& i : in) b = boxIntersection(b, i);
            return b;

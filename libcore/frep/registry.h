@@ -80,7 +80,7 @@ struct NodeType {
   int maxInputs = 0;  // kVariadic for no upper limit
   std::vector<ParamTemplate> params;
   CompileFn compile;
-  BoundsFn bounds;
+  BoundsFn bounds = nullptr;  // none: the solid may be anywhere
 
   const ParamTemplate* findParam(const std::string& name) const;
   // "unknown parameter 'x'; parameters of T: a, b" for error messages
