@@ -47,6 +47,14 @@ inline Dual exp(const Dual& a) {
   const double e = std::exp(a.v);
   return chain(a, e, e);
 }
+// d atan2(y, x) = (x dy - y dx) / (x^2 + y^2)
+inline Dual atan2(const Dual& y, const Dual& x) {
+  Dual r;
+  r.v = std::atan2(y.v, x.v);
+  const double n = x.v * x.v + y.v * y.v;
+  for (int i = 0; i < 3; ++i) r.d[i] = n > 0 ? (x.v * y.d[i] - y.v * x.d[i]) / n : 0.0;
+  return r;
+}
 inline Dual sin(const Dual& a) { return chain(a, std::sin(a.v), std::cos(a.v)); }
 inline Dual cos(const Dual& a) { return chain(a, std::cos(a.v), -std::sin(a.v)); }
 

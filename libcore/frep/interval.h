@@ -87,4 +87,15 @@ inline Interval cos(Interval a) {
   return sin(Interval{a.lo + kHalfPi, a.hi + kHalfPi});
 }
 
+// atan2(y, x) over a box: the angles of its corners, unless the box touches the origin or the
+// branch cut along the negative x axis, where every angle may occur.
+inline Interval atan2(Interval y, Interval x) {
+  constexpr double kPi = 3.14159265358979323846;
+  if (x.lo <= 0.0 && y.lo <= 0.0 && y.hi >= 0.0) return {-kPi, kPi};
+  const double c[4] = {std::atan2(y.lo, x.lo), std::atan2(y.lo, x.hi), std::atan2(y.hi, x.lo),
+                       std::atan2(y.hi, x.hi)};
+  return {std::min(std::min(c[0], c[1]), std::min(c[2], c[3])),
+          std::max(std::max(c[0], c[1]), std::max(c[2], c[3]))};
+}
+
 }  // namespace frep

@@ -52,6 +52,84 @@ void registerDeformations(Registry& r) {
            return cylinderBounds(o, w, lo, hi, radius);
          }});
 
+  {
+    ParamTemplate direction =
+        vec3Param("direction", {1, 0, 0}, "", "The direction along which the input is bent.");
+    direction.nonZeroVector = true;
+    ParamTemplate toward = vec3Param("toward", {0, 0, 1}, "",
+                                     "Where the bend turns to (its component across "
+                                     "`direction` is used; must not be parallel to it).");
+    toward.nonZeroVector = true;
+    r.add({"bend",
+           "deformation",
+           "Bends its input around an arc: the line through `center` along `direction` becomes "
+           "a circle of radius length / angle turning towards `toward`, so `length` of the "
+           "input turns by `angle`. Space on the far side of the circle's centre folds, so "
+           "keep the input within half a turn of the arc.",
+           "R = length / angle;  (a, b) = coordinates along direction and toward;  "
+           "F(p) = f(center + R atan2(a, R - b) direction + (R - sqrt(a^2 + (R - b)^2)) toward)",
+           1,
+           1,
+           {direction, toward, centerParam("Where the bend starts (a point on the line)."),
+            realParam("angle", 90.0, "angle", "How far `length` of the input turns, degrees."),
+            positiveLength("length", 1.0, "The length of the input that turns by `angle`.")},
+           [](CompileContext& c) {
+             const double angle = c.real("angle") * kPi / 180.0;
+             if (angle == 0.0) return c.input(0);
+             auto& b = c.b;
+             const Vec3 o = c.vec3("center"), d = normalized(c.vec3("direction"));
+             Vec3 t = c.vec3("toward");
+             const double along = t[0] * d[0] + t[1] * d[1] + t[2] * d[2];
+             t = normalized({t[0] - along * d[0], t[1] - along * d[1], t[2] - along * d[2]});
+             const Vec3 w = {d[1] * t[2] - d[2] * t[1], d[2] * t[0] - d[0] * t[2],
+                             d[0] * t[1] - d[1] * t[0]};
+             const Frame f{d, t, w};
+             const double radius = c.real("length") / angle;
+             const Point3Slots q = localCoordinates(b, c.p, o, f);  // (a, b, across)
+             const Slot fromCentre = b.affine(q.y, q.y, q.y, -1.0, 0.0, 0.0, radius);
+             const Slot turned = b.emit(Op::Atan2, q.x, fromCentre);
+             const Slot a = b.affine(turned, turned, turned, radius, 0.0, 0.0, 0.0);
+             const Slot rho = b.length2(q.x, fromCentre);
+             const Slot bb = b.affine(rho, rho, rho, -1.0, 0.0, 0.0, radius);
+             return c.input(0, fromFrame(b, a, bb, q.z, o, f));
+           }});
+  }
+
+  r.add({"deform_point",
+         "deformation",
+         "Pulls the input's surface near a point by a displacement, fading smoothly to nothing "
+         "at `radius` from it (seed 000's deform point): dents and bumps.",
+         "w = (1 - min(|p - point|^2 / radius^2, 1))^2;  F(p) = f(p - w displacement)",
+         1,
+         1,
+         {vec3Param("point", {0, 0, 0}, "length", "Centre of the deformation."),
+          vec3Param("displacement", {0, 0, 0.3}, "length", "How far the centre moves."),
+          positiveLength("radius", 0.5, "Reach of the deformation.")},
+         [](CompileContext& c) {
+           auto& b = c.b;
+           const Vec3 m = c.vec3("displacement");
+           if (m[0] == 0.0 && m[1] == 0.0 && m[2] == 0.0) return c.input(0);
+           const double r = c.real("radius");
+           const Point3Slots d = shifted(b, c.p, c.vec3("point"));
+           const Slot r2 = b.add(b.add(b.sqr(d.x), b.sqr(d.y)), b.sqr(d.z));
+           const Slot t =
+               b.min(b.affine(r2, r2, r2, 1.0 / (r * r), 0.0, 0.0, 0.0), b.constant(1.0));
+           const Slot w = b.sqr(b.affine(t, t, t, -1.0, 0.0, 0.0, 1.0));
+           auto moved = [&](Slot v, double k) { return b.affine(v, w, w, 1.0, -k, 0.0, 0.0); };
+           return c.input(0, {moved(c.p.x, m[0]), moved(c.p.y, m[1]), moved(c.p.z, m[2])});
+         },
+         [](const Node& n, const std::vector<Box3>& in) {
+           // Points move by at most |displacement|.
+           const Vec3 m = n.vec3("displacement");
+           const double k = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+           Box3 b = in[0];
+           for (int a = 0; a < 3; ++a) {
+             b.lo[a] -= k;
+             b.hi[a] += k;
+           }
+           return b;
+         }});
+
   r.add({"taper",
          "deformation",
          "Scales its input across an axis linearly along it: by scale1 at the start point, by "

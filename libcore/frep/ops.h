@@ -31,6 +31,7 @@ enum class Op : std::uint8_t {
   RUnion,      // R-function union with alpha = k0
   RIntersect,  // R-function intersection with alpha = k0
   BlendBump,   // k0 / (1 + (a/k1)^2 + (b/k2)^2): Pasko's blend displacement
+  Atan2,       // atan2(a, b): the angle of the point (b, a), in (-pi, pi]
   Count_
 };
 
@@ -92,6 +93,7 @@ inline T applyOp(Op op, const T& a, const T& b, const T& c, const double* k) {
     case Op::RUnion: return rUnion(a, b, k[0]);
     case Op::RIntersect: return rIntersect(a, b, k[0]);
     case Op::BlendBump: return blendBump(a, b, k);
+    case Op::Atan2: return atan2(a, b);
     case Op::Count_: break;
   }
   return T(0.0);

@@ -9,6 +9,7 @@ namespace frep {
 
 inline double sqr(double a) { return a * a; }
 using std::abs;
+using std::atan2;
 using std::cos;
 using std::exp;
 using std::sin;
