@@ -66,6 +66,35 @@ TEST(BoundedBlend, FullInsideTheBoundNoneOutside) {
   EXPECT_GT(deep, 10);
 }
 
+TEST(Superellipsoid, ExponentsOneMakeTheEllipsoidAndSmallOnesTheBox) {
+  auto superell = [](double e1, double e2) {
+    return compile(makeNode("superellipsoid", {{"radii", vec3Value({1, 0.5, 0.8})},
+                                               {"exponent1", realValue(e1)},
+                                               {"exponent2", realValue(e2)}}, {}));
+  };
+  const Program round = superell(1, 1);
+  for (const Vec3& q : randomPoints(300, 1.2)) {
+    const double s = q[0] * q[0] + q[1] * q[1] / 0.25 + q[2] * q[2] / 0.64;
+    EXPECT_NEAR(eval(round, q), 0.25 * (1 - s), 1e-12);  // min radius / 2 * (1 - S)
+  }
+  // Small exponents approach the box [-1,1] x [-0.5,0.5] x [-0.8,0.8]: its corner region fills.
+  EXPECT_GT(superell(0.1, 0.1).eval(0.9, 0.45, 0.7), 0.0);
+  EXPECT_LT(round.eval(0.9, 0.45, 0.7), 0.0);
+  // A rounded box meshes printable (flat faces, cusp-free field away from the axes).
+  MeshingOptions o;
+  o.bbox = {{-1.1, -1.1, -1.1}, {1.1, 1.1, 1.1}};
+  o.resolution = 1.0 / 32;
+  const NodePtr rounded = makeNode("superellipsoid", {{"radii", vec3Value({1, 0.5, 0.8})},
+                                                      {"exponent1", realValue(0.3)},
+                                                      {"exponent2", realValue(0.3)}}, {});
+  EXPECT_TRUE(checkMesh(polygonize(compile(rounded), o)).printable());
+  // The poles and the equator stay on the radii for every exponent.
+  for (double e : {0.2, 1.0, 2.0, 3.0}) {
+    EXPECT_NEAR(superell(e, e).eval(1, 0, 0), 0.0, 1e-12) << e;
+    EXPECT_NEAR(superell(e, e).eval(0, 0, 0.8), 0.0, 1e-12) << e;
+  }
+}
+
 TEST(Offset, MovesASphereSurfaceByTheDistance) {
   for (double d : {0.2, -0.3}) {
     const Program p = compile(makeNode("offset", {{"distance", realValue(d)}}, {sphere(1)}));

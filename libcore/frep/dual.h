@@ -47,6 +47,13 @@ inline Dual exp(const Dual& a) {
   const double e = std::exp(a.v);
   return chain(a, e, e);
 }
+// d|a|^k = k |a|^(k-1) sign(a) da. At a = 0 the slope is 0 for k > 1 and 1 for k = 1; for
+// k < 1 it is infinite, and 0 is returned so that one point of a cusp gives no NaN normal.
+inline Dual powAbs(const Dual& a, double k) {
+  const double m = std::abs(a.v);
+  const double slope = m == 0.0 ? (k == 1.0 ? 1.0 : 0.0) : k * std::pow(m, k - 1.0);
+  return chain(a, std::pow(m, k), a.v < 0 ? -slope : slope);
+}
 // d atan2(y, x) = (x dy - y dx) / (x^2 + y^2)
 inline Dual atan2(const Dual& y, const Dual& x) {
   Dual r;

@@ -87,6 +87,12 @@ inline Interval cos(Interval a) {
   return sin(Interval{a.lo + kHalfPi, a.hi + kHalfPi});
 }
 
+// |a|^k is increasing in |a| (k > 0).
+inline Interval powAbs(Interval a, double k) {
+  const Interval m = abs(a);
+  return {std::pow(m.lo, k), std::pow(m.hi, k)};
+}
+
 // atan2(y, x) over a box: the angles of its corners, unless the box touches the origin or the
 // branch cut along the negative x axis, where every angle may occur.
 inline Interval atan2(Interval y, Interval x) {

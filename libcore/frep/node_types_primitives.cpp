@@ -149,6 +149,44 @@ void registerPrimitives(Registry& r) {
   }
 
   {
+    ParamTemplate radii = vec3Param("radii", {1, 1, 1}, "length", "Semi-axes a, b, c along x, y, z.");
+    range(radii, 0.0, kInf, true);
+    ParamTemplate s1 = realParam("exponent1", 0.5, "",
+                                 "North-south shape (HyperFun s1): 1 round, towards 0 square, 2 "
+                                 "a double cone, above 2 pinched.");
+    range(s1, 0.0, 10.0, true);
+    ParamTemplate s2 = realParam("exponent2", 0.5, "",
+                                 "East-west shape (HyperFun s2), as exponent1 across x and y.");
+    range(s2, 0.0, 10.0, true);
+    r.add({"superellipsoid", "primitive",
+           "Barr's superellipsoid (HyperFun hfSuperell): boxes with rounded edges, cylinders, "
+           "octahedra and stars from two exponents.",
+           "u = p - center;  S = (|u_x/a|^(2/s2) + |u_y/b|^(2/s2))^(s2/s1) + |u_z/c|^(2/s1);  "
+           "F = min(a, b, c) (1 - S) / 2",
+           0, 0, {centerParam("Centre of the superellipsoid."), radii, s1, s2},
+           [](CompileContext& c) {
+             auto& b = c.b;
+             const Vec3 m = c.vec3("center"), a = c.vec3("radii");
+             const double e1 = c.real("exponent1"), e2 = c.real("exponent2");
+             auto term = [&](Slot v, int i, double k) {
+               return b.emit(Op::PowAbs, b.affine(v, v, v, 1.0 / a[i], 0.0, 0.0, -m[i] / a[i]),
+                             0, 0, {k});
+             };
+             const Slot across = b.add(term(c.p.x, 0, 2.0 / e2), term(c.p.y, 1, 2.0 / e2));
+             const Slot sum =
+                 b.add(b.emit(Op::PowAbs, across, 0, 0, {e2 / e1}), term(c.p.z, 2, 2.0 / e1));
+             const double h = 0.5 * std::min(a[0], std::min(a[1], a[2]));
+             return b.affine(sum, sum, sum, -h, 0.0, 0.0, h);
+           },
+           [](const Node& n, const std::vector<Box3>&) {
+             // Each term of S is at most 1 inside, so |u_i| <= radius_i.
+             const Vec3 m = n.vec3("center"), a = n.vec3("radii");
+             return Box3{{m[0] - a[0], m[1] - a[1], m[2] - a[2]},
+                         {m[0] + a[0], m[1] + a[1], m[2] + a[2]}};
+           }});
+  }
+
+  {
     ParamTemplate normal = vec3Param("normal", {0, 0, 1}, "", "Outward normal (points away from the solid).");
     normal.nonZeroVector = true;
     r.add({"halfspace", "primitive",

@@ -8,6 +8,8 @@
 namespace frep {
 
 inline double sqr(double a) { return a * a; }
+// |a|^k for k > 0.
+inline double powAbs(double a, double k) { return std::pow(std::abs(a), k); }
 using std::abs;
 using std::atan2;
 using std::cos;
