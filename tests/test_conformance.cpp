@@ -30,6 +30,10 @@ ParamValue randomValue(const ParamTemplate& p, RandomTrees& r) {
     case ParamType::Boolean: v.numbers = {double(r.integer(0, 1))}; break;
     case ParamType::Real:
     case ParamType::Integer: v.numbers = {number()}; break;
+    case ParamType::Points:
+      for (std::size_t i = 0; i < p.minPoints + 2; ++i)
+        for (int c = 0; c < 3; ++c) v.numbers.push_back(number());
+      break;
     case ParamType::Vector3:
       v.numbers = {number(), number(), number()};
       if (p.nonZeroVector && std::abs(v.numbers[0]) + std::abs(v.numbers[1]) < 1e-3) v.numbers[2] = 1;

@@ -2,10 +2,12 @@
 // the node means, checked on shapes whose answer is known exactly.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
 #include "check/mesh_check.h"
+#include "frep/errors.h"
 #include "frep/tree.h"
 #include "mesh/mesher.h"
 
@@ -92,6 +94,64 @@ TEST(Superellipsoid, ExponentsOneMakeTheEllipsoidAndSmallOnesTheBox) {
   for (double e : {0.2, 1.0, 2.0, 3.0}) {
     EXPECT_NEAR(superell(e, e).eval(1, 0, 0), 0.0, 1e-12) << e;
     EXPECT_NEAR(superell(e, e).eval(0, 0, 0.8), 0.0, 1e-12) << e;
+  }
+}
+
+ParamValue pointsValue(const std::vector<Vec3>& pts) {
+  ParamValue v;
+  for (const Vec3& q : pts) v.numbers.insert(v.numbers.end(), q.begin(), q.end());
+  return v;
+}
+
+double segmentDistance(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 e = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, d = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+  const double t = std::clamp((d[0] * e[0] + d[1] * e[1] + d[2] * e[2]) /
+                                  (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]), 0.0, 1.0);
+  return norm3({d[0] - t * e[0], d[1] - t * e[1], d[2] - t * e[2]});
+}
+
+TEST(Sweep, ExactDistanceToAStraightSegment) {
+  const Vec3 a = {-0.5, 0.2, 0.1}, b = {0.7, -0.3, 0.4};
+  const Program p = compile(makeNode("sweep", {{"points", pointsValue({a, b})},
+                                               {"radius1", realValue(0.3)},
+                                               {"radius2", realValue(0.3)}}, {}));
+  for (const Vec3& q : randomPoints(500, 1.5))
+    EXPECT_NEAR(eval(p, q), 0.3 - segmentDistance(q, a, b), 1e-12);
+}
+
+TEST(Sweep, ArcPolylineAndTaperedRadius) {
+  // A quarter arc of radius 1 as 64 segments: the field is 0.2 minus the distance to the arc,
+  // up to the polyline's sagitta (1 - cos(pi/256) = 7.5e-5).
+  std::vector<Vec3> arc;
+  for (int i = 0; i <= 64; ++i) {
+    const double th = kPi / 2 * i / 64;
+    arc.push_back({std::cos(th), std::sin(th), 0});
+  }
+  const Program p = compile(makeNode("sweep", {{"points", pointsValue(arc)},
+                                               {"radius1", realValue(0.2)},
+                                               {"radius2", realValue(0.2)}}, {}));
+  for (const Vec3& q : randomPoints(500, 1.3)) {
+    const double rho = std::hypot(q[0], q[1]);
+    if (q[0] <= 0 || q[1] <= 0 || rho < 0.1) continue;  // the arc's angular range
+    const double exact = 0.2 - std::hypot(rho - 1, q[2]);
+    EXPECT_NEAR(eval(p, q), exact, 1e-4);
+  }
+  // The radius goes linearly along the length: r1 at the start, r2 at the end.
+  const Program taper = compile(makeNode("sweep", {{"points", pointsValue(arc)},
+                                                   {"radius1", realValue(0.3)},
+                                                   {"radius2", realValue(0.1)}}, {}));
+  EXPECT_NEAR(taper.eval(1, 0, 0), 0.3, 1e-12);
+  EXPECT_NEAR(taper.eval(0, 1, 0), 0.1, 1e-9);
+  const double mid = kPi / 4;
+  EXPECT_NEAR(taper.eval(std::cos(mid), std::sin(mid), 0), 0.2, 1e-4);
+}
+
+TEST(Sweep, NeedsTwoPoints) {
+  try {
+    makeNode("sweep", {{"points", pointsValue({{0, 0, 0}})}}, {}, "root");
+    FAIL() << "no error";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("at least 2 points"), std::string::npos) << e.what();
   }
 }
 

@@ -17,6 +17,7 @@ Scripting:
 import FreeCAD
 
 import FRepMeshing
+import FRepPoints
 import FRepProperties as props
 import FRepTree
 from FRepProxy import StatelessProxy
@@ -104,6 +105,11 @@ class FRepFeature(StatelessProxy):
         info = NODE_TYPES[self.FREP_TYPE]
         for p in info["params"]:
             props.add_param_property(obj, p)
+            source = FRepPoints.source_property(p["name"])
+            if p["type"] == "points" and source not in obj.PropertiesList:
+                obj.addProperty("App::PropertyLink", source, props.INPUT_GROUP,
+                                "Take %s from an edge, wire, sketch or Draft wire (sampled) "
+                                "instead of the list." % props.property_name(p["name"]))
         prop = input_property(info)
         if prop == "Base" and "Base" not in obj.PropertiesList:
             obj.addProperty("App::PropertyLink", "Base", props.INPUT_GROUP,
@@ -124,6 +130,10 @@ class FRepFeature(StatelessProxy):
         """This node over its inputs' shapes, before its own Placement."""
         info = NODE_TYPES[self.FREP_TYPE]
         params = {p["name"]: props.check_value(obj, self.FREP_TYPE, p) for p in info["params"]}
+        for p in info["params"]:
+            source = FRepPoints.source_property(p["name"])
+            if p["type"] == "points" and getattr(obj, source, None) is not None:
+                params[p["name"]] = FRepPoints.path_points(obj, source, getattr(obj, source))
         inputs = linked_inputs(obj)
         prop = input_property(info)
         least = info["inputs"]["min"]

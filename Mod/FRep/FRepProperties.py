@@ -41,6 +41,8 @@ def property_type(param):
         return "App::PropertyMatrix"
     if t == "choice":
         return "App::PropertyEnumeration"
+    if t == "points":
+        return "App::PropertyVectorList"
     raise ValueError("FRep: no FreeCAD property for parameter type '%s'" % t)
 
 
@@ -74,6 +76,8 @@ def set_value(obj, param, value):
         setattr(obj, name, bool(value))
     elif t == "integer":
         setattr(obj, name, int(value))
+    elif t == "points":
+        setattr(obj, name, [FreeCAD.Vector(*p) for p in value])
     else:
         setattr(obj, name, value)
 
@@ -92,11 +96,15 @@ def get_value(obj, param):
         return (v.x, v.y, v.z)
     if t == "matrix3x4":
         return tuple(v.A[:12])
+    if t == "points":
+        return [(p.x, p.y, p.z) for p in v]
     return str(v)
 
 
 def value_text(param, value):
     unit = UNIT_SUFFIX[param["unit"]]
+    if isinstance(value, list):
+        return "%d points" % len(value)
     if isinstance(value, tuple):
         return "(%s)%s" % (", ".join("%g" % x for x in value), unit)
     if isinstance(value, float):

@@ -45,6 +45,17 @@ ParamValue paramFromJson(const ParamTemplate& t, const json& j, const std::strin
       if (!j.is_number()) throw fail(typeOf(j));
       v.numbers = {j.get<double>()};
       return v;
+    case ParamType::Points: {
+      if (!j.is_array()) throw fail(typeOf(j));
+      for (const auto& q : j) {
+        if (!q.is_array() || q.size() != 3) throw fail("an array holding " + typeOf(q));
+        for (const auto& e : q) {
+          if (!e.is_number()) throw fail("a point holding " + typeOf(e));
+          v.numbers.push_back(e.get<double>());
+        }
+      }
+      return v;
+    }
     case ParamType::Vector3:
     case ParamType::Matrix3x4: {
       const std::size_t n = t.type == ParamType::Vector3 ? 3 : 12;
@@ -66,6 +77,11 @@ json paramToJson(const ParamTemplate& t, const ParamValue& v) {
     case ParamType::Boolean: return v.numbers.at(0) != 0.0;
     case ParamType::Real: return v.numbers.at(0);
     case ParamType::Integer: return static_cast<long long>(v.numbers.at(0));
+    case ParamType::Points: {
+      json points = json::array();
+      for (const Vec3& q : pointsOf(v)) points.push_back({q[0], q[1], q[2]});
+      return points;
+    }
     default: return v.numbers;
   }
 }

@@ -16,6 +16,7 @@ const char* paramTypeName(ParamType t) {
     case ParamType::Vector3: return "vector3";
     case ParamType::Matrix3x4: return "matrix3x4";
     case ParamType::Choice: return "choice";
+    case ParamType::Points: return "points";
   }
   return "?";
 }
@@ -85,6 +86,21 @@ ParamTemplate choiceParam(std::string name, std::vector<std::string> choices, st
   return p;
 }
 
+ParamTemplate pointsParam(std::string name, std::vector<Vec3> def, std::size_t minPoints,
+                          std::string unit, std::string doc) {
+  ParamTemplate p = base(std::move(name), ParamType::Points, std::move(unit), std::move(doc));
+  for (const Vec3& q : def) p.defaultValue.numbers.insert(p.defaultValue.numbers.end(), q.begin(), q.end());
+  p.minPoints = minPoints;
+  return p;
+}
+
+std::vector<Vec3> pointsOf(const ParamValue& v) {
+  std::vector<Vec3> out(v.numbers.size() / 3);
+  for (std::size_t i = 0; i < out.size(); ++i)
+    out[i] = {v.numbers[3 * i], v.numbers[3 * i + 1], v.numbers[3 * i + 2]};
+  return out;
+}
+
 ParamTemplate& range(ParamTemplate& p, double lo, double hi, bool loOpen, bool hiOpen) {
   p.min = lo;
   p.max = hi;
@@ -102,6 +118,8 @@ std::string ParamTemplate::rangeText() const {
       return s;
     }
     case ParamType::Matrix3x4: return "12 finite numbers (rows of a 3x4 affine matrix, invertible)";
+    case ParamType::Points:
+      return "a list of at least " + std::to_string(minPoints) + " points [x, y, z] of finite numbers";
     default: break;
   }
   // an infinite bound is never attained: always shown open
@@ -130,8 +148,14 @@ std::string ParamTemplate::check(const ParamValue& v) const {
       if (c == v.text) return "";
     return "\"" + v.text + "\" is not allowed; allowed: " + rangeText();
   }
-  if (v.numbers.size() != expectedCount(type))
+  if (type == ParamType::Points) {
+    if (v.numbers.size() % 3 != 0 || v.numbers.size() / 3 < minPoints)
+      return "expects " + rangeText() + ", got " +
+             (v.numbers.size() % 3 ? std::to_string(v.numbers.size()) + " numbers"
+                                   : std::to_string(v.numbers.size() / 3) + " points");
+  } else if (v.numbers.size() != expectedCount(type)) {
     return "expects " + rangeText() + ", got " + std::to_string(v.numbers.size()) + " numbers";
+  }
   for (double x : v.numbers) {
     if (!std::isfinite(x)) return valueText(v) + " is not finite; allowed: " + rangeText();
     if (type == ParamType::Integer && x != std::floor(x))
@@ -205,6 +229,7 @@ const Registry& registry() {
   static const Registry instance = [] {
     Registry r;
     registerPrimitives(r);
+    registerSweeps(r);
     registerTransforms(r);
     registerSetOperations(r);
     registerBoundedBlend(r);

@@ -17,11 +17,11 @@
 
 namespace frep {
 
-enum class ParamType { Real, Integer, Boolean, Vector3, Matrix3x4, Choice };
+enum class ParamType { Real, Integer, Boolean, Vector3, Matrix3x4, Choice, Points };
 const char* paramTypeName(ParamType t);
 
-// A parameter value. Numbers hold 1 (Real, Integer, Boolean), 3 (Vector3) or 12 (Matrix3x4)
-// values; Choice uses text.
+// A parameter value. Numbers hold 1 (Real, Integer, Boolean), 3 (Vector3), 12 (Matrix3x4) or
+// 3 per point (Points: x, y, z of each in turn) values; Choice uses text.
 struct ParamValue {
   std::vector<double> numbers;
   std::string text;
@@ -38,6 +38,7 @@ struct ParamTemplate {
   bool minExclusive = false;
   bool maxExclusive = false;
   bool nonZeroVector = false;  // Vector3 that must not be (0, 0, 0), e.g. an axis
+  std::size_t minPoints = 0;   // Points: at least this many
   std::vector<std::string> choices;
   std::string unit;  // "length", "angle" (degrees) or "" (dimensionless)
   std::string doc;
@@ -55,6 +56,10 @@ ParamTemplate boolParam(std::string name, bool def, std::string doc);
 ParamTemplate vec3Param(std::string name, Vec3 def, std::string unit, std::string doc);
 ParamTemplate matrixParam(std::string name, std::string doc);
 ParamTemplate choiceParam(std::string name, std::vector<std::string> choices, std::string doc);
+ParamTemplate pointsParam(std::string name, std::vector<Vec3> def, std::size_t minPoints,
+                          std::string unit, std::string doc);
+// The points of a Points value.
+std::vector<Vec3> pointsOf(const ParamValue& v);
 ParamTemplate& range(ParamTemplate& p, double lo, double hi, bool loOpen = false,
                      bool hiOpen = false);
 
@@ -108,6 +113,7 @@ void registerPrimitives(Registry& r);
 void registerTransforms(Registry& r);
 void registerSetOperations(Registry& r);
 void registerBoundedBlend(Registry& r);
+void registerSweeps(Registry& r);
 void registerDeformations(Registry& r);
 void registerFieldOperations(Registry& r);
 void registerMicrostructures(Registry& r);

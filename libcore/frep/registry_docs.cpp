@@ -14,6 +14,11 @@ nlohmann::json defaultJson(const ParamTemplate& p) {
     case ParamType::Boolean: return p.defaultValue.numbers.at(0) != 0.0;
     case ParamType::Real:
     case ParamType::Integer: return p.defaultValue.numbers.at(0);
+    case ParamType::Points: {
+      nlohmann::json points = nlohmann::json::array();
+      for (const Vec3& q : pointsOf(p.defaultValue)) points.push_back({q[0], q[1], q[2]});
+      return points;
+    }
     default: return p.defaultValue.numbers;
   }
 }

@@ -43,6 +43,21 @@ ParamValue toParamValue(const ParamTemplate& t, const py::handle& v, const std::
     out.text = v.cast<std::string>();
     return out;
   }
+  if (t.type == ParamType::Points) {
+    if (py::isinstance<py::str>(v) || !py::isinstance<py::sequence>(v))
+      fail("must be a sequence of points (x, y, z)");
+    for (auto q : v.cast<py::sequence>()) {
+      if (py::isinstance<py::str>(q) || !py::isinstance<py::sequence>(q) ||
+          py::len(q) != 3)
+        fail("must be a sequence of points (x, y, z)");
+      try {
+        for (auto c : q.cast<py::sequence>()) out.numbers.push_back(c.cast<double>());
+      } catch (const py::cast_error&) {
+        fail("must be a sequence of points (x, y, z) of numbers");
+      }
+    }
+    return out;
+  }
   std::size_t expected = t.type == ParamType::Vector3 ? 3 : t.type == ParamType::Matrix3x4 ? 12 : 1;
   if (expected == 1) {
     if (py::isinstance<py::str>(v) || py::isinstance<py::sequence>(v)) fail("must be a number");
@@ -78,6 +93,11 @@ py::object fromParamValue(const ParamTemplate& t, const ParamValue& v) {
       return py::int_(static_cast<long long>(v.numbers.at(0)));
     case ParamType::Real:
       return py::float_(v.numbers.at(0));
+    case ParamType::Points: {
+      py::list points;
+      for (const Vec3& q : pointsOf(v)) points.append(py::make_tuple(q[0], q[1], q[2]));
+      return py::tuple(points);
+    }
     default:
       return py::tuple(py::cast(v.numbers));
   }

@@ -1,6 +1,7 @@
 """FRep features in a headless FreeCAD document: creation from the registry, persistence,
 undo, recompute scope, expressions, Bypass and cycle refusal."""
 
+import math
 import os
 
 import FreeCAD
@@ -210,3 +211,33 @@ def test_parameter_properties_do_not_clash_with_the_features_own(doc):
         names = {P.property_name(p["name"]) for p in info["params"]}
         taken = reserved if F.input_property(info) else reserved - {"Base", "Shapes"}
         assert not names & taken, (type_id, names & taken)
+
+
+def test_sweep_follows_a_sketch(doc):
+    """A sweep's PointsSource takes the path from a sketch (any edge or wire works)."""
+    import Part
+    import Sketcher
+    sketch = doc.addObject("Sketcher::SketchObject", "Path")
+    sketch.addGeometry(Part.LineSegment(FreeCAD.Vector(0, 0, 0), FreeCAD.Vector(2, 0, 0)))
+    sketch.addGeometry(Part.ArcOfCircle(Part.Circle(FreeCAD.Vector(2, 1, 0),
+                                                    FreeCAD.Vector(0, 0, 1), 1),
+                                        -math.pi / 2, 0))
+    sketch.addConstraint(Sketcher.Constraint("Coincident", 0, 2, 1, 1))
+    doc.recompute()
+    sweep = F.make("sweep", doc, radius1=0.25, radius2=0.25)
+    sweep.PointsSource = sketch
+    doc.recompute()
+    assert sweep.isValid(), sweep.getStatusString()
+    shape = FRepTree.shape_of(sweep)
+    # On the straight part the field is exactly r - distance; on the arc within sampling.
+    assert shape(1.0, 0.1, 0.0) == pytest.approx(0.15, abs=1e-9)
+    assert shape(3.0, 1.0, 0.0) == pytest.approx(0.25, abs=2e-3)  # the arc's end
+    assert shape(2 + math.cos(-0.7), 1 + math.sin(-0.7), 0.1) == pytest.approx(0.15, abs=3e-3)
+    assert sweep.Mesh.CountFacets > 0
+    # An object without edges is refused with the property named.
+    ball = F.make("sphere", doc, name="Ball")
+    sweep.PointsSource = ball
+    doc.recompute()
+    assert not sweep.isValid()
+    assert ("Sweep: property 'PointsSource' links 'Ball' (Mesh::FeaturePython), which has no "
+            "edges" in sweep.getStatusString())
