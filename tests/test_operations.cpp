@@ -8,6 +8,7 @@
 
 #include "check/mesh_check.h"
 #include "frep/errors.h"
+#include "frep/structural_bounds.h"
 #include "frep/tree.h"
 #include "mesh/mesher.h"
 
@@ -152,6 +153,56 @@ TEST(Sweep, NeedsTwoPoints) {
     FAIL() << "no error";
   } catch (const ModelError& e) {
     EXPECT_NE(std::string(e.what()).find("at least 2 points"), std::string::npos) << e.what();
+  }
+}
+
+NodePtr blob(const std::string& id, const std::vector<Vec3>& centers,
+             std::map<std::string, ParamValue> params = {}) {
+  params["centers"] = pointsValue(centers);
+  return makeNode(id, params, {});
+}
+
+TEST(Blobs, KernelsAtTheirCentresAndSummedNearby) {
+  const Vec3 c = {0.1, 0.2, 0.3};
+  EXPECT_NEAR(compile(blob("blobby", {c})).eval(0.1, 0.2, 0.3), 1.0 - 0.5, 1e-12);
+  EXPECT_NEAR(compile(blob("soft_objects", {c})).eval(0.1, 0.2, 0.3), 1.0 - 0.5, 1e-12);
+  EXPECT_NEAR(compile(blob("convolution", {c})).eval(0.1, 0.2, 0.3), 1.0 - 0.5, 1e-12);
+  // Blobby at distance d from each of two centres: the two bumps add up.
+  const Program two = compile(blob("blobby", {{-0.3, 0, 0}, {0.3, 0, 0}}));
+  EXPECT_NEAR(two.eval(0, 0, 0), 2 * std::exp(-8 * 0.09) - 0.5, 1e-12);
+  EXPECT_GT(two.eval(0, 0, 0), 0.0);  // melted together in the middle
+}
+
+TEST(Blobs, SoftObjectsStopExactlyAtTheirRadius) {
+  const Program far = compile(blob("soft_objects", {{-1, 0, 0}, {1, 0, 0}},
+                                   {{"radius", realValue(0.6)}}));
+  EXPECT_EQ(far.eval(-1, 0, 0), 1.0 - 0.5);  // the other centre adds exactly nothing
+  EXPECT_EQ(far.eval(0, 0, 0), -0.5);
+  EXPECT_EQ(far.eval(0, 0.61, 0), -0.5);
+}
+
+TEST(Blobs, BoundsEncloseTheSolidAndTheMeshIsOnePart) {
+  for (const char* id : {"blobby", "soft_objects", "convolution"}) {
+    const NodePtr n = blob(id, {{-0.4, 0, 0}, {0.3, 0.2, 0}, {0, -0.3, 0.3}});
+    const Program p = compile(n);
+    const Box3 b = structuralBounds(n);
+    for (const Vec3& q : randomPoints(20000, 2)) {
+      if (eval(p, q) <= 0) continue;
+      for (int a = 0; a < 3; ++a) {
+        ASSERT_GE(q[a], b.lo[a]) << id;
+        ASSERT_LE(q[a], b.hi[a]) << id;
+      }
+    }
+    MeshingOptions o;
+    o.bbox = b;
+    for (int a = 0; a < 3; ++a) {
+      o.bbox.lo[a] -= 0.1;
+      o.bbox.hi[a] += 0.1;
+    }
+    o.resolution = 1.0 / 32;
+    const CheckReport r = checkMesh(polygonize(p, o));
+    EXPECT_TRUE(r.printable()) << id;
+    EXPECT_EQ(r.components, 1u) << id;
   }
 }
 

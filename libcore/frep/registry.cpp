@@ -230,6 +230,7 @@ const Registry& registry() {
     Registry r;
     registerPrimitives(r);
     registerSweeps(r);
+    registerBlobs(r);
     registerTransforms(r);
     registerSetOperations(r);
     registerBoundedBlend(r);

@@ -114,6 +114,7 @@ void registerTransforms(Registry& r);
 void registerSetOperations(Registry& r);
 void registerBoundedBlend(Registry& r);
 void registerSweeps(Registry& r);
+void registerBlobs(Registry& r);
 void registerDeformations(Registry& r);
 void registerFieldOperations(Registry& r);
 void registerMicrostructures(Registry& r);

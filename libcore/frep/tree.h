@@ -51,6 +51,7 @@ class CompileContext {
   Vec3 vec3(const std::string& name) const { return node_.vec3(name); }
   const ParamValue& param(const std::string& name) const { return node_.param(name); }
   int inputCount() const { return static_cast<int>(node_.inputs.size()); }
+  const Node& node() const { return node_; }
   Slot input(int i) { return input(i, p); }
   Slot input(int i, Point3Slots at) { return compileInput_(node_.inputs.at(i), at); }
 
