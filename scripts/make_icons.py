@@ -290,6 +290,22 @@ def lattice():
     return svg(body, defs)
 
 
+def linear_array():
+    defs = radial("b", BLUE)
+    return svg("".join(sphere(x, 40 - (x - 12) * 0.4, 9) for x in (12, 32, 52))
+               + arrow(8, 14, 56, 14, ORANGE[1], 3), defs)
+
+
+def polar_array():
+    import math
+    defs = radial("b", BLUE)
+    body = '<circle cx="32" cy="32" r="4" fill="%s"/>\n' % ORANGE[1]
+    for k in range(6):
+        a = 2 * math.pi * k / 6
+        body += sphere(32 + 20 * math.cos(a), 32 + 20 * math.sin(a), 8)
+    return svg(body, defs)
+
+
 def solid_icon(body, defs):
     return lambda: svg(body(), defs)
 
@@ -322,6 +338,9 @@ ICONS = {
     "shell": shell,
     "metamorphosis": metamorphosis,
     "gyroid": lattice,
+    "linear_array": linear_array,
+    "polar_array": polar_array,
+    "category-array": linear_array,
     # Fallbacks for node types added without their own icon, by registry category.
     "category-primitive": lambda: svg(sphere(), radial("b", BLUE)),
     "category-transform": transform,

@@ -206,6 +206,52 @@ TEST(Blobs, BoundsEncloseTheSolidAndTheMeshIsOnePart) {
   }
 }
 
+TEST(Arrays, LinearArrayIsTheUnionOfAllCopiesAtThreeEvaluations) {
+  // 10,000 overlapping spheres (radius 0.8, step 1): the field is the union of every copy,
+  // while the program holds the sphere only three times.
+  const NodePtr ball = sphere(0.8, {0.2, 0, 0});
+  const NodePtr row = makeNode("linear_array", {{"count", realValue(10000)},
+                                                {"step", vec3Value({1, 0, 0})}}, {ball});
+  const Program p = compile(row), one = compile(ball);
+  EXPECT_LT(p.instructionCount(), 4 * one.instructionCount() + 40);
+  std::mt19937 g(5);
+  std::uniform_real_distribution<double> along(-3, 10003), across(-1, 1);
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 q = {along(g), across(g), across(g)};
+    double best = -1e300;
+    for (int j = std::max(0, int(q[0]) - 3); j <= std::min(9999, int(q[0]) + 3); ++j)
+      best = std::max(best, one.eval(q[0] - j, q[1], q[2]));
+    if (q[0] < -2) best = one.eval(q[0], q[1], q[2]);
+    EXPECT_NEAR(eval(p, q), best, 1e-12) << q[0];
+  }
+}
+
+TEST(Arrays, PolarArrayFullAndPartial) {
+  const NodePtr ball = sphere(0.3, {1, 0, 0});
+  const Program one = compile(ball);
+  auto brute = [&](const Vec3& q, int n, double stepDeg) {
+    double best = -1e300;
+    for (int j = 0; j < n; ++j) {
+      const double th = -j * stepDeg * kPi / 180, c = std::cos(th), s = std::sin(th);
+      best = std::max(best, one.eval(c * q[0] - s * q[1], s * q[0] + c * q[1], q[2]));
+    }
+    return best;
+  };
+  const Program full = compile(makeNode("polar_array", {{"count", realValue(6)}}, {ball}));
+  const Program part = compile(makeNode("polar_array", {{"count", realValue(3)}, {"angle", realValue(90)}}, {ball}));
+  for (const Vec3& q : randomPoints(2000, 1.5)) {
+    EXPECT_NEAR(eval(full, q), brute(q, 6, 60), 1e-12);
+    EXPECT_NEAR(eval(part, q), brute(q, 3, 45), 1e-12);
+  }
+  MeshingOptions o;
+  o.bbox = {{-1.5, -1.5, -0.5}, {1.5, 1.5, 0.5}};
+  o.resolution = 1.0 / 32;
+  const NodePtr ring = makeNode("polar_array", {{"count", realValue(12)}}, {sphere(0.3, {1, 0, 0})});
+  const CheckReport r = checkMesh(polygonize(compile(ring), o));
+  EXPECT_TRUE(r.printable());
+  EXPECT_EQ(r.components, 1u);  // neighbours 0.52 apart, radius 0.3: one ring
+}
+
 TEST(Offset, MovesASphereSurfaceByTheDistance) {
   for (double d : {0.2, -0.3}) {
     const Program p = compile(makeNode("offset", {{"distance", realValue(d)}}, {sphere(1)}));

@@ -21,7 +21,7 @@ MENU = "FRep"
 TOOLBARS = (
     ("FRep primitives", ("primitive",)),
     ("FRep operations", ("set operation", "blend", "field operation")),
-    ("FRep transforms", ("transform", "deformation")),
+    ("FRep transforms", ("transform", "deformation", "array")),
     ("FRep microstructures", ("microstructure",)),
 )
 MESH_COMMANDS = ["FRep_Polygonize", "FRep_Export", "FRep_PreviewQuality"]

@@ -54,6 +54,8 @@ inline Dual powAbs(const Dual& a, double k) {
   const double slope = m == 0.0 ? (k == 1.0 ? 1.0 : 0.0) : k * std::pow(m, k - 1.0);
   return chain(a, std::pow(m, k), a.v < 0 ? -slope : slope);
 }
+// A step function: flat between the integers (its jumps only pick which copy is evaluated).
+inline Dual floor(const Dual& a) { return Dual(std::floor(a.v)); }
 // d atan2(y, x) = (x dy - y dx) / (x^2 + y^2)
 inline Dual atan2(const Dual& y, const Dual& x) {
   Dual r;

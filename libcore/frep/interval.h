@@ -87,6 +87,8 @@ inline Interval cos(Interval a) {
   return sin(Interval{a.lo + kHalfPi, a.hi + kHalfPi});
 }
 
+inline Interval floor(Interval a) { return {std::floor(a.lo), std::floor(a.hi)}; }
+
 // |a|^k is increasing in |a| (k > 0).
 inline Interval powAbs(Interval a, double k) {
   const Interval m = abs(a);

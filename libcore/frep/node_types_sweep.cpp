@@ -38,13 +38,15 @@ void registerSweeps(Registry& r) {
   ParamTemplate r1 = positiveLength("radius1", 0.2, "Radius at the first point.");
   ParamTemplate r2 = realParam("radius2", 0.2, "length", "Radius at the last point (0: a point).");
   range(r2, 0.0, kInf);
-  r.add({"sweep", "primitive",
+  r.add({"sweep",
+         "primitive",
          "A sphere swept along a polyline, its radius going linearly from radius1 to radius2 "
          "along the length. In FreeCAD the points can come from any edge, wire, sketch or "
          "Draft wire (property PointsSource).",
          "F = max_i (r(s_i(t_i)) - |p - (P_i + t_i (P_i+1 - P_i))|),  t_i = clamp of the "
          "projection of p on segment i, s = arc length",
-         0, 0,
+         0,
+         0,
          {pointsParam("points", {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}}, 2, "length",
                       "The polyline, in order."),
           r1, r2},
@@ -55,9 +57,9 @@ void registerSweeps(Registry& r) {
            for (std::size_t i = 1; i < pts.size(); ++i) {
              const Vec3& p = pts[i - 1];
              const Vec3& q = pts[i];
-             at[i] = at[i - 1] + std::sqrt((q[0] - p[0]) * (q[0] - p[0]) +
-                                           (q[1] - p[1]) * (q[1] - p[1]) +
-                                           (q[2] - p[2]) * (q[2] - p[2]));
+             at[i] = at[i - 1] +
+                     std::sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
+                               (q[2] - p[2]) * (q[2] - p[2]));
            }
            const double total = at.back(), ra = c.real("radius1"), rb = c.real("radius2");
            auto radiusAt = [&](double s) { return total > 0 ? ra + (rb - ra) * s / total : ra; };

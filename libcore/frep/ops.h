@@ -33,6 +33,7 @@ enum class Op : std::uint8_t {
   BlendBump,   // k0 / (1 + (a/k1)^2 + (b/k2)^2): Pasko's blend displacement
   Atan2,       // atan2(a, b): the angle of the point (b, a), in (-pi, pi]
   PowAbs,      // |a|^k0, k0 > 0 (superquadrics)
+  Floor,       // floor(a): which copy of a repetition (arrays)
   Count_
 };
 
@@ -96,6 +97,7 @@ inline T applyOp(Op op, const T& a, const T& b, const T& c, const double* k) {
     case Op::BlendBump: return blendBump(a, b, k);
     case Op::Atan2: return atan2(a, b);
     case Op::PowAbs: return powAbs(a, k[0]);
+    case Op::Floor: return floor(a);
     case Op::Count_: break;
   }
   return T(0.0);

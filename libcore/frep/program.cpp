@@ -19,7 +19,7 @@ constexpr OpInfo kOpInfo[] = {
     {"min", 2, 0, true},       {"max", 2, 0, true},         {"exp", 1, 0, false},
     {"sin", 1, 0, false},      {"cos", 1, 0, false},        {"affine", 3, 4, false},
     {"runion", 2, 1, true},    {"rintersect", 2, 1, true},  {"blendbump", 2, 3, false},
-    {"atan2", 2, 0, false},    {"powabs", 1, 1, false},
+    {"atan2", 2, 0, false},    {"powabs", 1, 1, false},     {"floor", 1, 0, false},
 };
 static_assert(sizeof(kOpInfo) / sizeof(kOpInfo[0]) == static_cast<int>(Op::Count_),
               "every op needs an entry");
@@ -102,6 +102,7 @@ void Program::evalChunk(const double* x, const double* y, const double* z, std::
       case Op::BlendBump: FREP_KERNEL(blendBump<double>(a[j], b[j], k));
       case Op::Atan2: FREP_KERNEL(std::atan2(a[j], b[j]));
       case Op::PowAbs: FREP_KERNEL(powAbs(a[j], k[0]));
+      case Op::Floor: FREP_KERNEL(std::floor(a[j]));
       case Op::Count_: break;
     }
 #undef FREP_KERNEL

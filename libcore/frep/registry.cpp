@@ -236,6 +236,7 @@ const Registry& registry() {
     registerBoundedBlend(r);
     registerFieldOperations(r);
     registerDeformations(r);
+    registerArrays(r);
     registerMicrostructures(r);
     return r;
   }();

@@ -115,6 +115,7 @@ void registerSetOperations(Registry& r);
 void registerBoundedBlend(Registry& r);
 void registerSweeps(Registry& r);
 void registerBlobs(Registry& r);
+void registerArrays(Registry& r);
 void registerDeformations(Registry& r);
 void registerFieldOperations(Registry& r);
 void registerMicrostructures(Registry& r);

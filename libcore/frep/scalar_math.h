@@ -14,6 +14,7 @@ using std::abs;
 using std::atan2;
 using std::cos;
 using std::exp;
+using std::floor;
 using std::sin;
 using std::sqrt;
 // min/max that return the first argument on ties and propagate a NaN in the first one.

@@ -1,0 +1,145 @@
+// Linear and polar arrays: copies of the input along a step or around an axis, combined by
+// union. Each point evaluates only the copy whose cell it is in and that copy's two
+// neighbours (a one-dimensional spatial index by floor), so ten thousand copies cost three
+// evaluations of the input, not ten thousand. Exact as long as a copy does not reach past
+// its neighbours' cells; a copy reaching further is cut there.
+#include <algorithm>
+#include <cmath>
+
+#include "frep/node_helpers.h"
+#include "frep/registry.h"
+#include "frep/structural_bounds.h"
+#include "frep/tree.h"
+
+namespace frep {
+
+namespace {
+
+// Where the input is, to centre the cells on its copies (the origin when unknown).
+Vec3 inputCentre(const CompileContext& c) {
+  const Box3 b = structuralBounds(c.node().inputs.at(0));
+  Vec3 m{0, 0, 0};
+  for (int a = 0; a < 3; ++a)
+    if (std::isfinite(b.lo[a]) && std::isfinite(b.hi[a])) m[a] = 0.5 * (b.lo[a] + b.hi[a]);
+  return m;
+}
+
+// clamp(floor(t + 0.5) + shift, 0, count - 1): the copy a point in cell t looks at.
+Slot copyIndex(ProgramBuilder& b, Slot t, double shift, int count, bool wrap) {
+  const Slot k =
+      b.affine(b.emit(Op::Floor, b.affine(t, t, t, 1.0, 0, 0, 0.5)), t, t, 1.0, 0, 0, shift);
+  if (wrap) return k;  // a full circle: rotations are periodic
+  return b.min(b.max(k, b.constant(0.0)), b.constant(count - 1.0));
+}
+
+}  // namespace
+
+void registerArrays(Registry& r) {
+  {
+    ParamTemplate count = intParam("count", 3, "Number of copies, the input included.");
+    range(count, 1, 1000000);
+    ParamTemplate step = vec3Param("step", {1, 0, 0}, "length", "From one copy to the next.");
+    step.nonZeroVector = true;
+    r.add({"linear_array",
+           "array",
+           "Copies of the input in a row, `step` apart, combined by union (HyperFun's and "
+           "Draft's linear array).",
+           "k = clamp(round((p - m).step / |step|^2), 0, count-1);  F = max_(j = k-1..k+1, "
+           "clamped) f(p - j step)",
+           1,
+           1,
+           {count, step},
+           [](CompileContext& c) {
+             auto& b = c.b;
+             const int n = static_cast<int>(c.real("count"));
+             if (n == 1) return c.input(0);
+             const Vec3 s = c.vec3("step"), m = inputCentre(c);
+             const double l2 = s[0] * s[0] + s[1] * s[1] + s[2] * s[2];
+             const Slot t = b.affine(c.p.x, c.p.y, c.p.z, s[0] / l2, s[1] / l2, s[2] / l2,
+                                     -(s[0] * m[0] + s[1] * m[1] + s[2] * m[2]) / l2);
+             Slot result = 0;
+             for (int d = -1; d <= 1; ++d) {
+               const Slot j = copyIndex(b, t, d, n, false);
+               const Point3Slots q = {b.affine(c.p.x, j, j, 1.0, -s[0], 0, 0),
+                                      b.affine(c.p.y, j, j, 1.0, -s[1], 0, 0),
+                                      b.affine(c.p.z, j, j, 1.0, -s[2], 0, 0)};
+               const Slot f = c.input(0, q);
+               result = d == -1 ? f : b.max(result, f);
+             }
+             return result;
+           },
+           [](const Node& n, const std::vector<Box3>& in) {
+             const Vec3 s = n.vec3("step");
+             const double last = n.real("count") - 1;
+             return boxHull(in[0], affineImage({1, 0, 0, last * s[0], 0, 1, 0, last * s[1], 0, 0, 1,
+                                                last * s[2]},
+                                               in[0]));
+           }});
+  }
+
+  {
+    ParamTemplate count = intParam("count", 6, "Number of copies, the input included.");
+    range(count, 1, 10000);
+    ParamTemplate angle =
+        realParam("angle", 360.0, "angle", "Angle the copies span; 360 spaces them all round.");
+    range(angle, 0.0, 360.0, true);
+    r.add({"polar_array",
+           "array",
+           "Copies of the input turned about an axis, combined by union (Draft's polar "
+           "array). With `angle` 360 they go all round, `count` of them evenly spaced; with "
+           "less, the last copy is turned by `angle`.",
+           "step = angle / count (360) or angle / (count - 1);  F = max over the three copies "
+           "nearest p's angle of f(R(axis, -j step) (p - center) + center)",
+           1,
+           1,
+           {count, axisParam("Axis of rotation."), centerParam("A point on the axis."), angle},
+           [](CompileContext& c) {
+             auto& b = c.b;
+             const int n = static_cast<int>(c.real("count"));
+             if (n == 1) return c.input(0);
+             const double span = c.real("angle") * kPi / 180.0;
+             const bool full = c.real("angle") == 360.0;
+             const double step = full ? span / n : span / (n - 1);
+             const Vec3 o = c.vec3("center");
+             const Frame f = frameAlong(c.vec3("axis"));
+             const Point3Slots q = localCoordinates(b, c.p, o, f);
+             // Angles measured from the middle of the array, so that the branch cut of atan2
+             // lies opposite it.
+             const Vec3 m = inputCentre(c);
+             const Vec3 dm = {m[0] - o[0], m[1] - o[1], m[2] - o[2]};
+             const double u0 = dm[0] * f.u[0] + dm[1] * f.u[1] + dm[2] * f.u[2];
+             const double v0 = dm[0] * f.v[0] + dm[1] * f.v[1] + dm[2] * f.v[2];
+             const double first = (u0 == 0.0 && v0 == 0.0) ? 0.0 : std::atan2(v0, u0);
+             const double middle = first + (full ? 0.0 : span / 2);
+             const double cm = std::cos(middle), sm = std::sin(middle);
+             const Slot ru = b.affine(q.x, q.y, q.y, cm, sm, 0, 0);
+             const Slot rv = b.affine(q.x, q.y, q.y, -sm, cm, 0, 0);
+             const Slot theta = b.emit(Op::Atan2, rv, ru);  // angle from the middle
+             const Slot t =
+                 b.affine(theta, theta, theta, 1.0 / step, 0, 0, full ? 0.0 : span / 2 / step);
+             Slot result = 0;
+             for (int d = -1; d <= 1; ++d) {
+               const Slot j = copyIndex(b, t, d, n, full);
+               const Slot turn = b.affine(j, j, j, -step, 0, 0, 0);
+               const Slot cs = b.emit(Op::Cos, turn), sn = b.emit(Op::Sin, turn);
+               const Slot u = b.sub(b.mul(q.x, cs), b.mul(q.y, sn));
+               const Slot v = b.add(b.mul(q.x, sn), b.mul(q.y, cs));
+               const Point3Slots back = {b.affine(u, v, q.z, f.u[0], f.v[0], f.w[0], o[0]),
+                                         b.affine(u, v, q.z, f.u[1], f.v[1], f.w[1], o[1]),
+                                         b.affine(u, v, q.z, f.u[2], f.v[2], f.w[2], o[2])};
+               const Slot fv = c.input(0, back);
+               result = d == -1 ? fv : b.max(result, fv);
+             }
+             return result;
+           },
+           [](const Node& n, const std::vector<Box3>& in) {
+             if (!isFinite(in[0])) return unknownBounds();
+             const Vec3 w = normalized(n.vec3("axis")), o = n.vec3("center");
+             double radius, lo, hi;
+             radialExtent(in[0], o, w, &radius, &lo, &hi);
+             return cylinderBounds(o, w, lo, hi, radius);
+           }});
+  }
+}
+
+}  // namespace frep
