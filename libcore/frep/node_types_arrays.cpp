@@ -133,11 +133,7 @@ void registerArrays(Registry& r) {
              return result;
            },
            [](const Node& n, const std::vector<Box3>& in) {
-             if (!isFinite(in[0])) return unknownBounds();
-             const Vec3 w = normalized(n.vec3("axis")), o = n.vec3("center");
-             double radius, lo, hi;
-             radialExtent(in[0], o, w, &radius, &lo, &hi);
-             return cylinderBounds(o, w, lo, hi, radius);
+             return turnedAboutAxis(in[0], n.vec3("center"), n.vec3("axis"));
            }});
   }
 }

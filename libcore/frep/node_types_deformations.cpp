@@ -44,12 +44,7 @@ void registerDeformations(Registry& r) {
            return c.input(0, fromFrame(b, u, v, q.z, o, f));
          },
          [](const Node& n, const std::vector<Box3>& in) {
-           // Turning about the axis keeps the distance from it and the height along it.
-           if (!isFinite(in[0])) return unknownBounds();
-           const Vec3 w = normalized(n.vec3("axis")), o = n.vec3("center");
-           double radius, lo, hi;
-           radialExtent(in[0], o, w, &radius, &lo, &hi);
-           return cylinderBounds(o, w, lo, hi, radius);
+           return turnedAboutAxis(in[0], n.vec3("center"), n.vec3("axis"));
          }});
 
   {

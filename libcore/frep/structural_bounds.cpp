@@ -100,6 +100,16 @@ void radialExtent(const Box3& b, const Vec3& origin, const Vec3& axis, double* r
   }
 }
 
+Box3 turnedAboutAxis(const Box3& b, const Vec3& origin, const Vec3& axis) {
+  // Turning keeps the distance from the axis and the height along it.
+  if (!isFinite(b)) return unknownBounds();
+  const double n = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+  const Vec3 w = {axis[0] / n, axis[1] / n, axis[2] / n};
+  double radius, lo, hi;
+  radialExtent(b, origin, w, &radius, &lo, &hi);
+  return cylinderBounds(origin, w, lo, hi, radius);
+}
+
 Box3 structuralBounds(const NodePtr& root) {
   std::map<const Node*, Box3> memo;
   return boundsOf(root, memo);

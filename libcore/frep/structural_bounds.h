@@ -25,6 +25,9 @@ Box3 affineImage(const Mat34& m, const Box3& b);
 // The box around the solid of revolution reaching `radius` from the axis line through
 // `origin` along unit `axis`, between axial coordinates lo and hi.
 Box3 cylinderBounds(const Vec3& origin, const Vec3& axis, double lo, double hi, double radius);
+// Everything a box can reach when turned about the axis line through `origin` along `axis`
+// (any angles): the enclosing cylinder's box. Unknown when the box is not finite.
+Box3 turnedAboutAxis(const Box3& b, const Vec3& origin, const Vec3& axis);
 // For a finite box: its farthest distance from that axis line and its axial extent.
 void radialExtent(const Box3& b, const Vec3& origin, const Vec3& axis, double* radius, double* lo,
                   double* hi);
