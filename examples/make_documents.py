@@ -3,6 +3,7 @@
 
     examples/csg.FCStd              the csg reference model (examples/csg.json) as features
     examples/csg_spreadsheet.FCStd  the same part driven by a spreadsheet, with a Polygonize
+    examples/showcase.FCStd         seed 000's showcase shapes, from examples/showcase/*.json
     examples/twist.FCStd, helix.FCStd, gyroid.FCStd
                                     the reference models of the same names, imported from
                                     their .json files (File > Open does the same)
@@ -77,6 +78,7 @@ def new_document(name, comment):
 
 def build():
     """Inside the FreeCAD GUI."""
+    import FreeCAD
     import FRepExamples
 
     doc = new_document("csg", "Reference model csg (examples/csg.json): cube [-1,1]^3 "
@@ -100,6 +102,25 @@ def build():
         FRepImport.import_model(os.path.join(HERE, name + ".json"), doc)
         doc.recompute()
         save(doc, name)
+
+    # Seed 000's showcase shapes side by side, one feature tree each (examples/showcase).
+    doc = new_document("showcase", "Seed 000's showcase shapes (figures 4.9 to 4.15), from "
+                       "examples/showcase/*.json; each exports as a printable STL.")
+    import FRepMeshing
+    doc.Meta = dict(doc.Meta, **{FRepMeshing.PREVIEW_KEY: "32"})  # twelve previews: smaller
+    folder = os.path.join(HERE, "showcase")
+    names = sorted(n[:-5] for n in os.listdir(folder) if n.endswith(".json"))
+    for i, name in enumerate(names):
+        top = FRepImport.import_model(os.path.join(folder, name + ".json"), doc)
+        top.Placement.Base = FreeCAD.Vector(3.0 * (i % 4), -3.0 * (i // 4), 0)
+    doc.recompute()
+    import FreeCADGui
+    view = FreeCADGui.getDocument(doc.Name).ActiveView
+    view.viewIsometric()
+    view.fitAll()
+    FreeCADGui.updateGui()
+    view.saveImage(os.path.join(ROOT, "docs", "images", "showcase.png"), 1000, 620, "White")
+    save(doc, "showcase")
 
 
 if os.environ.get("FREP_MAKE_DOCUMENTS") == "1" and "FreeCADGui" in sys.modules:

@@ -77,6 +77,28 @@ INSTANTIATE_TEST_SUITE_P(Fine, ExamplesPrintable,
                            return i.param.model + "_1_" + std::to_string(i.param.cellsPerUnit);
                          });
 
+// Seed 000's showcase shapes (examples/showcase, written by examples/make_showcase.py), each at
+// its own export resolution: one printable part apiece.
+class ShowcasePrintable : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ShowcasePrintable, CgalSaysPrintable) {
+  const Model m = loadModel(std::string(FREP_SOURCE_DIR) + "/examples/showcase/" + GetParam() + ".json");
+  ASSERT_TRUE(m.bbox && m.resolution);
+  MeshingOptions o;
+  o.bbox = *m.bbox;
+  o.resolution = *m.resolution;
+  const CheckReport r = checkMesh(polygonize(compile(m.root), o));
+  EXPECT_TRUE(r.printable()) << GetParam() << ": " << reasons(r);
+  EXPECT_EQ(r.components, 1u) << GetParam();
+}
+
+INSTANTIATE_TEST_SUITE_P(Seed000, ShowcasePrintable,
+                         ::testing::Values("blend_narrow", "blend_wide", "blend_uneven",
+                                           "bounded_blend", "taper", "bend", "twist",
+                                           "deform_point", "sweep", "offset_in", "offset_out",
+                                           "metamorphosis"),
+                         [](const ::testing::TestParamInfo<std::string>& i) { return i.param; });
+
 TEST(Mesher, SphereVolumeWithinHalfPercentAt128) {
   const CheckReport r = checkMesh(meshModel(example("sphere"), 1.0 / 128));
   const double exact = 4.0 / 3.0 * kPi;

@@ -93,7 +93,32 @@ def test_reference_documents_hold_their_json_model(name):
         FreeCAD.closeDocument(doc.Name)
 
 
-@pytest.mark.parametrize("name", ["csg", "csg_spreadsheet", "twist", "helix", "gyroid"])
+def test_showcase_document_holds_every_showcase_model():
+    folder = os.path.join(EXAMPLES, "showcase")
+    names = sorted(n[:-5] for n in os.listdir(folder) if n.endswith(".json"))
+    doc = FreeCAD.openDocument(os.path.join(EXAMPLES, "showcase.FCStd"))
+    try:
+        for o in doc.Objects:
+            o.touch()
+        doc.recompute()
+        assert not [o.Label for o in doc.Objects if "Invalid" in o.State]
+        shown = {o.Label: o for o in doc.Objects if o.Visibility}
+        assert sorted(shown) == names
+        for name in names:
+            reference, _ = frepcore.load(os.path.join(folder, name + ".json"))
+            top = shown[name]
+            # The feature is the model moved by its Placement in the layout.
+            base = top.Placement.Base
+            points = sample_points(300, reach=1.2)
+            moved = [(x + base.x, y + base.y, z + base.z) for x, y, z in points]
+            mine = FRepTree.shape_of(top).values(moved)
+            assert max(abs(a - b) for a, b in zip(mine, reference.values(points))) < 1e-9
+    finally:
+        FreeCAD.closeDocument(doc.Name)
+
+
+@pytest.mark.parametrize("name", ["csg", "csg_spreadsheet", "twist", "helix", "gyroid",
+                                  "showcase"])
 def test_examples_were_saved_from_the_gui(name):
     """Without GuiDocument.xml FreeCAD opens a document with every object shown, consumed
     inputs included; make_documents.py saves from the GUI so the inputs stay hidden."""
