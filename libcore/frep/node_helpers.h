@@ -60,6 +60,21 @@ inline Point3Slots localCoordinates(ProgramBuilder& b, Point3Slots p, const Vec3
   return {along(f.u), along(f.v), along(f.w)};
 }
 
+// The inverse of localCoordinates: the world point origin + a u + b v + h w.
+inline Point3Slots fromLocalCoordinates(ProgramBuilder& b, Slot a, Slot bb, Slot h,
+                                        const Vec3& origin, const Frame& f) {
+  return {b.affine(a, bb, h, f.u[0], f.v[0], f.w[0], origin[0]),
+          b.affine(a, bb, h, f.u[1], f.v[1], f.w[1], origin[1]),
+          b.affine(a, bb, h, f.u[2], f.v[2], f.w[2], origin[2])};
+}
+
+// Frame coordinates q turned about the frame's w axis by the angle held in `angle` (radians,
+// computed per point, as in a twist or a polar array).
+inline Point3Slots turnedAboutW(ProgramBuilder& b, const Point3Slots& q, Slot angle) {
+  const Slot cs = b.emit(Op::Cos, angle), sn = b.emit(Op::Sin, angle);
+  return {b.sub(b.mul(q.x, cs), b.mul(q.y, sn)), b.add(b.mul(q.x, sn), b.mul(q.y, cs)), q.z};
+}
+
 // p - origin, component-wise (no rotation).
 inline Point3Slots shifted(ProgramBuilder& b, Point3Slots p, const Vec3& origin) {
   return {b.sub(p.x, b.constant(origin[0])), b.sub(p.y, b.constant(origin[1])),

@@ -120,14 +120,8 @@ void registerArrays(Registry& r) {
              Slot result = 0;
              for (int d = -1; d <= 1; ++d) {
                const Slot j = copyIndex(b, t, d, n, full);
-               const Slot turn = b.affine(j, j, j, -step, 0, 0, 0);
-               const Slot cs = b.emit(Op::Cos, turn), sn = b.emit(Op::Sin, turn);
-               const Slot u = b.sub(b.mul(q.x, cs), b.mul(q.y, sn));
-               const Slot v = b.add(b.mul(q.x, sn), b.mul(q.y, cs));
-               const Point3Slots back = {b.affine(u, v, q.z, f.u[0], f.v[0], f.w[0], o[0]),
-                                         b.affine(u, v, q.z, f.u[1], f.v[1], f.w[1], o[1]),
-                                         b.affine(u, v, q.z, f.u[2], f.v[2], f.w[2], o[2])};
-               const Slot fv = c.input(0, back);
+               const Point3Slots t = turnedAboutW(b, q, b.affine(j, j, j, -step, 0, 0, 0));
+               const Slot fv = c.input(0, fromLocalCoordinates(b, t.x, t.y, t.z, o, f));
                result = d == -1 ? fv : b.max(result, fv);
              }
              return result;

@@ -48,14 +48,7 @@ void addBlob(Registry& r, const char* id, const char* doc, const char* formula,
          },
          [reach](const Node& n, const std::vector<Box3>&) {
            const std::vector<Vec3> pts = pointsOf(n.param("centers"));
-           const double k = reach(n, pts.size());
-           Box3 box{pts[0], pts[0]};
-           for (const Vec3& q : pts)
-             for (int a = 0; a < 3; ++a) {
-               box.lo[a] = std::min(box.lo[a], q[a] - k);
-               box.hi[a] = std::max(box.hi[a], q[a] + k);
-             }
-           return box;
+           return pointsBounds(pts, reach(n, pts.size()));
          }});
 }
 

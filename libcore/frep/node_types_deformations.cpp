@@ -8,17 +8,6 @@
 
 namespace frep {
 
-namespace {
-
-// World point c + a u + b v + h w from frame coordinates.
-Point3Slots fromFrame(ProgramBuilder& b, Slot a, Slot bb, Slot h, const Vec3& c, const Frame& f) {
-  return {b.affine(a, bb, h, f.u[0], f.v[0], f.w[0], c[0]),
-          b.affine(a, bb, h, f.u[1], f.v[1], f.w[1], c[1]),
-          b.affine(a, bb, h, f.u[2], f.v[2], f.w[2], c[2])};
-}
-
-}  // namespace
-
 void registerDeformations(Registry& r) {
   r.add({"twist",
          "deformation",
@@ -38,10 +27,8 @@ void registerDeformations(Registry& r) {
            const Frame f = frameAlong(c.vec3("axis"));
            const Point3Slots q = localCoordinates(b, c.p, o, f);
            const Slot theta = b.affine(q.z, q.z, q.z, -rate, 0.0, 0.0, 0.0);
-           const Slot cs = b.emit(Op::Cos, theta), sn = b.emit(Op::Sin, theta);
-           const Slot u = b.sub(b.mul(q.x, cs), b.mul(q.y, sn));
-           const Slot v = b.add(b.mul(q.x, sn), b.mul(q.y, cs));
-           return c.input(0, fromFrame(b, u, v, q.z, o, f));
+           const Point3Slots t = turnedAboutW(b, q, theta);
+           return c.input(0, fromLocalCoordinates(b, t.x, t.y, t.z, o, f));
          },
          [](const Node& n, const std::vector<Box3>& in) {
            return turnedAboutAxis(in[0], n.vec3("center"), n.vec3("axis"));
@@ -86,7 +73,7 @@ void registerDeformations(Registry& r) {
              const Slot a = b.affine(turned, turned, turned, radius, 0.0, 0.0, 0.0);
              const Slot rho = b.length2(q.x, fromCentre);
              const Slot bb = b.affine(rho, rho, rho, -1.0, 0.0, 0.0, radius);
-             return c.input(0, fromFrame(b, a, bb, q.z, o, f));
+             return c.input(0, fromLocalCoordinates(b, a, bb, q.z, o, f));
            }});
   }
 
@@ -116,13 +103,7 @@ void registerDeformations(Registry& r) {
          [](const Node& n, const std::vector<Box3>& in) {
            // Points move by at most |displacement|.
            const Vec3 m = n.vec3("displacement");
-           const double k = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-           Box3 b = in[0];
-           for (int a = 0; a < 3; ++a) {
-             b.lo[a] -= k;
-             b.hi[a] += k;
-           }
-           return b;
+           return paddedBox(in[0], std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]));
          }});
 
   r.add({"taper",
@@ -149,7 +130,7 @@ void registerDeformations(Registry& r) {
                b.min(b.max(b.affine(q.z, q.z, q.z, 1.0 / len, 0.0, 0.0, 0.0), b.constant(0.0)),
                      b.constant(1.0));
            const Slot inv = b.div(b.constant(1.0), b.affine(t, t, t, s2 - s1, 0.0, 0.0, s1));
-           return c.input(0, fromFrame(b, b.mul(q.x, inv), b.mul(q.y, inv), q.z, o, f));
+           return c.input(0, fromLocalCoordinates(b, b.mul(q.x, inv), b.mul(q.y, inv), q.z, o, f));
          },
          [](const Node& n, const std::vector<Box3>& in) {
            if (!isFinite(in[0])) return unknownBounds();

@@ -29,9 +29,8 @@ void registerPrimitives(Registry& r) {
            return b.sub(b.constant(c.real("radius")), b.length3(d.x, d.y, d.z));
          },
          [](const Node& n, const std::vector<Box3>&) {
-           const Vec3 m = n.vec3("center");
            const double r = n.real("radius");
-           return Box3{{m[0] - r, m[1] - r, m[2] - r}, {m[0] + r, m[1] + r, m[2] + r}};
+           return boxAround(n.vec3("center"), {r, r, r});
          }});
 
   {
@@ -142,9 +141,7 @@ void registerPrimitives(Registry& r) {
              return b.affine(len, len, len, -s, 0.0, 0.0, s);
            },
            [](const Node& n, const std::vector<Box3>&) {
-             const Vec3 m = n.vec3("center"), a = n.vec3("radii");
-             return Box3{{m[0] - a[0], m[1] - a[1], m[2] - a[2]},
-                         {m[0] + a[0], m[1] + a[1], m[2] + a[2]}};
+             return boxAround(n.vec3("center"), n.vec3("radii"));
            }});
   }
 
@@ -180,9 +177,7 @@ void registerPrimitives(Registry& r) {
            },
            [](const Node& n, const std::vector<Box3>&) {
              // Each term of S is at most 1 inside, so |u_i| <= radius_i.
-             const Vec3 m = n.vec3("center"), a = n.vec3("radii");
-             return Box3{{m[0] - a[0], m[1] - a[1], m[2] - a[2]},
-                         {m[0] + a[0], m[1] + a[1], m[2] + a[2]}};
+             return boxAround(n.vec3("center"), n.vec3("radii"));
            }});
   }
 

@@ -75,19 +75,8 @@ void registerSweeps(Registry& r) {
            return field;
          },
          [](const Node& n, const std::vector<Box3>&) {
-           const std::vector<Vec3> pts = pointsOf(n.param("points"));
-           const double r = std::max(n.real("radius1"), n.real("radius2"));
-           Box3 b{pts[0], pts[0]};
-           for (const Vec3& q : pts)
-             for (int a = 0; a < 3; ++a) {
-               b.lo[a] = std::min(b.lo[a], q[a]);
-               b.hi[a] = std::max(b.hi[a], q[a]);
-             }
-           for (int a = 0; a < 3; ++a) {
-             b.lo[a] -= r;
-             b.hi[a] += r;
-           }
-           return b;
+           return pointsBounds(pointsOf(n.param("points")),
+                               std::max(n.real("radius1"), n.real("radius2")));
          }});
 }
 

@@ -5,10 +5,11 @@
 #include <limits>
 #include <map>
 
+#include "frep/node_helpers.h"
+
 namespace frep {
 
 namespace {
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 Vec3 corner(const Box3& b, int k) {
   return {(k & 1) ? b.hi[0] : b.lo[0], (k & 2) ? b.hi[1] : b.lo[1], (k & 4) ? b.hi[2] : b.lo[2]};
@@ -33,6 +34,22 @@ bool isFinite(const Box3& b) {
   for (int a = 0; a < 3; ++a)
     if (!std::isfinite(b.lo[a]) || !std::isfinite(b.hi[a])) return false;
   return true;
+}
+
+Box3 boxAround(const Vec3& center, const Vec3& half) {
+  return Box3{{center[0] - half[0], center[1] - half[1], center[2] - half[2]},
+              {center[0] + half[0], center[1] + half[1], center[2] + half[2]}};
+}
+
+Box3 paddedBox(const Box3& b, double pad) {
+  return Box3{{b.lo[0] - pad, b.lo[1] - pad, b.lo[2] - pad},
+              {b.hi[0] + pad, b.hi[1] + pad, b.hi[2] + pad}};
+}
+
+Box3 pointsBounds(const std::vector<Vec3>& points, double pad) {
+  Box3 b = boxAround(points.at(0), {pad, pad, pad});
+  for (const Vec3& q : points) b = boxHull(b, boxAround(q, {pad, pad, pad}));
+  return b;
 }
 
 Box3 boxHull(const Box3& a, const Box3& b) {
@@ -103,8 +120,7 @@ void radialExtent(const Box3& b, const Vec3& origin, const Vec3& axis, double* r
 Box3 turnedAboutAxis(const Box3& b, const Vec3& origin, const Vec3& axis) {
   // Turning keeps the distance from the axis and the height along it.
   if (!isFinite(b)) return unknownBounds();
-  const double n = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
-  const Vec3 w = {axis[0] / n, axis[1] / n, axis[2] / n};
+  const Vec3 w = normalized(axis);
   double radius, lo, hi;
   radialExtent(b, origin, w, &radius, &lo, &hi);
   return cylinderBounds(origin, w, lo, hi, radius);

@@ -20,6 +20,12 @@ Box3 unknownBounds();
 Box3 boxHull(const Box3& a, const Box3& b);
 Box3 boxIntersection(const Box3& a, const Box3& b);
 bool isFinite(const Box3& b);
+// center +- half (per axis).
+Box3 boxAround(const Vec3& center, const Vec3& half);
+// b grown by pad on every side.
+Box3 paddedBox(const Box3& b, double pad);
+// The box of the points grown by pad (points not empty).
+Box3 pointsBounds(const std::vector<Vec3>& points, double pad);
 // The image of a box under the affine map q = M p + t (row-major 3x4).
 Box3 affineImage(const Mat34& m, const Box3& b);
 // The box around the solid of revolution reaching `radius` from the axis line through
