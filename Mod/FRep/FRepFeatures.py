@@ -129,11 +129,7 @@ class FRepFeature(StatelessProxy):
     def local_shape(self, obj, builder):
         """This node over its inputs' shapes, before its own Placement."""
         info = NODE_TYPES[self.FREP_TYPE]
-        params = {p["name"]: props.check_value(obj, self.FREP_TYPE, p) for p in info["params"]}
-        for p in info["params"]:
-            source = FRepPoints.source_property(p["name"])
-            if p["type"] == "points" and getattr(obj, source, None) is not None:
-                params[p["name"]] = FRepPoints.path_points(obj, source, getattr(obj, source))
+        params = {p["name"]: self.param_value(obj, p) for p in info["params"]}
         inputs = linked_inputs(obj)
         prop = input_property(info)
         least = info["inputs"]["min"]
@@ -146,6 +142,14 @@ class FRepFeature(StatelessProxy):
             return builder.shape(inputs[0])
         nodes = [builder.shape(i).node for i in inputs]
         return frepcore.Shape(frepcore.Node(self.FREP_TYPE, params, nodes, obj.Label))
+
+    def param_value(self, obj, param):
+        """A parameter's value: from its property, or for a point list from the object its
+        `<Name>Source` links (the list property is then not used, so not checked)."""
+        source = FRepPoints.source_property(param["name"])
+        if param["type"] == "points" and getattr(obj, source, None) is not None:
+            return FRepPoints.path_points(obj, source, getattr(obj, source))
+        return props.check_value(obj, self.FREP_TYPE, param)
 
     def execute(self, obj):
         EXECUTIONS.append((obj.Document.Name, obj.Name))
