@@ -30,17 +30,10 @@ POLYGONIZE_CELLS = 48
 def launch():
     """Outside FreeCAD: start the GUI under Xvfb with this file as its macro."""
     build = os.path.abspath(os.environ.get("BUILD_DIR", os.path.join(ROOT, "build")))
-    home = os.path.join(build, "freecad-home")
-    subprocess.run(["bash", os.path.join(ROOT, "scripts", "install-workbench.sh"), home],
-                   check=True, stdout=subprocess.DEVNULL)
-    env = dict(os.environ, FREECAD_USER_HOME=home, QTWEBENGINE_DISABLE_SANDBOX="1",
-               FREPCORE_PATH=os.environ.get("FREPCORE_PATH", os.path.join(build, "python")),
-               FREP_MAKE_DOCUMENTS="1")
     log = os.path.join(build, "make_documents.log")
-    with open(log, "w") as out:
-        rc = subprocess.run(["timeout", "300", "xvfb-run", "-a", "-s", "-screen 0 1280x1024x24",
-                             "freecad", os.path.abspath(__file__)], env=env, stdout=out,
-                            stderr=subprocess.STDOUT).returncode
+    rc = subprocess.run(["bash", os.path.join(ROOT, "scripts", "run-freecad-gui.sh"), build,
+                         os.path.abspath(__file__), log, "300"],
+                        env=dict(os.environ, FREP_MAKE_DOCUMENTS="1")).returncode
     with open(log) as f:
         lines = [line for line in f if line.startswith(("wrote ", "error"))]
     sys.stdout.write("".join(lines))
@@ -67,12 +60,12 @@ def save(doc, name):
     print("wrote %s (%d kB)" % (os.path.relpath(path, ROOT), os.path.getsize(path) // 1024))
 
 
-def new_document(name, comment):
+def new_document(name, comment, preview_cells=PREVIEW_CELLS):
     import FreeCAD
     import FRepMeshing
     doc = FreeCAD.newDocument(name)
     doc.Comment = comment
-    doc.Meta = dict(doc.Meta, **{FRepMeshing.PREVIEW_KEY: str(PREVIEW_CELLS)})
+    doc.Meta = dict(doc.Meta, **{FRepMeshing.PREVIEW_KEY: str(preview_cells)})
     return doc
 
 
@@ -105,9 +98,8 @@ def build():
 
     # Seed 000's showcase shapes side by side, one feature tree each (examples/showcase).
     doc = new_document("showcase", "Seed 000's showcase shapes (figures 4.9 to 4.15), from "
-                       "examples/showcase/*.json; each exports as a printable STL.")
-    import FRepMeshing
-    doc.Meta = dict(doc.Meta, **{FRepMeshing.PREVIEW_KEY: "32"})  # twelve previews: smaller
+                       "examples/showcase/*.json; each exports as a printable STL.",
+                       preview_cells=32)  # twelve previews: coarser, to keep the file small
     folder = os.path.join(HERE, "showcase")
     names = sorted(n[:-5] for n in os.listdir(folder) if n.endswith(".json"))
     for i, name in enumerate(names):

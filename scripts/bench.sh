@@ -16,8 +16,7 @@ FREECAD_USER_HOME="$home" FREPCORE_PATH="$(realpath "$build")/python" \
   | grep -v '^ *#\|^$\|^FreeCAD\|^©\|wouldn.t be possible'
 
 # The same in the GUI (under Xvfb with software OpenGL: an upper bound for a real display).
-FREECAD_USER_HOME="$home" FREPCORE_PATH="$(realpath "$build")/python" \
-  FREP_SOURCE_DIR="$(pwd)" FREP_BENCH_OUT="$(realpath "$build")/bench-workbench-gui.json" \
-  QTWEBENGINE_DISABLE_SANDBOX=1 timeout 600 xvfb-run -a -s "-screen 0 1280x1024x24" \
-  freecad bench/workbench_latency_gui.FCMacro 2>&1 \
-  | grep -v '^ *#\|^$\|^FreeCAD\|^©\|wouldn.t be possible\|Addon Manager\|command_buffer'
+FREP_BENCH_OUT="$(realpath "$build")/bench-workbench-gui.json" \
+  bash scripts/run-freecad-gui.sh "$build" bench/workbench_latency_gui.FCMacro \
+  "$build/bench-workbench-gui.log"
+grep "csg," "$build/bench-workbench-gui.log"
