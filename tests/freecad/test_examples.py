@@ -29,21 +29,32 @@ def sample_points(n=4000, reach=1.6, seed=7):
              rng.uniform(-reach, reach)) for _ in range(n)]
 
 
+def recompute_all(doc):
+    """Recomputes every feature from scratch; none may fail."""
+    for obj in doc.Objects:
+        obj.touch()
+    doc.recompute()
+    assert not [o.Label for o in doc.Objects if "Invalid" in o.State]
+
+
+def field_difference(feature, json_path, points, offset=(0, 0, 0)):
+    """Largest difference between the feature's field at points + offset (its Placement in
+    a layout) and the JSON model's field at points."""
+    reference, _ = frepcore.load(json_path)
+    dx, dy, dz = offset
+    mine = FRepTree.shape_of(feature).values([(x + dx, y + dy, z + dz) for x, y, z in points])
+    return max(abs(a - b) for a, b in zip(mine, reference.values(points)))
+
+
 def test_example_is_the_exact_reference_solid(example):
     name, doc = example
     for obj_name, type_id in OBJECTS.items():
         obj = doc.getObject(obj_name)
         assert obj is not None and obj.Proxy.FREP_TYPE == type_id, (name, obj_name)
-    for obj in doc.Objects:
-        obj.touch()
-    doc.recompute()
-    assert not [o.Label for o in doc.Objects if "Invalid" in o.State]
-    reference, _ = frepcore.load(os.path.join(EXAMPLES, "csg.json"))
-    points = sample_points()
-    mine = FRepTree.shape_of(doc.getObject("Part")).values(points)
-    exact = reference.values(points)
+    recompute_all(doc)
     # Same tree, same formulas: equal to rounding (the Placement adds an identity transform).
-    assert max(abs(a - b) for a, b in zip(mine, exact)) < 1e-12
+    assert field_difference(doc.getObject("Part"), os.path.join(EXAMPLES, "csg.json"),
+                            sample_points()) < 1e-12
 
 
 def test_saved_meshes_are_there_and_printable(example):
@@ -81,13 +92,9 @@ def test_reference_documents_hold_their_json_model(name):
     doc = FreeCAD.openDocument(os.path.join(EXAMPLES, name + ".FCStd"))
     try:
         top = doc.getObject(name) or [o for o in doc.Objects if o.Label == name][0]
-        for o in doc.Objects:
-            o.touch()
-        doc.recompute()
-        reference, _ = frepcore.load(os.path.join(EXAMPLES, name + ".json"))
-        points = sample_points(2000, reach=2.0)
-        mine = FRepTree.shape_of(top).values(points)
-        assert max(abs(a - b) for a, b in zip(mine, reference.values(points))) < 1e-12
+        recompute_all(doc)
+        assert field_difference(top, os.path.join(EXAMPLES, name + ".json"),
+                                sample_points(2000, reach=2.0)) < 1e-12
         assert top.Mesh.CountFacets > 1000
     finally:
         FreeCAD.closeDocument(doc.Name)
@@ -98,21 +105,15 @@ def test_showcase_document_holds_every_showcase_model():
     names = sorted(n[:-5] for n in os.listdir(folder) if n.endswith(".json"))
     doc = FreeCAD.openDocument(os.path.join(EXAMPLES, "showcase.FCStd"))
     try:
-        for o in doc.Objects:
-            o.touch()
-        doc.recompute()
-        assert not [o.Label for o in doc.Objects if "Invalid" in o.State]
+        recompute_all(doc)
         shown = {o.Label: o for o in doc.Objects if o.Visibility}
         assert sorted(shown) == names
         for name in names:
-            reference, _ = frepcore.load(os.path.join(folder, name + ".json"))
-            top = shown[name]
             # The feature is the model moved by its Placement in the layout.
-            base = top.Placement.Base
-            points = sample_points(300, reach=1.2)
-            moved = [(x + base.x, y + base.y, z + base.z) for x, y, z in points]
-            mine = FRepTree.shape_of(top).values(moved)
-            assert max(abs(a - b) for a, b in zip(mine, reference.values(points))) < 1e-9
+            base = shown[name].Placement.Base
+            assert field_difference(shown[name], os.path.join(folder, name + ".json"),
+                                    sample_points(300, reach=1.2),
+                                    (base.x, base.y, base.z)) < 1e-9
     finally:
         FreeCAD.closeDocument(doc.Name)
 
@@ -133,12 +134,8 @@ def test_json_models_import_as_the_same_solid(doc, name):
     import FRepImport
     path = os.path.join(EXAMPLES, name + ".json")
     top = FRepImport.import_model(path, doc)
-    doc.recompute()
-    assert not [o.Label for o in doc.Objects if "Invalid" in o.State]
+    recompute_all(doc)
     assert top.Label == name and top.Visibility
     assert all(not o.Visibility for o in doc.Objects if o is not top)
-    reference, _ = frepcore.load(path)
-    points = sample_points(2000, reach=2.0)
-    mine = FRepTree.shape_of(top).values(points)
-    assert max(abs(a - b) for a, b in zip(mine, reference.values(points))) < 1e-12
+    assert field_difference(top, path, sample_points(2000, reach=2.0)) < 1e-12
     assert "FRepImport" in FreeCAD.getImportType("json")
