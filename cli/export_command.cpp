@@ -6,12 +6,39 @@
 
 #include "check/mesh_check.h"
 #include "cli/commands.h"
+#include "frep/bounds.h"
 #include "frep/errors.h"
 #include "frep/model_json.h"
+#include "frep/structural_bounds.h"
 #include "mesh/mesh_io.h"
 #include "mesh/mesher.h"
 
 namespace frep::cli {
+
+namespace {
+// The solid's own box, found by interval arithmetic, padded by 1.5 cells (at the given cell
+// size, or the default 1/128 of the box) so the surface never touches the meshing box.
+Box3 automaticBox(const std::string& modelPath, const Model& model, const Program& program,
+                  double& resolution) {
+  BoundsOptions o;
+  o.known = structuralBounds(model.root);
+  const SolidBounds b = findBounds(program, o);
+  if (b.empty) throw ModelError(modelPath + ": the solid is empty: no point is inside");
+  if (!b.bounded())
+    throw ModelError(modelPath + ": the solid is unbounded; give --bbox x0 y0 z0 x1 y1 z1, set "
+                                 "export.bbox in the model or intersect it with a bounded solid");
+  double longest = 1e-9;
+  for (int a = 0; a < 3; ++a) longest = std::max(longest, b.box.hi[a] - b.box.lo[a]);
+  if (!(resolution > 0.0)) resolution = longest / 128.0;
+  const double pad = 1.5 * resolution + 1e-3 * longest;
+  Box3 box = b.box;
+  for (int a = 0; a < 3; ++a) {
+    box.lo[a] -= pad;
+    box.hi[a] += pad;
+  }
+  return box;
+}
+}  // namespace
 
 int exportCommand(const Args& args) {
   for (const std::string& a : args)
@@ -49,11 +76,13 @@ int exportCommand(const Args& args) {
   if (resolution && !(*resolution > 0)) throw UsageError("--resolution must be > 0");
 
   const Model model = loadModel(modelPath);
+  const Program program = compile(model.root);
   if (!bbox) bbox = model.bbox;
-  if (!bbox)
-    throw ModelError(modelPath + ": no bounding box: give --bbox x0 y0 z0 x1 y1 z1 or set "
-                                 "export.bbox in the model");
   if (!resolution) resolution = model.resolution;
+  if (!bbox) {
+    if (!resolution) resolution = 0.0;  // 0: 1/128 of the solid's box, set by automaticBox
+    bbox = automaticBox(modelPath, model, program, *resolution);
+  }
   if (!resolution) {
     const double extent = std::max({bbox->hi[0] - bbox->lo[0], bbox->hi[1] - bbox->lo[1],
                                     bbox->hi[2] - bbox->lo[2]});
@@ -70,7 +99,6 @@ int exportCommand(const Args& args) {
       return true;
     };
   MeshingStats stats;
-  const Program program = compile(model.root);
   const TriangleMesh mesh = polygonize(program, options, &stats);
   if (showProgress) std::fprintf(stderr, "\r              \r");
   if (!quiet)

@@ -306,6 +306,20 @@ def polar_array():
     return svg(body, defs)
 
 
+def formula():
+    """A bumpy ball behind f(x): a solid written as a formula."""
+    import math
+    pts = []
+    for k in range(48):
+        a = 2 * math.pi * k / 48
+        r = 22 + 3 * math.sin(6 * a)
+        pts.append("%.1f,%.1f" % (32 + r * math.cos(a), 30 + r * math.sin(a)))
+    body = '<polygon points="%s" fill="url(#b)" %s/>\n' % (" ".join(pts), stroke(1.5))
+    body += ('<text x="32" y="40" text-anchor="middle" font-family="serif" font-style="italic" '
+             'font-size="24" font-weight="bold" fill="%s">f(x)</text>\n' % STROKE)
+    return svg(body, radial("b", BLUE))
+
+
 def solid_icon(body, defs):
     return lambda: svg(body(), defs)
 
@@ -341,6 +355,8 @@ ICONS = {
     "linear_array": linear_array,
     "polar_array": polar_array,
     "category-array": linear_array,
+    "formula": formula,
+    "category-formula": formula,
     # Fallbacks for node types added without their own icon, by registry category.
     "category-primitive": lambda: svg(sphere(), radial("b", BLUE)),
     "category-transform": transform,

@@ -42,8 +42,13 @@ expect 2 "unknown node type 'spere'" -- "$frepcad" info spere
 expect 2 "cannot open the model file" -- "$frepcad" export "$work/none.json" -o "$work/x.stl"
 echo '{"root": {"type": "sphere", "params": {"radius": -1}}, "export": {"bbox": [-1,-1,-1,1,1,1]}}' >"$work/bad.json"
 expect 2 "root \(sphere\): parameter 'radius' -1 is out of range; allowed: \(0, inf\)" -- "$frepcad" export "$work/bad.json" -o "$work/x.stl"
-echo '{"root": {"type": "sphere"}}' >"$work/nobox.json"
-expect 2 "no bounding box" -- "$frepcad" export "$work/nobox.json" -o "$work/x.stl"
+echo '{"root": {"type": "halfspace"}}' >"$work/nobox.json"
+expect 2 "the solid is unbounded; give --bbox" -- "$frepcad" export "$work/nobox.json" -o "$work/x.stl"
+# no box given: the solid's own box (a unit sphere, padded by 1.5 cells of 1/128 of it)
+echo '{"root": {"type": "sphere"}}' >"$work/autobox.json"
+expect 0 "grid 133x133x133" -- "$frepcad" export "$work/autobox.json" -o "$work/auto.stl"
+echo '{"root": {"type": "formula", "params": {"formula": "r - hypot(x, y, z) + sinn(x)"}}}' >"$work/formula.json"
+expect 2 "parameter 'formula' column 22: unknown function 'sinn'" -- "$frepcad" export "$work/formula.json" -o "$work/x.stl"
 expect 2 "not valid JSON" -- "$frepcad" export "$work/s.stl" -o "$work/x.stl"
 expect 2 "unknown mesh file type '.step'" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/x.step"
 expect 2 "unknown format 'vrml'" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/x.stl" --format vrml

@@ -19,7 +19,7 @@ import FRepTree
 
 MENU = "FRep"
 TOOLBARS = (
-    ("FRep primitives", ("primitive",)),
+    ("FRep primitives", ("primitive", "formula")),
     ("FRep operations", ("set operation", "blend", "field operation")),
     ("FRep transforms", ("transform", "deformation", "array")),
     ("FRep microstructures", ("microstructure",)),

@@ -141,7 +141,11 @@ class FRepFeature(StatelessProxy):
         if least > 0 and obj.Bypass:
             return builder.shape(inputs[0])
         nodes = [builder.shape(i).node for i in inputs]
-        return frepcore.Shape(frepcore.Node(self.FREP_TYPE, params, nodes, obj.Label))
+        try:
+            node = frepcore.Node(self.FREP_TYPE, params, nodes, obj.Label)
+        except ValueError as e:
+            raise ValueError(props.in_property_terms(str(e), obj.Label, info)) from None
+        return frepcore.Shape(node)
 
     def param_value(self, obj, param):
         """A parameter's value: from its property, or for a point list from the object its

@@ -43,6 +43,8 @@ def property_type(param):
         return "App::PropertyEnumeration"
     if t == "points":
         return "App::PropertyVectorList"
+    if t == "text":
+        return "App::PropertyString"
     raise ValueError("FRep: no FreeCAD property for parameter type '%s'" % t)
 
 
@@ -99,6 +101,21 @@ def get_value(obj, param):
     if t == "points":
         return [(p.x, p.y, p.z) for p in v]
     return str(v)
+
+
+def in_property_terms(message, label, info):
+    """frepcore's "Label (type): parameter 'name' ..." as "Label: property 'Name' ...", the
+    words the user sees in the property editor (whole-node checks such as a formula's)."""
+    head = "%s (%s): " % (label, info["type"])
+    if not message.startswith(head):
+        return message
+    rest = message[len(head):]
+    for param in info["params"]:
+        quoted = "parameter '%s'" % param["name"]
+        if rest.startswith(quoted):
+            rest = "property '%s'" % property_name(param["name"]) + rest[len(quoted):]
+            break
+    return "%s: %s" % (label, rest)
 
 
 def value_text(param, value):

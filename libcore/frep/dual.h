@@ -64,6 +64,17 @@ inline Dual atan2(const Dual& y, const Dual& x) {
   for (int i = 0; i < 3; ++i) r.d[i] = n > 0 ? (x.v * y.d[i] - y.v * x.d[i]) / n : 0.0;
   return r;
 }
+inline Dual tan(const Dual& a) {
+  const double t = std::tan(a.v);
+  return chain(a, t, 1.0 + t * t);
+}
+inline Dual atan(const Dual& a) { return chain(a, std::atan(a.v), 1.0 / (1.0 + a.v * a.v)); }
+inline Dual log(const Dual& a) { return chain(a, std::log(a.v), 1.0 / a.v); }
+// d a^k = k a^(k-1) da; where that slope is infinite (a = 0, k < 1) 0 is returned, as powAbs.
+inline Dual powConst(const Dual& a, double k) {
+  const double slope = k == 0.0 ? 0.0 : k * std::pow(a.v, k - 1.0);
+  return chain(a, std::pow(a.v, k), std::isfinite(slope) ? slope : 0.0);
+}
 inline Dual sin(const Dual& a) { return chain(a, std::sin(a.v), std::cos(a.v)); }
 inline Dual cos(const Dual& a) { return chain(a, std::cos(a.v), -std::sin(a.v)); }
 

@@ -95,6 +95,46 @@ inline Interval powAbs(Interval a, double k) {
   return {std::pow(m.lo, k), std::pow(m.hi, k)};
 }
 
+// tan is increasing between its poles at pi/2 + k pi; an interval holding a pole is unbounded.
+inline Interval tan(Interval a) {
+  constexpr double kPi = 3.14159265358979323846;
+  constexpr double kHalfPi = 1.5707963267948966192313216916398;
+  if (!(a.hi - a.lo < kPi)) return Interval::entire();
+  const double pole = kHalfPi + std::ceil((a.lo - kHalfPi) / kPi) * kPi;
+  if (pole <= a.hi) return Interval::entire();
+  return {std::tan(a.lo), std::tan(a.hi)};
+}
+
+inline Interval atan(Interval a) { return {std::atan(a.lo), std::atan(a.hi)}; }
+
+// log of the positive part (log 0 = -inf); a fully negative argument has no real value.
+inline Interval log(Interval a) {
+  if (a.hi < 0.0) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    return {nan, nan};
+  }
+  return {std::log(std::max(a.lo, 0.0)), std::log(a.hi)};
+}
+
+// a^k as std::pow. Integer k: |a|^k for even k, increasing for odd k, 1/a^|k| for k < 0.
+// Other k: defined for a >= 0 only (like sqrt), monotone in a.
+inline Interval powConst(Interval a, double k) {
+  if (k == std::floor(k) && std::abs(k) < 1e15) {
+    if (k < 0.0) return Interval(1.0) / powConst(a, -k);
+    if (k == 0.0) return {1.0, 1.0};
+    const bool even = std::fmod(k, 2.0) == 0.0;
+    if (!even) return {std::pow(a.lo, k), std::pow(a.hi, k)};
+    const Interval m = abs(a);
+    return {std::pow(m.lo, k), std::pow(m.hi, k)};
+  }
+  if (a.hi < 0.0) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    return {nan, nan};
+  }
+  const double lo = std::pow(std::max(a.lo, 0.0), k), hi = std::pow(a.hi, k);
+  return k > 0.0 ? Interval{lo, hi} : Interval{hi, lo};
+}
+
 // atan2(y, x) over a box: the angles of its corners, unless the box touches the origin or the
 // branch cut along the negative x axis, where every angle may occur.
 inline Interval atan2(Interval y, Interval x) {

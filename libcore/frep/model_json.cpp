@@ -33,6 +33,7 @@ ParamValue paramFromJson(const ParamTemplate& t, const json& j, const std::strin
   ParamValue v;
   switch (t.type) {
     case ParamType::Choice:
+    case ParamType::Text:
       if (!j.is_string()) throw fail(typeOf(j));
       v.text = j.get<std::string>();
       return v;
@@ -73,7 +74,8 @@ ParamValue paramFromJson(const ParamTemplate& t, const json& j, const std::strin
 
 json paramToJson(const ParamTemplate& t, const ParamValue& v) {
   switch (t.type) {
-    case ParamType::Choice: return v.text;
+    case ParamType::Choice:
+    case ParamType::Text: return v.text;
     case ParamType::Boolean: return v.numbers.at(0) != 0.0;
     case ParamType::Real: return v.numbers.at(0);
     case ParamType::Integer: return static_cast<long long>(v.numbers.at(0));

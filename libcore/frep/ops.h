@@ -34,6 +34,10 @@ enum class Op : std::uint8_t {
   Atan2,       // atan2(a, b): the angle of the point (b, a), in (-pi, pi]
   PowAbs,      // |a|^k0, k0 > 0 (superquadrics)
   Floor,       // floor(a): which copy of a repetition (arrays)
+  Tan,         // tan(a)
+  Atan,        // atan(a)
+  Log,         // natural logarithm of a (NaN below 0)
+  PowConst,    // a^k0 as std::pow: any base for an integer k0, a >= 0 otherwise (formulas)
   Count_
 };
 
@@ -98,6 +102,10 @@ inline T applyOp(Op op, const T& a, const T& b, const T& c, const double* k) {
     case Op::Atan2: return atan2(a, b);
     case Op::PowAbs: return powAbs(a, k[0]);
     case Op::Floor: return floor(a);
+    case Op::Tan: return tan(a);
+    case Op::Atan: return atan(a);
+    case Op::Log: return log(a);
+    case Op::PowConst: return powConst(a, k[0]);
     case Op::Count_: break;
   }
   return T(0.0);

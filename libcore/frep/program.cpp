@@ -20,6 +20,8 @@ constexpr OpInfo kOpInfo[] = {
     {"sin", 1, 0, false},      {"cos", 1, 0, false},        {"affine", 3, 4, false},
     {"runion", 2, 1, true},    {"rintersect", 2, 1, true},  {"blendbump", 2, 3, false},
     {"atan2", 2, 0, false},    {"powabs", 1, 1, false},     {"floor", 1, 0, false},
+    {"tan", 1, 0, false},      {"atan", 1, 0, false},       {"log", 1, 0, false},
+    {"powconst", 1, 1, false},
 };
 static_assert(sizeof(kOpInfo) / sizeof(kOpInfo[0]) == static_cast<int>(Op::Count_),
               "every op needs an entry");
@@ -103,6 +105,10 @@ void Program::evalChunk(const double* x, const double* y, const double* z, std::
       case Op::Atan2: FREP_KERNEL(std::atan2(a[j], b[j]));
       case Op::PowAbs: FREP_KERNEL(powAbs(a[j], k[0]));
       case Op::Floor: FREP_KERNEL(std::floor(a[j]));
+      case Op::Tan: FREP_KERNEL(std::tan(a[j]));
+      case Op::Atan: FREP_KERNEL(std::atan(a[j]));
+      case Op::Log: FREP_KERNEL(std::log(a[j]));
+      case Op::PowConst: FREP_KERNEL(powConst(a[j], k[0]));
       case Op::Count_: break;
     }
 #undef FREP_KERNEL

@@ -17,6 +17,7 @@ const char* paramTypeName(ParamType t) {
     case ParamType::Matrix3x4: return "matrix3x4";
     case ParamType::Choice: return "choice";
     case ParamType::Points: return "points";
+    case ParamType::Text: return "text";
   }
   return "?";
 }
@@ -43,7 +44,8 @@ std::size_t expectedCount(ParamType t) {
   switch (t) {
     case ParamType::Vector3: return 3;
     case ParamType::Matrix3x4: return 12;
-    case ParamType::Choice: return 0;
+    case ParamType::Choice:
+    case ParamType::Text: return 0;
     default: return 1;
   }
 }
@@ -86,6 +88,12 @@ ParamTemplate choiceParam(std::string name, std::vector<std::string> choices, st
   return p;
 }
 
+ParamTemplate textParam(std::string name, std::string def, std::string doc) {
+  ParamTemplate p = base(std::move(name), ParamType::Text, "", std::move(doc));
+  p.defaultValue.text = std::move(def);
+  return p;
+}
+
 ParamTemplate pointsParam(std::string name, std::vector<Vec3> def, std::size_t minPoints,
                           std::string unit, std::string doc) {
   ParamTemplate p = base(std::move(name), ParamType::Points, std::move(unit), std::move(doc));
@@ -117,6 +125,7 @@ std::string ParamTemplate::rangeText() const {
       for (std::size_t i = 0; i < choices.size(); ++i) s += (i ? ", \"" : " \"") + choices[i] + "\"";
       return s;
     }
+    case ParamType::Text: return "text";
     case ParamType::Matrix3x4: return "12 finite numbers (rows of a 3x4 affine matrix, invertible)";
     case ParamType::Points:
       return "a list of at least " + std::to_string(minPoints) + " points [x, y, z] of finite numbers";
@@ -134,7 +143,7 @@ std::string ParamTemplate::rangeText() const {
 }
 
 std::string ParamTemplate::valueText(const ParamValue& v) const {
-  if (type == ParamType::Choice) return "\"" + v.text + "\"";
+  if (type == ParamType::Choice || type == ParamType::Text) return "\"" + v.text + "\"";
   if (type == ParamType::Boolean && v.numbers.size() == 1) return v.numbers[0] ? "true" : "false";
   if (v.numbers.size() == 1) return number(v.numbers[0]);
   std::string s = "[";
@@ -148,6 +157,7 @@ std::string ParamTemplate::check(const ParamValue& v) const {
       if (c == v.text) return "";
     return "\"" + v.text + "\" is not allowed; allowed: " + rangeText();
   }
+  if (type == ParamType::Text) return v.numbers.empty() ? "" : "expects text, got numbers";
   if (type == ParamType::Points) {
     if (v.numbers.size() % 3 != 0 || v.numbers.size() / 3 < minPoints)
       return "expects " + rangeText() + ", got " +
@@ -238,6 +248,7 @@ const Registry& registry() {
     registerDeformations(r);
     registerArrays(r);
     registerMicrostructures(r);
+    registerFormula(r);
     return r;
   }();
   return instance;

@@ -17,11 +17,11 @@
 
 namespace frep {
 
-enum class ParamType { Real, Integer, Boolean, Vector3, Matrix3x4, Choice, Points };
+enum class ParamType { Real, Integer, Boolean, Vector3, Matrix3x4, Choice, Points, Text };
 const char* paramTypeName(ParamType t);
 
 // A parameter value. Numbers hold 1 (Real, Integer, Boolean), 3 (Vector3), 12 (Matrix3x4) or
-// 3 per point (Points: x, y, z of each in turn) values; Choice uses text.
+// 3 per point (Points: x, y, z of each in turn) values; Choice and Text use text.
 struct ParamValue {
   std::vector<double> numbers;
   std::string text;
@@ -56,6 +56,7 @@ ParamTemplate boolParam(std::string name, bool def, std::string doc);
 ParamTemplate vec3Param(std::string name, Vec3 def, std::string unit, std::string doc);
 ParamTemplate matrixParam(std::string name, std::string doc);
 ParamTemplate choiceParam(std::string name, std::vector<std::string> choices, std::string doc);
+ParamTemplate textParam(std::string name, std::string def, std::string doc);
 ParamTemplate pointsParam(std::string name, std::vector<Vec3> def, std::size_t minPoints,
                           std::string unit, std::string doc);
 // The points of a Points value.
@@ -86,6 +87,9 @@ struct NodeType {
   std::vector<ParamTemplate> params;
   CompileFn compile;
   BoundsFn bounds = nullptr;  // none: the solid may be anywhere
+  // Checks that need the whole node (e.g. a formula naming its parameters and inputs);
+  // returns "" or the problem, naming the parameter. Optional.
+  std::function<std::string(const Node&)> check = nullptr;
 
   const ParamTemplate* findParam(const std::string& name) const;
   // "unknown parameter 'x'; parameters of T: a, b" for error messages
@@ -119,5 +123,6 @@ void registerArrays(Registry& r);
 void registerDeformations(Registry& r);
 void registerFieldOperations(Registry& r);
 void registerMicrostructures(Registry& r);
+void registerFormula(Registry& r);
 
 }  // namespace frep

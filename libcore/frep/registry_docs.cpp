@@ -10,7 +10,8 @@ namespace {
 
 nlohmann::json defaultJson(const ParamTemplate& p) {
   switch (p.type) {
-    case ParamType::Choice: return p.defaultValue.text;
+    case ParamType::Choice:
+    case ParamType::Text: return p.defaultValue.text;
     case ParamType::Boolean: return p.defaultValue.numbers.at(0) != 0.0;
     case ParamType::Real:
     case ParamType::Integer: return p.defaultValue.numbers.at(0);

@@ -10,13 +10,18 @@ namespace frep {
 inline double sqr(double a) { return a * a; }
 // |a|^k for k > 0.
 inline double powAbs(double a, double k) { return std::pow(std::abs(a), k); }
+// a^k as std::pow: a negative base only with an integer exponent (NaN otherwise).
+inline double powConst(double a, double k) { return std::pow(a, k); }
 using std::abs;
+using std::atan;
 using std::atan2;
 using std::cos;
 using std::exp;
 using std::floor;
+using std::log;
 using std::sin;
 using std::sqrt;
+using std::tan;
 // min/max that return the first argument on ties and propagate a NaN in the first one.
 inline double min(double a, double b) { return b < a ? b : a; }
 inline double max(double a, double b) { return b > a ? b : a; }

@@ -22,6 +22,7 @@ Vec3 Node::vec3(const std::string& name) const {
 ParamValue realValue(double v) { return ParamValue{{v}, ""}; }
 ParamValue vec3Value(const Vec3& v) { return ParamValue{{v[0], v[1], v[2]}, ""}; }
 ParamValue choiceValue(const std::string& s) { return ParamValue{{}, s}; }
+ParamValue textValue(const std::string& s) { return ParamValue{{}, s}; }
 
 NodePtr makeNode(const std::string& typeId, std::map<std::string, ParamValue> params,
                  std::vector<NodePtr> inputs, const std::string& path) {
@@ -55,6 +56,10 @@ NodePtr makeNode(const std::string& typeId, std::map<std::string, ParamValue> pa
     if (!inputs[i])
       throw ModelError(where + ": input " + std::to_string(i) + " is missing");
   node->inputs = std::move(inputs);
+  if (type->check) {
+    const std::string problem = type->check(*node);
+    if (!problem.empty()) throw ModelError(where + ": " + problem);
+  }
   return node;
 }
 

@@ -33,6 +33,7 @@ NodePtr makeNode(const std::string& typeId, std::map<std::string, ParamValue> pa
 ParamValue realValue(double v);
 ParamValue vec3Value(const Vec3& v);
 ParamValue choiceValue(const std::string& s);
+ParamValue textValue(const std::string& s);
 
 // Compiles a tree into a flat program (shared and repeated sub-trees computed once).
 Program compile(const NodePtr& root);

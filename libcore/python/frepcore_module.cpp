@@ -38,7 +38,7 @@ ParamValue toParamValue(const ParamTemplate& t, const py::handle& v, const std::
     throw ModelError(where + ": parameter '" + t.name + "' " + what +
                      "; allowed: " + t.rangeText());
   };
-  if (t.type == ParamType::Choice) {
+  if (t.type == ParamType::Choice || t.type == ParamType::Text) {
     if (!py::isinstance<py::str>(v)) fail("must be text");
     out.text = v.cast<std::string>();
     return out;
@@ -86,6 +86,7 @@ ParamValue toParamValue(const ParamTemplate& t, const py::handle& v, const std::
 py::object fromParamValue(const ParamTemplate& t, const ParamValue& v) {
   switch (t.type) {
     case ParamType::Choice:
+    case ParamType::Text:
       return py::str(v.text);
     case ParamType::Boolean:
       return py::bool_(v.numbers.at(0) != 0.0);

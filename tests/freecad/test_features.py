@@ -241,3 +241,37 @@ def test_sweep_follows_a_sketch(doc):
     assert not sweep.isValid()
     assert ("Sweep: property 'PointsSource' links 'Ball' (Mesh::FeaturePython), which has no "
             "edges" in sweep.getStatusString())
+
+
+def test_formula_feature_reports_the_column_and_combines_inputs(doc):
+    """A formula is a feature with text properties; a typo names the property and the column,
+    is fixed in place, and the inputs are the fields f1, f2, ..."""
+    f = F.make("formula", doc, name="Bumps")
+    doc.recompute()
+    assert f.isValid(), f.getStatusString()
+    assert f.Mesh.CountFacets > 0
+    f.Formula = "r - sqrt(x^2 + y^2 + z^2) + a*sinn(k*x)"
+    doc.recompute()
+    assert not f.isValid()
+    message = f.getStatusString()
+    assert message.startswith("Bumps: property 'Formula' column 31: unknown function 'sinn'")
+    assert message.endswith("\n  r - sqrt(x^2 + y^2 + z^2) + a*sinn(k*x)\n" + " " * 32 + "^")
+    f.Formula = "r - sqrt(x^2 + y^2 + z^2)"
+    f.Parameters = "r = 0.5 * 3"
+    doc.recompute()
+    assert f.isValid(), f.getStatusString()
+    assert FRepTree.shape_of(f)(1.5, 0, 0) == pytest.approx(0, abs=1e-12)
+
+    a = F.make("sphere", doc, name="A", center=(-0.5, 0, 0))
+    b = F.make("box", doc, name="B")
+    join = F.make("formula", doc, name="Join", inputs=[a, b], formula="max(f1, f2)",
+                  parameters="")
+    doc.recompute()
+    assert join.isValid(), join.getStatusString()
+    s, sa, sb = (FRepTree.shape_of(o) for o in (join, a, b))
+    for p in ((0, 0, 0), (-1.2, 0.3, 0.1), (0.9, 0.9, 0.9), (2, 0, 0)):
+        assert s(*p) == pytest.approx(max(sa(*p), sb(*p)), abs=1e-12)
+    join.Formula = "max(f1, f3)"
+    doc.recompute()
+    assert "Join: property 'Formula' column 9: unknown name 'f3'" in join.getStatusString()
+    assert "this node has 2" in join.getStatusString()
