@@ -34,6 +34,15 @@ class RandomTrees {
   }
   double alpha() { return integer(0, 2) == 0 ? 1.0 : uniform(-0.9, 1.0); }
 
+  // A primitive with a bounded solid (no half-space, no infinite cylinder).
+  NodePtr boundedPrimitive() {
+    for (;;) {
+      NodePtr p = primitive();
+      if (p->type->id != "halfspace" && !(p->type->id == "cylinder" && p->real("length") == 0))
+        return p;
+    }
+  }
+
   NodePtr primitive() {
     switch (integer(0, 6)) {
       case 0:

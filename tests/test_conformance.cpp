@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "frep/errors.h"
 #include "frep/registry.h"
 #include "random_trees.h"
 
@@ -76,7 +77,13 @@ NodePtr randomInstance(const NodeType& type, RandomTrees& r) {
   const int most = type.maxInputs == kVariadic ? type.minInputs + 1 : type.maxInputs;
   const int n = r.integer(type.minInputs, most);
   for (int i = 0; i < n; ++i) inputs.push_back(r.primitive());
-  return makeNode(type.id, params, inputs, "conformance");
+  try {
+    return makeNode(type.id, params, inputs, "conformance");
+  } catch (const ModelError&) {
+    // a type that needs bounded inputs (the instancer) refuses half-spaces: try bounded ones
+    for (auto& in : inputs) in = r.boundedPrimitive();
+    return makeNode(type.id, params, inputs, "conformance");
+  }
 }
 
 bool sameValue(double a, double b) {

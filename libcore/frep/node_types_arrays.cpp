@@ -6,6 +6,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "frep/bounds.h"
+#include "frep/errors.h"
+#include "frep/instances.h"
 #include "frep/node_helpers.h"
 #include "frep/registry.h"
 #include "frep/structural_bounds.h"
@@ -32,9 +35,83 @@ Slot copyIndex(ProgramBuilder& b, Slot t, double shift, int count, bool wrap) {
   return b.min(b.max(k, b.constant(0.0)), b.constant(count - 1.0));
 }
 
+// Where the copied solid is: its structural box, else the box interval arithmetic finds.
+// Returns "" or what is wrong with it as the instancer's input.
+std::string copiedSolidBox(const NodePtr& input, Box3* box) {
+  *box = structuralBounds(input);
+  if (isFinite(*box)) return "";
+  BoundsOptions o;
+  o.known = *box;
+  const SolidBounds b = findBounds(compile(input), o);
+  if (b.empty) return "the copied solid (input 0) is empty";
+  if (!b.bounded())
+    return "the copied solid (input 0) is unbounded; copies need a bounded solid (intersect it "
+           "with a box)";
+  *box = b.box;
+  return "";
+}
+
+// The radius round the origin beyond which the copied solid's field is negative.
+double reachOf(const Box3& b) {
+  double r2 = 0;
+  for (int a = 0; a < 3; ++a) r2 += sqr(std::max(std::abs(b.lo[a]), std::abs(b.hi[a])));
+  return std::sqrt(r2);
+}
+
 }  // namespace
 
 void registerArrays(Registry& r) {
+  {
+    ParamTemplate positions = pointsParam(
+        "positions", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, 1, "length",
+        "Where the copies go: the input's origin is moved to each point.");
+    ParamTemplate amount = realParam(
+        "blend_amount", 0.1, "length", "combine = blend: how much material the blend adds (a0).");
+    range(amount, 0.0, kInf);
+    ParamTemplate reach = positiveLength(
+        "blend_range", 0.1, "combine = blend: how far from each copy the blend reaches (a1).");
+    r.add({"instancer",
+           "array",
+           "Copies of the input at a list of points, combined by union or blend. In FreeCAD "
+           "the points can come from mesh vertices, a point cloud, a sketch's or Draft "
+           "object's vertices or the copies of a Draft array (property PositionsSource). A "
+           "point evaluates only the copies within reach, found with a k-d tree, so 10,000 "
+           "copies cost a few evaluations of the input. Model the input around the origin.",
+           "N(p) = the copies c_i within reach of p (reach: the input's bounding radius), "
+           "else the nearest;  union: F = max_(i in N(p)) f(p - c_i);  blend: the largest two "
+           "m1 >= m2, F = m1 + a0 / (1 + (m1/a1)^2 + (m2/a1)^2)",
+           1,
+           1,
+           {positions, choiceParam("combine", {"union", "blend"}, "How the copies combine."),
+            amount, reach},
+           [](CompileContext& c) {
+             Box3 box;
+             const std::string problem = copiedSolidBox(c.node().inputs.at(0), &box);
+             if (!problem.empty()) throw ModelError("instancer: " + problem);
+             auto copy = std::make_shared<const Program>(compile(c.node().inputs.at(0)));
+             const bool blend = c.param("combine").text == "blend";
+             auto set = std::make_shared<const InstanceSet>(
+                 pointsOf(c.param("positions")), std::move(copy), reachOf(box),
+                 blend ? InstanceSet::Combine::Blend : InstanceSet::Combine::Union,
+                 InstanceSet::Blend{c.real("blend_amount"), c.real("blend_range")});
+             return c.b.instances(std::move(set), c.p.x, c.p.y, c.p.z);
+           },
+           [](const Node& n, const std::vector<Box3>& in) {
+             // the copies' boxes, plus the blend's reach beyond them
+             const Box3 at = pointsBounds(pointsOf(n.param("positions")), 0.0);
+             Box3 b = in[0];
+             for (int a = 0; a < 3; ++a) {
+               b.lo[a] += at.lo[a];
+               b.hi[a] += at.hi[a];
+             }
+             return n.param("combine").text == "blend" ? unknownBounds() : b;
+           },
+           [](const Node& n) {
+             Box3 box;
+             return copiedSolidBox(n.inputs.at(0), &box);
+           }});
+  }
+
   {
     ParamTemplate count = intParam("count", 3, "Number of copies, the input included.");
     range(count, 1, 1000000);

@@ -38,6 +38,9 @@ void registerSweeps(Registry& r) {
   ParamTemplate r1 = positiveLength("radius1", 0.2, "Radius at the first point.");
   ParamTemplate r2 = realParam("radius2", 0.2, "length", "Radius at the last point (0: a point).");
   range(r2, 0.0, kInf);
+  ParamTemplate path =
+      pointsParam("points", {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}}, 2, "length", "The polyline, in order.");
+  path.path = true;
   r.add({"sweep",
          "primitive",
          "A sphere swept along a polyline, its radius going linearly from radius1 to radius2 "
@@ -47,9 +50,7 @@ void registerSweeps(Registry& r) {
          "projection of p on segment i, s = arc length",
          0,
          0,
-         {pointsParam("points", {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}}, 2, "length",
-                      "The polyline, in order."),
-          r1, r2},
+         {path, r1, r2},
          [](CompileContext& c) {
            auto& b = c.b;
            const std::vector<Vec3> pts = pointsOf(c.param("points"));

@@ -1,7 +1,10 @@
 #include "frep/program.h"
 
+#include <deque>
 #include <sstream>
 #include <utility>
+
+#include "frep/instances.h"
 
 namespace frep {
 
@@ -21,10 +24,47 @@ constexpr OpInfo kOpInfo[] = {
     {"runion", 2, 1, true},    {"rintersect", 2, 1, true},  {"blendbump", 2, 3, false},
     {"atan2", 2, 0, false},    {"powabs", 1, 1, false},     {"floor", 1, 0, false},
     {"tan", 1, 0, false},      {"atan", 1, 0, false},       {"log", 1, 0, false},
-    {"powconst", 1, 1, false},
+    {"powconst", 1, 1, false}, {"instances", 3, 1, false},
 };
 static_assert(sizeof(kOpInfo) / sizeof(kOpInfo[0]) == static_cast<int>(Op::Count_),
               "every op needs an entry");
+
+// Scratch slots per thread and nesting depth: an instancer's copy is a program evaluated
+// from within an instruction of its parent program, on the same thread.
+template <class T>
+class Scratch {
+ public:
+  explicit Scratch(std::size_t n) {
+    std::deque<std::vector<T>>& p = pool();
+    if (depth() == p.size()) p.emplace_back();  // a deque keeps the outer buffers in place
+    buffer_ = &p[depth()++];
+    buffer_->resize(n);
+  }
+  ~Scratch() { --depth(); }
+  Scratch(const Scratch&) = delete;
+  Scratch& operator=(const Scratch&) = delete;
+  T* data() { return buffer_->data(); }
+
+ private:
+  static std::deque<std::vector<T>>& pool() {
+    thread_local std::deque<std::vector<T>> p;
+    return p;
+  }
+  static std::size_t& depth() {
+    thread_local std::size_t d = 0;
+    return d;
+  }
+  std::vector<T>* buffer_;
+};
+
+double instancesAt(const InstanceSet& s, double x, double y, double z) { return s.eval(x, y, z); }
+Interval instancesAt(const InstanceSet& s, const Interval& x, const Interval& y,
+                     const Interval& z) {
+  return s.evalInterval(x, y, z);
+}
+Dual instancesAt(const InstanceSet& s, const Dual& x, const Dual& y, const Dual& z) {
+  return s.evalGradient(x, y, z);
+}
 }  // namespace
 
 const char* opName(Op op) { return kOpInfo[static_cast<int>(op)].name; }
@@ -32,22 +72,29 @@ int opArity(Op op) { return kOpInfo[static_cast<int>(op)].arity; }
 int opConstantCount(Op op) { return kOpInfo[static_cast<int>(op)].constants; }
 bool opIsCommutative(Op op) { return kOpInfo[static_cast<int>(op)].commutative; }
 
-Program::Program(std::vector<Instruction> code, std::vector<double> constants, Slot result)
-    : code_(std::move(code)), constants_(std::move(constants)), result_(result) {}
+Program::Program(std::vector<Instruction> code, std::vector<double> constants, Slot result,
+                 std::vector<std::shared_ptr<const InstanceSet>> instanceSets)
+    : code_(std::move(code)),
+      constants_(std::move(constants)),
+      result_(result),
+      instanceSets_(std::move(instanceSets)) {}
 
 template <class T>
 T Program::evalGeneric(const T& x, const T& y, const T& z) const {
-  // One scratch buffer per thread and type: evaluation is called from TBB workers.
-  thread_local std::vector<T> slots;
-  slots.resize(code_.size() + kFirstInstructionSlot);
-  slots[kSlotX] = x;
-  slots[kSlotY] = y;
-  slots[kSlotZ] = z;
+  // Scratch per thread and type: evaluation is called from TBB workers.
+  Scratch<T> slots(code_.size() + kFirstInstructionSlot);
   T* s = slots.data();
+  s[kSlotX] = x;
+  s[kSlotY] = y;
+  s[kSlotZ] = z;
   const double* k = constants_.data();
   for (std::size_t i = 0; i < code_.size(); ++i) {
     const Instruction& in = code_[i];
-    s[i + kFirstInstructionSlot] = applyOp<T>(in.op, s[in.a], s[in.b], s[in.c], k + in.k);
+    s[i + kFirstInstructionSlot] =
+        in.op == Op::Instances
+            ? instancesAt(*instanceSets_[static_cast<std::size_t>(k[in.k])], s[in.a], s[in.b],
+                          s[in.c])
+            : applyOp<T>(in.op, s[in.a], s[in.b], s[in.c], k + in.k);
   }
   return s[result_];
 }
@@ -109,6 +156,9 @@ void Program::evalChunk(const double* x, const double* y, const double* z, std::
       case Op::Atan: FREP_KERNEL(std::atan(a[j]));
       case Op::Log: FREP_KERNEL(std::log(a[j]));
       case Op::PowConst: FREP_KERNEL(powConst(a[j], k[0]));
+      case Op::Instances:
+        instanceSets_[static_cast<std::size_t>(k[0])]->evalBatch(a, b, c, n, o);
+        break;
       case Op::Count_: break;
     }
 #undef FREP_KERNEL
@@ -119,8 +169,7 @@ void Program::evalChunk(const double* x, const double* y, const double* z, std::
 
 void Program::evalBatch(const double* x, const double* y, const double* z, std::size_t n,
                         double* out) const {
-  thread_local std::vector<double> slots;
-  slots.resize((code_.size() + kFirstInstructionSlot) * kBatchSize);
+  Scratch<double> slots((code_.size() + kFirstInstructionSlot) * kBatchSize);
   for (std::size_t start = 0; start < n; start += kBatchSize) {
     const std::size_t m = std::min(kBatchSize, n - start);
     evalChunk(x + start, y + start, z + start, m, out + start, slots.data());

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,8 @@
 #include "frep/ops.h"
 
 namespace frep {
+
+class InstanceSet;
 
 using Slot = std::uint32_t;
 constexpr Slot kSlotX = 0, kSlotY = 1, kSlotZ = 2, kFirstInstructionSlot = 3;
@@ -29,7 +32,8 @@ class Program {
   static constexpr std::size_t kBatchSize = 256;
 
   Program() = default;
-  Program(std::vector<Instruction> code, std::vector<double> constants, Slot result);
+  Program(std::vector<Instruction> code, std::vector<double> constants, Slot result,
+          std::vector<std::shared_ptr<const InstanceSet>> instanceSets = {});
 
   double eval(double x, double y, double z) const;
   // out[i] = F(x[i], y[i], z[i]); bit-identical to eval() for each point.
@@ -54,6 +58,8 @@ class Program {
   std::vector<Instruction> code_;
   std::vector<double> constants_;
   Slot result_ = kSlotX;
+  // The data of `instances` instructions (the instancer), by the index in their constant.
+  std::vector<std::shared_ptr<const InstanceSet>> instanceSets_;
 };
 
 }  // namespace frep

@@ -5,6 +5,7 @@
 
 #include <initializer_list>
 #include <map>
+#include <memory>
 #include <tuple>
 #include <vector>
 
@@ -40,6 +41,9 @@ class ProgramBuilder {
   Slot length2(Slot a, Slot b) { return sqrt(add(sqr(a), sqr(b))); }
   Slot length3(Slot a, Slot b, Slot c) { return sqrt(add(add(sqr(a), sqr(b)), sqr(c))); }
 
+  // Copies of a solid at points near (x, y, z): an `instances` instruction and its data.
+  Slot instances(std::shared_ptr<const InstanceSet> set, Slot x, Slot y, Slot z);
+
   bool isConstant(Slot s) const;
   double constantValue(Slot s) const;
 
@@ -51,6 +55,7 @@ class ProgramBuilder {
   std::vector<Instruction> code_;
   std::vector<double> constants_;
   std::map<Key, Slot> seen_;
+  std::vector<std::shared_ptr<const InstanceSet>> instanceSets_;
 };
 
 }  // namespace frep

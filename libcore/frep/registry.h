@@ -39,6 +39,7 @@ struct ParamTemplate {
   bool maxExclusive = false;
   bool nonZeroVector = false;  // Vector3 that must not be (0, 0, 0), e.g. an axis
   std::size_t minPoints = 0;   // Points: at least this many
+  bool path = false;           // Points: an ordered path (a sweep's), else a set of positions
   std::vector<std::string> choices;
   std::string unit;  // "length", "angle" (degrees) or "" (dimensionless)
   std::string doc;

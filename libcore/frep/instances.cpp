@@ -1,0 +1,244 @@
+#include "frep/instances.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <nanoflann.hpp>
+
+#include "frep/ops.h"
+#include "frep/program.h"
+
+namespace frep {
+
+namespace {
+
+// Above this many candidate copies an interval over a (large) box is not evaluated copy by
+// copy; a conservative bound is returned and the caller's subdivision narrows the box.
+constexpr std::size_t kMaxIntervalCopies = 64;
+
+struct Cloud {
+  const std::vector<Vec3>* points;
+  std::size_t kdtree_get_point_count() const { return points->size(); }
+  double kdtree_get_pt(std::size_t i, std::size_t axis) const { return (*points)[i][axis]; }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const {
+    return false;
+  }
+};
+
+using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud>, Cloud,
+                                                 3, std::uint32_t>;
+
+// Scratch vectors per thread and nesting depth: a copy may itself be an instancer, evaluated
+// from within this one's loop on the same thread.
+struct Work {
+  std::vector<std::uint32_t> ids;
+  std::vector<std::size_t> start;
+  std::vector<double> qx, qy, qz, values;
+  std::vector<Dual> duals;
+};
+class ScopedWork {
+ public:
+  ScopedWork() {
+    if (depth() == pool().size()) pool().emplace_back();  // a deque keeps outer ones in place
+    work_ = &pool()[depth()++];
+  }
+  ~ScopedWork() { --depth(); }
+  ScopedWork(const ScopedWork&) = delete;
+  ScopedWork& operator=(const ScopedWork&) = delete;
+  Work* operator->() { return work_; }
+
+ private:
+  static std::deque<Work>& pool() {
+    thread_local std::deque<Work> p;
+    return p;
+  }
+  static std::size_t& depth() {
+    thread_local std::size_t d = 0;
+    return d;
+  }
+  Work* work_;
+};
+
+double valueOf(double v) {
+  return v;
+}
+double valueOf(const Dual& v) {
+  return v.v;
+}
+
+}  // namespace
+
+struct InstanceSet::Index {
+  explicit Index(const std::vector<Vec3>& points)
+      : cloud{&points}, tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(8)) {}
+
+  // Indices of the copies within `radius` of q, in increasing order.
+  void within(const double q[3], double radius, std::vector<std::uint32_t>& out) const {
+    thread_local std::vector<std::pair<std::uint32_t, double>> found;
+    found.clear();
+    tree.radiusSearch(q, radius * radius, found, nanoflann::SearchParams(32, 0, false));
+    out.clear();
+    for (const auto& f : found) out.push_back(f.first);
+    std::sort(out.begin(), out.end());
+  }
+  std::uint32_t nearest(const double q[3], double* distance) const {
+    std::uint32_t index = 0;
+    double d2 = 0;
+    tree.knnSearch(q, 1, &index, &d2);
+    *distance = std::sqrt(d2);
+    return index;
+  }
+
+  Cloud cloud;
+  Tree tree;
+};
+
+InstanceSet::InstanceSet(std::vector<Vec3> positions, std::shared_ptr<const Program> copy,
+                         double reach, Combine combine, Blend blend)
+    : positions_(std::move(positions)),
+      copy_(std::move(copy)),
+      reach_(reach),
+      combine_(combine),
+      blend_(blend),
+      index_(std::make_unique<Index>(positions_)) {}
+
+InstanceSet::~InstanceSet() = default;
+
+void InstanceSet::near(double x, double y, double z, std::vector<std::uint32_t>& out) const {
+  const double q[3] = {x, y, z};
+  index_->within(q, reach_, out);
+  if (out.empty() && !positions_.empty()) {
+    double d = 0;
+    out.push_back(index_->nearest(q, &d));
+  }
+}
+
+template <class T>
+T InstanceSet::combine(const T* values, std::size_t n) const {
+  if (combine_ == Combine::Union) {
+    T r = values[0];
+    for (std::size_t i = 1; i < n; ++i) r = max(r, values[i]);
+    return r;
+  }
+  // The largest two, in a fixed scan order, so ties resolve alike in every mode.
+  std::size_t first = 0, second = n;
+  for (std::size_t i = 1; i < n; ++i) {
+    if (valueOf(values[i]) > valueOf(values[first])) {
+      second = first;
+      first = i;
+    } else if (second == n || valueOf(values[i]) > valueOf(values[second])) {
+      second = i;
+    }
+  }
+  if (second == n) return values[first];
+  const double k[3] = {blend_.a0, blend_.a1, blend_.a1};
+  return values[first] + blendBump(values[first], values[second], k);
+}
+
+double InstanceSet::eval(double x, double y, double z) const {
+  ScopedWork work;
+  std::vector<std::uint32_t>& ids = work->ids;
+  std::vector<double>& values = work->values;
+  near(x, y, z, ids);
+  values.resize(ids.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const Vec3& c = positions_[ids[i]];
+    values[i] = copy_->eval(x - c[0], y - c[1], z - c[2]);
+  }
+  return combine(values.data(), values.size());
+}
+
+void InstanceSet::evalBatch(const double* x, const double* y, const double* z, std::size_t n,
+                            double* out) const {
+  // Every (point, copy) pair of the chunk is evaluated in one batch call of the copy, then
+  // each point's values are combined in the same order eval() uses.
+  ScopedWork work;
+  std::vector<std::uint32_t>& ids = work->ids;
+  std::vector<std::size_t>& start = work->start;
+  std::vector<double>&qx = work->qx, &qy = work->qy, &qz = work->qz, &values = work->values;
+  start.assign(1, 0);
+  qx.clear();
+  qy.clear();
+  qz.clear();
+  for (std::size_t j = 0; j < n; ++j) {
+    near(x[j], y[j], z[j], ids);
+    for (std::uint32_t id : ids) {
+      const Vec3& c = positions_[id];
+      qx.push_back(x[j] - c[0]);
+      qy.push_back(y[j] - c[1]);
+      qz.push_back(z[j] - c[2]);
+    }
+    start.push_back(qx.size());
+  }
+  values.resize(qx.size());
+  copy_->evalBatch(qx.data(), qy.data(), qz.data(), qx.size(), values.data());
+  for (std::size_t j = 0; j < n; ++j)
+    out[j] = combine(values.data() + start[j], start[j + 1] - start[j]);
+}
+
+Dual InstanceSet::evalGradient(const Dual& x, const Dual& y, const Dual& z) const {
+  ScopedWork work;
+  std::vector<std::uint32_t>& ids = work->ids;
+  near(x.v, y.v, z.v, ids);
+  std::vector<Dual>& values = work->duals;
+  values.resize(ids.size());
+  const Dual* in[3] = {&x, &y, &z};
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const Vec3& c = positions_[ids[i]];
+    const Dual g = copy_->evalGradient(x.v - c[0], y.v - c[1], z.v - c[2]);
+    // chain rule: the copy's gradient in its own coordinates times d(p)/d(world)
+    Dual v(g.v);
+    for (int w = 0; w < 3; ++w)
+      v.d[w] = g.d[0] * in[0]->d[w] + g.d[1] * in[1]->d[w] + g.d[2] * in[2]->d[w];
+    values[i] = v;
+  }
+  return combine(values.data(), values.size());
+}
+
+Interval InstanceSet::evalInterval(const Interval& x, const Interval& y, const Interval& z) const {
+  const Interval box[3] = {x, y, z};
+  double c[3], h2 = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (!std::isfinite(box[a].lo) || !std::isfinite(box[a].hi)) return Interval::entire();
+    c[a] = 0.5 * (box[a].lo + box[a].hi);
+    h2 += 0.25 * box[a].width() * box[a].width();
+  }
+  const double h = std::sqrt(h2);
+  const double inf = std::numeric_limits<double>::infinity();
+  // Every copy that can matter at a point p of the box: those within reach of p (within
+  // reach + h of the centre) and p's nearest copy (within d* + 2h, d* = the centre's).
+  double dNearest = 0;
+  index_->nearest(c, &dNearest);
+  ScopedWork work;
+  std::vector<std::uint32_t>& candidates = work->ids;
+  index_->within(c, std::max(reach_ + h, dNearest + 2 * h), candidates);
+  const bool anyInReach = dNearest <= reach_ + h;
+  const double bumpMax = combine_ == Combine::Blend ? std::max(blend_.a0, 0.0) : 0.0;
+  if (candidates.size() > kMaxIntervalCopies) {
+    // Beyond its reach a copy's field is negative, so far from every copy F < 0.
+    if (!anyInReach) return {-inf, 0.0};
+    const Interval whole =
+        copy_->evalInterval({-reach_, reach_}, {-reach_, reach_}, {-reach_, reach_});
+    return {-inf, whole.hi + bumpMax};
+  }
+  double lo = inf, hi = -inf, always = -inf;
+  for (std::uint32_t id : candidates) {
+    const Vec3& p = positions_[id];
+    const Interval v = copy_->evalInterval(x - p[0], y - p[1], z - p[2]);
+    lo = std::min(lo, v.lo);
+    hi = std::max(hi, v.hi);
+    const double d = std::sqrt(sqr(c[0] - p[0]) + sqr(c[1] - p[1]) + sqr(c[2] - p[2]));
+    if (d + h <= reach_) always = std::max(always, v.lo);  // a copy every point combines
+  }
+  if (always > -inf) lo = always;
+  if (combine_ == Combine::Blend) {
+    // F = m1 + bump with 0 <= bump <= a0 / (1 + (m1/a1)^2)
+    const Interval m2 = sqr(Interval(lo, hi));
+    hi += blend_.a0 / (1.0 + m2.lo / (blend_.a1 * blend_.a1));
+  }
+  return {lo, hi};
+}
+
+}  // namespace frep

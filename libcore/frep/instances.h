@@ -1,0 +1,66 @@
+// Copies of one solid at many points: the data behind the instancer's `instances` instruction.
+// A point evaluates only the copies whose reach holds it, found with a k-d tree (nanoflann),
+// so 10,000 copies cost a few evaluations of the copied solid, not 10,000.
+//
+// F(p) = combine over i in N(p) of f(p - c_i), where N(p) is the copies within `reach` of p
+// (beyond its reach a copy's field is negative: reach is the radius of the ball round the
+// solid's origin holding its bounding box) or, where there is none, the nearest copy alone.
+// So F is the exact union or blend wherever any copy is within reach, and the nearest copy's
+// (negative) field elsewhere.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "frep/dual.h"
+#include "frep/interval.h"
+#include "frep/vec.h"
+
+namespace frep {
+
+class Program;
+
+class InstanceSet {
+ public:
+  // union: max of the copies; blend: the largest two, m1 >= m2, as Pasko's blend union,
+  // m1 + a0 / (1 + (m1/a1)^2 + (m2/a1)^2) (exactly the union where only one copy reaches).
+  enum class Combine { Union, Blend };
+  struct Blend {
+    double a0 = 0.0;  // displacement: how much material the blend adds
+    double a1 = 1.0;  // range: how far from each copy the blend reaches
+  };
+
+  InstanceSet(std::vector<Vec3> positions, std::shared_ptr<const Program> copy, double reach,
+              Combine combine, Blend blend);
+  ~InstanceSet();
+  InstanceSet(const InstanceSet&) = delete;
+  InstanceSet& operator=(const InstanceSet&) = delete;
+
+  double eval(double x, double y, double z) const;
+  // Bit-identical to eval() at each point.
+  void evalBatch(const double* x, const double* y, const double* z, std::size_t n,
+                 double* out) const;
+  Interval evalInterval(const Interval& x, const Interval& y, const Interval& z) const;
+  // x, y, z carry their derivatives (the instancer may sit under a transform).
+  Dual evalGradient(const Dual& x, const Dual& y, const Dual& z) const;
+
+  std::size_t size() const { return positions_.size(); }
+  double reach() const { return reach_; }
+
+ private:
+  // The copies N(p), in increasing index order (so every mode combines them alike).
+  void near(double x, double y, double z, std::vector<std::uint32_t>& out) const;
+  template <class T>
+  T combine(const T* values, std::size_t n) const;
+
+  struct Index;
+  std::vector<Vec3> positions_;
+  std::shared_ptr<const Program> copy_;
+  double reach_;
+  Combine combine_;
+  Blend blend_;
+  std::unique_ptr<Index> index_;
+};
+
+}  // namespace frep

@@ -1,0 +1,180 @@
+// The instancer: copies of a solid at many points through a k-d tree. Checked against the
+// brute-force union of every copy, in every evaluator mode, and meshed with 10,000 copies.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "check/mesh_check.h"
+#include "frep/errors.h"
+#include "frep/structural_bounds.h"
+#include "frep/tree.h"
+#include "mesh/mesher.h"
+
+namespace frep {
+namespace {
+
+NodePtr sphere(double r, Vec3 c = {0, 0, 0}) {
+  return makeNode("sphere", {{"radius", realValue(r)}, {"center", vec3Value(c)}}, {});
+}
+
+ParamValue pointsValue(const std::vector<Vec3>& pts) {
+  ParamValue v;
+  for (const Vec3& p : pts) v.numbers.insert(v.numbers.end(), p.begin(), p.end());
+  return v;
+}
+
+NodePtr instancer(const NodePtr& copy, const std::vector<Vec3>& at, const char* combine = "union",
+                  double a0 = 0.1, double a1 = 0.1) {
+  return makeNode("instancer",
+                  {{"positions", pointsValue(at)},
+                   {"combine", choiceValue(combine)},
+                   {"blend_amount", realValue(a0)},
+                   {"blend_range", realValue(a1)}},
+                  {copy}, "copies");
+}
+
+// 10,000 points: a 100 x 100 plate of jittered positions 0.5 apart, so that spheres of radius
+// 0.3 overlap into one piece.
+std::vector<Vec3> plate() {
+  std::mt19937 g(11);
+  std::uniform_real_distribution<double> jitter(-0.04, 0.04);
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 100; ++i)
+    for (int j = 0; j < 100; ++j)
+      pts.push_back({0.5 * i + jitter(g), 0.5 * j + jitter(g), jitter(g)});
+  return pts;
+}
+
+TEST(Instancer, TenThousandCopiesAreTheUnionOfEveryCopy) {
+  const NodePtr ball = sphere(0.3, {0.05, 0, 0.02});  // off the origin: copies keep the offset
+  const std::vector<Vec3> at = plate();
+  const Program p = compile(instancer(ball, at)), one = compile(ball);
+  std::mt19937 g(3);
+  std::uniform_real_distribution<double> u(-1, 51), w(-0.6, 0.6);
+  int inside = 0;
+  for (int i = 0; i < 1500; ++i) {
+    const double x = u(g), y = u(g), z = w(g);
+    double best = -1e300;
+    for (const Vec3& c : at) best = std::max(best, one.eval(x - c[0], y - c[1], z - c[2]));
+    const double v = p.eval(x, y, z);
+    // exact where the solid is; elsewhere the sign is what matters (and is right)
+    if (best >= 0) {
+      EXPECT_EQ(v, best) << x << "," << y << "," << z;
+      ++inside;
+    } else {
+      EXPECT_LT(v, 0.0) << x << "," << y << "," << z;
+    }
+  }
+  EXPECT_GT(inside, 300);
+}
+
+TEST(Instancer, TenThousandCopiesMeshPrintableInOnePiece) {
+  const NodePtr part = instancer(sphere(0.3), plate());
+  const Box3 b = structuralBounds(part);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(b.lo[a], a < 2 ? -0.34 : -0.34, 0.01);
+    EXPECT_NEAR(b.hi[a], a < 2 ? 49.84 : 0.34, 0.01);
+  }
+  MeshingOptions o;
+  o.bbox = b;
+  for (int a = 0; a < 3; ++a) {
+    o.bbox.lo[a] -= 0.2;
+    o.bbox.hi[a] += 0.2;
+  }
+  o.resolution = 0.15;
+  const CheckReport r = checkMesh(polygonize(compile(part), o));
+  EXPECT_TRUE(r.printable()) << reportToText(r, "instancer");
+  EXPECT_EQ(r.components, 1u);
+  // between one big slab and 10,000 separate balls
+  EXPECT_GT(r.volume, 0.5 * 10000 * 4.0 / 3.0 * 3.14159265 * 0.027);
+  EXPECT_LT(r.volume, 10000 * 4.0 / 3.0 * 3.14159265 * 0.027);
+}
+
+TEST(Instancer, BlendOfTwoCopiesIsPaskosBlendUnion) {
+  const NodePtr ball = sphere(0.4);
+  const Program p = compile(instancer(ball, {{-0.3, 0, 0}, {0.35, 0.1, 0}}, "blend", 0.2, 0.3));
+  const Program ref = compile(makeNode(
+      "blend_union", {{"a0", realValue(0.2)}, {"a1", realValue(0.3)}, {"a2", realValue(0.3)}},
+      {sphere(0.4, {-0.3, 0, 0}), sphere(0.4, {0.35, 0.1, 0})}));
+  std::mt19937 g(4);
+  std::uniform_real_distribution<double> u(-0.6, 0.6);
+  int compared = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const double x = u(g), y = u(g), z = u(g);
+    if (std::hypot(x + 0.3, y, z) > 0.69 || std::hypot(x - 0.35, y - 0.1, z) > 0.69) continue;
+    EXPECT_NEAR(p.eval(x, y, z), ref.eval(x, y, z), 1e-12);  // both copies within reach
+    ++compared;
+  }
+  EXPECT_GT(compared, 100);
+}
+
+TEST(Instancer, IntervalsEncloseOnLargeBoxesAndGradientsFollowATransform) {
+  const std::vector<Vec3> at = plate();
+  const NodePtr part = instancer(sphere(0.3), at, "blend", 0.05, 0.1);
+  const Program p = compile(part);
+  std::mt19937 g(8);
+  std::uniform_real_distribution<double> u(-2, 52), s(0.2, 20);
+  for (int i = 0; i < 60; ++i) {  // boxes holding from a few to thousands of copies
+    const double cx = u(g), cy = u(g), h = s(g);
+    const Interval X(cx - h, cx + h), Y(cy - h, cy + h), Z(-0.5, 0.5);
+    const Interval range = p.evalInterval(X, Y, Z);
+    std::uniform_real_distribution<double> px(X.lo, X.hi), py(Y.lo, Y.hi), pz(Z.lo, Z.hi);
+    for (int k = 0; k < 50; ++k) {
+      const double v = p.eval(px(g), py(g), pz(g));
+      ASSERT_GE(v, range.lo);
+      ASSERT_LE(v, range.hi);
+    }
+  }
+  // under a rotation the gradient is the chain rule through the copies
+  const Program turned = compile(
+      makeNode("rotate", {{"axis", vec3Value({1, 1, 0})}, {"angle", realValue(30)}}, {part}));
+  for (int i = 0; i < 200; ++i) {
+    const double x = u(g), y = u(g), z = 0.3 * std::sin(x);
+    const Dual d = turned.evalGradient(x, y, z);
+    const double e = 1e-6;
+    const double fd[3] = {(turned.eval(x + e, y, z) - turned.eval(x - e, y, z)) / (2 * e),
+                          (turned.eval(x, y + e, z) - turned.eval(x, y - e, z)) / (2 * e),
+                          (turned.eval(x, y, z + e) - turned.eval(x, y, z - e)) / (2 * e)};
+    const double fd2 = (turned.eval(x + 1e-5, y, z) - turned.eval(x - 1e-5, y, z)) / 2e-5;
+    if (std::abs(fd2 - fd[0]) > 1e-5) continue;  // a kink of the max within reach
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(d.d[a], fd[a], 1e-5);
+  }
+}
+
+TEST(Instancer, NestedInstancersEvaluateAlikeInPointAndBatch) {
+  // copies of copies: the inner program runs inside an instruction of the outer one
+  const NodePtr pair = instancer(sphere(0.2), {{0, 0, 0}, {0.3, 0, 0}});
+  const Program p = compile(instancer(pair, {{0, 0, 0}, {0, 0.5, 0}, {0, 0, 0.5}, {1, 1, 1}}));
+  std::mt19937 g(6);
+  std::uniform_real_distribution<double> u(-0.5, 1.5);
+  std::vector<double> x(700), y(700), z(700), out(700);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    x[i] = u(g);
+    y[i] = u(g);
+    z[i] = u(g);
+  }
+  p.evalBatch(x.data(), y.data(), z.data(), x.size(), out.data());
+  int inside = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    ASSERT_EQ(out[i], p.eval(x[i], y[i], z[i]));
+    inside += out[i] > 0;
+  }
+  EXPECT_GT(inside, 5);
+  EXPECT_GT(p.eval(1.3, 1, 1), 0.0);  // the last pair's second ball
+}
+
+TEST(Instancer, RefusesAnUnboundedCopy) {
+  try {
+    instancer(makeNode("halfspace", {}, {}), {{0, 0, 0}});
+    FAIL() << "an unbounded copy was accepted";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("copies (instancer): the copied solid (input 0) is "
+                                         "unbounded"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace frep
