@@ -97,7 +97,7 @@ def build():
         save(doc, name)
 
     # Seed 000's showcase shapes side by side, one feature tree each (examples/showcase).
-    doc = new_document("showcase", "Seed 000's showcase shapes (figures 4.9 to 4.15), from "
+    doc = new_document("showcase", "Seed 000's showcase shapes (figures 4.9 to 4.17), from "
                        "examples/showcase/*.json; each exports as a printable STL.",
                        preview_cells=32)  # twelve previews: coarser, to keep the file small
     folder = os.path.join(HERE, "showcase")

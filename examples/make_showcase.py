@@ -1,11 +1,12 @@
 #!/usr/bin/python3.11
-"""Writes examples/showcase/*.json: seed 000's showcase shapes (its figures 4.9 to 4.15)
+"""Writes examples/showcase/*.json: seed 000's showcase shapes (its figures 4.9 to 4.17)
 rebuilt with FRepCAD's nodes, each with an export box and resolution. `make test` exports
 every one of them and checks it printable (tests/test_mesher.cpp, ShowcasePrintable).
 
     PYTHONPATH=build/python /usr/bin/python3.11 examples/make_showcase.py
 """
 
+import math
 import os
 import sys
 
@@ -49,6 +50,14 @@ def shapes():
         yield name, "Figure 4.14: a torus offset by %g" % d, fc.torus(0.8, 0.3).offset(d)
     yield "metamorphosis", "Figure 4.15: half way from a cone to a torus", \
         fc.metamorphosis(fc.cone(1.0, 0.2, 1.6, (0, 0, -0.8)), fc.torus(0.6, 0.3), t=0.5)
+    grid = [(0.5 * i - 1, 0.5 * j - 1, 0) for i in range(5) for j in range(5)]
+    yield "instancer_grid", "Figure 4.16: a torus instanced on a grid, rings linked into a " \
+        "mesh", fc.torus(major_radius=0.3, minor_radius=0.07).instancer(positions=grid)
+    core = [(math.cos(2 * math.pi * i / 24), math.sin(2 * math.pi * i / 24), 0) for i in range(24)]
+    rings = fc.torus(major_radius=0.2, minor_radius=0.05).instancer(positions=core)
+    yield "instancer_torus", "Figure 4.17: rings instanced along a torus's core circle, " \
+        "chained, then intersected with a bigger torus", \
+        fc.intersection(rings, fc.torus(major_radius=1.0, minor_radius=0.2))
 
 
 def main():

@@ -96,7 +96,7 @@ INSTANTIATE_TEST_SUITE_P(Seed000, ShowcasePrintable,
                          ::testing::Values("blend_narrow", "blend_wide", "blend_uneven",
                                            "bounded_blend", "taper", "bend", "twist",
                                            "deform_point", "sweep", "offset_in", "offset_out",
-                                           "metamorphosis"),
+                                           "metamorphosis", "instancer_grid", "instancer_torus"),
                          [](const ::testing::TestParamInfo<std::string>& i) { return i.param; });
 
 TEST(Mesher, SphereVolumeWithinHalfPercentAt128) {

@@ -108,8 +108,7 @@ class FRepFeature(StatelessProxy):
             source = FRepPoints.source_property(p["name"])
             if p["type"] == "points" and source not in obj.PropertiesList:
                 obj.addProperty("App::PropertyLink", source, props.INPUT_GROUP,
-                                "Take %s from an edge, wire, sketch or Draft wire (sampled) "
-                                "instead of the list." % props.property_name(p["name"]))
+                                FRepPoints.source_tooltip(p))
         prop = input_property(info)
         if prop == "Base" and "Base" not in obj.PropertiesList:
             obj.addProperty("App::PropertyLink", "Base", props.INPUT_GROUP,
@@ -152,7 +151,9 @@ class FRepFeature(StatelessProxy):
         `<Name>Source` links (the list property is then not used, so not checked)."""
         source = FRepPoints.source_property(param["name"])
         if param["type"] == "points" and getattr(obj, source, None) is not None:
-            return FRepPoints.path_points(obj, source, getattr(obj, source))
+            if param.get("path", False):
+                return FRepPoints.path_points(obj, source, getattr(obj, source))
+            return FRepPoints.position_points(obj, source, getattr(obj, source))
         return props.check_value(obj, self.FREP_TYPE, param)
 
     def execute(self, obj):

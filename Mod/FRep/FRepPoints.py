@@ -1,6 +1,9 @@
-"""Point lists from FreeCAD objects: the `<Points>Source` link of a node with a point-list
-parameter (the sweep's path) takes its points from any edge, wire, sketch or Draft wire,
-sampled finely enough that the polyline stays within a thousandth of the path's size."""
+"""Point lists from FreeCAD objects, for the `<Name>Source` link of a point-list parameter.
+
+A path (the sweep's) comes from any edge, wire, sketch or Draft wire, sampled finely enough
+that the polyline stays within a thousandth of the path's size. A set of positions (the
+instancer's) comes from mesh vertices, a point cloud, a Draft array's copies or any shape's
+vertices (a sketch's points, Draft points)."""
 
 import FreeCAD
 
@@ -10,6 +13,57 @@ SAMPLING = 1e-3  # deflection, relative to the path's bounding-box diagonal
 def source_property(param_name):
     import FRepProperties as props
     return props.property_name(param_name) + "Source"
+
+
+def source_tooltip(param):
+    name = props_name(param)
+    if param.get("path", False):
+        return ("Take %s from an edge, wire, sketch or Draft wire (sampled) instead of the "
+                "list." % name)
+    return ("Take %s from an object instead of the list: mesh vertices, a point cloud, the "
+            "copies of a Draft array (their positions) or a shape's vertices." % name)
+
+
+def props_name(param):
+    import FRepProperties as props
+    return props.property_name(param["name"])
+
+
+# Draft's array objects: their shape is a compound of the copies, each with its placement.
+DRAFT_ARRAYS = ("Array", "PathArray", "PathTwistedArray", "PointArray", "PathLinkArray",
+                "PointLinkArray")
+
+
+def position_points(owner, prop, source):
+    """Points from the source in the owner's local coordinates: link arrays' placements,
+    the copies of a Draft array, mesh vertices, point clouds or a shape's vertices."""
+    points = _positions(source)
+    if not points:
+        raise ValueError("%s: property '%s' links '%s' (%s), which has no points; link a mesh, "
+                         "a point cloud, a Draft array or a shape with vertices"
+                         % (owner.Label, prop, source.Label, source.TypeId))
+    back = owner.Placement.inverse()
+    return [tuple(back.multVec(p)) for p in points]
+
+
+def _positions(source):
+    placements = getattr(source, "PlacementList", None)
+    if placements:  # a link array: copies without their own shapes
+        return [source.Placement.multiply(p).Base for p in placements]
+    mesh = getattr(source, "Mesh", None)
+    if mesh is not None and hasattr(mesh, "Points") and hasattr(mesh, "Facets"):
+        return [FreeCAD.Vector(p.x, p.y, p.z) for p in mesh.Points]
+    cloud = getattr(source, "Points", None)
+    if cloud is not None and hasattr(cloud, "Points"):
+        return list(cloud.Points)
+    shape = getattr(source, "Shape", None)
+    if shape is None or shape.isNull():
+        return []
+    proxy_type = getattr(getattr(source, "Proxy", None), "Type", None)
+    if proxy_type in DRAFT_ARRAYS and (shape.Edges or shape.Faces):
+        # each copy is a child shape placed by the array (its rotation is not used)
+        return [c.Placement.Base for c in shape.childShapes()]
+    return [v.Point for v in shape.Vertexes]
 
 
 def path_points(owner, prop, source):

@@ -7,6 +7,8 @@ import sys
 
 sys.path.append("/usr/lib/freecad-python3/lib")
 sys.path.append("/usr/lib/freecad/lib")
+# Python workbenches (Draft) and the PySide shim they import, as FreeCAD's own start-up adds
+sys.path += ["/usr/share/freecad/Mod/Draft", "/usr/share/freecad/Ext"]
 
 import FreeCAD  # noqa: E402  (after the path set-up)
 import pytest  # noqa: E402

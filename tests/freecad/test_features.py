@@ -275,3 +275,66 @@ def test_formula_feature_reports_the_column_and_combines_inputs(doc):
     doc.recompute()
     assert "Join: property 'Formula' column 9: unknown name 'f3'" in join.getStatusString()
     assert "this node has 2" in join.getStatusString()
+
+
+def _copies_at(instancer, ball_radius, expected):
+    """The instancer is a ball at each expected point (in document coordinates)."""
+    shape = FRepTree.shape_of(instancer)
+    for p in expected:
+        assert shape(*p) == pytest.approx(ball_radius, abs=1e-9), p
+
+
+def test_instancer_along_draft_arrays_meshes_and_clouds(doc):
+    """The instancer's PositionsSource: a Draft ortho array (its copies), a Draft link array
+    (its placements), a polar array of a Draft point (its vertices), mesh vertices and a point
+    cloud, each moved by its own Placement."""
+    import Draft
+    import Mesh
+    import Points
+    box = doc.addObject("Part::Box", "Box")
+    box.Placement.Base = FreeCAD.Vector(1, 2, 3)
+    doc.recompute()
+    array = Draft.make_ortho_array(box, v_x=FreeCAD.Vector(10, 0, 0),
+                                   v_y=FreeCAD.Vector(0, 5, 0), v_z=FreeCAD.Vector(0, 0, 1),
+                                   n_x=3, n_y=2, n_z=1, use_link=False)
+    links = Draft.make_ortho_array(box, v_x=FreeCAD.Vector(0, 0, 4),
+                                   v_y=FreeCAD.Vector(0, 5, 0), v_z=FreeCAD.Vector(0, 0, 1),
+                                   n_x=2, n_y=1, n_z=1, use_link=True)
+    point = Draft.make_point(2, 0, 0)
+    polar = Draft.make_polar_array(point, number=4, angle=360,
+                                   center=FreeCAD.Vector(0, 0, 0), use_link=False)
+    import Part
+    mesh = doc.addObject("Mesh::Feature", "Cube")
+    mesh.Mesh = Mesh.Mesh(Part.makeBox(2, 2, 2).tessellate(0.1))
+    mesh.Placement.Base = FreeCAD.Vector(0, 0, 10)
+    cloud = doc.addObject("Points::Feature", "Cloud")
+    cloud.Points = Points.Points([FreeCAD.Vector(5, 5, 5), FreeCAD.Vector(6, 5, 5)])
+    cloud.Placement.Base = FreeCAD.Vector(1, 0, 0)
+    doc.recompute()
+
+    ball = F.make("sphere", doc, name="Ball", radius=0.5)
+    copies = F.make("instancer", doc, name="Copies", inputs=[ball])
+    cases = [
+        (array, [(1 + 10 * i, 2 + 5 * j, 3) for i in range(3) for j in range(2)]),
+        (links, [(1, 2, 3), (1, 2, 7)]),
+        (polar, [(2, 0, 0), (0, 2, 0), (-2, 0, 0), (0, -2, 0)]),
+        (mesh, [(sx, sy, 10 + sz) for sx in (0, 2) for sy in (0, 2) for sz in (0, 2)]),
+        (cloud, [(6, 5, 5), (7, 5, 5)]),
+    ]
+    for source, expected in cases:
+        copies.PositionsSource = source
+        doc.recompute()
+        assert copies.isValid(), (source.Label, copies.getStatusString())
+        assert copies.Mesh.CountFacets > 0
+        _copies_at(copies, 0.5, expected)
+        # exactly one copy per point
+        positions = next(p for p in F.NODE_TYPES["instancer"]["params"]
+                         if p["name"] == "positions")
+        n = len(copies.Proxy.param_value(copies, positions))
+        assert n == len(expected), source.Label
+
+    empty = doc.addObject("Part::Feature", "Nothing")
+    copies.PositionsSource = empty
+    doc.recompute()
+    assert ("Copies: property 'PositionsSource' links 'Nothing' (Part::Feature), which has no "
+            "points" in copies.getStatusString())

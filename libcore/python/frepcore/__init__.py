@@ -232,7 +232,7 @@ def _make_function(info):
         def make(*shapes, **kwargs):
             return Shape(Node(type_id, kwargs, [_node(s) for s in shapes], type_id))
 
-    lines = ["%s: %s" % (type_id, info["doc"]), "", "F = " + info["formula"], "",
+    lines = ["%s: %s" % (type_id, info["doc"]), "", "Formula: " + info["formula"], "",
              "Parameters:"]
     for p in info["params"]:
         unit = " [%s]" % p["unit"] if p["unit"] else ""
