@@ -41,7 +41,7 @@ ParamValue randomValue(const ParamTemplate& p, RandomTrees& r) {
       v.numbers = {number()};
       break;
     case ParamType::Points:
-      for (std::size_t i = 0; i < p.minPoints + 2; ++i)
+      for (std::size_t i = 0; i < p.minPoints + (p.minPoints % 2 ? 2 : 3); ++i)  // odd: arcs
         for (int c = 0; c < 3; ++c) v.numbers.push_back(number());
       break;
     case ParamType::Vector3:

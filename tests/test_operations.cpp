@@ -147,6 +147,54 @@ TEST(Sweep, ArcPolylineAndTaperedRadius) {
   EXPECT_NEAR(taper.eval(std::cos(mid), std::sin(mid), 0), 0.2, 1e-4);
 }
 
+TEST(Sweep, ExactOnAnArcWithLinesAround) {
+  // segments "arcs": a line (three collinear points), a quarter arc of radius 1 about the
+  // origin through its middle, and a line again; exact everywhere, not within sampling.
+  const double c = std::cos(kPi / 4), s = std::sin(kPi / 4);
+  const std::vector<Vec3> path = {{1, -1, 0}, {1, -0.5, 0}, {1, 0, 0}, {c, s, 0},
+                                  {0, 1, 0}, {-0.5, 1, 0}, {-1, 1, 0}};
+  const NodePtr n = makeNode("sweep", {{"points", pointsValue(path)},
+                                       {"radius1", realValue(0.2)},
+                                       {"radius2", realValue(0.2)},
+                                       {"segments", choiceValue("arcs")}}, {});
+  const Program p = compile(n);
+  int onArc = 0;
+  for (const Vec3& q : randomPoints(4000, 1.6)) {
+    const double rho = std::hypot(q[0], q[1]);
+    const double toArc = q[0] >= 0 && q[1] >= 0 ? std::hypot(rho - 1, q[2]) : 1e300;
+    const double exact = 0.2 - std::min({toArc, segmentDistance(q, {1, -1, 0}, {1, 0, 0}),
+                                         segmentDistance(q, {0, 1, 0}, {-1, 1, 0})});
+    ASSERT_NEAR(eval(p, q), exact, 1e-12) << q[0] << "," << q[1] << "," << q[2];
+    onArc += toArc < 0.5;
+  }
+  EXPECT_GT(onArc, 100);
+  // the radius goes along the arc length of lines and arcs alike
+  const Program taper = compile(makeNode("sweep", {{"points", pointsValue(path)},
+                                                   {"radius1", realValue(0.3)},
+                                                   {"radius2", realValue(0.1)},
+                                                   {"segments", choiceValue("arcs")}}, {}));
+  EXPECT_NEAR(taper.eval(c, s, 0), 0.2, 1e-12);  // the middle of the length
+  EXPECT_NEAR(taper.eval(1, 0, 0), 0.3 - 0.2 * 1 / (2 + kPi / 2), 1e-12);
+  // the structural box holds the arc's bulge
+  const Box3 b = structuralBounds(n);
+  EXPECT_LE(b.hi[0], 1.2 + 1e-12);
+  EXPECT_GE(b.hi[0], 1.2 - 1e-12);
+  // an even count or a closed arc is refused with the reason
+  for (const auto& bad : {std::vector<Vec3>{{0, 0, 0}, {1, 0, 0}},
+                          std::vector<Vec3>{{0, 0, 0}, {1, 1, 0}, {0, 0, 0}}}) {
+    try {
+      makeNode("sweep", {{"points", pointsValue(bad)}, {"segments", choiceValue("arcs")}}, {},
+               "path");
+      FAIL() << "accepted";
+    } catch (const ModelError& e) {
+      const std::string m = e.what();
+      EXPECT_TRUE(m.find("odd number") != std::string::npos ||
+                  m.find("split a full circle") != std::string::npos)
+          << m;
+    }
+  }
+}
+
 TEST(Sweep, NeedsTwoPoints) {
   try {
     makeNode("sweep", {{"points", pointsValue({{0, 0, 0}})}}, {}, "root");

@@ -152,7 +152,8 @@ class FRepFeature(StatelessProxy):
         source = FRepPoints.source_property(param["name"])
         if param["type"] == "points" and getattr(obj, source, None) is not None:
             if param.get("path", False):
-                return FRepPoints.path_points(obj, source, getattr(obj, source))
+                arcs = getattr(obj, "Segments", "lines") == "arcs"
+                return FRepPoints.path_points(obj, source, getattr(obj, source), arcs)
             return FRepPoints.position_points(obj, source, getattr(obj, source))
         return props.check_value(obj, self.FREP_TYPE, param)
 

@@ -66,9 +66,11 @@ def _positions(source):
     return [v.Point for v in shape.Vertexes]
 
 
-def path_points(owner, prop, source):
+def path_points(owner, prop, source, arcs=False):
     """The source's first wire as points, in the owner's local coordinates (document
-    coordinates moved back by the owner's Placement)."""
+    coordinates moved back by the owner's Placement). `arcs`: start, middle and end of each
+    piece (the sweep's segments "arcs"): lines and circular arcs exactly, other curves as
+    short straight pieces."""
     shape = getattr(source, "Shape", None)
     if shape is None or not shape.Edges:
         raise ValueError("%s: property '%s' links '%s' (%s), which has no edges; link an edge, "
@@ -81,6 +83,45 @@ def path_points(owner, prop, source):
                                      % (owner.Label, source.Label, len(wires)))
     wire = wires[0]
     deflection = max(SAMPLING * shape.BoundBox.DiagonalLength, 1e-9)
-    points = wire.discretize(Deflection=deflection)
+    points = _arc_points(wire, deflection) if arcs else wire.discretize(Deflection=deflection)
     back = owner.Placement.inverse()
     return [tuple(back.multVec(p)) for p in points]
+
+
+def _arc_points(wire, deflection):
+    """[start, middle, end, middle, end, ...] along the wire's edges in order."""
+    edges = wire.OrderedEdges
+    out = []
+    for i, edge in enumerate(edges):
+        chain = _edge_chain(edge, deflection)
+        # follow the wire: turn an edge round where it ends at the path so far (or, for the
+        # first edge, where it starts at the next one)
+        if out:
+            if (chain[-1] - out[-1]).Length < (chain[0] - out[-1]).Length:
+                chain.reverse()
+        elif len(edges) > 1:
+            ends = [v.Point for v in edges[1].Vertexes]
+            if min((chain[0] - e).Length for e in ends) < min((chain[-1] - e).Length
+                                                              for e in ends):
+                chain.reverse()
+        out += chain[1:] if out else chain
+    return out
+
+
+def _edge_chain(edge, deflection):
+    """One edge as start, middle, end[, middle, end ...]: a line or an arc of a circle as
+    itself (a whole circle as two halves), any other curve as short straight pieces."""
+    import Part
+    a, b = edge.FirstParameter, edge.LastParameter
+    if isinstance(edge.Curve, (Part.Line, Part.LineSegment)):
+        params = [a, 0.5 * (a + b), b]
+    elif isinstance(edge.Curve, Part.Circle):
+        n = 2 if edge.isClosed() else 1  # an arc's start and end must differ
+        params = [a + (b - a) * k / (2 * n) for k in range(2 * n + 1)]
+    else:
+        points = edge.discretize(Deflection=deflection)
+        chain = [points[0]]
+        for p, q in zip(points, points[1:]):
+            chain += [(p + q) * 0.5, q]
+        return chain
+    return [edge.valueAt(t) for t in params]

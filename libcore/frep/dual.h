@@ -75,6 +75,8 @@ inline Dual powConst(const Dual& a, double k) {
   const double slope = k == 0.0 ? 0.0 : k * std::pow(a.v, k - 1.0);
   return chain(a, std::pow(a.v, k), std::isfinite(slope) ? slope : 0.0);
 }
+// The branch the value takes; its derivatives are the branch's.
+inline Dual select(const Dual& a, const Dual& b, const Dual& c) { return a.v >= 0.0 ? b : c; }
 inline Dual sin(const Dual& a) { return chain(a, std::sin(a.v), std::cos(a.v)); }
 inline Dual cos(const Dual& a) { return chain(a, std::cos(a.v), -std::sin(a.v)); }
 

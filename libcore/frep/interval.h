@@ -135,6 +135,13 @@ inline Interval powConst(Interval a, double k) {
   return k > 0.0 ? Interval{lo, hi} : Interval{hi, lo};
 }
 
+// a >= 0 ? b : c: one branch where the condition's sign is known, else both.
+inline Interval select(Interval a, Interval b, Interval c) {
+  if (a.lo >= 0.0) return b;
+  if (a.hi < 0.0) return c;
+  return {std::min(b.lo, c.lo), std::max(b.hi, c.hi)};
+}
+
 // atan2(y, x) over a box: the angles of its corners, unless the box touches the origin or the
 // branch cut along the negative x axis, where every angle may occur.
 inline Interval atan2(Interval y, Interval x) {

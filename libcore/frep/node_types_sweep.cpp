@@ -32,52 +32,183 @@ Slot capsule(ProgramBuilder& b, const Point3Slots& p, const Vec3& a, const Vec3&
   return b.affine(t, dist, dist, rb - ra, -1.0, 0.0, ra);
 }
 
+// One piece of the path: a straight segment or a circular arc, with the arc length at its
+// start and end (for the radius).
+struct Piece {
+  bool arc = false;
+  Vec3 a, b;                         // start and end
+  Vec3 centre, mid, across, normal;  // arc: centre and frame (mid: towards the arc's middle)
+  double radius = 0, half = 0;       // arc: radius and half the angle it spans
+  double s0 = 0, s1 = 0;             // arc length at the start and end
+};
+
+Vec3 minus(const Vec3& p, const Vec3& q) {
+  return {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+}
+double dot(const Vec3& p, const Vec3& q) {
+  return p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
+}
+Vec3 cross(const Vec3& p, const Vec3& q) {
+  return {p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0]};
+}
+Vec3 scaled(const Vec3& p, double k) {
+  return {p[0] * k, p[1] * k, p[2] * k};
+}
+Vec3 plus(const Vec3& p, const Vec3& q) {
+  return {p[0] + q[0], p[1] + q[1], p[2] + q[2]};
+}
+
+// The arc from a through m to b; a straight segment from a to b when the three are collinear.
+Piece arcThrough(const Vec3& a, const Vec3& m, const Vec3& b) {
+  Piece p;
+  p.a = a;
+  p.b = b;
+  const Vec3 ab = minus(m, a), ac = minus(b, a), n = cross(ab, ac);
+  const double n2 = dot(n, n);
+  if (n2 <= 1e-24 * dot(ab, ab) * dot(ac, ac)) return p;  // collinear: a segment
+  p.arc = true;
+  // circumcentre: a + (|ac|^2 (n x ab) + |ab|^2 (ac x n)) / (2 |n|^2)
+  p.centre = plus(
+      a,
+      scaled(plus(scaled(cross(n, ab), dot(ac, ac)), scaled(cross(ac, n), dot(ab, ab))), 0.5 / n2));
+  const Vec3 ra = minus(a, p.centre);
+  p.radius = std::sqrt(dot(ra, ra));
+  p.normal = scaled(n, 1.0 / std::sqrt(n2));  // a -> m -> b turns counter-clockwise about it
+  const Vec3 u = scaled(ra, 1.0 / p.radius), v = cross(p.normal, u);
+  const Vec3 rb = minus(b, p.centre);
+  double span = std::atan2(dot(rb, v), dot(rb, u));
+  if (span <= 0) span += 2 * kPi;
+  p.half = span / 2;
+  p.mid = plus(scaled(u, std::cos(p.half)), scaled(v, std::sin(p.half)));
+  p.across = cross(p.normal, p.mid);
+  return p;
+}
+
+double pieceLength(const Piece& p) {
+  if (p.arc) return 2 * p.half * p.radius;
+  const Vec3 e = minus(p.b, p.a);
+  return std::sqrt(dot(e, e));
+}
+
+// The pieces of the path; `arcs`: the points are start, middle, end of each arc in turn.
+std::vector<Piece> piecesOf(const std::vector<Vec3>& pts, bool arcs) {
+  std::vector<Piece> pieces;
+  if (arcs) {
+    for (std::size_t i = 0; i + 2 < pts.size(); i += 2)
+      pieces.push_back(arcThrough(pts[i], pts[i + 1], pts[i + 2]));
+  } else {
+    for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
+      Piece p;
+      p.a = pts[i];
+      p.b = pts[i + 1];
+      pieces.push_back(p);
+    }
+  }
+  double s = 0;
+  for (Piece& p : pieces) {
+    p.s0 = s;
+    s += pieceLength(p);
+    p.s1 = s;
+  }
+  return pieces;
+}
+
+// r(theta) - dist(p, circle) where p's closest circle point is on the arc (|theta| <= half,
+// theta measured from the arc's middle), else the spheres at its ends.
+Slot arcTube(ProgramBuilder& b, const Point3Slots& p, const Piece& a, double ra, double rb) {
+  const Vec3& c = a.centre;
+  auto along = [&](const Vec3& d) { return b.affine(p.x, p.y, p.z, d[0], d[1], d[2], -dot(d, c)); };
+  const Slot x = along(a.mid), y = along(a.across), h = along(a.normal);
+  const Slot rho = b.length2(x, y);
+  const Slot theta = b.emit(Op::Atan2, y, x);
+  const Slot toCircle = b.length2(b.affine(rho, rho, rho, 1.0, 0, 0, -a.radius), h);
+  // the radius goes linearly with the arc length, so with theta
+  const double slope = (rb - ra) / (2 * a.half);
+  const Slot onArc = b.affine(theta, toCircle, toCircle, slope, -1.0, 0, ra + slope * a.half);
+  auto ball = [&](const Vec3& q, double r) {
+    return b.sub(b.constant(r), b.length3(b.affine(p.x, p.x, p.x, 1, 0, 0, -q[0]),
+                                          b.affine(p.y, p.y, p.y, 1, 0, 0, -q[1]),
+                                          b.affine(p.z, p.z, p.z, 1, 0, 0, -q[2])));
+  };
+  const Slot ends = b.max(ball(a.a, ra), ball(a.b, rb));
+  const Slot inRange = b.affine(b.abs(theta), theta, theta, -1.0, 0, 0, a.half);
+  return b.emit(Op::Select, inRange, onArc, ends);
+}
+
+std::string arcProblem(const std::vector<Vec3>& pts) {
+  if (pts.size() % 2 == 0)
+    return "parameter 'points' has " + std::to_string(pts.size()) +
+           " points; with segments \"arcs\" it needs an odd number: start, middle and end of "
+           "each arc, the end starting the next";
+  for (std::size_t i = 0; i + 2 < pts.size(); i += 2) {
+    const Vec3 d = minus(pts[i + 2], pts[i]), m = minus(pts[i + 1], pts[i]);
+    if (dot(d, d) <= 1e-24 * (1 + dot(m, m)))
+      return "parameter 'points': arc " + std::to_string(i / 2) +
+             " starts and ends at the same point; split a full circle into two arcs";
+  }
+  return "";
+}
+
 }  // namespace
 
 void registerSweeps(Registry& r) {
   ParamTemplate r1 = positiveLength("radius1", 0.2, "Radius at the first point.");
   ParamTemplate r2 = realParam("radius2", 0.2, "length", "Radius at the last point (0: a point).");
   range(r2, 0.0, kInf);
-  ParamTemplate path =
-      pointsParam("points", {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}}, 2, "length", "The polyline, in order.");
+  ParamTemplate path = pointsParam("points", {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}}, 2, "length",
+                                   "The path, in order: the polyline's points, or with segments "
+                                   "\"arcs\" the start, middle and end of each arc.");
   path.path = true;
   r.add({"sweep",
          "primitive",
-         "A sphere swept along a polyline, its radius going linearly from radius1 to radius2 "
-         "along the length. In FreeCAD the points can come from any edge, wire, sketch or "
-         "Draft wire (property PointsSource).",
-         "F = max_i (r(s_i(t_i)) - |p - (P_i + t_i (P_i+1 - P_i))|),  t_i = clamp of the "
-         "projection of p on segment i, s = arc length",
+         "A sphere swept along a path, its radius going linearly from radius1 to radius2 "
+         "along the length. The path is a polyline, or with segments \"arcs\" a chain of "
+         "circular arcs, each through three points (three collinear points make a straight "
+         "piece), so lines and arcs are followed exactly. In FreeCAD the path comes from any "
+         "edge, wire, sketch or Draft wire (property PointsSource): lines and arcs exactly "
+         "with \"arcs\", other curves sampled to 1/1000 of their size.",
+         "F = max over the pieces of r(s) - dist(p, piece), s the arc length at the closest "
+         "point; an arc: dist = sqrt((rho - R)^2 + h^2) where p's angle about the centre is "
+         "within the arc, else the distance to its nearer end",
          0,
          0,
-         {path, r1, r2},
+         {path, r1, r2,
+          choiceParam("segments", {"lines", "arcs"},
+                      "How the points make the path: a polyline, or arcs through three "
+                      "points each.")},
          [](CompileContext& c) {
            auto& b = c.b;
-           const std::vector<Vec3> pts = pointsOf(c.param("points"));
-           std::vector<double> at(pts.size(), 0.0);  // arc length at each point
-           for (std::size_t i = 1; i < pts.size(); ++i) {
-             const Vec3& p = pts[i - 1];
-             const Vec3& q = pts[i];
-             at[i] = at[i - 1] +
-                     std::sqrt((q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) +
-                               (q[2] - p[2]) * (q[2] - p[2]));
-           }
-           const double total = at.back(), ra = c.real("radius1"), rb = c.real("radius2");
+           const std::vector<Piece> pieces =
+               piecesOf(pointsOf(c.param("points")), c.param("segments").text == "arcs");
+           const double total = pieces.back().s1, ra = c.real("radius1"), rb = c.real("radius2");
            auto radiusAt = [&](double s) { return total > 0 ? ra + (rb - ra) * s / total : ra; };
            Slot field = 0;
-           bool first = true;
-           for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
-             const Vec3 e = {pts[i + 1][0] - pts[i][0], pts[i + 1][1] - pts[i][1],
-                             pts[i + 1][2] - pts[i][2]};
-             const Slot f = capsule(b, c.p, pts[i], e, radiusAt(at[i]), radiusAt(at[i + 1]));
-             field = first ? f : b.max(field, f);
-             first = false;
+           for (std::size_t i = 0; i < pieces.size(); ++i) {
+             const Piece& p = pieces[i];
+             const Slot f =
+                 p.arc ? arcTube(b, c.p, p, radiusAt(p.s0), radiusAt(p.s1))
+                       : capsule(b, c.p, p.a, minus(p.b, p.a), radiusAt(p.s0), radiusAt(p.s1));
+             field = i == 0 ? f : b.max(field, f);
            }
            return field;
          },
          [](const Node& n, const std::vector<Box3>&) {
-           return pointsBounds(pointsOf(n.param("points")),
-                               std::max(n.real("radius1"), n.real("radius2")));
+           const std::vector<Vec3> pts = pointsOf(n.param("points"));
+           const double pad = std::max(n.real("radius1"), n.real("radius2"));
+           Box3 box = pointsBounds(pts, pad);
+           if (n.param("segments").text != "arcs") return box;
+           for (const Piece& p : piecesOf(pts, true)) {
+             if (!p.arc) continue;
+             Vec3 half;  // the whole circle's box: R sqrt(1 - n_a^2) about each axis
+             for (int a = 0; a < 3; ++a)
+               half[a] = p.radius * std::sqrt(std::max(0.0, 1 - p.normal[a] * p.normal[a])) + pad;
+             box = boxHull(box, boxAround(p.centre, half));
+           }
+           return box;
+         },
+         [](const Node& n) -> std::string {
+           if (n.param("segments").text != "arcs") return "";
+           return arcProblem(pointsOf(n.param("points")));
          }});
 }
 

@@ -38,6 +38,7 @@ enum class Op : std::uint8_t {
   Atan,        // atan(a)
   Log,         // natural logarithm of a (NaN below 0)
   PowConst,    // a^k0 as std::pow: any base for an integer k0, a >= 0 otherwise (formulas)
+  Select,      // a >= 0 ? b : c (pieces of piecewise functions: arcs, metaballs)
   Instances,   // copies of a solid at points, near (a, b, c); k0 = the program's instance set
   Count_
 };
@@ -107,6 +108,7 @@ inline T applyOp(Op op, const T& a, const T& b, const T& c, const double* k) {
     case Op::Atan: return atan(a);
     case Op::Log: return log(a);
     case Op::PowConst: return powConst(a, k[0]);
+    case Op::Select: return select(a, b, c);
     case Op::Instances: break;  // needs the program's instance set: see Program
     case Op::Count_: break;
   }

@@ -24,7 +24,7 @@ constexpr OpInfo kOpInfo[] = {
     {"runion", 2, 1, true},    {"rintersect", 2, 1, true},  {"blendbump", 2, 3, false},
     {"atan2", 2, 0, false},    {"powabs", 1, 1, false},     {"floor", 1, 0, false},
     {"tan", 1, 0, false},      {"atan", 1, 0, false},       {"log", 1, 0, false},
-    {"powconst", 1, 1, false}, {"instances", 3, 1, false},
+    {"powconst", 1, 1, false}, {"select", 3, 0, false},     {"instances", 3, 1, false},
 };
 static_assert(sizeof(kOpInfo) / sizeof(kOpInfo[0]) == static_cast<int>(Op::Count_),
               "every op needs an entry");
@@ -156,6 +156,7 @@ void Program::evalChunk(const double* x, const double* y, const double* z, std::
       case Op::Atan: FREP_KERNEL(std::atan(a[j]));
       case Op::Log: FREP_KERNEL(std::log(a[j]));
       case Op::PowConst: FREP_KERNEL(powConst(a[j], k[0]));
+      case Op::Select: FREP_KERNEL(select(a[j], b[j], c[j]));
       case Op::Instances:
         instanceSets_[static_cast<std::size_t>(k[0])]->evalBatch(a, b, c, n, o);
         break;

@@ -12,6 +12,8 @@ inline double sqr(double a) { return a * a; }
 inline double powAbs(double a, double k) { return std::pow(std::abs(a), k); }
 // a^k as std::pow: a negative base only with an integer exponent (NaN otherwise).
 inline double powConst(double a, double k) { return std::pow(a, k); }
+// a >= 0 ? b : c (a NaN condition picks c).
+inline double select(double a, double b, double c) { return a >= 0.0 ? b : c; }
 using std::abs;
 using std::atan;
 using std::atan2;

@@ -234,6 +234,25 @@ def test_sweep_follows_a_sketch(doc):
     assert shape(3.0, 1.0, 0.0) == pytest.approx(0.25, abs=2e-3)  # the arc's end
     assert shape(2 + math.cos(-0.7), 1 + math.sin(-0.7), 0.1) == pytest.approx(0.15, abs=3e-3)
     assert sweep.Mesh.CountFacets > 0
+    # With segments "arcs" the line and the arc are followed exactly.
+    sweep.Segments = "arcs"
+    doc.recompute()
+    assert sweep.isValid(), sweep.getStatusString()
+    shape = FRepTree.shape_of(sweep)
+    for t in (-1.5, -1.0, -0.7, -0.2, 0.0):
+        p = (2 + 1.1 * math.cos(t), 1 + 1.1 * math.sin(t), 0.05)
+        assert shape(*p) == pytest.approx(0.25 - math.hypot(0.1, 0.05), abs=1e-9), t
+    assert shape(1.0, 0.1, 0.0) == pytest.approx(0.15, abs=1e-9)
+    # a whole circle (a sketch circle) is swept as two exact halves: a torus
+    ring = doc.addObject("Sketcher::SketchObject", "Ring")
+    ring.addGeometry(Part.Circle(FreeCAD.Vector(0, 0, 0), FreeCAD.Vector(0, 0, 1), 2))
+    doc.recompute()
+    sweep.PointsSource = ring
+    doc.recompute()
+    assert sweep.isValid(), sweep.getStatusString()
+    shape = FRepTree.shape_of(sweep)
+    for t in (0.3, 2.0, 4.0, 5.9):
+        assert shape(2.1 * math.cos(t), 2.1 * math.sin(t), 0) == pytest.approx(0.15, abs=1e-9)
     # An object without edges is refused with the property named.
     ball = F.make("sphere", doc, name="Ball")
     sweep.PointsSource = ball
