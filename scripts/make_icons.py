@@ -320,6 +320,14 @@ def formula():
     return svg(body, radial("b", BLUE))
 
 
+def stretch():
+    """A ball drawn out into an ellipsoid along a diagonal, with arrows both ways."""
+    body = ('<ellipse cx="32" cy="32" rx="26" ry="13" transform="rotate(-35 32 32)" '
+            'fill="url(#b)" %s/>\n' % stroke(1.5))
+    body += arrow(40, 26, 58, 13, ORANGE[1], 3) + arrow(24, 38, 6, 51, ORANGE[1], 3)
+    return svg(body, radial("b", BLUE))
+
+
 def solid_icon(body, defs):
     return lambda: svg(body(), defs)
 
@@ -356,6 +364,7 @@ ICONS = {
     "polar_array": polar_array,
     "category-array": linear_array,
     "formula": formula,
+    "stretch": stretch,
     "category-formula": formula,
     # Fallbacks for node types added without their own icon, by registry category.
     "category-primitive": lambda: svg(sphere(), radial("b", BLUE)),

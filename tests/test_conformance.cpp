@@ -69,20 +69,23 @@ ParamValue randomValue(const ParamTemplate& p, RandomTrees& r) {
   return v;
 }
 
+// A random valid instance. Whole-node checks may refuse a draw (an even point count for
+// arcs, an odd one for pairs, a half-space as the instancer's copy): such draws are redrawn,
+// with bounded inputs on the second half of the attempts.
 NodePtr randomInstance(const NodeType& type, RandomTrees& r) {
-  std::map<std::string, ParamValue> params;
-  for (const auto& p : type.params) params[p.name] = randomValue(p, r);
-  std::vector<NodePtr> inputs;
-  // Variadic types get one or two more than their least; optional inputs are tried both ways.
-  const int most = type.maxInputs == kVariadic ? type.minInputs + 1 : type.maxInputs;
-  const int n = r.integer(type.minInputs, most);
-  for (int i = 0; i < n; ++i) inputs.push_back(r.primitive());
-  try {
-    return makeNode(type.id, params, inputs, "conformance");
-  } catch (const ModelError&) {
-    // a type that needs bounded inputs (the instancer) refuses half-spaces: try bounded ones
-    for (auto& in : inputs) in = r.boundedPrimitive();
-    return makeNode(type.id, params, inputs, "conformance");
+  for (int attempt = 0;; ++attempt) {
+    std::map<std::string, ParamValue> params;
+    for (const auto& p : type.params) params[p.name] = randomValue(p, r);
+    std::vector<NodePtr> inputs;
+    // Variadic types get one or two more than their least; optional inputs are tried both ways.
+    const int most = type.maxInputs == kVariadic ? type.minInputs + 1 : type.maxInputs;
+    const int n = r.integer(type.minInputs, most);
+    for (int i = 0; i < n; ++i) inputs.push_back(attempt < 10 ? r.primitive() : r.boundedPrimitive());
+    try {
+      return makeNode(type.id, params, inputs, "conformance");
+    } catch (const ModelError&) {
+      if (attempt == 20) throw;
+    }
   }
 }
 

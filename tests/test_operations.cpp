@@ -230,7 +230,7 @@ TEST(Blobs, SoftObjectsStopExactlyAtTheirRadius) {
 }
 
 TEST(Blobs, BoundsEncloseTheSolidAndTheMeshIsOnePart) {
-  for (const char* id : {"blobby", "soft_objects", "convolution"}) {
+  for (const char* id : {"blobby", "soft_objects", "convolution", "metaballs"}) {
     const NodePtr n = blob(id, {{-0.4, 0, 0}, {0.3, 0.2, 0}, {0, -0.3, 0.3}});
     const Program p = compile(n);
     const Box3 b = structuralBounds(n);
@@ -251,6 +251,103 @@ TEST(Blobs, BoundsEncloseTheSolidAndTheMeshIsOnePart) {
     const CheckReport r = checkMesh(polygonize(p, o));
     EXPECT_TRUE(r.printable()) << id;
     EXPECT_EQ(r.components, 1u) << id;
+  }
+}
+
+TEST(Blobs, MetaballsArePiecewiseQuadraticC1AndZeroBeyondTheRadius) {
+  const NodePtr n = blob("metaballs", {{0, 0, 0}},
+                         {{"strength", realValue(2.0)}, {"radius", realValue(0.9)},
+                          {"threshold", realValue(0.5)}});
+  const Program p = compile(n);
+  auto kernel = [&](double r) { return p.eval(r, 0, 0) + 0.5; };
+  EXPECT_NEAR(kernel(0), 2.0, 1e-15);
+  EXPECT_NEAR(kernel(0.3), 2.0 * 2 / 3, 1e-14);             // t = 1/3: both pieces agree
+  EXPECT_NEAR(kernel(0.45), 1.5 * 2.0 * 0.25, 1e-14);       // t = 1/2 on the outer piece
+  EXPECT_NEAR(kernel(0.15), 2.0 * (1 - 3.0 / 36), 1e-14);   // t = 1/6 on the inner piece
+  EXPECT_EQ(kernel(0.9), 0.0);
+  EXPECT_EQ(kernel(1.7), 0.0);
+  // C1 at t = 1/3: the slopes on either side agree (-2 strength / radius)
+  const double h = 1e-6, left = (kernel(0.3) - kernel(0.3 - h)) / h,
+               right = (kernel(0.3 + h) - kernel(0.3)) / h;
+  EXPECT_NEAR(left, -2 * 2.0 / 0.9, 1e-4);
+  EXPECT_NEAR(right, -2 * 2.0 / 0.9, 1e-4);
+}
+
+TEST(Blobs, SegmentConvolutionIsTheKernelIntegratedAlongTheSkeleton) {
+  const std::vector<Vec3> path = {{-0.5, 0, 0}, {0.4, 0.1, 0}, {0.5, 0.7, 0.3}};
+  const double s = 3.0, strength = 1.3;
+  for (const char* skeleton : {"polyline", "pairs"}) {
+    std::vector<Vec3> pts = path;
+    if (std::string(skeleton) == "pairs") pts = {path[0], path[1], path[1], path[2]};
+    const NodePtr n = makeNode("convolution_segments",
+                               {{"points", pointsValue(pts)},
+                                {"skeleton", choiceValue(skeleton)},
+                                {"strength", realValue(strength)},
+                                {"sharpness", realValue(s)},
+                                {"threshold", realValue(0.3)}},
+                               {});
+    const Program p = compile(n);
+    for (const Vec3& q : randomPoints(40, 1.2)) {
+      // midpoint rule along each segment, 4000 steps each
+      double integral = 0;
+      for (std::size_t k = 0; k + 1 < path.size(); ++k) {
+        const Vec3 a = path[k], e = {path[k + 1][0] - a[0], path[k + 1][1] - a[1],
+                                     path[k + 1][2] - a[2]};
+        const double l = norm3(e);
+        const int steps = 4000;
+        for (int i = 0; i < steps; ++i) {
+          const double t = (i + 0.5) / steps;
+          const Vec3 d = {q[0] - a[0] - t * e[0], q[1] - a[1] - t * e[1], q[2] - a[2] - t * e[2]};
+          const double r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+          integral += l / steps / ((1 + s * s * r2) * (1 + s * s * r2));
+        }
+      }
+      EXPECT_NEAR(eval(p, q), strength * integral - 0.3, 1e-6) << skeleton;
+    }
+    // the bounds hold the solid, which meshes as one printable part
+    const Box3 b = structuralBounds(n);
+    for (const Vec3& q : randomPoints(20000, 3))
+      if (eval(p, q) > 0)
+        for (int a = 0; a < 3; ++a) ASSERT_TRUE(q[a] >= b.lo[a] && q[a] <= b.hi[a]);
+    MeshingOptions o;
+    o.bbox = paddedBox(b, 0.05);
+    o.resolution = 1.0 / 40;
+    const CheckReport r = checkMesh(polygonize(p, o));
+    EXPECT_TRUE(r.printable());
+    EXPECT_EQ(r.components, 1u);
+  }
+  try {
+    makeNode("convolution_segments",
+             {{"points", pointsValue(path)}, {"skeleton", choiceValue("pairs")}}, {}, "tube");
+    FAIL() << "three points accepted as pairs";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("needs an even number"), std::string::npos);
+  }
+}
+
+TEST(Stretch, ScalesAlongOneDirectionOnly) {
+  const Vec3 c = {0.1, -0.2, 0.3};
+  const NodePtr ball = sphere(0.5, c);
+  EXPECT_EQ(compile(makeNode("stretch", {{"factor", realValue(1.0)}}, {ball})).eval(0.3, 0.2, 0.1),
+            compile(ball).eval(0.3, 0.2, 0.1));
+  const Vec3 d = {1 / std::sqrt(2.0), 1 / std::sqrt(2.0), 0};
+  for (double k : {2.0, 0.5}) {
+    const NodePtr n = makeNode("stretch",
+                               {{"factor", realValue(k)},
+                                {"direction", vec3Value({1, 1, 0})},
+                                {"center", vec3Value(c)}},
+                               {ball});
+    const Program p = compile(n);
+    auto at = [&](const Vec3& dir, double r) {
+      return p.eval(c[0] + r * dir[0], c[1] + r * dir[1], c[2] + r * dir[2]);
+    };
+    EXPECT_GT(at(d, 0.5 * k * 0.999), 0) << k;  // the semi-axis along d is k r
+    EXPECT_LT(at(d, 0.5 * k * 1.001), 0) << k;
+    EXPECT_GT(at({0, 0, 1}, 0.499), 0) << k;  // across d nothing changes
+    EXPECT_LT(at({0, 0, 1}, 0.501), 0) << k;
+    const Box3 b = structuralBounds(n);
+    EXPECT_NEAR(b.hi[2], c[2] + 0.5, 1e-12);
+    EXPECT_GE(b.hi[0], c[0] + 0.5 * k * d[0]);
   }
 }
 

@@ -5,6 +5,10 @@
 //   soft_objects  1 - 22/9 t + 17/9 t^2 - 4/9 t^3 = (1 - t)^2 (1 - 4/9 t), t = min(r^2/R^2, 1)
 //                 (Wyvill, hfSoft)
 //   convolution   strength / (1 + sharpness^2 r^2)^2                  (Cauchy kernel, hfConvPoint)
+//   metaballs     a (1 - 3 r^2/b^2) for r <= b/3, 3a/2 (1 - r/b)^2 for r <= b, 0 beyond
+//                 (Nishimura, hfMetaBall)
+// and convolution_segments integrates the Cauchy kernel along line segments in closed form
+// (hfConvLine).
 // HyperFun gives each centre its own strength; here one value serves all the centres of a
 // node (sum several nodes' fields with `union` only where they do not meet).
 #include <algorithm>
@@ -50,6 +54,43 @@ void addBlob(Registry& r, const char* id, const char* doc, const char* formula,
            const std::vector<Vec3> pts = pointsOf(n.param("centers"));
            return pointsBounds(pts, reach(n, pts.size()));
          }});
+}
+
+// strength * integral over the segment [a, a + l u] of 1 / (1 + s^2 r^2)^2 (Sherstyuk's
+// closed form): with x the position along the segment and q^2 = 1 + s^2 (distance to its
+// line)^2, x / (2q^2(q^2 + s^2x^2)) + (l-x) / (2q^2(q^2 + s^2(l-x)^2))
+// + (atan(sx/q) + atan(s(l-x)/q)) / (2sq^3).
+Slot segmentConvolution(ProgramBuilder& b, const Point3Slots& p, const Vec3& a, const Vec3& e,
+                        double s, double strength) {
+  const double l = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+  const Vec3 u = {e[0] / l, e[1] / l, e[2] / l};
+  const Point3Slots d = shifted(b, p, a);
+  const Slot x =
+      b.affine(p.x, p.y, p.z, u[0], u[1], u[2], -(u[0] * a[0] + u[1] * a[1] + u[2] * a[2]));
+  const Slot rest = b.affine(x, x, x, -1.0, 0, 0, l);  // l - x
+  const Slot d2 = b.add(b.add(b.sqr(d.x), b.sqr(d.y)), b.sqr(d.z));
+  const Slot across2 = b.max(b.sub(d2, b.sqr(x)), b.constant(0.0));  // rounding: never < 0
+  const Slot q2 = b.affine(across2, across2, across2, s * s, 0, 0, 1.0);
+  const Slot q = b.sqrt(q2);
+  auto end = [&](Slot t) {  // t / (2 q^2 (q^2 + s^2 t^2))
+    const Slot inner = b.add(q2, b.affine(b.sqr(t), t, t, s * s, 0, 0, 0));
+    return b.div(t, b.affine(b.mul(q2, inner), t, t, 2.0, 0, 0, 0));
+  };
+  const Slot angles = b.add(b.emit(Op::Atan, b.div(b.affine(x, x, x, s, 0, 0, 0), q)),
+                            b.emit(Op::Atan, b.div(b.affine(rest, rest, rest, s, 0, 0, 0), q)));
+  const Slot middle = b.div(angles, b.affine(b.mul(q2, q), q, q, 2.0 * s, 0, 0, 0));
+  const Slot sum = b.add(b.add(end(x), end(rest)), middle);
+  return b.affine(sum, sum, sum, strength, 0, 0, 0);
+}
+
+// The segments of a skeleton: a polyline's consecutive points, or the points in pairs.
+std::vector<std::pair<Vec3, Vec3>> skeletonSegments(const Node& n) {
+  const std::vector<Vec3> pts = pointsOf(n.param("points"));
+  const bool pairs = n.param("skeleton").text == "pairs";
+  std::vector<std::pair<Vec3, Vec3>> out;
+  for (std::size_t i = 0; i + 1 < pts.size(); i += pairs ? 2 : 1)
+    out.push_back({pts[i], pts[i + 1]});
+  return out;
 }
 
 }  // namespace
@@ -103,6 +144,77 @@ void registerBlobs(Registry& r) {
         const double s = n.real("sharpness");
         return q > 1 ? std::sqrt((std::sqrt(q) - 1) / (s * s)) : 0.0;
       });
+
+  addBlob(
+      r, "metaballs",
+      "Nishimura's metaballs (HyperFun hfMetaBall): a piecewise quadratic bump that is "
+      "exactly 0 from `radius` on, smooth (C1) everywhere, summed over the centres.",
+      "t = |p - c_i| / radius;  k = strength (1 - 3t^2) for t <= 1/3, 3/2 strength (1 - t)^2 "
+      "for t <= 1, 0 beyond;  F = sum_i k_i - threshold",
+      {positiveReal("strength", 1.0, "Height of each bump (b)."),
+       positiveLength("radius", 0.6, "Reach of each centre's field (d).")},
+      [](ProgramBuilder& b, Slot r2, const Node& n) {
+        const double a = n.real("strength"), rr = n.real("radius");
+        const Slot t = b.affine(b.sqrt(r2), r2, r2, 1.0 / rr, 0, 0, 0);
+        const Slot inner = b.affine(b.sqr(t), t, t, -3.0 * a, 0, 0, a);
+        const Slot rest = b.affine(b.min(t, b.constant(1.0)), t, t, -1.0, 0, 0, 1.0);
+        const Slot outer = b.affine(b.sqr(rest), t, t, 1.5 * a, 0, 0, 0);
+        return b.emit(Op::Select, b.affine(t, t, t, -1.0, 0, 0, 1.0 / 3.0), inner, outer);
+      },
+      [](const Node& n, std::size_t) { return n.real("radius"); });
+
+  {
+    ParamTemplate points = pointsParam("points", {{-0.5, 0, 0}, {0.5, 0, 0}, {0.5, 0.6, 0}}, 2,
+                                       "length", "The skeleton: a polyline, or pairs of points.");
+    points.path = true;
+    ParamTemplate threshold = realParam("threshold", 0.3, "", "Iso-level of the summed field.");
+    range(threshold, 0.0, kInf, true);
+    r.add({"convolution_segments",
+           "primitive",
+           "A convolution surface of line segments with the Cauchy kernel (HyperFun "
+           "hfConvLine): the kernel integrated along the skeleton in closed form, so a "
+           "polyline skeleton gives a smooth tube that swells where segments meet, with no "
+           "bulge at the joints.",
+           "F = strength sum over the segments of the integral of 1 / (1 + sharpness^2 r^2)^2 "
+           "along the segment (closed form with atan) - threshold",
+           0,
+           0,
+           {points,
+            choiceParam("skeleton", {"polyline", "pairs"},
+                        "polyline: consecutive points are joined; pairs: each two points are "
+                        "one segment (HyperFun's list of segments)."),
+            positiveReal("strength", 1.0, "Weight of the skeleton (S)."),
+            positiveReal("sharpness", 3.0, "Kernel width parameter s (per length)."), threshold},
+           [](CompileContext& c) {
+             auto& b = c.b;
+             Slot sum = b.constant(0.0);
+             for (const auto& seg : skeletonSegments(c.node())) {
+               const Vec3 e = {seg.second[0] - seg.first[0], seg.second[1] - seg.first[1],
+                               seg.second[2] - seg.first[2]};
+               if (e[0] == 0 && e[1] == 0 && e[2] == 0) continue;  // no length, no weight
+               sum = b.add(sum, segmentConvolution(b, c.p, seg.first, e, c.real("sharpness"),
+                                                   c.real("strength")));
+             }
+             return b.sub(sum, b.constant(c.real("threshold")));
+           },
+           [](const Node& n, const std::vector<Box3>&) {
+             // A segment's field is at most that of its infinite line, pi S / (2 s q^3), so
+             // the sum reaches the threshold only where one segment gives threshold / count.
+             const auto segs = skeletonSegments(n);
+             const double s = n.real("sharpness");
+             const double k =
+                 double(segs.size()) * kPi * n.real("strength") / (2 * s * n.real("threshold"));
+             const double pad = k > 1 ? std::sqrt((std::pow(k, 2.0 / 3.0) - 1) / (s * s)) : 0.0;
+             return pointsBounds(pointsOf(n.param("points")), pad);
+           },
+           [](const Node& n) -> std::string {
+             const std::size_t count = n.param("points").numbers.size() / 3;
+             if (n.param("skeleton").text == "pairs" && count % 2)
+               return "parameter 'points' has " + std::to_string(count) +
+                      " points; with skeleton \"pairs\" it needs an even number";
+             return "";
+           }});
+  }
 }
 
 }  // namespace frep

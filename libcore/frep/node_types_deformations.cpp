@@ -8,7 +8,55 @@
 
 namespace frep {
 
+namespace {
+// p -> center + (I + (k - 1) d d^T)(p - center): the stretch by k along unit d.
+Mat34 stretchMatrix(const Vec3& d, double k, const Vec3& c) {
+  Mat34 m{};
+  for (int i = 0; i < 3; ++i) {
+    double shift = c[i];
+    for (int j = 0; j < 3; ++j) {
+      const double v = (i == j ? 1.0 : 0.0) + (k - 1.0) * d[i] * d[j];
+      m[4 * i + j] = v;
+      shift -= v * c[j];
+    }
+    m[4 * i + 3] = shift;
+  }
+  return m;
+}
+}  // namespace
+
 void registerDeformations(Registry& r) {
+  {
+    ParamTemplate factor =
+        positiveReal("factor", 1.5, "Stretch along the direction: 2 doubles, 0.5 halves.");
+    ParamTemplate direction = vec3Param("direction", {0, 0, 1}, "", "The direction stretched.");
+    direction.nonZeroVector = true;
+    r.add({"stretch",
+           "deformation",
+           "Stretches (or squashes) its input along one direction about a centre, leaving the "
+           "other two directions alone; along the axes it is a per-axis scale, but any "
+           "direction works. The field is scaled by min(1, factor) so it stays a lower bound "
+           "of the distance.",
+           "h = (p - center).d;  F(p) = min(1, factor) f(p + (1/factor - 1) h d), d = "
+           "direction/|direction|",
+           1,
+           1,
+           {direction, factor, centerParam("The point that stays in place.")},
+           [](CompileContext& c) {
+             const double k = c.real("factor");
+             if (k == 1.0) return c.input(0);
+             const Vec3 d = normalized(c.vec3("direction"));
+             const Slot f =
+                 c.input(0, applyAffine(c.b, c.p, stretchMatrix(d, 1.0 / k, c.vec3("center"))));
+             return k < 1.0 ? c.b.affine(f, f, f, k, 0, 0, 0) : f;
+           },
+           [](const Node& n, const std::vector<Box3>& in) {
+             return affineImage(
+                 stretchMatrix(normalized(n.vec3("direction")), n.real("factor"), n.vec3("center")),
+                 in[0]);
+           }});
+  }
+
   r.add({"twist",
          "deformation",
          "Twists its input about an axis through a centre: each slice across the axis turns by "
