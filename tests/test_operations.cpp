@@ -195,6 +195,35 @@ TEST(Sweep, ExactOnAnArcWithLinesAround) {
   }
 }
 
+TEST(Sweep, FollowsABsplineFromItsControlPoints) {
+  // four control points: the clamped cubic is the Bezier curve of them
+  const std::vector<Vec3> ctrl = {{0, 0, 0}, {0.5, 1, 0}, {1.5, -1, 0}, {2, 0, 0}};
+  const Program p = compile(makeNode("sweep", {{"points", pointsValue(ctrl)},
+                                               {"radius1", realValue(0.2)},
+                                               {"radius2", realValue(0.2)},
+                                               {"segments", choiceValue("bspline")}}, {}));
+  const double tol = 1e-4 * std::sqrt(4.0 + 4.0);  // of the control polygon's diagonal
+  for (int i = 0; i <= 200; ++i) {
+    const double t = i / 200.0, u = 1 - t;
+    Vec3 b;
+    for (int c = 0; c < 3; ++c)
+      b[c] = u * u * u * ctrl[0][c] + 3 * u * u * t * ctrl[1][c] + 3 * u * t * t * ctrl[2][c] +
+             t * t * t * ctrl[3][c];
+    EXPECT_NEAR(p.eval(b[0], b[1], b[2]), 0.2, tol);         // on the curve
+    EXPECT_NEAR(p.eval(b[0], b[1], 0.15), 0.05, tol);        // above it, in its plane's normal
+  }
+  // several spans: collinear control points keep the curve on their line, ends clamped
+  const Program line = compile(makeNode(
+      "sweep", {{"points", pointsValue({{0, 0, 0}, {0.3, 0, 0}, {1, 0, 0}, {1.2, 0, 0},
+                                        {2, 0, 0}, {3, 0, 0}})},
+                {"segments", choiceValue("bspline")}, {"radius1", realValue(0.1)},
+                {"radius2", realValue(0.1)}}, {}));
+  EXPECT_NEAR(line.eval(0, 0, 0), 0.1, 1e-12);
+  EXPECT_NEAR(line.eval(3, 0, 0), 0.1, 1e-12);
+  EXPECT_NEAR(line.eval(-0.05, 0, 0), 0.05, 1e-12);
+  EXPECT_NEAR(line.eval(1.7, 0.05, 0), 0.05, 1e-12);
+}
+
 TEST(Sweep, NeedsTwoPoints) {
   try {
     makeNode("sweep", {{"points", pointsValue({{0, 0, 0}})}}, {}, "root");

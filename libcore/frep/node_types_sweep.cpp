@@ -4,6 +4,7 @@
 // for a constant radius; with a varying one each segment is a tapered capsule.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "frep/node_helpers.h"
 #include "frep/registry.h"
@@ -90,6 +91,59 @@ double pieceLength(const Piece& p) {
   return std::sqrt(dot(e, e));
 }
 
+// A point of the clamped uniform B-spline of degree min(3, n - 1) with these control points
+// at t in [0, 1] (de Boor's algorithm).
+Vec3 bsplineAt(const std::vector<Vec3>& ctrl, double t) {
+  const int n = static_cast<int>(ctrl.size()), p = std::min(3, n - 1), spans = n - p;
+  auto knot = [&](int i) { return i <= p ? 0.0 : i >= n ? 1.0 : double(i - p) / spans; };
+  int k = p + std::min(spans - 1, static_cast<int>(t * spans));  // t in [knot(k), knot(k+1))
+  std::vector<Vec3> d(ctrl.begin() + (k - p), ctrl.begin() + k + 1);
+  for (int r = 1; r <= p; ++r)
+    for (int j = p; j >= r; --j) {
+      const int i = j + k - p;
+      const double den = knot(i + p - r + 1) - knot(i);
+      const double a = den > 0 ? (t - knot(i)) / den : 0.0;
+      for (int c = 0; c < 3; ++c) d[j][c] = (1 - a) * d[j - 1][c] + a * d[j][c];
+    }
+  return d[p];
+}
+
+// The B-spline as a polyline whose chords stay within `tolerance` of the curve (a chord is
+// halved until its middle is that close; the curve lies in its control polygon's hull).
+std::vector<Vec3> bsplinePolyline(const std::vector<Vec3>& ctrl, double tolerance) {
+  std::vector<Vec3> out = {ctrl.front()};
+  const int pieces = 8 * static_cast<int>(ctrl.size());
+  std::function<void(double, const Vec3&, double, const Vec3&, int)> split =
+      [&](double t0, const Vec3& a, double t1, const Vec3& b, int depth) {
+        const double tm = 0.5 * (t0 + t1);
+        const Vec3 m = bsplineAt(ctrl, tm);
+        const Vec3 chord = {0.5 * (a[0] + b[0]) - m[0], 0.5 * (a[1] + b[1]) - m[1],
+                            0.5 * (a[2] + b[2]) - m[2]};
+        if (depth < 20 && std::sqrt(dot(chord, chord)) > tolerance) {
+          split(t0, a, tm, m, depth + 1);
+          split(tm, m, t1, b, depth + 1);
+        } else {
+          out.push_back(b);
+        }
+      };
+  Vec3 prev = ctrl.front();
+  for (int i = 1; i <= pieces; ++i) {
+    const double t = double(i) / pieces;
+    const Vec3 q = i == pieces ? ctrl.back() : bsplineAt(ctrl, t);
+    split(double(i - 1) / pieces, prev, t, q, 0);
+    prev = q;
+  }
+  return out;
+}
+
+// Sampling tolerance of a B-spline path: 1e-4 of its control polygon's size (finer costs
+// instructions: about 70 pieces for a simple cubic).
+double bsplineTolerance(const std::vector<Vec3>& ctrl) {
+  const Box3 b = pointsBounds(ctrl, 0.0);
+  const Vec3 d = minus(b.hi, b.lo);
+  return 1e-4 * std::max(std::sqrt(dot(d, d)), 1e-12);
+}
+
 // The pieces of the path; `arcs`: the points are start, middle, end of each arc in turn.
 std::vector<Piece> piecesOf(const std::vector<Vec3>& pts, bool arcs) {
   std::vector<Piece> pieces;
@@ -166,20 +220,24 @@ void registerSweeps(Registry& r) {
          "circular arcs, each through three points (three collinear points make a straight "
          "piece), so lines and arcs are followed exactly. In FreeCAD the path comes from any "
          "edge, wire, sketch or Draft wire (property PointsSource): lines and arcs exactly "
-         "with \"arcs\", other curves sampled to 1/1000 of their size.",
+         "with \"arcs\", other curves sampled to 1/1000 of their size. With \"bspline\" the "
+         "points are the control points of a clamped uniform cubic B-spline, followed within "
+         "1e-4 of the control polygon's size.",
          "F = max over the pieces of r(s) - dist(p, piece), s the arc length at the closest "
          "point; an arc: dist = sqrt((rho - R)^2 + h^2) where p's angle about the centre is "
          "within the arc, else the distance to its nearer end",
          0,
          0,
          {path, r1, r2,
-          choiceParam("segments", {"lines", "arcs"},
-                      "How the points make the path: a polyline, or arcs through three "
-                      "points each.")},
+          choiceParam("segments", {"lines", "arcs", "bspline"},
+                      "How the points make the path: a polyline, arcs through three points "
+                      "each, or the control points of a clamped cubic B-spline.")},
          [](CompileContext& c) {
            auto& b = c.b;
-           const std::vector<Piece> pieces =
-               piecesOf(pointsOf(c.param("points")), c.param("segments").text == "arcs");
+           const std::string& kind = c.param("segments").text;
+           std::vector<Vec3> pts = pointsOf(c.param("points"));
+           if (kind == "bspline") pts = bsplinePolyline(pts, bsplineTolerance(pts));
+           const std::vector<Piece> pieces = piecesOf(pts, kind == "arcs");
            const double total = pieces.back().s1, ra = c.real("radius1"), rb = c.real("radius2");
            auto radiusAt = [&](double s) { return total > 0 ? ra + (rb - ra) * s / total : ra; };
            Slot field = 0;
