@@ -152,7 +152,7 @@ void registerBlobs(Registry& r) {
       "t = |p - c_i| / radius;  k = strength (1 - 3t^2) for t <= 1/3, 3/2 strength (1 - t)^2 "
       "for t <= 1, 0 beyond;  F = sum_i k_i - threshold",
       {positiveReal("strength", 1.0, "Height of each bump (b)."),
-       positiveLength("radius", 0.6, "Reach of each centre's field (d).")},
+       positiveLength("radius", 1.0, "Reach of each centre's field (d).")},
       [](ProgramBuilder& b, Slot r2, const Node& n) {
         const double a = n.real("strength"), rr = n.real("radius");
         const Slot t = b.affine(b.sqrt(r2), r2, r2, 1.0 / rr, 0, 0, 0);
