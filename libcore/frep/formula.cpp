@@ -214,27 +214,24 @@ class FormulaParser {
   }
   int binary(Formula::Expr::Kind k, int a, int b) { return add({k, 0.0, "", {a, b}}); }
 
-  int expr() {
-    int left = term();
+  // A left-associative chain: next { (op1 | op2) next }.
+  int chain(const char* op1, Formula::Expr::Kind k1, const char* op2, Formula::Expr::Kind k2,
+            int (FormulaParser::*next)()) {
+    int left = (this->*next)();
     for (;;) {
-      if (accept("+"))
-        left = binary(Formula::Expr::Add, left, term());
-      else if (accept("-"))
-        left = binary(Formula::Expr::Sub, left, term());
+      if (accept(op1))
+        left = binary(k1, left, (this->*next)());
+      else if (accept(op2))
+        left = binary(k2, left, (this->*next)());
       else
         return left;
     }
   }
+  int expr() {
+    return chain("+", Formula::Expr::Add, "-", Formula::Expr::Sub, &FormulaParser::term);
+  }
   int term() {
-    int left = unaryExpr();
-    for (;;) {
-      if (accept("*"))
-        left = binary(Formula::Expr::Mul, left, unaryExpr());
-      else if (accept("/"))
-        left = binary(Formula::Expr::Div, left, unaryExpr());
-      else
-        return left;
-    }
+    return chain("*", Formula::Expr::Mul, "/", Formula::Expr::Div, &FormulaParser::unaryExpr);
   }
   int unaryExpr() {
     if (accept("-")) return add({Formula::Expr::Neg, 0.0, "", {unaryExpr()}});
