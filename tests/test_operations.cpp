@@ -400,6 +400,41 @@ TEST(Arrays, LinearArrayIsTheUnionOfAllCopiesAtThreeEvaluations) {
   }
 }
 
+TEST(Arrays, BlendedCopiesArePaskosBlendUnionOfTheirNeighbours) {
+  // Two copies: the blended array is exactly the blend union of the two, everywhere; with two
+  // copies all round a polar array must not blend a copy with itself.
+  const NodePtr ball = sphere(0.4, {0.6, 0, 0});
+  auto blendOf = [&](const NodePtr& a, const NodePtr& b) {
+    return compile(makeNode("blend_union", {{"a0", realValue(0.2)}, {"a1", realValue(0.3)},
+                                            {"a2", realValue(0.3)}}, {a, b}));
+  };
+  const std::map<std::string, ParamValue> blend = {{"combine", choiceValue("blend")},
+                                                   {"blend_amount", realValue(0.2)},
+                                                   {"blend_range", realValue(0.3)}};
+  auto with = [&](std::map<std::string, ParamValue> p) {
+    p.insert(blend.begin(), blend.end());
+    return p;
+  };
+  const NodePtr row = makeNode("linear_array", with({{"count", realValue(2)},
+                                                     {"step", vec3Value({0.7, 0, 0})}}), {ball});
+  const NodePtr ring = makeNode("polar_array", with({{"count", realValue(2)}}), {ball});
+  const Program pr = compile(row), pp = compile(ring);
+  const Program rowRef = blendOf(ball, sphere(0.4, {1.3, 0, 0}));
+  const Program ringRef = blendOf(ball, sphere(0.4, {-0.6, 0, 0}));
+  for (const Vec3& q : randomPoints(3000, 2)) {
+    EXPECT_NEAR(eval(pr, q), rowRef.eval(q[0] - 0.0, q[1], q[2]), 1e-12);
+    EXPECT_NEAR(eval(pp, q), ringRef.eval(q[0], q[1], q[2]), 1e-9);
+  }
+  // the blend's material stays inside the structural box
+  for (const NodePtr& n : {row, ring}) {
+    const Program p = compile(n);
+    const Box3 b = structuralBounds(n);
+    for (const Vec3& q : randomPoints(20000, 2.5))
+      if (eval(p, q) >= 0)
+        for (int a = 0; a < 3; ++a) ASSERT_TRUE(q[a] >= b.lo[a] && q[a] <= b.hi[a]);
+  }
+}
+
 TEST(Arrays, PolarArrayFullAndPartial) {
   const NodePtr ball = sphere(0.3, {1, 0, 0});
   const Program one = compile(ball);

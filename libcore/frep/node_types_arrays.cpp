@@ -27,12 +27,14 @@ Vec3 inputCentre(const CompileContext& c) {
   return m;
 }
 
-// clamp(floor(t + 0.5) + shift, 0, count - 1): the copy a point in cell t looks at.
+// The copy a point in cell t looks at: k + shift, k = floor(t + 0.5) clamped to the row
+// first, so that beyond an end the point still sees the end copy and its neighbour.
 Slot copyIndex(ProgramBuilder& b, Slot t, double shift, int count, bool wrap) {
-  const Slot k =
-      b.affine(b.emit(Op::Floor, b.affine(t, t, t, 1.0, 0, 0, 0.5)), t, t, 1.0, 0, 0, shift);
-  if (wrap) return k;  // a full circle: rotations are periodic
-  return b.min(b.max(k, b.constant(0.0)), b.constant(count - 1.0));
+  Slot k = b.emit(Op::Floor, b.affine(t, t, t, 1.0, 0, 0, 0.5));
+  if (wrap) return b.affine(k, t, t, 1.0, 0, 0, shift);  // a full circle: rotations are periodic
+  const Slot last = b.constant(count - 1.0), zero = b.constant(0.0);
+  k = b.min(b.max(k, zero), last);
+  return b.min(b.max(b.affine(k, t, t, 1.0, 0, 0, shift), zero), last);
 }
 
 // Where the copied solid is: its structural box, else the box interval arithmetic finds.
@@ -58,6 +60,52 @@ double reachOf(const Box3& b) {
   return std::sqrt(r2);
 }
 
+// How copies combine, shared by the arrays and the instancer.
+std::vector<ParamTemplate> combineParams() {
+  ParamTemplate amount = realParam("blend_amount", 0.1, "length",
+                                   "combine = blend: how much material the blend adds (a0).");
+  range(amount, 0.0, kInf);
+  return {choiceParam("combine", {"union", "blend"}, "How the copies combine."), amount,
+          positiveLength("blend_range", 0.1,
+                         "combine = blend: how far from each copy the blend reaches (a1).")};
+}
+
+std::vector<ParamTemplate> withCombine(std::vector<ParamTemplate> params) {
+  for (const ParamTemplate& p : combineParams()) params.push_back(p);
+  return params;
+}
+
+// Where one copy can add material: its own box for a union. A blend adds at most a0, so its
+// solid lies where some copy has f >= -a0: the box of the input offset by a0, found by
+// interval arithmetic (unknown when that fails).
+Box3 copyBox(const Node& n, const Box3& input) {
+  const double a0 = n.real("blend_amount");
+  if (n.param("combine").text != "blend" || a0 == 0.0) return input;
+  const NodePtr grown =
+      makeNode("offset", {{"distance", realValue(a0)}}, {n.inputs.at(0)}, "blend reach");
+  const SolidBounds b = findBounds(compile(grown));
+  return b.bounded() ? b.box : unknownBounds();
+}
+
+constexpr double kNoCopy = -1e300;  // a value below every field: no copy there
+
+// The three nearest copies of an array, v[0..2] at indices j[0..2]: union, or Pasko's blend
+// of the largest two (m1 + a0 / (1 + (m1/a1)^2 + (m2/a1)^2)). A neighbour index equal to the
+// middle one (a row's clamped end) repeats a copy; for the blend it must not count twice.
+Slot combineThree(CompileContext& c, const Slot v[3], const Slot j[3], bool lastRepeatsFirst) {
+  auto& b = c.b;
+  if (c.param("combine").text != "blend") return b.max(b.max(v[0], v[1]), v[2]);
+  const Slot none = b.constant(kNoCopy);
+  const Slot lo = b.emit(Op::Select, b.affine(j[1], j[0], j[0], 1, -1, 0, -0.5), v[0], none);
+  const Slot hi = lastRepeatsFirst
+                      ? none
+                      : b.emit(Op::Select, b.affine(j[2], j[1], j[1], 1, -1, 0, -0.5), v[2], none);
+  const Slot m1 = b.max(b.max(lo, v[1]), hi);
+  const Slot m2 = b.max(b.min(lo, v[1]), b.min(b.max(lo, v[1]), hi));  // the second largest
+  const double a1 = c.real("blend_range");
+  return b.add(m1, b.emit(Op::BlendBump, m1, m2, 0, {c.real("blend_amount"), a1, a1}));
+}
+
 }  // namespace
 
 void registerArrays(Registry& r) {
@@ -65,11 +113,6 @@ void registerArrays(Registry& r) {
     ParamTemplate positions = pointsParam(
         "positions", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, 1, "length",
         "Where the copies go: the input's origin is moved to each point.");
-    ParamTemplate amount = realParam(
-        "blend_amount", 0.1, "length", "combine = blend: how much material the blend adds (a0).");
-    range(amount, 0.0, kInf);
-    ParamTemplate reach = positiveLength(
-        "blend_range", 0.1, "combine = blend: how far from each copy the blend reaches (a1).");
     r.add({"instancer",
            "array",
            "Copies of the input at a list of points, combined by union or blend. In FreeCAD "
@@ -82,8 +125,7 @@ void registerArrays(Registry& r) {
            "m1 >= m2, F = m1 + a0 / (1 + (m1/a1)^2 + (m2/a1)^2)",
            1,
            1,
-           {positions, choiceParam("combine", {"union", "blend"}, "How the copies combine."),
-            amount, reach},
+           withCombine({positions}),
            [](CompileContext& c) {
              Box3 box;
              const std::string problem = copiedSolidBox(c.node().inputs.at(0), &box);
@@ -97,14 +139,13 @@ void registerArrays(Registry& r) {
              return c.b.instances(std::move(set), c.p.x, c.p.y, c.p.z);
            },
            [](const Node& n, const std::vector<Box3>& in) {
-             // the copies' boxes, plus the blend's reach beyond them
              const Box3 at = pointsBounds(pointsOf(n.param("positions")), 0.0);
-             Box3 b = in[0];
+             Box3 b = copyBox(n, in[0]);
              for (int a = 0; a < 3; ++a) {
                b.lo[a] += at.lo[a];
                b.hi[a] += at.hi[a];
              }
-             return n.param("combine").text == "blend" ? unknownBounds() : b;
+             return b;
            },
            [](const Node& n) {
              Box3 box;
@@ -119,13 +160,13 @@ void registerArrays(Registry& r) {
     step.nonZeroVector = true;
     r.add({"linear_array",
            "array",
-           "Copies of the input in a row, `step` apart, combined by union (HyperFun's and "
-           "Draft's linear array).",
+           "Copies of the input in a row, `step` apart, combined by union or blend (HyperFun's "
+           "and Draft's linear array).",
            "k = clamp(round((p - m).step / |step|^2), 0, count-1);  F = max_(j = k-1..k+1, "
-           "clamped) f(p - j step)",
+           "clamped) f(p - j step), or the blend of the largest two",
            1,
            1,
-           {count, step},
+           withCombine({count, step}),
            [](CompileContext& c) {
              auto& b = c.b;
              const int n = static_cast<int>(c.real("count"));
@@ -134,23 +175,23 @@ void registerArrays(Registry& r) {
              const double l2 = s[0] * s[0] + s[1] * s[1] + s[2] * s[2];
              const Slot t = b.affine(c.p.x, c.p.y, c.p.z, s[0] / l2, s[1] / l2, s[2] / l2,
                                      -(s[0] * m[0] + s[1] * m[1] + s[2] * m[2]) / l2);
-             Slot result = 0;
+             Slot v[3], j[3];
              for (int d = -1; d <= 1; ++d) {
-               const Slot j = copyIndex(b, t, d, n, false);
-               const Point3Slots q = {b.affine(c.p.x, j, j, 1.0, -s[0], 0, 0),
-                                      b.affine(c.p.y, j, j, 1.0, -s[1], 0, 0),
-                                      b.affine(c.p.z, j, j, 1.0, -s[2], 0, 0)};
-               const Slot f = c.input(0, q);
-               result = d == -1 ? f : b.max(result, f);
+               j[d + 1] = copyIndex(b, t, d, n, false);
+               const Point3Slots q = {b.affine(c.p.x, j[d + 1], j[d + 1], 1.0, -s[0], 0, 0),
+                                      b.affine(c.p.y, j[d + 1], j[d + 1], 1.0, -s[1], 0, 0),
+                                      b.affine(c.p.z, j[d + 1], j[d + 1], 1.0, -s[2], 0, 0)};
+               v[d + 1] = c.input(0, q);
              }
-             return result;
+             return combineThree(c, v, j, false);
            },
            [](const Node& n, const std::vector<Box3>& in) {
              const Vec3 s = n.vec3("step");
              const double last = n.real("count") - 1;
-             return boxHull(in[0], affineImage({1, 0, 0, last * s[0], 0, 1, 0, last * s[1], 0, 0, 1,
-                                                last * s[2]},
-                                               in[0]));
+             const Box3 one = copyBox(n, in[0]);
+             return boxHull(one, affineImage({1, 0, 0, last * s[0], 0, 1, 0, last * s[1], 0, 0, 1,
+                                              last * s[2]},
+                                             one));
            }});
   }
 
@@ -162,14 +203,15 @@ void registerArrays(Registry& r) {
     range(angle, 0.0, 360.0, true);
     r.add({"polar_array",
            "array",
-           "Copies of the input turned about an axis, combined by union (Draft's polar "
-           "array). With `angle` 360 they go all round, `count` of them evenly spaced; with "
+           "Copies of the input turned about an axis, combined by union or blend (Draft's "
+           "polar array). With `angle` 360 they go all round, `count` of them evenly spaced; with "
            "less, the last copy is turned by `angle`.",
            "step = angle / count (360) or angle / (count - 1);  F = max over the three copies "
            "nearest p's angle of f(R(axis, -j step) (p - center) + center)",
            1,
            1,
-           {count, axisParam("Axis of rotation."), centerParam("A point on the axis."), angle},
+           withCombine(
+               {count, axisParam("Axis of rotation."), centerParam("A point on the axis."), angle}),
            [](CompileContext& c) {
              auto& b = c.b;
              const int n = static_cast<int>(c.real("count"));
@@ -194,17 +236,18 @@ void registerArrays(Registry& r) {
              const Slot theta = b.emit(Op::Atan2, rv, ru);  // angle from the middle
              const Slot t =
                  b.affine(theta, theta, theta, 1.0 / step, 0, 0, full ? 0.0 : span / 2 / step);
-             Slot result = 0;
+             Slot v[3], j[3];
              for (int d = -1; d <= 1; ++d) {
-               const Slot j = copyIndex(b, t, d, n, full);
-               const Point3Slots t = turnedAboutW(b, q, b.affine(j, j, j, -step, 0, 0, 0));
-               const Slot fv = c.input(0, fromLocalCoordinates(b, t.x, t.y, t.z, o, f));
-               result = d == -1 ? fv : b.max(result, fv);
+               j[d + 1] = copyIndex(b, t, d, n, full);
+               const Point3Slots turned =
+                   turnedAboutW(b, q, b.affine(j[d + 1], j[d + 1], j[d + 1], -step, 0, 0, 0));
+               v[d + 1] = c.input(0, fromLocalCoordinates(b, turned.x, turned.y, turned.z, o, f));
              }
-             return result;
+             // two copies all round: the neighbours on both sides are the same copy
+             return combineThree(c, v, j, full && n == 2);
            },
            [](const Node& n, const std::vector<Box3>& in) {
-             return turnedAboutAxis(in[0], n.vec3("center"), n.vec3("axis"));
+             return turnedAboutAxis(copyBox(n, in[0]), n.vec3("center"), n.vec3("axis"));
            }});
   }
 }
