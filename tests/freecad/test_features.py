@@ -281,6 +281,18 @@ def test_formula_feature_reports_the_column_and_combines_inputs(doc):
     assert f.isValid(), f.getStatusString()
     assert FRepTree.shape_of(f)(1.5, 0, 0) == pytest.approx(0, abs=1e-12)
 
+    # a spreadsheet drives a parameter through an expression on the text property
+    sheet = doc.addObject("Spreadsheet::Sheet", "Sheet")
+    sheet.set("A1", "0.7")
+    sheet.setAlias("A1", "R")
+    f.setExpression("Parameters", "<<r = %s>> % Sheet.R")
+    doc.recompute()
+    assert f.Parameters == "r = 0.7"
+    assert FRepTree.shape_of(f)(0.7, 0, 0) == pytest.approx(0, abs=1e-12)
+    sheet.set("A1", "0.9")
+    doc.recompute()
+    assert FRepTree.shape_of(f)(0.9, 0, 0) == pytest.approx(0, abs=1e-12)
+
     a = F.make("sphere", doc, name="A", center=(-0.5, 0, 0))
     b = F.make("box", doc, name="B")
     join = F.make("formula", doc, name="Join", inputs=[a, b], formula="max(f1, f2)",
