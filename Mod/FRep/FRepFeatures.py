@@ -106,7 +106,8 @@ class FRepFeature(StatelessProxy):
         for p in info["params"]:
             props.add_param_property(obj, p)
             source = FRepPoints.source_property(p["name"])
-            if p["type"] == "points" and source not in obj.PropertiesList:
+            if p["type"] == "points" and not p.get("follows") and \
+                    source not in obj.PropertiesList:
                 obj.addProperty("App::PropertyLink", source, props.INPUT_GROUP,
                                 FRepPoints.source_tooltip(p))
         prop = input_property(info)
@@ -149,6 +150,13 @@ class FRepFeature(StatelessProxy):
     def param_value(self, obj, param):
         """A parameter's value: from its property, or for a point list from the object its
         `<Name>Source` links (the list property is then not used, so not checked)."""
+        if param["type"] == "points" and param.get("follows"):
+            # taken from the followed parameter's source when it has one (rotations of a
+            # Draft array's copies), else from its own list
+            linked = getattr(obj, FRepPoints.source_property(param["follows"]), None)
+            if linked is not None:
+                return FRepPoints.position_rotations(obj, linked)
+            return props.check_value(obj, self.FREP_TYPE, param)
         source = FRepPoints.source_property(param["name"])
         if param["type"] == "points" and getattr(obj, source, None) is not None:
             if param.get("path", False):

@@ -37,33 +37,50 @@ DRAFT_ARRAYS = ("Array", "PathArray", "PathTwistedArray", "PointArray", "PathLin
 def position_points(owner, prop, source):
     """Points from the source in the owner's local coordinates: link arrays' placements,
     the copies of a Draft array, mesh vertices, point clouds or a shape's vertices."""
-    points = _positions(source)
-    if not points:
+    placed = _placements(source)
+    if not placed:
         raise ValueError("%s: property '%s' links '%s' (%s), which has no points; link a mesh, "
                          "a point cloud, a Draft array or a shape with vertices"
                          % (owner.Label, prop, source.Label, source.TypeId))
     back = owner.Placement.inverse()
-    return [tuple(back.multVec(p)) for p in points]
+    return [tuple(back.multVec(p)) for p, _ in placed]
 
 
-def _positions(source):
+def position_rotations(owner, source):
+    """The copies' rotations (rotation vectors: axis times degrees) in the owner's local
+    coordinates, for a source whose copies are turned (Draft arrays); [] when none is."""
+    import math
+    turns = [r for _, r in _placements(source)]
+    if all(r is None or abs(r.Angle) < 1e-12 for r in turns):
+        return []
+    back = owner.Placement.Rotation.inverted()
+    out = []
+    for r in turns:
+        local = back.multiply(r or FreeCAD.Rotation())
+        angle = math.degrees(local.Angle)
+        out.append(tuple(local.Axis * angle) if angle > 1e-12 else (0.0, 0.0, 0.0))
+    return out
+
+
+def _placements(source):
+    """[(position, rotation or None)] of the source's copies or points."""
     placements = getattr(source, "PlacementList", None)
     if placements:  # a link array: copies without their own shapes
-        return [source.Placement.multiply(p).Base for p in placements]
+        return [(q.Base, q.Rotation) for q in (source.Placement.multiply(p) for p in placements)]
     mesh = getattr(source, "Mesh", None)
     if mesh is not None and hasattr(mesh, "Points") and hasattr(mesh, "Facets"):
-        return [FreeCAD.Vector(p.x, p.y, p.z) for p in mesh.Points]
+        return [(FreeCAD.Vector(p.x, p.y, p.z), None) for p in mesh.Points]
     cloud = getattr(source, "Points", None)
     if cloud is not None and hasattr(cloud, "Points"):
-        return list(cloud.Points)
+        return [(p, None) for p in cloud.Points]
     shape = getattr(source, "Shape", None)
     if shape is None or shape.isNull():
         return []
     proxy_type = getattr(getattr(source, "Proxy", None), "Type", None)
     if proxy_type in DRAFT_ARRAYS and (shape.Edges or shape.Faces):
-        # each copy is a child shape placed by the array (its rotation is not used)
-        return [c.Placement.Base for c in shape.childShapes()]
-    return [v.Point for v in shape.Vertexes]
+        # each copy is a child shape placed by the array
+        return [(c.Placement.Base, c.Placement.Rotation) for c in shape.childShapes()]
+    return [(v.Point, None) for v in shape.Vertexes]
 
 
 def path_points(owner, prop, source, arcs=False):

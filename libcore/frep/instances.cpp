@@ -95,9 +95,12 @@ struct InstanceSet::Index {
   Tree tree;
 };
 
-InstanceSet::InstanceSet(std::vector<Vec3> positions, std::shared_ptr<const Program> copy,
-                         double reach, Combine combine, Blend blend)
+InstanceSet::InstanceSet(std::vector<Vec3> positions,
+                         std::vector<std::array<double, 9>> rotations,
+                         std::shared_ptr<const Program> copy, double reach, Combine combine,
+                         Blend blend)
     : positions_(std::move(positions)),
+      rotations_(std::move(rotations)),
       copy_(std::move(copy)),
       reach_(reach),
       combine_(combine),
@@ -113,6 +116,20 @@ void InstanceSet::near(double x, double y, double z, std::vector<std::uint32_t>&
     double d = 0;
     out.push_back(index_->nearest(q, &d));
   }
+}
+
+template <class T>
+void InstanceSet::local(std::uint32_t i, const T& x, const T& y, const T& z, T q[3]) const {
+  const Vec3& c = positions_[i];
+  const T d[3] = {x - c[0], y - c[1], z - c[2]};
+  if (rotations_.empty()) {
+    q[0] = d[0];
+    q[1] = d[1];
+    q[2] = d[2];
+    return;
+  }
+  const std::array<double, 9>& r = rotations_[i];
+  for (int k = 0; k < 3; ++k) q[k] = d[0] * r[k] + d[1] * r[3 + k] + d[2] * r[6 + k];  // R^T d
 }
 
 template <class T>
@@ -144,8 +161,9 @@ double InstanceSet::eval(double x, double y, double z) const {
   near(x, y, z, ids);
   values.resize(ids.size());
   for (std::size_t i = 0; i < ids.size(); ++i) {
-    const Vec3& c = positions_[ids[i]];
-    values[i] = copy_->eval(x - c[0], y - c[1], z - c[2]);
+    double q[3];
+    local(ids[i], x, y, z, q);
+    values[i] = copy_->eval(q[0], q[1], q[2]);
   }
   return combine(values.data(), values.size());
 }
@@ -165,10 +183,11 @@ void InstanceSet::evalBatch(const double* x, const double* y, const double* z, s
   for (std::size_t j = 0; j < n; ++j) {
     near(x[j], y[j], z[j], ids);
     for (std::uint32_t id : ids) {
-      const Vec3& c = positions_[id];
-      qx.push_back(x[j] - c[0]);
-      qy.push_back(y[j] - c[1]);
-      qz.push_back(z[j] - c[2]);
+      double q[3];
+      local(id, x[j], y[j], z[j], q);
+      qx.push_back(q[0]);
+      qy.push_back(q[1]);
+      qz.push_back(q[2]);
     }
     start.push_back(qx.size());
   }
@@ -186,12 +205,19 @@ Dual InstanceSet::evalGradient(const Dual& x, const Dual& y, const Dual& z) cons
   values.resize(ids.size());
   const Dual* in[3] = {&x, &y, &z};
   for (std::size_t i = 0; i < ids.size(); ++i) {
-    const Vec3& c = positions_[ids[i]];
-    const Dual g = copy_->evalGradient(x.v - c[0], y.v - c[1], z.v - c[2]);
-    // chain rule: the copy's gradient in its own coordinates times d(p)/d(world)
+    double q[3];
+    local(ids[i], x.v, y.v, z.v, q);
+    const Dual g = copy_->evalGradient(q[0], q[1], q[2]);
+    // chain rule: the copy's gradient in its own coordinates, turned back (R g), times
+    // d(p)/d(world)
+    double w[3] = {g.d[0], g.d[1], g.d[2]};
+    if (!rotations_.empty()) {
+      const std::array<double, 9>& r = rotations_[ids[i]];
+      for (int k = 0; k < 3; ++k) w[k] = r[3 * k] * g.d[0] + r[3 * k + 1] * g.d[1] + r[3 * k + 2] * g.d[2];
+    }
     Dual v(g.v);
-    for (int w = 0; w < 3; ++w)
-      v.d[w] = g.d[0] * in[0]->d[w] + g.d[1] * in[1]->d[w] + g.d[2] * in[2]->d[w];
+    for (int a = 0; a < 3; ++a)
+      v.d[a] = w[0] * in[0]->d[a] + w[1] * in[1]->d[a] + w[2] * in[2]->d[a];
     values[i] = v;
   }
   return combine(values.data(), values.size());
@@ -226,7 +252,9 @@ Interval InstanceSet::evalInterval(const Interval& x, const Interval& y, const I
   double lo = inf, hi = -inf, always = -inf;
   for (std::uint32_t id : candidates) {
     const Vec3& p = positions_[id];
-    const Interval v = copy_->evalInterval(x - p[0], y - p[1], z - p[2]);
+    Interval q[3];
+    local(id, x, y, z, q);
+    const Interval v = copy_->evalInterval(q[0], q[1], q[2]);
     lo = std::min(lo, v.lo);
     hi = std::max(hi, v.hi);
     const double d = std::sqrt(sqr(c[0] - p[0]) + sqr(c[1] - p[1]) + sqr(c[2] - p[2]));

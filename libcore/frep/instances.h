@@ -2,13 +2,15 @@
 // A point evaluates only the copies whose reach holds it, found with a k-d tree (nanoflann),
 // so 10,000 copies cost a few evaluations of the copied solid, not 10,000.
 //
-// F(p) = combine over i in N(p) of f(p - c_i), where N(p) is the copies within `reach` of p
+// F(p) = combine over i in N(p) of f(R_i^T (p - c_i)) (R_i: the copy's rotation about the
+// input's origin, identity when none is given), where N(p) is the copies within `reach` of p
 // (beyond its reach a copy's field is negative: reach is the radius of the ball round the
 // solid's origin holding its bounding box) or, where there is none, the nearest copy alone.
 // So F is the exact union or blend wherever any copy is within reach, and the nearest copy's
 // (negative) field elsewhere.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -31,8 +33,9 @@ class InstanceSet {
     double a1 = 1.0;  // range: how far from each copy the blend reaches
   };
 
-  InstanceSet(std::vector<Vec3> positions, std::shared_ptr<const Program> copy, double reach,
-              Combine combine, Blend blend);
+  // rotations: empty, or one row-major 3x3 rotation matrix per position.
+  InstanceSet(std::vector<Vec3> positions, std::vector<std::array<double, 9>> rotations,
+              std::shared_ptr<const Program> copy, double reach, Combine combine, Blend blend);
   ~InstanceSet();
   InstanceSet(const InstanceSet&) = delete;
   InstanceSet& operator=(const InstanceSet&) = delete;
@@ -53,9 +56,13 @@ class InstanceSet {
   void near(double x, double y, double z, std::vector<std::uint32_t>& out) const;
   template <class T>
   T combine(const T* values, std::size_t n) const;
+  // The point in copy i's own coordinates: R_i^T (p - c_i).
+  template <class T>
+  void local(std::uint32_t i, const T& x, const T& y, const T& z, T q[3]) const;
 
   struct Index;
   std::vector<Vec3> positions_;
+  std::vector<std::array<double, 9>> rotations_;
   std::shared_ptr<const Program> copy_;
   double reach_;
   Combine combine_;

@@ -106,6 +106,19 @@ Slot combineThree(CompileContext& c, const Slot v[3], const Slot j[3], bool last
   return b.add(m1, b.emit(Op::BlendBump, m1, m2, 0, {c.real("blend_amount"), a1, a1}));
 }
 
+// The instancer's rotations as matrices: none, or one per position (a rotation vector: axis
+// times angle in degrees).
+std::vector<std::array<double, 9>> rotationsOf(const Node& n) {
+  std::vector<std::array<double, 9>> out;
+  for (const Vec3& v : pointsOf(n.param("rotations"))) {
+    const double angle = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    const Mat34 m = angle > 0 ? rotationMatrix(v, angle, {0, 0, 0})
+                              : Mat34{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    out.push_back({m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]});
+  }
+  return out;
+}
+
 }  // namespace
 
 void registerArrays(Registry& r) {
@@ -113,19 +126,25 @@ void registerArrays(Registry& r) {
     ParamTemplate positions = pointsParam(
         "positions", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, 1, "length",
         "Where the copies go: the input's origin is moved to each point.");
+    ParamTemplate rotations = pointsParam(
+        "rotations", {}, 0, "",
+        "How each copy is turned about the input's origin before it is moved: a rotation "
+        "vector per position (axis times angle in degrees), or none at all.");
+    rotations.follows = "positions";
     r.add({"instancer",
            "array",
            "Copies of the input at a list of points, combined by union or blend. In FreeCAD "
            "the points can come from mesh vertices, a point cloud, a sketch's or Draft "
            "object's vertices or the copies of a Draft array (property PositionsSource). A "
            "point evaluates only the copies within reach, found with a k-d tree, so 10,000 "
-           "copies cost a few evaluations of the input. Model the input around the origin.",
+           "copies cost a few evaluations of the input. Model the input around the origin. "
+           "Copies may be turned (`rotations`; from a Draft array, its copies' rotations).",
            "N(p) = the copies c_i within reach of p (reach: the input's bounding radius), "
-           "else the nearest;  union: F = max_(i in N(p)) f(p - c_i);  blend: the largest two "
-           "m1 >= m2, F = m1 + a0 / (1 + (m1/a1)^2 + (m2/a1)^2)",
+           "else the nearest;  union: F = max_(i in N(p)) f(R_i^T (p - c_i));  blend: the "
+           "largest two m1 >= m2, F = m1 + a0 / (1 + (m1/a1)^2 + (m2/a1)^2)",
            1,
            1,
-           withCombine({positions}),
+           withCombine({positions, rotations}),
            [](CompileContext& c) {
              Box3 box;
              const std::string problem = copiedSolidBox(c.node().inputs.at(0), &box);
@@ -133,7 +152,8 @@ void registerArrays(Registry& r) {
              auto copy = std::make_shared<const Program>(compile(c.node().inputs.at(0)));
              const bool blend = c.param("combine").text == "blend";
              auto set = std::make_shared<const InstanceSet>(
-                 pointsOf(c.param("positions")), std::move(copy), reachOf(box),
+                 pointsOf(c.param("positions")), rotationsOf(c.node()), std::move(copy),
+                 reachOf(box),
                  blend ? InstanceSet::Combine::Blend : InstanceSet::Combine::Union,
                  InstanceSet::Blend{c.real("blend_amount"), c.real("blend_range")});
              return c.b.instances(std::move(set), c.p.x, c.p.y, c.p.z);
@@ -141,6 +161,12 @@ void registerArrays(Registry& r) {
            [](const Node& n, const std::vector<Box3>& in) {
              const Box3 at = pointsBounds(pointsOf(n.param("positions")), 0.0);
              Box3 b = copyBox(n, in[0]);
+             if (!n.param("rotations").numbers.empty()) {
+               // a turned copy stays within its reach of its position
+               if (!isFinite(b)) return unknownBounds();
+               const double reach = reachOf(b);
+               b = boxAround({0, 0, 0}, {reach, reach, reach});
+             }
              for (int a = 0; a < 3; ++a) {
                b.lo[a] += at.lo[a];
                b.hi[a] += at.hi[a];
@@ -148,6 +174,12 @@ void registerArrays(Registry& r) {
              return b;
            },
            [](const Node& n) {
+             const std::size_t turns = n.param("rotations").numbers.size() / 3,
+                               at = n.param("positions").numbers.size() / 3;
+             if (turns != 0 && turns != at)
+               return "parameter 'rotations' has " + std::to_string(turns) +
+                      " rotations for " + std::to_string(at) + " positions; give one per " +
+                      "position or none";
              Box3 box;
              return copiedSolidBox(n.inputs.at(0), &box);
            }});

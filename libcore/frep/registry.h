@@ -40,6 +40,9 @@ struct ParamTemplate {
   bool nonZeroVector = false;  // Vector3 that must not be (0, 0, 0), e.g. an axis
   std::size_t minPoints = 0;   // Points: at least this many
   bool path = false;           // Points: an ordered path (a sweep's), else a set of positions
+  // Points taken from the same object as the named parameter in FreeCAD (the instancer's
+  // rotations follow its positions' source); "" for a list of its own.
+  std::string follows;
   std::vector<std::string> choices;
   std::string unit;  // "length", "angle" (degrees) or "" (dimensionless)
   std::string doc;

@@ -49,7 +49,10 @@ nlohmann::json toJson(const NodeType& t) {
     pj["unit"] = p.unit;
     pj["doc"] = p.doc;
     if (!p.choices.empty()) pj["choices"] = p.choices;
-    if (p.type == ParamType::Points) pj["path"] = p.path;
+    if (p.type == ParamType::Points) {
+      pj["path"] = p.path;
+      pj["follows"] = p.follows;
+    }
     j["params"].push_back(pj);
   }
   return j;

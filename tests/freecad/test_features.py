@@ -365,6 +365,25 @@ def test_instancer_along_draft_arrays_meshes_and_clouds(doc):
         assert n == len(expected), source.Label
 
     empty = doc.addObject("Part::Feature", "Nothing")
+    # a polar array of a brick: the copies are turned as the array turns them
+    brick = doc.addObject("Part::Box", "Brick")
+    brick.Length, brick.Width, brick.Height = 0.6, 0.2, 0.2
+    brick.Placement.Base = FreeCAD.Vector(3, 0, 0)
+    doc.recompute()
+    ring = Draft.make_polar_array(brick, number=4, angle=360, center=FreeCAD.Vector(0, 0, 0),
+                                  use_link=False)
+    doc.recompute()
+    bar = F.make("box", doc, name="Bar", corner=(0, -0.1, -0.1), size=(0.6, 0.2, 0.2))
+    turned = F.make("instancer", doc, name="Turned", inputs=[bar])
+    turned.PositionsSource = ring
+    doc.recompute()
+    assert turned.isValid(), turned.getStatusString()
+    shape = FRepTree.shape_of(turned)
+    # the bar sticks out along +x at (3, 0), along +y at (0, 3), along -x at (-3, 0), ...
+    for (x, y) in ((3.5, 0), (0, 3.5), (-3.5, 0), (0, -3.5)):
+        assert shape(x, y, 0) > 0, (x, y)
+    for (x, y) in ((3, 0.5), (-0.5, 3), (-3, -0.5), (0.5, -3)):
+        assert shape(x, y, 0) < 0, (x, y)
     copies.PositionsSource = empty
     doc.recompute()
     assert ("Copies: property 'PositionsSource' links 'Nothing' (Part::Feature), which has no "
