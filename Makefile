@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
 
-.PHONY: all deps configure build test demo bench screenshots examples format clean
+.PHONY: all deps configure build test acceptance demo bench screenshots examples format clean
 
 all: build
 
@@ -18,8 +18,12 @@ build: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 	@bash scripts/install-workbench.sh
 
+# Every test but the fine-resolution tier; `make acceptance` runs that tier (CI runs both).
 test: build
-	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) -LE acceptance
+
+acceptance: build
+	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) -L acceptance
 
 demo: build
 	@bash scripts/demo.sh $(BUILD_DIR)

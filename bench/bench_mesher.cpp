@@ -2,6 +2,7 @@
 // resident high-water mark over each benchmark (reset before it through /proc/self/clear_refs).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <fstream>
 #include <string>
 
@@ -55,6 +56,34 @@ void BM_MeshCsg(benchmark::State& s) { meshModel(s, "csg"); }
 void BM_MeshHelix(benchmark::State& s) { meshModel(s, "helix"); }
 void BM_MeshGyroid(benchmark::State& s) { meshModel(s, "gyroid"); }
 void BM_MeshTwist(benchmark::State& s) { meshModel(s, "twist"); }
+
+// The reference models at N cells across the longest side of their box (the figure the issues
+// quote: "256 cells"), so models of different sizes are compared at the same grid.
+void meshAcross(benchmark::State& state, const std::string& name) {
+  const frep::Model model =
+      frep::loadModel(std::string(FREP_SOURCE_DIR) + "/examples/" + name + ".json");
+  const frep::Program program = frep::compile(model.root);
+  frep::MeshingOptions options;
+  options.bbox = *model.bbox;
+  double longest = 0;
+  for (int a = 0; a < 3; ++a) longest = std::max(longest, options.bbox.hi[a] - options.bbox.lo[a]);
+  options.resolution = longest / static_cast<double>(state.range(0));
+  std::size_t triangles = 0;
+  for (auto _ : state) {
+    const frep::TriangleMesh mesh = frep::polygonize(program, options);
+    triangles = mesh.triangleCount();
+    benchmark::DoNotOptimize(mesh.triangles.data());
+  }
+  state.counters["triangles"] = static_cast<double>(triangles);
+}
+void BM_AcrossHelix(benchmark::State& s) { meshAcross(s, "helix"); }
+void BM_AcrossCsg(benchmark::State& s) { meshAcross(s, "csg"); }
+void BM_AcrossTwist(benchmark::State& s) { meshAcross(s, "twist"); }
+void BM_AcrossGyroid(benchmark::State& s) { meshAcross(s, "gyroid"); }
+BENCHMARK(BM_AcrossHelix)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_AcrossCsg)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_AcrossTwist)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_AcrossGyroid)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK(BM_MeshSphere)->Arg(64)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_MeshCsg)->Arg(64)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -69,7 +69,7 @@ TEST(Instancer, TenThousandCopiesAreTheUnionOfEveryCopy) {
   EXPECT_GT(inside, 25);  // the brick fills about 1.3 % of the sampled cubes
 }
 
-TEST(Instancer, TenThousandCopiesMeshPrintableInOnePiece) {
+TEST(InstancerAcceptance, TenThousandCopiesMeshPrintableInOnePiece) {
   const NodePtr part = instancer(sphere(0.3), plate());
   const Box3 b = structuralBounds(part);
   for (int a = 0; a < 3; ++a) {

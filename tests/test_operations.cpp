@@ -469,7 +469,7 @@ TEST(Offset, MovesASphereSurfaceByTheDistance) {
   }
 }
 
-TEST(Shell, KeepsAWallOfTheThicknessInside) {
+TEST(ShellAcceptance, KeepsAWallOfTheThicknessInside) {
   const NodePtr s = makeNode("shell", {{"thickness", realValue(0.1)}}, {sphere(1)});
   const Program p = compile(s);
   EXPECT_GT(p.eval(0.95, 0, 0), 0.0);  // in the wall
@@ -611,7 +611,7 @@ TEST(Tpms, KnownValuesOfTheNodalForms) {
   EXPECT_DOUBLE_EQ(compile(tpms("schwarz_p", 1, "network")).eval(0.5, 0.5, 0.5), 0.3 + 3);
 }
 
-TEST(Tpms, SheetVolumeFractionGrowsWithTheLevel) {
+TEST(TpmsAcceptance, SheetVolumeFractionGrowsWithTheLevel) {
   // The gyroid wall |g| <= level fills a growing share of a cube of whole cells.
   double last = 0;
   for (double level : {0.2, 0.4, 0.8}) {
@@ -637,7 +637,7 @@ TEST(Tpms, AnInputFieldGradesTheLevel) {
   }
 }
 
-TEST(Infill, SkinOutsideLatticeInsidePrintable) {
+TEST(InfillAcceptance, SkinOutsideLatticeInsidePrintable) {
   const NodePtr s = makeNode("infill", {{"lattice", choiceValue("gyroid")}, {"wall", realValue(0.1)},
                                         {"cell", realValue(0.5)}, {"level", realValue(0.3)}},
                              {sphere(1)});

@@ -40,7 +40,7 @@ struct CellOrder {
   }
 };
 
-bool mayBeInside(const Program& p, const Box3& b) {
+bool mayBeInside(const Field& p, const Box3& b) {
   Interval v = p.evalInterval(Interval(b.lo[0], b.hi[0]), Interval(b.lo[1], b.hi[1]),
                               Interval(b.lo[2], b.hi[2]));
   // NaN upper bounds (0/0 and the like over a huge cell) must not prune.
@@ -49,7 +49,7 @@ bool mayBeInside(const Program& p, const Box3& b) {
 
 // Returns the extent of the solid along `axis` in direction `sign` (+1: max, -1: min), or
 // nothing when every cell is proven outside.
-bool extremeAlong(const Program& p, const BoundsOptions& o, const std::vector<Box3>& start,
+bool extremeAlong(const Field& p, const BoundsOptions& o, const std::vector<Box3>& start,
                   int axis, int sign, double* out) {
   auto reach = [&](const Box3& b) { return sign > 0 ? b.hi[axis] : -b.lo[axis]; };
   std::priority_queue<Cell, std::vector<Cell>, CellOrder> queue;
@@ -118,7 +118,7 @@ bool extremeAlong(const Program& p, const BoundsOptions& o, const std::vector<Bo
 // are small next to the box they span (or too many). Far cells are ruled out while they are
 // about as large as their distance to the solid, which plain interval arithmetic manages; a
 // best-first search from the whole search box would need cells far smaller than that.
-std::vector<Box3> coarseCells(const Program& p, const BoundsOptions& o) {
+std::vector<Box3> coarseCells(const Field& p, const BoundsOptions& o) {
   std::vector<Box3> cells;
   if (mayBeInside(p, o.search)) cells.push_back(o.search);
   for (int level = 0; level < 64 && !cells.empty(); ++level) {
@@ -157,7 +157,7 @@ std::vector<Box3> coarseCells(const Program& p, const BoundsOptions& o) {
 
 }  // namespace
 
-SolidBounds findBounds(const Program& program, const BoundsOptions& given) {
+SolidBounds findBounds(const Field& program, const BoundsOptions& given) {
   // Search inside the known box, padded so that a solid touching it is still found inside.
   BoundsOptions options = given;
   bool knownSide[3][2] = {};

@@ -6,7 +6,7 @@
 #include <cstddef>
 #include <limits>
 
-#include "frep/program.h"
+#include "frep/field.h"
 #include "frep/vec.h"
 
 namespace frep {
@@ -35,6 +35,6 @@ struct SolidBounds {
 
 // Best-first branch and bound per side: the cell reaching furthest in that direction is split
 // until it is tolerance-thin or proven outside (interval upper bound < 0).
-SolidBounds findBounds(const Program& program, const BoundsOptions& options = {});
+SolidBounds findBounds(const Field& program, const BoundsOptions& options = {});
 
 }  // namespace frep

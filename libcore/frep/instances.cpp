@@ -109,12 +109,32 @@ InstanceSet::InstanceSet(std::vector<Vec3> positions,
 
 InstanceSet::~InstanceSet() = default;
 
+std::uint32_t InstanceSet::nearest(const double q[3], double* distance) const {
+  double d = 0;
+  const std::uint32_t found = index_->nearest(q, &d);
+  // Ties (and near ties nanoflann may order either way) resolve to the lowest index.
+  thread_local std::vector<std::uint32_t> ties;
+  index_->within(q, d * (1 + 1e-9) + 1e-300, ties);
+  std::uint32_t best = found;
+  double best2 = std::numeric_limits<double>::infinity();
+  for (std::uint32_t i : ties) {
+    const Vec3& c = positions_[i];
+    const double d2 = sqr(q[0] - c[0]) + sqr(q[1] - c[1]) + sqr(q[2] - c[2]);
+    if (d2 < best2) {  // ties keeps increasing order: the first of equals wins
+      best2 = d2;
+      best = i;
+    }
+  }
+  *distance = std::sqrt(best2 < std::numeric_limits<double>::infinity() ? best2 : d * d);
+  return best;
+}
+
 void InstanceSet::near(double x, double y, double z, std::vector<std::uint32_t>& out) const {
   const double q[3] = {x, y, z};
   index_->within(q, reach_, out);
   if (out.empty() && !positions_.empty()) {
     double d = 0;
-    out.push_back(index_->nearest(q, &d));
+    out.push_back(nearest(q, &d));
   }
 }
 
@@ -236,7 +256,7 @@ Interval InstanceSet::evalInterval(const Interval& x, const Interval& y, const I
   // Every copy that can matter at a point p of the box: those within reach of p (within
   // reach + h of the centre) and p's nearest copy (within d* + 2h, d* = the centre's).
   double dNearest = 0;
-  index_->nearest(c, &dNearest);
+  nearest(c, &dNearest);
   ScopedWork work;
   std::vector<std::uint32_t>& candidates = work->ids;
   index_->within(c, std::max(reach_ + h, dNearest + 2 * h), candidates);
@@ -244,12 +264,13 @@ Interval InstanceSet::evalInterval(const Interval& x, const Interval& y, const I
   const double bumpMax = combine_ == Combine::Blend ? std::max(blend_.a0, 0.0) : 0.0;
   if (candidates.size() > kMaxIntervalCopies) {
     // Beyond its reach a copy's field is negative, so far from every copy F < 0.
-    if (!anyInReach) return {-inf, 0.0};
+    if (!anyInReach) return {-inf, 0.0, true};
     const Interval whole =
         copy_->evalInterval({-reach_, reach_}, {-reach_, reach_}, {-reach_, reach_});
-    return {-inf, whole.hi + bumpMax};
+    return outward(-inf, whole.hi + bumpMax, true);
   }
   double lo = inf, hi = -inf, always = -inf;
+  bool nan = false;
   for (std::uint32_t id : candidates) {
     const Vec3& p = positions_[id];
     Interval q[3];
@@ -257,6 +278,7 @@ Interval InstanceSet::evalInterval(const Interval& x, const Interval& y, const I
     const Interval v = copy_->evalInterval(q[0], q[1], q[2]);
     lo = std::min(lo, v.lo);
     hi = std::max(hi, v.hi);
+    nan = nan || v.nan;
     const double d = std::sqrt(sqr(c[0] - p[0]) + sqr(c[1] - p[1]) + sqr(c[2] - p[2]));
     if (d + h <= reach_) always = std::max(always, v.lo);  // a copy every point combines
   }
@@ -265,8 +287,53 @@ Interval InstanceSet::evalInterval(const Interval& x, const Interval& y, const I
     // F = m1 + bump with 0 <= bump <= a0 / (1 + (m1/a1)^2)
     const Interval m2 = sqr(Interval(lo, hi));
     hi += blend_.a0 / (1.0 + m2.lo / (blend_.a1 * blend_.a1));
+    // the sum m1 + bump and the bump itself round: a few ulps more
+    return outward(lo, hi, nan, 4);
   }
-  return {lo, hi};
+  return {lo, hi, nan};
+}
+
+std::shared_ptr<const Field> InstanceSet::specialise(const Box3& box) const {
+  double c[3], h2 = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (!std::isfinite(box.lo[a]) || !std::isfinite(box.hi[a])) return nullptr;
+    c[a] = 0.5 * (box.lo[a] + box.hi[a]);
+    h2 += 0.25 * sqr(box.hi[a] - box.lo[a]);
+  }
+  const double h = std::sqrt(h2);
+  if (positions_.empty()) return nullptr;
+  // As evalInterval's candidates: every copy within reach of a point of the box, and every
+  // copy that can be a point's nearest, with a little slack for the nearest's tie test.
+  double dNearest = 0;
+  index_->nearest(c, &dNearest);
+  std::vector<std::uint32_t> keep;
+  index_->within(c, std::max(reach_ + h, dNearest + 2 * h) * (1 + 1e-6) + 1e-12, keep);
+  if (keep.size() == positions_.size()) return nullptr;
+  if (keep.empty()) keep.push_back(nearest(c, &dNearest));
+  std::vector<Vec3> positions;
+  std::vector<std::array<double, 9>> rotations;
+  positions.reserve(keep.size());
+  for (std::uint32_t i : keep) {
+    positions.push_back(positions_[i]);
+    if (!rotations_.empty()) rotations.push_back(rotations_[i]);
+  }
+  return std::make_shared<const InstanceSet>(std::move(positions), std::move(rotations), copy_,
+                                             reach_, combine_, blend_);
+}
+
+Box3 InstanceSet::bounds() const {
+  Box3 b = Field::bounds();
+  if (positions_.empty()) return b;
+  for (int a = 0; a < 3; ++a) {
+    b.lo[a] = std::numeric_limits<double>::infinity();
+    b.hi[a] = -std::numeric_limits<double>::infinity();
+  }
+  for (const Vec3& p : positions_)
+    for (int a = 0; a < 3; ++a) {
+      b.lo[a] = std::min(b.lo[a], p[a] - reach_);
+      b.hi[a] = std::max(b.hi[a], p[a] + reach_);
+    }
+  return b;
 }
 
 }  // namespace frep

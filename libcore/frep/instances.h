@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "frep/dual.h"
+#include "frep/field.h"
 #include "frep/interval.h"
 #include "frep/vec.h"
 
@@ -23,7 +24,8 @@ namespace frep {
 
 class Program;
 
-class InstanceSet {
+// A Field: the instancer compiles to one `external` instruction holding it.
+class InstanceSet final : public Field {
  public:
   // union: max of the copies; blend: the largest two, m1 >= m2, as Pasko's blend union,
   // m1 + a0 / (1 + (m1/a1)^2 + (m2/a1)^2) (exactly the union where only one copy reaches).
@@ -40,18 +42,27 @@ class InstanceSet {
   InstanceSet(const InstanceSet&) = delete;
   InstanceSet& operator=(const InstanceSet&) = delete;
 
-  double eval(double x, double y, double z) const;
+  double eval(double x, double y, double z) const override;
   // Bit-identical to eval() at each point.
   void evalBatch(const double* x, const double* y, const double* z, std::size_t n,
-                 double* out) const;
-  Interval evalInterval(const Interval& x, const Interval& y, const Interval& z) const;
+                 double* out) const override;
+  Interval evalInterval(const Interval& x, const Interval& y, const Interval& z) const override;
   // x, y, z carry their derivatives (the instancer may sit under a transform).
-  Dual evalGradient(const Dual& x, const Dual& y, const Dual& z) const;
+  Dual evalGradient(const Dual& x, const Dual& y, const Dual& z) const override;
+  using Field::evalGradient;
+  // The copies that can matter inside the box (within reach of it, or nearest to one of its
+  // points), in the same order, so every mode gives the same values there; nullptr when that
+  // is every copy.
+  std::shared_ptr<const Field> specialise(const Box3& box) const override;
+  Box3 bounds() const override;
 
   std::size_t size() const { return positions_.size(); }
   double reach() const { return reach_; }
 
  private:
+  // Copy i among those within `radius` of q whose distance is least (lowest index on ties, so
+  // a subset holding all of them picks the same one).
+  std::uint32_t nearest(const double q[3], double* distance) const;
   // The copies N(p), in increasing index order (so every mode combines them alike).
   void near(double x, double y, double z, std::vector<std::uint32_t>& out) const;
   template <class T>

@@ -1,7 +1,19 @@
 // Interval arithmetic for the interval evaluator mode.
-// Inclusion property: the result interval contains f(x) for every x in the input intervals.
-// Rounding is round-to-nearest (no directed rounding); callers that need a proof of sign
-// leave a small relative margin (see mesh/mesher.cpp).
+//
+// Inclusion property, rigorous: the result interval contains the value that the point
+// evaluator computes (in double precision, rounding to nearest) at every point of the input
+// box, and `nan` is set wherever that value may be NaN. So a proof drawn from an interval
+// ("every point of this brick is inside") needs no safety margin.
+//
+// How: each operation computes its end points by the natural formulas and widens them
+// outwards (outward()): by one ulp for the correctly rounded operations (+ - * / sqrt),
+// whose rounding is monotone, and by kLibmUlps for the library functions (exp, sin, pow,
+// ...), whose documented error in glibc is at most 1-2 ulp. An end point that comes out NaN
+// (inf - inf, 0 * inf) makes the interval the whole line with `nan` set. Results that are
+// exact (negation, |a|, min, max, floor, the 0 of a square) are not widened.
+//
+// NaN semantics follow the point evaluator: min(a, b) and max(a, b) return a when either is
+// NaN (scalar_math.h), select(NaN, b, c) is c, and the mesher counts NaN as outside.
 #pragma once
 
 #include <algorithm>
@@ -13,144 +25,236 @@ namespace frep {
 struct Interval {
   double lo = 0.0;
   double hi = 0.0;
+  bool nan = false;  // some point of the box may evaluate to NaN; lo, hi bound the others
 
   Interval() = default;
-  constexpr Interval(double v) : lo(v), hi(v) {}  // NOLINT: implicit from a constant
-  constexpr Interval(double l, double h) : lo(l), hi(h) {}
+  // A constant; a NaN constant is "anything, or NaN".
+  constexpr Interval(double v)  // NOLINT: implicit from a constant
+      : lo(v == v ? v : -std::numeric_limits<double>::infinity()),
+        hi(v == v ? v : std::numeric_limits<double>::infinity()),
+        nan(v != v) {}
+  constexpr Interval(double l, double h, bool n = false) : lo(l), hi(h), nan(n) {}
 
-  bool contains(double v) const { return v >= lo && v <= hi; }
+  bool contains(double v) const { return v != v ? nan : (v >= lo && v <= hi); }
   double width() const { return hi - lo; }
-  static Interval entire() {
-    return {-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  static Interval entire(bool nan = false) {
+    return {-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+            nan};
   }
+  static Interval allNan() { return entire(true); }
 };
 
-inline Interval operator+(Interval a, Interval b) { return {a.lo + b.lo, a.hi + b.hi}; }
-inline Interval operator-(Interval a, Interval b) { return {a.lo - b.hi, a.hi - b.lo}; }
-inline Interval operator-(Interval a) { return {-a.hi, -a.lo}; }
+namespace interval_detail {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Worst error of glibc's exp, log, sin, cos, tan, atan, atan2, pow on x86-64, plus one.
+constexpr int kLibmUlps = 3;
+
+inline double down(double v, int ulps) {
+  for (int i = 0; i < ulps; ++i) v = std::nextafter(v, -kInf);
+  return v;
+}
+inline double up(double v, int ulps) {
+  for (int i = 0; i < ulps; ++i) v = std::nextafter(v, kInf);
+  return v;
+}
+}  // namespace interval_detail
+
+// End points computed in round to nearest, widened outwards by `ulps`; NaN end points make the
+// whole line (and NaN possible).
+inline Interval outward(double lo, double hi, bool nan, int ulps = 1) {
+  using namespace interval_detail;
+  if (lo != lo || hi != hi) return Interval::entire(true);
+  return {down(lo, ulps), up(hi, ulps), nan};
+}
+
+inline bool hasInfinity(const Interval& a) {
+  return a.lo == -interval_detail::kInf || a.hi == interval_detail::kInf;
+}
+inline bool holdsZero(const Interval& a) { return a.lo <= 0.0 && a.hi >= 0.0; }
+
+inline Interval operator+(Interval a, Interval b) {
+  using interval_detail::kInf;
+  const bool infMinusInf = (a.hi == kInf && b.lo == -kInf) || (a.lo == -kInf && b.hi == kInf);
+  return outward(a.lo + b.lo, a.hi + b.hi, a.nan || b.nan || infMinusInf);
+}
+inline Interval operator-(Interval a) { return {-a.hi, -a.lo, a.nan}; }
+inline Interval operator-(Interval a, Interval b) { return a + (-b); }
 
 inline Interval operator*(Interval a, Interval b) {
   const double p1 = a.lo * b.lo, p2 = a.lo * b.hi, p3 = a.hi * b.lo, p4 = a.hi * b.hi;
-  return {std::min(std::min(p1, p2), std::min(p3, p4)), std::max(std::max(p1, p2), std::max(p3, p4))};
+  const bool zeroTimesInf =
+      (holdsZero(a) && hasInfinity(b)) || (holdsZero(b) && hasInfinity(a));
+  if (p1 != p1 || p2 != p2 || p3 != p3 || p4 != p4) return Interval::entire(true);
+  return outward(std::min(std::min(p1, p2), std::min(p3, p4)),
+                 std::max(std::max(p1, p2), std::max(p3, p4)), a.nan || b.nan || zeroTimesInf);
 }
 
 inline Interval operator/(Interval a, Interval b) {
-  if (b.lo <= 0.0 && b.hi >= 0.0) return Interval::entire();
+  if (holdsZero(b))  // 0/0 and inf/inf are NaN, x/0 infinite
+    return Interval::entire(a.nan || b.nan || holdsZero(a) || hasInfinity(a));
   const double p1 = a.lo / b.lo, p2 = a.lo / b.hi, p3 = a.hi / b.lo, p4 = a.hi / b.hi;
-  return {std::min(std::min(p1, p2), std::min(p3, p4)), std::max(std::max(p1, p2), std::max(p3, p4))};
+  if (p1 != p1 || p2 != p2 || p3 != p3 || p4 != p4) return Interval::entire(true);
+  return outward(std::min(std::min(p1, p2), std::min(p3, p4)),
+                 std::max(std::max(p1, p2), std::max(p3, p4)),
+                 a.nan || b.nan || (hasInfinity(a) && hasInfinity(b)));
 }
 
 inline Interval sqr(Interval a) {
+  using namespace interval_detail;
   const double l2 = a.lo * a.lo, h2 = a.hi * a.hi;
-  if (a.lo >= 0.0) return {l2, h2};
-  if (a.hi <= 0.0) return {h2, l2};
-  return {0.0, std::max(l2, h2)};
+  if (a.lo >= 0.0) return {std::max(0.0, down(l2, 1)), up(h2, 1), a.nan};
+  if (a.hi <= 0.0) return {std::max(0.0, down(h2, 1)), up(l2, 1), a.nan};
+  return {0.0, up(std::max(l2, h2), 1), a.nan};
 }
 
-// sqrt of the non-negative part; a fully negative argument has no real value (NaN interval).
+// sqrt is NaN below 0: a box reaching below 0 may give NaN.
 inline Interval sqrt(Interval a) {
-  if (a.hi < 0.0) {
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    return {nan, nan};
-  }
-  return {std::sqrt(std::max(a.lo, 0.0)), std::sqrt(a.hi)};
+  using namespace interval_detail;
+  if (a.hi < 0.0) return Interval::allNan();
+  const double lo = a.lo <= 0.0 ? 0.0 : std::max(0.0, down(std::sqrt(a.lo), 1));
+  return {lo, up(std::sqrt(a.hi), 1), a.nan || a.lo < 0.0};
 }
 
 inline Interval abs(Interval a) {
   if (a.lo >= 0.0) return a;
   if (a.hi <= 0.0) return -a;
-  return {0.0, std::max(-a.lo, a.hi)};
+  return {0.0, std::max(-a.lo, a.hi), a.nan};
 }
 
-inline Interval min(Interval a, Interval b) { return {std::min(a.lo, b.lo), std::min(a.hi, b.hi)}; }
-inline Interval max(Interval a, Interval b) { return {std::max(a.lo, b.lo), std::max(a.hi, b.hi)}; }
+// min(a, b) is `b < a ? b : a`: a NaN a gives NaN, a NaN b gives a.
+inline Interval min(Interval a, Interval b) {
+  return {std::min(a.lo, b.lo), b.nan ? a.hi : std::min(a.hi, b.hi), a.nan};
+}
+inline Interval max(Interval a, Interval b) {
+  return {b.nan ? a.lo : std::max(a.lo, b.lo), std::max(a.hi, b.hi), a.nan};
+}
 
-inline Interval exp(Interval a) { return {std::exp(a.lo), std::exp(a.hi)}; }
+inline Interval exp(Interval a) {
+  using interval_detail::kLibmUlps;
+  const Interval r = outward(std::exp(a.lo), std::exp(a.hi), a.nan, kLibmUlps);
+  return {std::max(0.0, r.lo), r.hi, r.nan};
+}
 
-// sin over an interval: the endpoint values plus any extremum (pi/2 + k*pi) inside.
+// sin over an interval: the end point values plus any extremum (pi/2 + k*pi) inside.
+// sin(+-inf) is NaN.
 inline Interval sin(Interval a) {
+  using interval_detail::kLibmUlps;
   constexpr double kTwoPi = 6.283185307179586476925286766559;
   constexpr double kHalfPi = 1.5707963267948966192313216916398;
-  if (!(a.hi - a.lo < kTwoPi)) return {-1.0, 1.0};
+  const bool nan = a.nan || hasInfinity(a);
+  // Over a period or more, or where the argument is so large that k*pi is not resolved.
+  if (!(a.hi - a.lo < kTwoPi) || std::max(-a.lo, a.hi) > 1e15) return {-1.0, 1.0, nan};
   double lo = std::min(std::sin(a.lo), std::sin(a.hi));
   double hi = std::max(std::sin(a.lo), std::sin(a.hi));
-  // maxima at pi/2 + 2k*pi, minima at -pi/2 + 2k*pi
-  const double kMax = std::ceil((a.lo - kHalfPi) / kTwoPi);
-  if (kHalfPi + kMax * kTwoPi <= a.hi) hi = 1.0;
-  const double kMin = std::ceil((a.lo + kHalfPi) / kTwoPi);
-  if (-kHalfPi + kMin * kTwoPi <= a.hi) lo = -1.0;
-  return {lo, hi};
+  // maxima at pi/2 + 2k*pi, minima at -pi/2 + 2k*pi; one ulp of slack on the test, so an
+  // extremum that rounding puts just outside still counts
+  const double slack = 4e-16 * std::max(1.0, std::max(-a.lo, a.hi));
+  const double kMax = std::ceil((a.lo - kHalfPi - slack) / kTwoPi);
+  if (kHalfPi + kMax * kTwoPi <= a.hi + slack) hi = 1.0;
+  const double kMin = std::ceil((a.lo + kHalfPi - slack) / kTwoPi);
+  if (-kHalfPi + kMin * kTwoPi <= a.hi + slack) lo = -1.0;
+  const Interval r = outward(lo, hi, nan, kLibmUlps);
+  return {std::max(-1.0, r.lo), std::min(1.0, r.hi), nan};
 }
 
 inline Interval cos(Interval a) {
-  constexpr double kHalfPi = 1.5707963267948966192313216916398;
-  return sin(Interval{a.lo + kHalfPi, a.hi + kHalfPi});
+  using interval_detail::kLibmUlps;
+  constexpr double kTwoPi = 6.283185307179586476925286766559;
+  constexpr double kPi = 3.14159265358979323846;
+  const bool nan = a.nan || hasInfinity(a);
+  if (!(a.hi - a.lo < kTwoPi) || std::max(-a.lo, a.hi) > 1e15) return {-1.0, 1.0, nan};
+  double lo = std::min(std::cos(a.lo), std::cos(a.hi));
+  double hi = std::max(std::cos(a.lo), std::cos(a.hi));
+  // maxima at 2k*pi, minima at pi + 2k*pi
+  const double slack = 4e-16 * std::max(1.0, std::max(-a.lo, a.hi));
+  const double kMax = std::ceil((a.lo - slack) / kTwoPi);
+  if (kMax * kTwoPi <= a.hi + slack) hi = 1.0;
+  const double kMin = std::ceil((a.lo - kPi - slack) / kTwoPi);
+  if (kPi + kMin * kTwoPi <= a.hi + slack) lo = -1.0;
+  const Interval r = outward(lo, hi, nan, kLibmUlps);
+  return {std::max(-1.0, r.lo), std::min(1.0, r.hi), nan};
 }
 
-inline Interval floor(Interval a) { return {std::floor(a.lo), std::floor(a.hi)}; }
+inline Interval floor(Interval a) { return {std::floor(a.lo), std::floor(a.hi), a.nan}; }
 
 // |a|^k is increasing in |a| (k > 0).
 inline Interval powAbs(Interval a, double k) {
+  using interval_detail::kLibmUlps;
   const Interval m = abs(a);
-  return {std::pow(m.lo, k), std::pow(m.hi, k)};
+  const Interval r = outward(std::pow(m.lo, k), std::pow(m.hi, k), a.nan, kLibmUlps);
+  return {std::max(0.0, r.lo), r.hi, r.nan};
 }
 
 // tan is increasing between its poles at pi/2 + k pi; an interval holding a pole is unbounded.
 inline Interval tan(Interval a) {
+  using interval_detail::kLibmUlps;
   constexpr double kPi = 3.14159265358979323846;
   constexpr double kHalfPi = 1.5707963267948966192313216916398;
-  if (!(a.hi - a.lo < kPi)) return Interval::entire();
-  const double pole = kHalfPi + std::ceil((a.lo - kHalfPi) / kPi) * kPi;
-  if (pole <= a.hi) return Interval::entire();
-  return {std::tan(a.lo), std::tan(a.hi)};
+  const bool nan = a.nan || hasInfinity(a);
+  if (!(a.hi - a.lo < kPi) || std::max(-a.lo, a.hi) > 1e15) return Interval::entire(nan);
+  const double slack = 4e-16 * std::max(1.0, std::max(-a.lo, a.hi));
+  const double pole = kHalfPi + std::ceil((a.lo - kHalfPi - slack) / kPi) * kPi;
+  if (pole <= a.hi + slack) return Interval::entire(nan);
+  return outward(std::tan(a.lo), std::tan(a.hi), nan, kLibmUlps);
 }
 
-inline Interval atan(Interval a) { return {std::atan(a.lo), std::atan(a.hi)}; }
+inline Interval atan(Interval a) {
+  using interval_detail::kLibmUlps;
+  return outward(std::atan(a.lo), std::atan(a.hi), a.nan, kLibmUlps);
+}
 
-// log of the positive part (log 0 = -inf); a fully negative argument has no real value.
+// log is NaN below 0 and -inf at 0.
 inline Interval log(Interval a) {
-  if (a.hi < 0.0) {
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    return {nan, nan};
-  }
-  return {std::log(std::max(a.lo, 0.0)), std::log(a.hi)};
+  using interval_detail::kLibmUlps;
+  if (a.hi < 0.0) return Interval::allNan();
+  const double lo = a.lo <= 0.0 ? -interval_detail::kInf : std::log(a.lo);
+  return outward(lo, std::log(a.hi), a.nan || a.lo < 0.0, kLibmUlps);
 }
 
 // a^k as std::pow. Integer k: |a|^k for even k, increasing for odd k, 1/a^|k| for k < 0.
 // Other k: defined for a >= 0 only (like sqrt), monotone in a.
 inline Interval powConst(Interval a, double k) {
+  using interval_detail::kLibmUlps;
   if (k == std::floor(k) && std::abs(k) < 1e15) {
     if (k < 0.0) return Interval(1.0) / powConst(a, -k);
-    if (k == 0.0) return {1.0, 1.0};
+    if (k == 0.0) return {1.0, 1.0, false};  // pow(x, 0) is 1 even for NaN x
     const bool even = std::fmod(k, 2.0) == 0.0;
-    if (!even) return {std::pow(a.lo, k), std::pow(a.hi, k)};
+    if (!even) return outward(std::pow(a.lo, k), std::pow(a.hi, k), a.nan, kLibmUlps);
     const Interval m = abs(a);
-    return {std::pow(m.lo, k), std::pow(m.hi, k)};
+    const Interval r = outward(std::pow(m.lo, k), std::pow(m.hi, k), a.nan, kLibmUlps);
+    return {std::max(0.0, r.lo), r.hi, r.nan};
   }
-  if (a.hi < 0.0) {
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    return {nan, nan};
-  }
+  // pow(-inf, k) is 0 or inf (IEEE), not NaN like other negative bases
+  if (a.lo == -interval_detail::kInf) return {0.0, interval_detail::kInf, true};
+  if (a.hi < 0.0) return Interval::allNan();
   const double lo = std::pow(std::max(a.lo, 0.0), k), hi = std::pow(a.hi, k);
-  return k > 0.0 ? Interval{lo, hi} : Interval{hi, lo};
+  const Interval r = k > 0.0 ? outward(lo, hi, a.nan || a.lo < 0.0, kLibmUlps)
+                             : outward(hi, lo, a.nan || a.lo < 0.0, kLibmUlps);
+  return {std::max(0.0, r.lo), r.hi, r.nan};
 }
 
-// a >= 0 ? b : c: one branch where the condition's sign is known, else both.
+inline Interval hull(Interval a, Interval b) {
+  return {std::min(a.lo, b.lo), std::max(a.hi, b.hi), a.nan || b.nan};
+}
+
+// a >= 0 ? b : c: one branch where the condition's sign is known (NaN picks c), else both.
 inline Interval select(Interval a, Interval b, Interval c) {
-  if (a.lo >= 0.0) return b;
+  if (a.lo >= 0.0 && !a.nan) return b;
   if (a.hi < 0.0) return c;
-  return {std::min(b.lo, c.lo), std::max(b.hi, c.hi)};
+  return hull(b, c);
 }
 
 // atan2(y, x) over a box: the angles of its corners, unless the box touches the origin or the
 // branch cut along the negative x axis, where every angle may occur.
 inline Interval atan2(Interval y, Interval x) {
+  using interval_detail::kLibmUlps;
   constexpr double kPi = 3.14159265358979323846;
-  if (x.lo <= 0.0 && y.lo <= 0.0 && y.hi >= 0.0) return {-kPi, kPi};
+  const bool nan = y.nan || x.nan;
+  if (x.lo <= 0.0 && y.lo <= 0.0 && y.hi >= 0.0) return outward(-kPi, kPi, nan, kLibmUlps);
   const double c[4] = {std::atan2(y.lo, x.lo), std::atan2(y.lo, x.hi), std::atan2(y.hi, x.lo),
                        std::atan2(y.hi, x.hi)};
-  return {std::min(std::min(c[0], c[1]), std::min(c[2], c[3])),
-          std::max(std::max(c[0], c[1]), std::max(c[2], c[3]))};
+  return outward(std::min(std::min(c[0], c[1]), std::min(c[2], c[3])),
+                 std::max(std::max(c[0], c[1]), std::max(c[2], c[3])), nan, kLibmUlps);
 }
 
 }  // namespace frep

@@ -233,6 +233,9 @@ std::string modelToJson(const Model& model) {
       }
       return json{{"ref", it->second}};
     }
+    if (isFieldNode(*n))
+      throw ModelError("an external field node cannot be written to a model file; save the "
+                       "field in its own file and refer to it by a node that reads it");
     json j;
     j["type"] = n->type->id;
     json params = json::object();

@@ -156,7 +156,7 @@ void registerArrays(Registry& r) {
                  reachOf(box),
                  blend ? InstanceSet::Combine::Blend : InstanceSet::Combine::Union,
                  InstanceSet::Blend{c.real("blend_amount"), c.real("blend_range")});
-             return c.b.instances(std::move(set), c.p.x, c.p.y, c.p.z);
+             return c.b.external(std::move(set), c.p.x, c.p.y, c.p.z);
            },
            [](const Node& n, const std::vector<Box3>& in) {
              const Box3 at = pointsBounds(pointsOf(n.param("positions")), 0.0);

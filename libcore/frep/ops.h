@@ -39,7 +39,7 @@ enum class Op : std::uint8_t {
   Log,         // natural logarithm of a (NaN below 0)
   PowConst,    // a^k0 as std::pow: any base for an integer k0, a >= 0 otherwise (formulas)
   Select,      // a >= 0 ? b : c (pieces of piecewise functions: arcs, metaballs)
-  Instances,   // copies of a solid at points, near (a, b, c); k0 = the program's instance set
+  External,    // another Field at the point (a, b, c); k0 = its index in Program::externals
   Count_
 };
 
@@ -62,11 +62,18 @@ inline T rIntersect(const T& a, const T& b, double alpha) {
   const T s = max(sqr(a) + sqr(b) - T(2.0 * alpha) * a * b, T(0.0));
   return (a + b - sqrt(s)) * T(1.0 / (1.0 + alpha));
 }
+// The R-functions are monotone, so their range over a box lies between their values at the
+// lowest and highest corners. The values the point evaluator computes differ from the exact
+// ones by rounding, which is bounded here (rFunctionRoundingBound) and added on both sides,
+// so the result encloses every computed value (interval.h).
+Interval rFunctionInterval(const Interval& a, const Interval& b, double alpha, bool isUnion);
 inline Interval rUnion(const Interval& a, const Interval& b, double alpha) {
-  return {rUnion(a.lo, b.lo, alpha), rUnion(a.hi, b.hi, alpha)};
+  if (alpha == 1.0) return max(a, b);
+  return rFunctionInterval(a, b, alpha, true);
 }
 inline Interval rIntersect(const Interval& a, const Interval& b, double alpha) {
-  return {rIntersect(a.lo, b.lo, alpha), rIntersect(a.hi, b.hi, alpha)};
+  if (alpha == 1.0) return min(a, b);
+  return rFunctionInterval(a, b, alpha, false);
 }
 
 template <class T>
@@ -109,7 +116,7 @@ inline T applyOp(Op op, const T& a, const T& b, const T& c, const double* k) {
     case Op::Log: return log(a);
     case Op::PowConst: return powConst(a, k[0]);
     case Op::Select: return select(a, b, c);
-    case Op::Instances: break;  // needs the program's instance set: see Program
+    case Op::External: break;  // needs the program's external fields: see Program
     case Op::Count_: break;
   }
   return T(0.0);

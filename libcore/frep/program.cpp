@@ -4,7 +4,6 @@
 #include <sstream>
 #include <utility>
 
-#include "frep/instances.h"
 
 namespace frep {
 
@@ -24,7 +23,7 @@ constexpr OpInfo kOpInfo[] = {
     {"runion", 2, 1, true},    {"rintersect", 2, 1, true},  {"blendbump", 2, 3, false},
     {"atan2", 2, 0, false},    {"powabs", 1, 1, false},     {"floor", 1, 0, false},
     {"tan", 1, 0, false},      {"atan", 1, 0, false},       {"log", 1, 0, false},
-    {"powconst", 1, 1, false}, {"select", 3, 0, false},     {"instances", 3, 1, false},
+    {"powconst", 1, 1, false}, {"select", 3, 0, false},     {"external", 3, 1, false},
 };
 static_assert(sizeof(kOpInfo) / sizeof(kOpInfo[0]) == static_cast<int>(Op::Count_),
               "every op needs an entry");
@@ -57,13 +56,12 @@ class Scratch {
   std::vector<T>* buffer_;
 };
 
-double instancesAt(const InstanceSet& s, double x, double y, double z) { return s.eval(x, y, z); }
-Interval instancesAt(const InstanceSet& s, const Interval& x, const Interval& y,
-                     const Interval& z) {
-  return s.evalInterval(x, y, z);
+double externalAt(const Field& f, double x, double y, double z) { return f.eval(x, y, z); }
+Interval externalAt(const Field& f, const Interval& x, const Interval& y, const Interval& z) {
+  return f.evalInterval(x, y, z);
 }
-Dual instancesAt(const InstanceSet& s, const Dual& x, const Dual& y, const Dual& z) {
-  return s.evalGradient(x, y, z);
+Dual externalAt(const Field& f, const Dual& x, const Dual& y, const Dual& z) {
+  return f.evalGradient(x, y, z);
 }
 }  // namespace
 
@@ -73,11 +71,11 @@ int opConstantCount(Op op) { return kOpInfo[static_cast<int>(op)].constants; }
 bool opIsCommutative(Op op) { return kOpInfo[static_cast<int>(op)].commutative; }
 
 Program::Program(std::vector<Instruction> code, std::vector<double> constants, Slot result,
-                 std::vector<std::shared_ptr<const InstanceSet>> instanceSets)
+                 std::vector<std::shared_ptr<const Field>> externals)
     : code_(std::move(code)),
       constants_(std::move(constants)),
       result_(result),
-      instanceSets_(std::move(instanceSets)) {}
+      externals_(std::move(externals)) {}
 
 template <class T>
 T Program::evalGeneric(const T& x, const T& y, const T& z) const {
@@ -91,9 +89,9 @@ T Program::evalGeneric(const T& x, const T& y, const T& z) const {
   for (std::size_t i = 0; i < code_.size(); ++i) {
     const Instruction& in = code_[i];
     s[i + kFirstInstructionSlot] =
-        in.op == Op::Instances
-            ? instancesAt(*instanceSets_[static_cast<std::size_t>(k[in.k])], s[in.a], s[in.b],
-                          s[in.c])
+        in.op == Op::External
+            ? externalAt(*externals_[static_cast<std::size_t>(k[in.k])], s[in.a], s[in.b],
+                         s[in.c])
             : applyOp<T>(in.op, s[in.a], s[in.b], s[in.c], k + in.k);
   }
   return s[result_];
@@ -105,8 +103,8 @@ Interval Program::evalInterval(const Interval& x, const Interval& y, const Inter
   return evalGeneric<Interval>(x, y, z);
 }
 
-Dual Program::evalGradient(double x, double y, double z) const {
-  return evalGeneric<Dual>(Dual(x, 1, 0, 0), Dual(y, 0, 1, 0), Dual(z, 0, 0, 1));
+Dual Program::evalGradient(const Dual& x, const Dual& y, const Dual& z) const {
+  return evalGeneric<Dual>(x, y, z);
 }
 
 // The switch is outside the loops so that each loop is a straight vectorisable kernel; each
@@ -157,8 +155,8 @@ void Program::evalChunk(const double* x, const double* y, const double* z, std::
       case Op::Log: FREP_KERNEL(std::log(a[j]));
       case Op::PowConst: FREP_KERNEL(powConst(a[j], k[0]));
       case Op::Select: FREP_KERNEL(select(a[j], b[j], c[j]));
-      case Op::Instances:
-        instanceSets_[static_cast<std::size_t>(k[0])]->evalBatch(a, b, c, n, o);
+      case Op::External:
+        externals_[static_cast<std::size_t>(k[0])]->evalBatch(a, b, c, n, o);
         break;
       case Op::Count_: break;
     }

@@ -12,9 +12,9 @@ double ProgramBuilder::constantValue(Slot s) const {
   return constants_[code_[s - kFirstInstructionSlot].k];
 }
 
-Slot ProgramBuilder::instances(std::shared_ptr<const InstanceSet> set, Slot x, Slot y, Slot z) {
-  instanceSets_.push_back(std::move(set));
-  return emit(Op::Instances, x, y, z, {static_cast<double>(instanceSets_.size() - 1)});
+Slot ProgramBuilder::external(std::shared_ptr<const Field> field, Slot x, Slot y, Slot z) {
+  externals_.push_back(std::move(field));
+  return emit(Op::External, x, y, z, {static_cast<double>(externals_.size() - 1)});
 }
 
 Slot ProgramBuilder::constant(double value) { return emit(Op::Const, 0, 0, 0, {value}); }
@@ -27,7 +27,7 @@ Slot ProgramBuilder::emit(Op op, Slot a, Slot b, Slot c, std::initializer_list<d
   if (opIsCommutative(op) && b < a) std::swap(a, b);
 
   // Constant folding: all operands constant -> evaluate now.
-  if (op != Op::Const && op != Op::Instances && arity > 0) {
+  if (op != Op::Const && op != Op::External && arity > 0) {
     const Slot args[3] = {a, b, c};
     bool allConstant = true;
     double values[3] = {0, 0, 0};
@@ -86,7 +86,7 @@ Program ProgramBuilder::finish(Slot result) const {
     remap[i + kFirstInstructionSlot] = static_cast<Slot>(code.size() + kFirstInstructionSlot);
     code.push_back(in);
   }
-  return Program(std::move(code), std::move(constants), remap[result], instanceSets_);
+  return Program(std::move(code), std::move(constants), remap[result], externals_);
 }
 
 }  // namespace frep

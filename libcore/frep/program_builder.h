@@ -41,8 +41,9 @@ class ProgramBuilder {
   Slot length2(Slot a, Slot b) { return sqrt(add(sqr(a), sqr(b))); }
   Slot length3(Slot a, Slot b, Slot c) { return sqrt(add(add(sqr(a), sqr(b)), sqr(c))); }
 
-  // Copies of a solid at points near (x, y, z): an `instances` instruction and its data.
-  Slot instances(std::shared_ptr<const InstanceSet> set, Slot x, Slot y, Slot z);
+  // Another field evaluated at (x, y, z): an `external` instruction (the instancer's copies,
+  // an external node's field). Never merged with another, never folded.
+  Slot external(std::shared_ptr<const Field> field, Slot x, Slot y, Slot z);
 
   bool isConstant(Slot s) const;
   double constantValue(Slot s) const;
@@ -55,7 +56,7 @@ class ProgramBuilder {
   std::vector<Instruction> code_;
   std::vector<double> constants_;
   std::map<Key, Slot> seen_;
-  std::vector<std::shared_ptr<const InstanceSet>> instanceSets_;
+  std::vector<std::shared_ptr<const Field>> externals_;
 };
 
 }  // namespace frep

@@ -63,6 +63,34 @@ NodePtr makeNode(const std::string& typeId, std::map<std::string, ParamValue> pa
   return node;
 }
 
+namespace {
+const NodeType& fieldNodeType() {
+  static const NodeType type = [] {
+    NodeType t;
+    t.id = "external";
+    t.category = "field";
+    t.doc = "Another field (a grid, a mesh distance, ...) as a leaf of the tree.";
+    t.formula = "F = the field's value";
+    t.compile = [](CompileContext& c) {
+      return c.b.external(c.node().field, c.p.x, c.p.y, c.p.z);
+    };
+    t.bounds = [](const Node& n, const std::vector<Box3>&) { return n.field->bounds(); };
+    return t;
+  }();
+  return type;
+}
+}  // namespace
+
+NodePtr makeFieldNode(std::shared_ptr<const Field> field, const std::string& name) {
+  if (!field) throw ModelError(name + ": an external node needs a field");
+  auto node = std::make_shared<Node>();
+  node->type = &fieldNodeType();
+  node->field = std::move(field);
+  return node;
+}
+
+bool isFieldNode(const Node& node) { return node.type == &fieldNodeType(); }
+
 Program compile(const NodePtr& root) {
   ProgramBuilder builder;
   // Memo per (node, point): a node shared by several parents at the same coordinates is

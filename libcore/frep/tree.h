@@ -18,6 +18,8 @@ struct Node {
   const NodeType* type = nullptr;
   std::map<std::string, ParamValue> params;  // every parameter of the type, defaults filled in
   std::vector<NodePtr> inputs;
+  // The field of an external node (makeFieldNode); null for every registry type.
+  std::shared_ptr<const Field> field;
 
   const ParamValue& param(const std::string& name) const;
   double real(const std::string& name) const { return param(name).numbers.at(0); }
@@ -28,6 +30,13 @@ struct Node {
 // the node in error messages (e.g. "root.inputs[1]"). Throws ModelError.
 NodePtr makeNode(const std::string& typeId, std::map<std::string, ParamValue> params,
                  std::vector<NodePtr> inputs, const std::string& path = "node");
+
+// An external node: any Field as a leaf of a tree, evaluated through an `external` instruction
+// in all four modes (the generic seam for grids, mesh distances, lattice deformations). Not a
+// registry type: it is made in code, never read from a model file. `name` names it in
+// messages. Its structural bounds are the field's bounds().
+NodePtr makeFieldNode(std::shared_ptr<const Field> field, const std::string& name = "external");
+bool isFieldNode(const Node& node);
 
 // Shorthands for building trees in code and tests.
 ParamValue realValue(double v);

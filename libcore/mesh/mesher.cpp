@@ -57,16 +57,26 @@ struct CellRange {
   std::int64_t lo[3], hi[3];  // cells [lo, hi) per axis
 };
 
-// Interval proof that every grid point of the range has the same side. The relative margin
-// absorbs round-to-nearest differences between interval and point evaluation.
-bool provenUniform(const Program& program, const Grid& g, const CellRange& r) {
+// The box of a range's grid points, widened by a hundredth of a cell: the points root finding
+// evaluates along an edge (p + t d) may round a little past the edge's end.
+Box3 rangeBox(const Grid& g, const CellRange& r) {
+  Box3 b;
+  for (int a = 0; a < 3; ++a) {
+    b.lo[a] = g.coord(a, r.lo[a]) - 0.01 * g.h[a];
+    b.hi[a] = g.coord(a, r.hi[a]) + 0.01 * g.h[a];
+  }
+  return b;
+}
+
+// Interval proof that every grid point of the range has the same side. Intervals enclose the
+// computed point values rigorously (frep/interval.h), so no margin is needed; a point that may
+// be NaN counts as outside, so it spoils an "inside" proof only.
+bool provenUniform(const Field& field, const Grid& g, const CellRange& r) {
   Interval p[3];
   for (int a = 0; a < 3; ++a) p[a] = {g.coord(a, r.lo[a]), g.coord(a, r.hi[a])};
-  const Interval f = program.evalInterval(p[0], p[1], p[2]);
+  const Interval f = field.evalInterval(p[0], p[1], p[2]);
   const Interval v = min(f, g.boxField(p[0], p[1], p[2]));
-  if (!(v.lo == v.lo) || !(v.hi == v.hi)) return false;  // NaN: prove nothing
-  const double margin = 1e-9 * std::max(1.0, std::max(std::abs(v.lo), std::abs(v.hi)));
-  return v.hi < -margin || v.lo > margin;
+  return v.hi < 0.0 || (v.lo >= 0.0 && !v.nan);
 }
 
 struct BrickResult {
@@ -97,10 +107,10 @@ double quality(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
 
 class BrickMesher {
  public:
-  BrickMesher(const Program& program, const Grid& grid, const MeshingOptions& opt)
-      : program_(program), g_(grid), opt_(opt) {}
+  BrickMesher(const Grid& grid, const MeshingOptions& opt) : g_(grid), opt_(opt) {}
 
-  std::size_t run(const CellRange& r, Scratch& s, BrickResult& out) const {
+  // `field` is the brick's own (specialised) field: equal to the whole one inside the brick.
+  std::size_t run(const Field& field, const CellRange& r, Scratch& s, BrickResult& out) const {
     const std::int64_t n[3] = {r.hi[0] - r.lo[0] + 1, r.hi[1] - r.lo[1] + 1,
                                r.hi[2] - r.lo[2] + 1};
     const std::size_t count = static_cast<std::size_t>(n[0] * n[1] * n[2]);
@@ -121,7 +131,7 @@ class BrickMesher {
           s.y[id] = g_.coord(1, r.lo[1] + j);
           s.z[id] = g_.coord(2, r.lo[2] + k);
         }
-    program_.evalBatch(s.x.data(), s.y.data(), s.z.data(), count, s.f.data());
+    field.evalBatch(s.x.data(), s.y.data(), s.z.data(), count, s.f.data());
     for (std::size_t id = 0; id < count; ++id)
       s.f[id] = combine(s.f[id], g_.boxField(s.x[id], s.y[id], s.z[id]));
 
@@ -166,7 +176,7 @@ class BrickMesher {
     const std::size_t m = edgeOf.size();
     out.keys.resize(m);
     out.positions.resize(m);
-    locateRoots(s, edgeOf, n, r, out);
+    locateRoots(field, s, edgeOf, n, r, out);
 
     // 4. Triangles; a quad is split along the diagonal giving the better-shaped pair.
     out.triangles.clear();
@@ -197,7 +207,8 @@ class BrickMesher {
   // Illinois (modified regula falsi), all edges of the brick at once so each iteration is one
   // batch evaluation. The edge is parametrised from its lower grid point, so a vertex on a
   // face shared by two bricks is computed identically from both sides.
-  void locateRoots(Scratch& s, const std::vector<std::uint32_t>& edgeOf, const std::int64_t n[3],
+  void locateRoots(const Field& field, Scratch& s, const std::vector<std::uint32_t>& edgeOf,
+                   const std::int64_t n[3],
                    const CellRange& r, BrickResult& out) const {
     const std::size_t m = edgeOf.size();
     for (auto* v : {&s.px, &s.py, &s.pz, &s.dx, &s.dy, &s.dz, &s.ta, &s.tb, &s.fa, &s.fb})
@@ -241,7 +252,7 @@ class BrickMesher {
         qy[e] = s.py[e] + t[e] * s.dy[e];
         qz[e] = s.pz[e] + t[e] * s.dz[e];
       }
-      program_.evalBatch(qx.data(), qy.data(), qz.data(), m, ft.data());
+      field.evalBatch(qx.data(), qy.data(), qz.data(), m, ft.data());
       for (std::size_t e = 0; e < m; ++e) {
         const double v = combine(ft[e], g_.boxField(qx[e], qy[e], qz[e]));
         if (isInside(v) == isInside(s.fa[e])) {
@@ -265,22 +276,31 @@ class BrickMesher {
     }
   }
 
-  const Program& program_;
   const Grid& g_;
   const MeshingOptions& opt_;
 };
 
-void collectBricks(const Program& program, const Grid& g, const CellRange& cells, int bc,
-                   const std::int64_t b0[3], const std::int64_t b1[3],
-                   std::vector<CellRange>& out) {
+struct ActiveBrick {
+  CellRange range;
+  std::shared_ptr<const Field> field;  // specialised to the brick; null: the whole field
+};
+
+// Octree descent over bricks: ranges proven uniform are dropped, and each level specialises
+// the field to its box (region specialisation), so deep bricks evaluate short programs.
+void collectBricks(const Field& field, const std::shared_ptr<const Field>& holder, const Grid& g,
+                   const CellRange& cells, int bc, const std::int64_t b0[3],
+                   const std::int64_t b1[3], std::vector<ActiveBrick>& out) {
   CellRange r;
   for (int a = 0; a < 3; ++a) {
     r.lo[a] = b0[a] * bc;
     r.hi[a] = std::min(b1[a] * bc, cells.hi[a]);
   }
-  if (provenUniform(program, g, r)) return;
+  if (provenUniform(field, g, r)) return;
+  std::shared_ptr<const Field> own = field.specialise(rangeBox(g, r));
+  const std::shared_ptr<const Field>& here = own ? own : holder;
+  const Field& f = own ? *own : field;
   if (b1[0] - b0[0] == 1 && b1[1] - b0[1] == 1 && b1[2] - b0[2] == 1) {
-    out.push_back(r);
+    out.push_back({r, here});
     return;
   }
   std::int64_t mid[3];
@@ -294,17 +314,17 @@ void collectBricks(const Program& program, const Grid& g, const CellRange& cells
       c1[a] = upper ? b1[a] : mid[a];
       empty = empty || c0[a] >= c1[a];
     }
-    if (!empty) collectBricks(program, g, cells, bc, c0, c1, out);
+    if (!empty) collectBricks(f, here, g, cells, bc, c0, c1, out);
   }
 }
 
-void computeNormals(const Program& program, const Grid& g, TriangleMesh& mesh) {
+void computeNormals(const Field& field, const Grid& g, TriangleMesh& mesh) {
   mesh.normals.resize(mesh.positions.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.positions.size(), 1024),
                     [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t v = range.begin(); v != range.end(); ++v) {
       const Vec3f& p = mesh.positions[v];
-      const Dual d = program.evalGradient(p[0], p[1], p[2]);
+      const Dual d = field.evalGradient(p[0], p[1], p[2]);
       double n[3] = {-d.d[0], -d.d[1], -d.d[2]};
       // On a box cap the box's face is the surface.
       if (g.boxField(p[0], p[1], p[2]) < d.v) {
@@ -324,7 +344,7 @@ void computeNormals(const Program& program, const Grid& g, TriangleMesh& mesh) {
 
 }  // namespace
 
-TriangleMesh polygonize(const Program& program, const MeshingOptions& opt, MeshingStats* stats) {
+TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingStats* stats) {
   const auto start = std::chrono::steady_clock::now();
   const Box3& box = opt.bbox;
   for (int a = 0; a < 3; ++a)
@@ -359,19 +379,20 @@ TriangleMesh polygonize(const Program& program, const MeshingOptions& opt, Meshi
   const int bc = opt.brickCells;
   std::int64_t b0[3] = {0, 0, 0}, b1[3];
   for (int a = 0; a < 3; ++a) b1[a] = (cells.hi[a] + bc - 1) / bc;
-  std::vector<CellRange> bricks;
-  collectBricks(program, g, cells, bc, b0, b1, bricks);
+  std::vector<ActiveBrick> bricks;
+  collectBricks(field, nullptr, g, cells, bc, b0, b1, bricks);
 
   std::vector<BrickResult> results(bricks.size());
   tbb::enumerable_thread_specific<Scratch> scratch;
-  BrickMesher mesher(program, g, opt);
+  BrickMesher mesher(g, opt);
   std::atomic<std::size_t> done{0}, evaluated{0};
   std::atomic<bool> cancelled{false};
   std::mutex progressMutex;
   const std::size_t reportEvery = std::max<std::size_t>(1, bricks.size() / 100);
   tbb::parallel_for(std::size_t(0), bricks.size(), [&](std::size_t i) {
     if (cancelled.load(std::memory_order_relaxed)) return;
-    evaluated += mesher.run(bricks[i], scratch.local(), results[i]);
+    const ActiveBrick& b = bricks[i];
+    evaluated += mesher.run(b.field ? *b.field : field, b.range, scratch.local(), results[i]);
     const std::size_t d = ++done;
     if (opt.progress && d % reportEvery == 0) {
       std::lock_guard<std::mutex> lock(progressMutex);
@@ -418,7 +439,7 @@ TriangleMesh polygonize(const Program& program, const MeshingOptions& opt, Meshi
       mesh.triangles.push_back({unique[base + t[0]], unique[base + t[1]], unique[base + t[2]]});
     results[i] = BrickResult();  // free as we go
   }
-  if (opt.normals) computeNormals(program, g, mesh);
+  if (opt.normals) computeNormals(field, g, mesh);
   if (opt.progress) opt.progress(1.0);
 
   if (stats) {

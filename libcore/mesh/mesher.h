@@ -1,4 +1,4 @@
-// Polygonisation of an FRep program inside a bounding box at a given cell size.
+// Polygonisation of a field (a compiled FRep tree or any other Field) inside a bounding box at a given cell size.
 //
 // Guarantees, for any function: the mesh is closed, 2-manifold, consistently oriented with
 // normals pointing out of the solid F >= 0, free of self-intersections, and every triangle
@@ -11,7 +11,7 @@
 #include <cstddef>
 #include <functional>
 
-#include "frep/program.h"
+#include "frep/field.h"
 #include "frep/vec.h"
 #include "mesh/triangle_mesh.h"
 
@@ -37,7 +37,7 @@ struct MeshingStats {
 };
 
 // Throws ModelError on bad options (empty box, resolution <= 0, grid too large), Cancelled.
-TriangleMesh polygonize(const Program& program, const MeshingOptions& options,
+TriangleMesh polygonize(const Field& field, const MeshingOptions& options,
                         MeshingStats* stats = nullptr);
 
 // Largest grid polygonize accepts, in cells per axis.

@@ -1,0 +1,27 @@
+#include "frep/field.h"
+
+#include <limits>
+
+namespace frep {
+
+void Field::evalBatch(const double* x, const double* y, const double* z, std::size_t n,
+                      double* out) const {
+  for (std::size_t i = 0; i < n; ++i) out[i] = eval(x[i], y[i], z[i]);
+}
+
+std::shared_ptr<const Field> Field::specialise(const Box3&) const { return nullptr; }
+
+Box3 Field::bounds() const {
+  const double inf = std::numeric_limits<double>::infinity();
+  return {{-inf, -inf, -inf}, {inf, inf, inf}};
+}
+
+const Field& specialiseInto(const Field& field, const Box3& box,
+                            std::shared_ptr<const Field>& holder) {
+  std::shared_ptr<const Field> s = field.specialise(box);
+  if (!s) return field;
+  holder = std::move(s);
+  return *holder;
+}
+
+}  // namespace frep

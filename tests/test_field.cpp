@@ -1,0 +1,143 @@
+// The Field seam: a field written only here (a capsule) meshes printable through the same
+// mesher as compiled trees, sits in a tree through an external node in all four modes, and
+// region specialisation shortens programs without changing a value.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "check/mesh_check.h"
+#include "frep/errors.h"
+#include "frep/field.h"
+#include "frep/model_json.h"
+#include "frep/scalar_math.h"
+#include "frep/tree.h"
+#include "mesh/mesher.h"
+
+namespace frep {
+namespace {
+
+// A ball of radius r swept along the segment a-b: F = r - distance to the segment. One
+// template serves the point (double), interval and gradient (Dual) modes, as the evaluator's
+// own instructions do; interval.h's rules make the interval mode rigorous.
+class CapsuleField final : public Field {
+ public:
+  CapsuleField(Vec3 a, Vec3 b, double r) : a_(a), b_(b), r_(r) {}
+
+  double eval(double x, double y, double z) const override { return value<double>(x, y, z); }
+  Interval evalInterval(const Interval& x, const Interval& y, const Interval& z) const override {
+    return value<Interval>(x, y, z);
+  }
+  Dual evalGradient(const Dual& x, const Dual& y, const Dual& z) const override {
+    return value<Dual>(x, y, z);
+  }
+  using Field::evalGradient;
+  Box3 bounds() const override {
+    Box3 box;
+    for (int i = 0; i < 3; ++i) {
+      box.lo[i] = std::min(a_[i], b_[i]) - r_;
+      box.hi[i] = std::max(a_[i], b_[i]) + r_;
+    }
+    return box;
+  }
+
+ private:
+  template <class T>
+  T value(const T& x, const T& y, const T& z) const {
+    const double d[3] = {b_[0] - a_[0], b_[1] - a_[1], b_[2] - a_[2]};
+    const double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    const T px = x - T(a_[0]), py = y - T(a_[1]), pz = z - T(a_[2]);
+    const T t = min(max((px * T(d[0]) + py * T(d[1]) + pz * T(d[2])) * T(1.0 / dd), T(0.0)),
+                    T(1.0));
+    const T qx = px - t * T(d[0]), qy = py - t * T(d[1]), qz = pz - t * T(d[2]);
+    return T(r_) - sqrt(sqr(qx) + sqr(qy) + sqr(qz));
+  }
+  Vec3 a_, b_;
+  double r_;
+};
+
+std::shared_ptr<const Field> capsule() {
+  return std::make_shared<const CapsuleField>(Vec3{-0.6, -0.2, 0.1}, Vec3{0.7, 0.3, -0.2}, 0.35);
+}
+
+TEST(FieldSeam, AFieldWrittenOnlyInTestsMeshesPrintable) {
+  const auto f = capsule();
+  MeshingOptions o;
+  o.bbox = f->bounds();
+  for (int a = 0; a < 3; ++a) o.bbox.lo[a] -= 0.05, o.bbox.hi[a] += 0.05;
+  o.resolution = 0.02;
+  const CheckReport r = checkMesh(polygonize(*f, o));
+  EXPECT_TRUE(r.printable()) << reportToText(r, "capsule");
+  EXPECT_EQ(r.components, 1u);
+  const double len = std::sqrt(1.3 * 1.3 + 0.5 * 0.5 + 0.3 * 0.3), rr = 0.35;
+  const double exact = M_PI * rr * rr * len + 4.0 / 3.0 * M_PI * rr * rr * rr;
+  EXPECT_NEAR(r.volume, exact, 0.01 * exact);
+}
+
+TEST(FieldSeam, AnExternalNodeIsEvaluatedInAllFourModesInsideATree) {
+  const NodePtr ball = makeNode("sphere", {{"center", vec3Value({0.8, 0, 0})}, {"radius", realValue(0.4)}}, {});
+  const NodePtr ext = makeFieldNode(capsule(), "capsule");
+  const NodePtr moved = makeNode("rotate", {{"axis", vec3Value({0, 0, 1})}, {"angle", realValue(30)}}, {ext});
+  const Program both = compile(makeNode("union", {}, {moved, ball}));
+  const Program alone = compile(ball);
+  const CapsuleField cap({-0.6, -0.2, 0.1}, {0.7, 0.3, -0.2}, 0.35);
+  const double c = std::cos(-M_PI / 6), s = std::sin(-M_PI / 6);
+  for (int i = 0; i < 200; ++i) {
+    const double x = -1 + 0.01 * i, y = 0.3 * std::sin(i), z = 0.2 * std::cos(i);
+    // rotate by 30 degrees about z: the capsule is evaluated at the point turned back
+    const double lx = c * x - s * y, ly = s * x + c * y;
+    const double expect = std::max(cap.eval(lx, ly, z), alone.eval(x, y, z));
+    EXPECT_NEAR(both.eval(x, y, z), expect, 1e-12);
+    double batch = 0;
+    both.evalBatch(&x, &y, &z, 1, &batch);
+    EXPECT_EQ(batch, both.eval(x, y, z));
+    // gradient through the chain rule: compare with central differences
+    const Dual g = both.evalGradient(x, y, z);
+    const double h = 1e-6;
+    const double fx = (both.eval(x + h, y, z) - both.eval(x - h, y, z)) / (2 * h);
+    if (std::abs(cap.eval(lx, ly, z) - alone.eval(x, y, z)) > 1e-3)  // away from the crease
+      EXPECT_NEAR(g.d[0], fx, 1e-5);
+    const Interval iv = both.evalInterval({x - 0.01, x + 0.01}, {y, y + 0.01}, {z, z});
+    EXPECT_TRUE(iv.contains(both.eval(x, y, z)));
+  }
+  MeshingOptions o;
+  o.bbox = {{-1.2, -1.2, -1}, {1.4, 1.2, 1}};
+  o.resolution = 0.03;
+  const CheckReport r = checkMesh(polygonize(both, o));
+  EXPECT_TRUE(r.printable()) << reportToText(r, "capsule and ball");
+}
+
+TEST(FieldSeam, StructuralBoundsAndModelFilesKnowExternalNodes) {
+  const NodePtr ext = makeFieldNode(capsule(), "capsule");
+  Model m;
+  m.root = ext;
+  EXPECT_THROW(modelToJson(m), ModelError);
+  EXPECT_THROW(makeFieldNode(nullptr, "nothing"), ModelError);
+}
+
+TEST(RegionSpecialisation, DropsTheFarSideOfAUnion) {
+  // Two balls far apart: inside a box round the first, the second's branch is dead.
+  const NodePtr a = makeNode("sphere", {{"center", vec3Value({-2, 0, 0})}}, {});
+  const NodePtr b = makeNode("sphere", {{"center", vec3Value({2, 0, 0})}}, {});
+  const NodePtr c = makeNode("box", {{"corner", vec3Value({-0.3, -3, -0.3})}, {"size", vec3Value({0.6, 6, 0.6})}}, {});
+  const Program p = compile(makeNode("difference", {}, {makeNode("union", {}, {a, b}), c}));
+  bool changed = false;
+  const Box3 near{{-3.2, -1.2, -1.2}, {-0.8, 1.2, 1.2}};
+  const Program s = p.specialised(near, &changed);
+  EXPECT_TRUE(changed);
+  // no longer than the program of the near ball minus the bar, compiled alone
+  const Program nearOnly = compile(makeNode("difference", {}, {a, c}));
+  EXPECT_LE(s.instructionCount(), nearOnly.instructionCount()) << s.disassemble();
+  EXPECT_LT(s.instructionCount(), p.instructionCount());
+  for (int i = 0; i < 500; ++i) {
+    const double x = -3.2 + 2.4 * (i % 10) / 9.0, y = -1.2 + 2.4 * ((i / 10) % 10) / 9.0,
+                 z = -1.2 + 2.4 * (i / 100) / 4.0;
+    EXPECT_EQ(s.eval(x, y, z), p.eval(x, y, z));
+  }
+  // Where every branch can matter nothing is dropped.
+  const Program whole = p.specialised({{-10, -10, -10}, {10, 10, 10}}, &changed);
+  EXPECT_EQ(whole.instructionCount(), p.instructionCount());
+  EXPECT_FALSE(changed);
+}
+
+}  // namespace
+}  // namespace frep
