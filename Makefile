@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
 
-.PHONY: all deps configure build test acceptance demo bench screenshots examples format clean
+.PHONY: all deps configure build test acceptance fuzz demo bench screenshots examples format clean
 
 all: build
 
@@ -24,6 +24,12 @@ test: build
 
 acceptance: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) -L acceptance
+
+# The fuzz test at length: FUZZ_CASES mutations (default 50,000), FUZZ_SEED to vary them.
+FUZZ_CASES ?= 50000
+FUZZ_SEED ?= $(shell date +%s)
+fuzz: build
+	/usr/bin/python3.11 tests/fuzz_cli.py $(BUILD_DIR)/bin/frepcad . $(FUZZ_CASES) $(FUZZ_SEED)
 
 demo: build
 	@bash scripts/demo.sh $(BUILD_DIR)

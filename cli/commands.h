@@ -1,21 +1,36 @@
 // The frepcad subcommands. Each returns the process exit code: 0 success, 1 the mesh is not
-// printable (export refused, check failed), 2 bad input (usage, unreadable or invalid file).
+// printable (export refused, check failed), 2 bad input (usage, unreadable or invalid file),
+// 3 internal error (a bug), 130 cancelled (SIGINT, SIGTERM).
 #pragma once
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "base/vec.h"
+
 namespace frep::cli {
 
 using Args = std::vector<std::string>;
+
+// The options of `frepcad export`, the same for JSON models and FreeCAD documents.
+struct ExportOptions {
+  std::string input, output, format, object;
+  std::optional<double> resolution;
+  std::optional<int> cells;
+  std::optional<Box3> bbox;
+  std::vector<std::string> sets;  // --set Object.Property=VALUE (documents only)
+  bool force = false, quiet = false, help = false;
+};
+extern const char* const kExportHelp;
 
 int exportCommand(const Args& args);
 int checkCommand(const Args& args);
 int infoCommand(const Args& args);
 // `export DOC.FCStd ...`: runs the export inside FreeCAD, headless (document_export.cpp).
 bool isDocumentPath(const std::string& path);
-int exportDocument(const Args& args);
+int exportDocument(const ExportOptions& options);
 
 // Thrown for a usage error: main prints it as one line and exits 2.
 struct UsageError : std::runtime_error {

@@ -5,10 +5,12 @@
 // workbench is linked into a private, temporary FreeCAD home and the arguments travel in an
 // environment variable.
 #include <fcntl.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -16,7 +18,8 @@
 #include <string>
 
 #include "cli/commands.h"
-#include "frep/errors.h"
+#include "cli/terminal_progress.h"
+#include "base/errors.h"
 
 extern char** environ;
 
@@ -40,7 +43,7 @@ bool isDocumentPath(const std::string& path) {
   return ext == ".fcstd";
 }
 
-int exportDocument(const Args& args) {
+int exportDocument(const ExportOptions& o) {
   const fs::path workbench = envOr("FREPCAD_WORKBENCH_DIR", FREP_WORKBENCH_DIR);
   const fs::path script = workbench / "FRepDocumentExport.py";
   if (!fs::exists(script))
@@ -56,7 +59,17 @@ int exportDocument(const Args& args) {
 
   setenv("FREECAD_USER_HOME", home.c_str(), 1);
   setenv("FREPCORE_PATH", envOr("FREPCORE_PATH", FREPCORE_BUILD_DIR).c_str(), 1);
-  setenv("FREPCAD_EXPORT_ARGS", nlohmann::json(args).dump().c_str(), 1);
+  // The options travel parsed, so both kinds of input read them alike.
+  nlohmann::json args = {{"document", o.input}, {"output", o.output},     {"format", o.format},
+                         {"object", o.object},  {"sets", o.sets},         {"force", o.force},
+                         {"quiet", o.quiet},    {"cells", nullptr},       {"resolution", nullptr},
+                         {"bbox", nullptr}};
+  if (o.cells) args["cells"] = *o.cells;
+  if (o.resolution) args["resolution"] = *o.resolution;
+  if (o.bbox)
+    args["bbox"] = {o.bbox->lo[0], o.bbox->lo[1], o.bbox->lo[2],
+                    o.bbox->hi[0], o.bbox->hi[1], o.bbox->hi[2]};
+  setenv("FREPCAD_EXPORT_ARGS", args.dump().c_str(), 1);
 
   std::string scriptText = script.string();
   std::vector<char*> argv = {const_cast<char*>(freecadcmd.c_str()), scriptText.data(), nullptr};
@@ -71,13 +84,26 @@ int exportDocument(const Args& args) {
   int status = 0;
   const int err = posix_spawnp(&pid, freecadcmd.c_str(), &files, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&files);
-  if (err == 0) waitpid(pid, &status, 0);
+  if (err == 0) {
+    // Ctrl-C and SIGTERM reach us (the handler only sets a flag): pass a SIGTERM on to
+    // FreeCAD, whose export script cancels and removes its temporary file, and wait for it.
+    installInterruptHandlers();
+    bool forwarded = false;
+    while (waitpid(pid, &status, 0) < 0) {
+      if (errno != EINTR) break;
+      if (interrupted() && !forwarded) {
+        kill(pid, SIGTERM);
+        forwarded = true;
+      }
+    }
+  }
   std::error_code ignored;
   fs::remove_all(home, ignored);
   if (err != 0)
     throw FileError("frepcad: cannot run " + freecadcmd +
                     " (install FreeCAD: apt-get install "
                     "freecad freecad-python3)");
+  if (interrupted()) return kExitCancelled;
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   throw FileError("frepcad: FreeCAD stopped abnormally while exporting the document");
 }

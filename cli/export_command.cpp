@@ -1,121 +1,181 @@
+// `frepcad export`: one set of options for JSON models and FreeCAD documents, one pipeline
+// (libcore/pipeline) behind both.
+#include <sys/stat.h>
 #include <unistd.h>
 
-#include <algorithm>
-#include <cstdio>
+#include <filesystem>
 #include <iostream>
 
-#include "check/mesh_check.h"
+#include "base/errors.h"
 #include "cli/commands.h"
-#include "frep/bounds.h"
-#include "frep/errors.h"
+#include "cli/terminal_progress.h"
 #include "frep/model_json.h"
 #include "frep/structural_bounds.h"
-#include "mesh/mesh_io.h"
-#include "mesh/mesher.h"
+#include "pipeline/export_pipeline.h"
 
 namespace frep::cli {
 
-namespace {
-// The solid's own box, found by interval arithmetic, padded by 1.5 cells (at the given cell
-// size, or the default 1/128 of the box) so the surface never touches the meshing box.
-Box3 automaticBox(const std::string& modelPath, const Model& model, const Program& program,
-                  double& resolution) {
-  BoundsOptions o;
-  o.known = structuralBounds(model.root);
-  const SolidBounds b = findBounds(program, o);
-  if (b.empty) throw ModelError(modelPath + ": the solid is empty: no point is inside");
-  if (!b.bounded())
-    throw ModelError(modelPath + ": the solid is unbounded; give --bbox x0 y0 z0 x1 y1 z1, set "
-                                 "export.bbox in the model or intersect it with a bounded solid");
-  double longest = 1e-9;
-  for (int a = 0; a < 3; ++a) longest = std::max(longest, b.box.hi[a] - b.box.lo[a]);
-  if (!(resolution > 0.0)) resolution = longest / 128.0;
-  const double pad = 1.5 * resolution + 1e-3 * longest;
-  Box3 box = b.box;
-  for (int a = 0; a < 3; ++a) {
-    box.lo[a] -= pad;
-    box.hi[a] += pad;
-  }
-  return box;
-}
-}  // namespace
+const char* const kExportHelp =
+    "usage: frepcad export INPUT -o OUT [options]\n"
+    "\n"
+    "Meshes a model (INPUT.json) or a FreeCAD document made with the FRep workbench\n"
+    "(INPUT.FCStd, exported by FreeCAD headless), checks the mesh with CGAL and writes OUT\n"
+    "through a temporary file: a mesh the check refuses, an error or Ctrl-C leave no file.\n"
+    "\n"
+    "options (for both kinds of input):\n"
+    "  -o, --output OUT        the mesh file (.stl, .obj, .ply, .bms)\n"
+    "  --resolution R          cell size (default: the model's, else the box's longest side / "
+    "128)\n"
+    "  --cells N               cells along the longest side of the box, instead of --resolution\n"
+    "  --bbox X0 Y0 Z0 X1 Y1 Z1  meshing box (default: the model's, else the solid's own box)\n"
+    "  --format F              stl, stl-ascii, obj, ply or bms (default: from OUT's extension)\n"
+    "  --force                 write the mesh even when the check refuses it (exit status 1)\n"
+    "  --quiet                 print nothing but errors\n"
+    "  -h, --help              this text\n"
+    "FreeCAD documents only:\n"
+    "  --object NAME           the object to export (default: the only Polygonize feature or\n"
+    "                          top-level FRep feature)\n"
+    "  --set OBJ.PROP=VALUE    set a property (or a spreadsheet cell: Sheet.Alias=VALUE) first;\n"
+    "                          may be repeated\n"
+    "\n"
+    "exit status: 0 written, 1 the mesh is not printable (nothing written without --force),\n"
+    "2 bad input (one line naming the file, object, parameter and what is allowed),\n"
+    "3 internal error (a bug: please report it), 130 cancelled (Ctrl-C, SIGTERM).\n";
 
-int exportCommand(const Args& args) {
-  for (const std::string& a : args)
-    if (isDocumentPath(a)) return exportDocument(args);
-  std::string modelPath, outPath, formatText;
-  std::optional<double> resolution;
-  std::optional<Box3> bbox;
-  bool force = false, quiet = false;
+namespace {
+
+namespace fs = std::filesystem;
+
+ExportOptions parseExportOptions(const Args& args) {
+  ExportOptions o;
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto value = [&](const char* what) -> const std::string& {
       if (i + 1 >= args.size()) throw UsageError(a + " expects " + what);
       return args[++i];
     };
-    if (a == "-o" || a == "--output") outPath = value("an output file");
-    else if (a == "--resolution") resolution = parseNumber(value("a cell size"), a);
-    else if (a == "--format") formatText = value("a format");
-    else if (a == "--force") force = true;
-    else if (a == "--quiet") quiet = true;
+    if (a == "-h" || a == "--help") o.help = true;
+    else if (a == "-o" || a == "--output") o.output = value("an output file");
+    else if (a == "--resolution") {
+      o.resolution = parseNumber(value("a cell size"), a);
+      if (!(*o.resolution > 0) || !std::isfinite(*o.resolution))
+        throw UsageError("--resolution must be a number > 0, got '" + args[i] + "'");
+    } else if (a == "--cells") {
+      const double n = parseNumber(value("a number of cells"), a);
+      if (!(n >= 1 && n <= kMaxCells && n == std::floor(n)))
+        throw UsageError("--cells must be a whole number from 1 to " + std::to_string(kMaxCells) +
+                         ", got '" + args[i] + "'");
+      o.cells = static_cast<int>(n);
+    } else if (a == "--format") o.format = value("a format");
+    else if (a == "--force") o.force = true;
+    else if (a == "--quiet") o.quiet = true;
+    else if (a == "--object") o.object = value("an object name");
+    else if (a == "--set") o.sets.push_back(value("Object.Property=VALUE"));
     else if (a == "--bbox") {
       Box3 b;
       for (int k = 0; k < 6; ++k) {
         const double v = parseNumber(value("6 numbers x0 y0 z0 x1 y1 z1"), a);
+        if (!std::isfinite(v)) throw UsageError("--bbox needs finite numbers");
         (k < 3 ? b.lo[k] : b.hi[k - 3]) = v;
       }
       if (!b.valid()) throw UsageError("--bbox needs x0 < x1, y0 < y1, z0 < z1");
-      bbox = b;
-    } else if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + a + "' for export");
-    else if (modelPath.empty()) modelPath = a;
-    else throw UsageError("export takes one model file, got a second: '" + a + "'");
+      o.bbox = b;
+    } else if (!a.empty() && a[0] == '-' && a.size() > 1)
+      throw UsageError("unknown option '" + a + "' for export (see frepcad export --help)");
+    else if (o.input.empty()) o.input = a;
+    else throw UsageError("export takes one input file, got a second: '" + a + "'");
   }
-  if (modelPath.empty()) throw UsageError("export needs a model file");
-  if (outPath.empty()) throw UsageError("export needs -o OUT");
-  const MeshFormat format = formatText.empty() ? formatFromPath(outPath) : parseFormat(formatText);
-  if (resolution && !(*resolution > 0)) throw UsageError("--resolution must be > 0");
+  if (o.help) return o;
+  if (o.input.empty()) throw UsageError("export needs an input file (MODEL.json or DOC.FCStd)");
+  if (o.output.empty()) throw UsageError("export needs -o OUT");
+  if (o.resolution && o.cells) throw UsageError("give --resolution or --cells, not both");
+  return o;
+}
 
-  const Model model = loadModel(modelPath);
+// The output must be a regular file name (or not exist yet), and not the input itself.
+void checkOutput(const ExportOptions& o) {
+  std::error_code ec;
+  const fs::path out = o.output;
+  const fs::file_status st = fs::symlink_status(out, ec);
+  if (fs::exists(st)) {
+    if (fs::is_symlink(st))
+      throw FileError(o.output + ": is a symbolic link; give the name of a regular file (the "
+                                 "export replaces the file, not the link's target)");
+    if (fs::is_directory(st)) throw FileError(o.output + ": is a folder; give a file name");
+    if (!fs::is_regular_file(st))
+      throw FileError(o.output + ": is a device, FIFO or socket; give a regular file name");
+    if (fs::equivalent(out, fs::path(o.input), ec))
+      throw FileError(o.output + ": is the input itself; give another output name");
+  }
+}
+
+int exportModel(const ExportOptions& opt) {
+  const Model model = loadModel(opt.input);
   const Program program = compile(model.root);
-  if (!bbox) bbox = model.bbox;
-  if (!resolution) resolution = model.resolution;
-  if (!bbox) {
-    if (!resolution) resolution = 0.0;  // 0: 1/128 of the solid's box, set by automaticBox
-    bbox = automaticBox(modelPath, model, program, *resolution);
-  }
-  if (!resolution) {
-    const double extent = std::max({bbox->hi[0] - bbox->lo[0], bbox->hi[1] - bbox->lo[1],
-                                    bbox->hi[2] - bbox->lo[2]});
-    resolution = extent / 128.0;
+  // Output and format first: a bad output is refused before the work.
+  const std::optional<MeshFormat> format =
+      opt.format.empty() ? std::nullopt : std::optional<MeshFormat>(parseFormat(opt.format));
+  if (!format) formatFromPath(opt.output);
+
+  BoxRequest box;
+  box.bbox = opt.bbox ? opt.bbox : model.bbox;
+  box.resolution = opt.resolution;
+  box.cells = opt.cells;
+  if (!box.resolution && !box.cells) box.resolution = model.resolution;
+  ExportRequest request;
+  request.box = box;
+  request.known = structuralBounds(model.root);
+  request.format = format;
+  request.force = opt.force;
+  // The box policy is the pipeline's; the CLI only adds where the user gives a box.
+  try {
+    const MeshingBox chosen = chooseBox(program, request.known, box);
+    request.box.bbox = chosen.box;
+    request.box.resolution = chosen.resolution;
+  } catch (const ModelError& e) {
+    std::string text = e.what();
+    if (text.find("unbounded") != std::string::npos)
+      text += " (frepcad export --bbox x0 y0 z0 x1 y1 z1, or export.bbox in the model)";
+    throw ModelError(opt.input + ": " + text);
   }
 
-  MeshingOptions options;
-  options.bbox = *bbox;
-  options.resolution = *resolution;
-  const bool showProgress = !quiet && isatty(STDERR_FILENO);
-  if (showProgress)
-    options.progress = [](double f) {
-      std::fprintf(stderr, "\rmeshing %3d%%", static_cast<int>(f * 100));
-      return true;
-    };
-  MeshingStats stats;
-  const TriangleMesh mesh = polygonize(program, options, &stats);
-  if (showProgress) std::fprintf(stderr, "\r              \r");
-  if (!quiet)
-    std::cout << "meshed " << modelPath << ": " << mesh.triangleCount() << " triangles, grid "
-              << stats.cells[0] << "x" << stats.cells[1] << "x" << stats.cells[2] << ", "
-              << stats.seconds << " s\n";
-
-  const CheckReport report = checkMesh(mesh);
-  if (!quiet || !report.printable()) std::cout << reportToText(report, outPath);
-  if (!report.printable() && !force) {
-    std::cerr << "frepcad: refusing to write " << outPath
+  installInterruptHandlers();
+  ExportResult r;
+  {
+    TerminalProgress bar(!opt.quiet && isatty(STDERR_FILENO));
+    request.progress = [&bar](ExportStage s, double f) { return bar(s, f); };
+    r = exportField(program, request, opt.output, opt.input);
+  }
+  if (!opt.quiet)
+    std::cout << "meshed " << opt.input << ": " << r.triangles << " triangles, grid "
+              << r.stats.cells[0] << "x" << r.stats.cells[1] << "x" << r.stats.cells[2] << ", "
+              << r.seconds[1] << " s (check " << r.seconds[2] << " s)\n";
+  if (!opt.quiet || !r.report.printable()) std::cout << reportToText(r.report, opt.output);
+  if (!r.written) {
+    std::cerr << "frepcad: refusing to write " << opt.output
               << ": the mesh is not printable (see reasons above; --force writes it anyway)\n";
     return 1;
   }
-  writeMesh(mesh, outPath, format);
-  if (!quiet) std::cout << "wrote " << outPath << " (" << formatName(format) << ")\n";
-  return report.printable() ? 0 : 1;
+  if (!opt.quiet) {
+    const MeshFormat f = format ? *format : formatFromPath(opt.output);
+    std::cout << "wrote " << opt.output << " (" << formatName(f) << ")\n";
+  }
+  return r.report.printable() ? 0 : 1;
+}
+
+}  // namespace
+
+int exportCommand(const Args& args) {
+  const ExportOptions opt = parseExportOptions(args);
+  if (opt.help) {
+    std::cout << kExportHelp;
+    return 0;
+  }
+  checkOutput(opt);
+  if (isDocumentPath(opt.input)) return exportDocument(opt);
+  if (!opt.object.empty() || !opt.sets.empty())
+    throw UsageError("--object and --set apply to FreeCAD documents (.FCStd) only");
+  return exportModel(opt);
 }
 
 }  // namespace frep::cli

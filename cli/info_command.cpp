@@ -9,6 +9,12 @@ int infoCommand(const Args& args) {
   std::string type;
   bool json = false, markdown = false;
   for (const auto& a : args) {
+    if (a == "-h" || a == "--help") {
+      std::cout << "usage: frepcad info [TYPE] [--json | --markdown]\n\n"
+                   "Lists the node types of the model format with their parameters (one type\n"
+                   "with TYPE), as text, JSON or the Markdown of docs/node-reference.md.\n";
+      return 0;
+    }
     if (a == "--json") json = true;
     else if (a == "--markdown") markdown = true;
     else if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + a + "' for info");

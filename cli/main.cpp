@@ -1,21 +1,24 @@
 // frepcad: export FRep models to checked meshes, check mesh files, list node types.
+#include <csignal>
 #include <cstdio>
 #include <iostream>
 
 #include "cli/commands.h"
-#include "frep/errors.h"
+#include "cli/terminal_progress.h"
+#include "base/errors.h"
 
 namespace {
 
 const char* kUsage =
     "usage:\n"
-    "  frepcad export MODEL.json -o OUT [--resolution R] [--bbox x0 y0 z0 x1 y1 z1]\n"
-    "                 [--format stl|stl-ascii|obj|ply|bms] [--force] [--quiet]\n"
-    "  frepcad export DOC.FCStd -o OUT [--object NAME] [--set Object.Property=VALUE ...]\n"
-    "                 [--set Sheet.Alias=VALUE ...] [--cells N | --resolution R] [--quiet]\n"
+    "  frepcad export MODEL.json|DOC.FCStd -o OUT [--resolution R | --cells N]\n"
+    "                 [--bbox x0 y0 z0 x1 y1 z1] [--format stl|stl-ascii|obj|ply|bms]\n"
+    "                 [--force] [--quiet] [--object NAME] [--set Object.Property=VALUE ...]\n"
     "  frepcad check MESH [--json]\n"
     "  frepcad info [TYPE] [--json | --markdown]\n"
-    "exit status: 0 ok, 1 mesh not printable, 2 bad input\n";
+    "  frepcad COMMAND --help   the options of one command\n"
+    "exit status: 0 ok, 1 mesh not printable, 2 bad input, 3 internal error,\n"
+    "130 cancelled (Ctrl-C)\n";
 
 }  // namespace
 
@@ -33,6 +36,8 @@ double parseNumber(const std::string& text, const std::string& option) {
 
 int main(int argc, char** argv) {
   using namespace frep::cli;
+  // A closed pipe on stdout makes writes fail (reported below), not kill the process.
+  std::signal(SIGPIPE, SIG_IGN);
   Args args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "-h" || args[0] == "--help" || args[0] == "help") {
     std::cout << kUsage;
@@ -40,10 +45,20 @@ int main(int argc, char** argv) {
   }
   const std::string command = args[0];
   args.erase(args.begin());
+  // A report that cannot be written (a full disk or a closed pipe on stdout) is a failure,
+  // not a silent exit 0.
+  auto finish = [](int rc) {
+    std::cout.flush();
+    if (!std::cout) {
+      std::cerr << "frepcad: cannot write the report to standard output (disk full or closed)\n";
+      return rc == 0 ? 2 : rc;
+    }
+    return rc;
+  };
   try {
-    if (command == "export") return exportCommand(args);
-    if (command == "check") return checkCommand(args);
-    if (command == "info") return infoCommand(args);
+    if (command == "export") return finish(exportCommand(args));
+    if (command == "check") return finish(checkCommand(args));
+    if (command == "info") return finish(infoCommand(args));
     if (command == "--version") {
       std::cout << "frepcad 0.1.0\n";
       return 0;
@@ -57,6 +72,7 @@ int main(int argc, char** argv) {
     std::cerr << "frepcad: " << e.what() << "\n";
   } catch (const frep::Cancelled&) {
     std::cerr << "frepcad: cancelled; nothing written\n";
+    return kExitCancelled;
   } catch (const std::bad_alloc&) {
     std::cerr << "frepcad: out of memory; try a larger --resolution (cell size)\n";
   } catch (const std::exception& e) {

@@ -43,7 +43,7 @@ expect 2 "cannot open the model file" -- "$frepcad" export "$work/none.json" -o 
 echo '{"root": {"type": "sphere", "params": {"radius": -1}}, "export": {"bbox": [-1,-1,-1,1,1,1]}}' >"$work/bad.json"
 expect 2 "root \(sphere\): parameter 'radius' -1 is out of range; allowed: \(0, inf\)" -- "$frepcad" export "$work/bad.json" -o "$work/x.stl"
 echo '{"root": {"type": "halfspace"}}' >"$work/nobox.json"
-expect 2 "the solid is unbounded; give --bbox" -- "$frepcad" export "$work/nobox.json" -o "$work/x.stl"
+expect 2 "the solid is unbounded towards .*--bbox" -- "$frepcad" export "$work/nobox.json" -o "$work/x.stl"
 # no box given: the solid's own box (a unit sphere, padded by 1.5 cells of 1/128 of it)
 echo '{"root": {"type": "sphere"}}' >"$work/autobox.json"
 expect 0 "grid 133x133x133" -- "$frepcad" export "$work/autobox.json" -o "$work/auto.stl"
@@ -55,7 +55,7 @@ expect 2 "unknown format 'vrml'" -- "$frepcad" export "$src/examples/sphere.json
 expect 2 "--resolution expects a number" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/x.stl" --resolution fine
 expect 2 "larger cell size" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/x.stl" --resolution 1e-7
 expect 2 "unknown command 'exprt'" -- "$frepcad" exprt
-expect 2 "cannot open the file" -- "$frepcad" check "$work/none.stl"
+expect 2 "cannot open a mesh file" -- "$frepcad" check "$work/none.stl"
 echo "not a mesh" >"$work/junk.stl"
 expect 2 "not an STL file" -- "$frepcad" check "$work/junk.stl"
 
@@ -65,7 +65,50 @@ expect 1 "refusing to write" -- "$frepcad" export "$work/empty.json" -o "$work/e
 [ ! -e "$work/empty.stl" ] || { echo "FAIL: refused export left a file"; failures=$((failures + 1)); }
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n' >"$work/open.obj"
 expect 1 "3 border edges" -- "$frepcad" check "$work/open.obj"
-ls -a "$work" | grep -q '\.tmp-' && { echo "FAIL: temporary file left"; failures=$((failures + 1)); }
+ls -a "$work" | grep -q 'frep-tmp-' && { echo "FAIL: temporary file left"; failures=$((failures + 1)); }
+
+# one set of options, --help on every command, one set of exit codes
+expect 0 "usage: frepcad export INPUT -o OUT" -- "$frepcad" export --help
+expect 0 "130 cancelled" -- "$frepcad" export -h
+expect 0 "usage: frepcad check MESH" -- "$frepcad" check --help
+expect 0 "usage: frepcad info" -- "$frepcad" info --help
+expect 0 "grid 17x17x17" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/c.stl" --cells 16
+expect 2 "give --resolution or --cells, not both" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/x.stl" --cells 16 --resolution 0.1
+expect 2 "--cells must be a whole number from 1 to" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/x.stl" --cells 0
+expect 2 "--object and --set apply to FreeCAD documents" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/x.stl" --set A.B=1
+# output names that must not be replaced
+ln -s "$work/s.stl" "$work/link.stl"
+expect 2 "is a symbolic link" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/link.stl" --cells 8
+mkdir -p "$work/folder.stl"
+expect 2 "is a folder" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/folder.stl" --cells 8
+cp "$src/examples/sphere.json" "$work/self.json"
+expect 2 "is the input itself" -- "$frepcad" export "$work/self.json" -o "$work/self.json" --format stl --cells 8
+# a name near the 255-byte limit: the temporary name must not be longer
+long="$work/$(printf 'n%.0s' $(seq 1 250)).stl"
+expect 0 "wrote" -- "$frepcad" export "$src/examples/sphere.json" -o "$long" --cells 8
+# the written file gets the umask's mode, not mkstemp's private 0600
+(umask 022 && "$frepcad" export "$src/examples/sphere.json" -o "$work/mode.stl" --cells 8 --quiet)
+[ "$(stat -c %a "$work/mode.stl")" = 644 ] || { echo "FAIL: mode $(stat -c %a "$work/mode.stl"), want 644"; failures=$((failures + 1)); }
+# a failing export leaves an existing output untouched
+cp "$work/s.stl" "$work/keep.stl"
+expect 1 "refusing to write" -- "$frepcad" export "$work/empty.json" -o "$work/keep.stl"
+cmp -s "$work/s.stl" "$work/keep.stl" || { echo "FAIL: refused export changed the existing file"; failures=$((failures + 1)); }
+
+# Ctrl-C (SIGINT) and SIGTERM during an export: exit 130, nothing written, no temporary file
+for sig in INT TERM; do
+  rm -f "$work/big.stl"
+  "$frepcad" export "$src/examples/gyroid.json" -o "$work/big.stl" --cells 400 --quiet &
+  pid=$!
+  sleep 1.5
+  kill -s "$sig" "$pid"
+  rc=0
+  wait "$pid" || rc=$?
+  if [ "$rc" -ne 130 ] || [ -e "$work/big.stl" ] || ls -a "$work" | grep -q 'frep-tmp-'; then
+    echo "FAIL: SIG$sig: exit $rc (want 130), output or temporary file left"; failures=$((failures + 1))
+  else
+    passes=$((passes + 1))
+  fi
+done
 
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

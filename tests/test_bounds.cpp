@@ -8,7 +8,7 @@
 #include "frep/structural_bounds.h"
 #include "frep/tree.h"
 #include "mesh/mesher.h"
-#include "mesh/triangle_geometry.h"
+#include "base/triangle_geometry.h"
 #include "random_trees.h"
 
 namespace frep {

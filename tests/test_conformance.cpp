@@ -8,7 +8,7 @@
 #include <functional>
 #include <limits>
 
-#include "frep/errors.h"
+#include "base/errors.h"
 #include "frep/registry.h"
 #include "interval_testing.h"
 #include "random_trees.h"

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "check/mesh_check.h"
-#include "frep/errors.h"
+#include "base/errors.h"
 #include "frep/field.h"
 #include "frep/model_json.h"
 #include "frep/scalar_math.h"

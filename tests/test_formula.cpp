@@ -7,7 +7,7 @@
 #include <cmath>
 #include <random>
 
-#include "frep/errors.h"
+#include "base/errors.h"
 #include "frep/formula.h"
 #include "frep/interval.h"
 #include "frep/tree.h"

@@ -8,12 +8,12 @@
 #include <filesystem>
 #include <fstream>
 
-#include "frep/errors.h"
+#include "base/errors.h"
 #include "frep/tree.h"
-#include "mesh/mesh_io.h"
+#include "io/mesh_io.h"
 #include "mesh/mesher.h"
 #include "mesh/openmesh_bridge.h"
-#include "mesh/triangle_adjacency.h"
+#include "base/triangle_adjacency.h"
 
 namespace fs = std::filesystem;
 

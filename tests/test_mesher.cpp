@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "check/mesh_check.h"
-#include "frep/errors.h"
+#include "base/errors.h"
 #include "frep/model_json.h"
 #include "mesh/mesher.h"
 #include "random_trees.h"
@@ -262,13 +262,22 @@ CheckReport meshAndCheck(const NodePtr& tree, const Box3& box, double resolution
 }
 
 TEST(MesherAdversarial, FarFromTheOriginWhereFloatSpacingIsCoarse) {
-  // At 3e4 a float32 coordinate steps by 2^-9 (0.002): a 0.05 cell holds 25 steps.
+  // At 3e4 a float32 coordinate steps by 2^-9 (0.002). Cells of 0.5 span 256 steps: the
+  // mesh is valid; cells of 0.05 (25 steps) would collapse triangles, and are refused with
+  // the smallest cell allowed there.
   const Vec3 c{3e4, -3e4, 3e4};
-  const NodePtr ball = makeNode("sphere", {{"center", vec3Value(c)}, {"radius", realValue(0.4)}}, {});
-  const CheckReport r =
-      meshAndCheck(ball, {{c[0] - 0.5, c[1] - 0.5, c[2] - 0.5}, {c[0] + 0.5, c[1] + 0.5, c[2] + 0.5}}, 0.05);
+  const NodePtr ball = makeNode("sphere", {{"center", vec3Value(c)}, {"radius", realValue(4)}}, {});
+  const Box3 box{{c[0] - 5, c[1] - 5, c[2] - 5}, {c[0] + 5, c[1] + 5, c[2] + 5}};
+  const CheckReport r = meshAndCheck(ball, box, 0.5);
   EXPECT_TRUE(r.printable()) << reasons(r);
-  EXPECT_NEAR(r.volume, 4.0 / 3.0 * M_PI * 0.064, 0.03);
+  EXPECT_NEAR(r.volume, 4.0 / 3.0 * M_PI * 64, 0.03 * 4.0 / 3.0 * M_PI * 64);
+  try {
+    meshAndCheck(ball, box, 0.05);
+    FAIL() << "a grid too fine for float32 was accepted";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("allowed here: cells of at least 0.5"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(MesherAdversarial, TinyBallInTinyCells) {

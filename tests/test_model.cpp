@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "frep/errors.h"
+#include "base/errors.h"
 #include "frep/model_json.h"
 #include "frep/registry_docs.h"
 

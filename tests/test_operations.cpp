@@ -7,7 +7,7 @@
 #include <random>
 
 #include "check/mesh_check.h"
-#include "frep/errors.h"
+#include "base/errors.h"
 #include "frep/structural_bounds.h"
 #include "frep/tree.h"
 #include "mesh/mesher.h"

@@ -17,6 +17,16 @@ import FRepPolygonize
 import FRepProperties as props
 import FRepTree
 
+try:  # FreeCAD's translation hooks (menu texts and tooltips go through them)
+    from FreeCAD import Qt
+    translate, QT_TRANSLATE_NOOP = Qt.translate, Qt.QT_TRANSLATE_NOOP
+except ImportError:
+    def translate(context, text):
+        return text
+
+    def QT_TRANSLATE_NOOP(context, text):
+        return text
+
 MENU = "FRep"
 TOOLBARS = (
     ("FRep primitives", ("primitive", "formula")),
@@ -64,6 +74,17 @@ def report(title, message, error=True):
     box(FreeCADGui.getMainWindow(), title, message)
 
 
+def add_to_active_container(obj):
+    """A new object goes into the active App::Part, as the Part workbench's own commands put
+    theirs (Part's CommandShapes); with none active it stays at the document's top level."""
+    try:
+        part = FreeCADGui.ActiveDocument.ActiveView.getActiveObject("part")
+    except Exception:  # no 3D view (a macro, a test without one)
+        part = None
+    if part is not None and part.Document == obj.Document and obj not in part.Group:
+        part.addObject(obj)
+
+
 class Transaction:
     """One undo step; aborted (the document left as it was) when the body raises."""
 
@@ -96,9 +117,11 @@ class NodeCommand:
         if self.inputs["min"] > 0:
             tip += "\n\nSelect its input%s first (%s), in order." % (
                 "s" if self.inputs["max"] != 1 else "", self.input_rule())
+        # The registry's texts are translated at run time (context "FRep"); they are not
+        # literals a translation tool could collect.
         return {"Pixmap": FRepPaths.icon(self.type_id, self.info["category"]),
-                "MenuText": self.type_id.replace("_", " ").capitalize(),
-                "ToolTip": tip}
+                "MenuText": translate("FRep", self.type_id.replace("_", " ").capitalize()),
+                "ToolTip": translate("FRep", tip)}
 
     def input_rule(self):
         least, most = self.inputs["min"], self.inputs["max"]
@@ -141,6 +164,7 @@ class NodeCommand:
         try:
             with Transaction(doc, "Create " + self.title):
                 obj = FRepFeatures.make(self.type_id, doc, inputs=inputs)
+                add_to_active_container(obj)
                 doc.recompute()
         except ValueError as e:
             report("FRep " + self.title, str(e))
@@ -154,10 +178,12 @@ class NodeCommand:
 class PolygonizeCommand:
     def GetResources(self):
         return {"Pixmap": FRepPaths.icon("polygonize"),
-                "MenuText": "Polygonize",
-                "ToolTip": "Mesh the selected FRep solid at full resolution into a Polygonize "
-                           "feature (automatic bounding box, resolution and method in its "
-                           "properties). Shows progress; Esc or the cancel button stops it."}
+                "MenuText": QT_TRANSLATE_NOOP("FRep_Polygonize", "Polygonize"),
+                "ToolTip": QT_TRANSLATE_NOOP(
+                    "FRep_Polygonize",
+                    "Mesh the selected FRep solid at full resolution into a Polygonize "
+                    "feature (automatic bounding box, resolution and method in its "
+                    "properties). Shows progress; Esc or the cancel button stops it.")}
 
     def IsActive(self):
         return FreeCAD.ActiveDocument is not None and \
@@ -172,6 +198,7 @@ class PolygonizeCommand:
         doc = selection[0].Document
         with Transaction(doc, "Polygonize"):
             obj = FRepPolygonize.make(selection[0], doc)
+            add_to_active_container(obj)
         # Recompute outside the transaction: a cancel or an error marks the feature, the user
         # sees why in the tree and can change its settings, and undo still removes it.
         doc.recompute()
@@ -185,10 +212,12 @@ class ExportCommand:
 
     def GetResources(self):
         return {"Pixmap": FRepPaths.icon("export"),
-                "MenuText": "Export printable mesh...",
-                "ToolTip": "Mesh the selected FRep solids (or Polygonize features, with their "
-                           "settings), check the mesh with CGAL and write it only when it is "
-                           "printable: closed, manifold, outward, no self-intersections."}
+                "MenuText": QT_TRANSLATE_NOOP("FRep_Export", "Export printable mesh..."),
+                "ToolTip": QT_TRANSLATE_NOOP(
+                    "FRep_Export",
+                    "Mesh the selected FRep solids (or Polygonize features, with their "
+                    "settings), check the mesh with CGAL and write it only when it is "
+                    "printable: closed, manifold, outward, no self-intersections.")}
 
     def IsActive(self):
         return FreeCAD.ActiveDocument is not None and bool(FreeCADGui.Selection.getSelection())
@@ -217,10 +246,12 @@ class ExportCommand:
 class PreviewQualityCommand:
     def GetResources(self):
         return {"Pixmap": FRepPaths.icon("preview"),
-                "MenuText": "Preview quality...",
-                "ToolTip": "Grid cells along the longest side of every FRep preview in this "
-                           "document (default %d). Lower is faster to recompute; exports are "
-                           "not affected." % FRepMeshing.DEFAULT_PREVIEW_CELLS}
+                "MenuText": QT_TRANSLATE_NOOP("FRep_PreviewQuality", "Preview quality..."),
+                "ToolTip": translate(
+                    "FRep_PreviewQuality",
+                    "Grid cells along the longest side of every FRep preview in this "
+                    "document (default %d). Lower is faster to recompute; exports are "
+                    "not affected.") % FRepMeshing.DEFAULT_PREVIEW_CELLS}
 
     def IsActive(self):
         return FreeCAD.ActiveDocument is not None

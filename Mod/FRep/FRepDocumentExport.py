@@ -10,6 +10,7 @@ printable (nothing written), 2 bad input.
 import argparse
 import json
 import os
+import signal
 import sys
 
 
@@ -17,22 +18,69 @@ class UsageError(Exception):
     pass
 
 
-def parse_args(argv):
-    p = argparse.ArgumentParser(prog="frepcad export", add_help=False)
-    p.add_argument("document")
-    p.add_argument("-o", "--output", required=True)
-    p.add_argument("--object")
-    p.add_argument("--set", action="append", default=[], dest="sets")
-    p.add_argument("--cells", type=int)
-    p.add_argument("--resolution", type=float)
-    p.add_argument("--format", default="")
-    p.add_argument("--quiet", action="store_true")
+KEYS = ("document", "output", "format", "object", "sets", "force", "quiet", "cells",
+        "resolution", "bbox")
 
-    def fail(message):
-        raise UsageError(message)
 
-    p.error = fail
-    return p.parse_args(argv)
+def parse_args(options):
+    """The options frepcad parsed (the same as for JSON models), as attributes."""
+    if not isinstance(options, dict) or set(options) != set(KEYS):
+        raise UsageError("internal: unexpected export options %r" % (options,))
+    return argparse.Namespace(**options)
+
+
+# A document is refused before FreeCAD opens it when it could cost memory or time out of
+# proportion: more members or more bytes unpacked than any real document has.
+MAX_MEMBERS = 20000
+MAX_UNPACKED_BYTES = 1 << 30
+MAX_DOCUMENT_XML_BYTES = 256 << 20
+
+
+def validate_document(path):
+    """The document must be a zip archive holding a well-formed Document.xml, and must not
+    unpack to more than MAX_UNPACKED_BYTES (a zip bomb). Returns the object names and types
+    that Document.xml declares."""
+    import xml.etree.ElementTree as ET
+    import zipfile
+    if os.path.isdir(path):
+        raise UsageError("%s: is a folder, not a FreeCAD document" % path)
+    if not os.path.isfile(path):
+        raise UsageError("%s: no such file, or not a regular file" % path)
+    if not zipfile.is_zipfile(path):
+        raise UsageError("%s: not a FreeCAD document (an .FCStd file is a zip archive)" % path)
+    try:
+        with zipfile.ZipFile(path) as z:
+            infos = z.infolist()
+            if len(infos) > MAX_MEMBERS:
+                raise UsageError("%s: %d files in the archive; at most %d are read"
+                                 % (path, len(infos), MAX_MEMBERS))
+            unpacked = sum(i.file_size for i in infos)
+            if unpacked > MAX_UNPACKED_BYTES:
+                raise UsageError("%s: unpacks to %d bytes; at most %d are read (a damaged or "
+                                 "hostile archive)" % (path, unpacked, MAX_UNPACKED_BYTES))
+            if "Document.xml" not in z.namelist():
+                raise UsageError("%s: not a FreeCAD document (no Document.xml in the archive)"
+                                 % path)
+            with z.open("Document.xml") as f:
+                text = f.read(MAX_DOCUMENT_XML_BYTES + 1)
+            if len(text) > MAX_DOCUMENT_XML_BYTES:
+                raise UsageError("%s: Document.xml is larger than %d bytes"
+                                 % (path, MAX_DOCUMENT_XML_BYTES))
+    except (zipfile.BadZipFile, zipfile.LargeZipFile, OSError, EOFError, RuntimeError) as e:
+        raise UsageError("%s: the archive is damaged: %s" % (path, e))
+    try:
+        root = ET.fromstring(text)
+    except ET.ParseError as e:
+        raise UsageError("%s: Document.xml is not well-formed XML (%s): the document is "
+                         "truncated or damaged" % (path, e))
+    if root.tag != "Document":
+        raise UsageError("%s: Document.xml does not hold a FreeCAD document" % path)
+    objects = root.find("Objects")
+    declared = []
+    if objects is not None:
+        for o in objects.findall("Object"):
+            declared.append((o.get("name"), o.get("type")))
+    return declared
 
 
 def apply_override(doc, text):
@@ -71,7 +119,7 @@ def apply_override(doc, text):
             setattr(obj, prop, FreeCAD.Vector(*[float(v) for v in value.split(",")]))
         else:
             setattr(obj, prop, value)
-    except (ValueError, TypeError) as e:
+    except Exception as e:  # ValueError, TypeError, FreeCAD's range errors
         raise UsageError("--set %s: %s" % (text, e))
 
 
@@ -108,30 +156,53 @@ def main(out):
     import FreeCAD
     import FRepExport
     from FRepPaths import frepcore
-    if not os.path.exists(args.document):
-        raise UsageError("%s: no such file" % args.document)
-    doc = FreeCAD.openDocument(os.path.abspath(args.document))
+    declared = validate_document(args.document)
+    try:
+        doc = FreeCAD.openDocument(os.path.abspath(args.document))
+    except Exception as e:  # FreeCAD's own errors (Base.FreeCADError) are not ValueErrors
+        raise UsageError("%s: FreeCAD cannot open it: %s" % (args.document, e))
+    # Objects FreeCAD could not make (an unknown class or module, a damaged entry) are
+    # dropped silently by openDocument: an export of what survived would be wrong.
+    missing = [(n, t) for n, t in declared if doc.getObject(n) is None]
+    if missing:
+        raise UsageError("%s: %d object(s) could not be loaded: %s (unknown class or module, "
+                         "or a damaged entry)" % (args.document, len(missing), ", ".join(
+                             "%s (%s)" % (n, t) for n, t in missing[:5])))
     for text in args.sets:
         apply_override(doc, text)
     obj = choose_object(doc, args.object)
     for o in doc.Objects:  # recompute everything: the saved results may be stale
         o.touch()
-    doc.recompute()
+    try:
+        doc.recompute()
+    except Exception as e:
+        raise UsageError("%s: recompute failed: %s" % (args.document, e))
     failed = [o for o in doc.Objects if not o.isValid()]
     if failed:
         raise UsageError("; ".join(o.getStatusString() for o in failed))
+    # SIGTERM (frepcad passes Ctrl-C on as one) cancels at the next progress report, so
+    # the temporary file is removed and nothing is written.
+    stop = []
+    signal.signal(signal.SIGTERM, lambda *_: stop.append(True))
+    signal.signal(signal.SIGINT, lambda *_: stop.append(True))
     try:
-        report = FRepExport.export_objects([obj], args.output, progress=lambda f: True,
-                                           cells=args.cells, fmt=args.format)
+        report = FRepExport.export_objects(
+            [obj], args.output, progress=lambda f: not stop, cells=args.cells,
+            resolution=args.resolution, bbox=args.bbox, fmt=args.format, force=args.force)
     except frepcore.NotPrintable as e:
         print(e.report["text"], file=out)
-        print("frepcad: refusing to write %s: the mesh is not printable" % args.output,
-              file=sys.stderr)
+        print("frepcad: refusing to write %s: the mesh is not printable (see reasons above; "
+              "--force writes it anyway)" % args.output, file=sys.stderr)
         return 1
+    except RuntimeError as e:
+        if stop:
+            print("frepcad: cancelled; nothing written", file=sys.stderr)
+            return 130
+        raise
     if not args.quiet:
         print(report["text"], file=out)
         print("wrote %s from %s (%s)" % (args.output, args.document, obj.Label), file=out)
-    return 0
+    return 0 if report["printable"] else 1
 
 
 def run():

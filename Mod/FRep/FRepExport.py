@@ -31,8 +31,9 @@ def export(objects, filename):
         raise
 
 
-def solid_and_box(objects, cells=None):
-    """The union of the objects' solids and its meshing box and cell size."""
+def solid_and_box(objects, cells=None, resolution=None, bbox=None):
+    """The union of the objects' solids and its meshing box and cell size (libcore's box
+    policy, through frepcore.automatic_box)."""
     if not objects:
         raise ValueError("nothing to export: select FRep features or Polygonize features")
     shapes, boxes = [], []
@@ -49,28 +50,31 @@ def solid_and_box(objects, cells=None):
                              "primitive" % FRepTree.describe(obj))
         shapes.append(shape)
     solid = shapes[0] if len(shapes) == 1 else frepcore.union(*shapes)
-    if len(objects) == 1 and boxes:
+    if len(objects) == 1 and boxes and cells is None and resolution is None and bbox is None:
         return solid, boxes[0]
     label = ", ".join(o.Label for o in objects)
     try:
-        return solid, frepcore.automatic_box(
-            solid, cells=cells or FRepMeshing.DEFAULT_EXPORT_CELLS)
+        return solid, frepcore.automatic_box(solid, cells=cells, resolution=resolution,
+                                             bbox=bbox)
     except ValueError as e:
         raise ValueError("%s: %s" % (label, e))
 
 
-def export_objects(objects, filename, progress=None, cells=None, fmt=""):
-    """Meshes, checks and writes; returns the check report (a dict with 'text').
+def export_objects(objects, filename, progress=None, cells=None, fmt="", resolution=None,
+                   bbox=None, force=False):
+    """Meshes, checks and writes (libcore's export pipeline); returns the check report (a
+    dict with 'text' and 'written').
 
-    Raises frepcore.NotPrintable (nothing written) when the check fails, RuntimeError when
-    cancelled (nothing written), ValueError for bad input.
+    Raises frepcore.NotPrintable (nothing written) when the check fails and force is not
+    given, RuntimeError when cancelled (nothing written), ValueError for bad input.
     """
-    solid, (box, cell) = solid_and_box(objects, cells)
+    solid, (box, cell) = solid_and_box(objects, cells, resolution, bbox)
     name = os.path.basename(filename)
 
     def work(tick):
         try:
-            return solid.export(filename, resolution=cell, bbox=box, format=fmt, progress=tick)
+            return solid.export(filename, resolution=cell, bbox=box, format=fmt, progress=tick,
+                                force=force)
         except frepcore.Cancelled:
             raise RuntimeError("export of %s cancelled; no file written" % name)
 

@@ -122,6 +122,18 @@ class FRepFeature(StatelessProxy):
             obj.addProperty("App::PropertyBool", "Bypass", props.PARAM_GROUP,
                             "Pass the first input through unchanged, ignoring this operation.")
 
+    # -- what the view provider and the task panel ask the object (they never import this
+    #    module: a view provider asks its object) --
+    def category(self):
+        return NODE_TYPES[self.FREP_TYPE]["category"]
+
+    def inputs(self, obj):
+        return linked_inputs(obj)
+
+    def parameters(self):
+        """The registry's parameters of this type (dicts as frepcore.node_types gives)."""
+        return NODE_TYPES[self.FREP_TYPE]["params"]
+
     def onDocumentRestored(self, obj):
         self.setup(obj)
 

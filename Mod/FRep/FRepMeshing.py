@@ -12,7 +12,7 @@ from FRepPaths import frepcore
 PREFERENCES = "User parameter:BaseApp/Preferences/Mod/FRep"
 PREVIEW_KEY = "FRepPreviewCells"
 DEFAULT_PREVIEW_CELLS = 48
-DEFAULT_EXPORT_CELLS = 160
+DEFAULT_EXPORT_CELLS = frepcore.DEFAULT_CELLS  # the export pipeline's default (libcore)
 MIN_CELLS, MAX_CELLS = 4, 4096
 
 

@@ -1,5 +1,7 @@
 """View providers: icons per node type, inputs shown as children in the tree (as Part
-booleans do), and inputs shown again when an operation is deleted."""
+booleans do), inputs shown again when an operation is deleted, and double-click to edit the
+parameters in a task panel. A view provider asks its object (its proxy's category(),
+inputs() and parameters()); it never imports the feature module."""
 
 import FRepPaths
 from FRepProxy import StatelessProxy
@@ -13,18 +15,36 @@ class ViewProviderFRep(StatelessProxy):
         self.Object = vobj.Object
 
     def getIcon(self):
-        import FRepFeatures
-        type_id = self.Object.Proxy.FREP_TYPE
-        return FRepPaths.icon(type_id, FRepFeatures.NODE_TYPES[type_id]["category"])
+        proxy = self.Object.Proxy
+        return FRepPaths.icon(proxy.FREP_TYPE, proxy.category())
 
     def claimChildren(self):
-        import FRepFeatures
-        return FRepFeatures.linked_inputs(self.Object)
+        return self.Object.Proxy.inputs(self.Object)
 
     def onDelete(self, vobj, subelements):
-        import FRepFeatures
-        for obj in FRepFeatures.linked_inputs(vobj.Object):
+        for obj in vobj.Object.Proxy.inputs(vobj.Object):
             obj.Visibility = True
+        return True
+
+    # Double-click (or Edit) opens the parameters' task panel; mode 0 is the default edit.
+    def setEdit(self, vobj, mode=0):
+        if mode != 0:
+            return None
+        import FreeCADGui
+        import FRepTaskPanels
+        FreeCADGui.Control.showDialog(FRepTaskPanels.ParametersPanel(vobj.Object))
+        return True
+
+    def unsetEdit(self, vobj, mode=0):
+        if mode != 0:
+            return None
+        import FreeCADGui
+        FreeCADGui.Control.closeDialog()
+        return True
+
+    def doubleClicked(self, vobj):
+        import FreeCADGui
+        FreeCADGui.ActiveDocument.setEdit(vobj.Object.Name, 0)
         return True
 
 
@@ -39,3 +59,9 @@ class ViewProviderPolygonize(ViewProviderFRep):
         if vobj.Object.Source:
             vobj.Object.Source.Visibility = True
         return True
+
+    def setEdit(self, vobj, mode=0):  # its settings are plain properties
+        return None
+
+    def doubleClicked(self, vobj):
+        return False

@@ -1,6 +1,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "base/file_names.h"
 #include "check/mesh_check.h"
 
 namespace frep {
@@ -8,7 +9,7 @@ namespace frep {
 std::string reportToText(const CheckReport& r, const std::string& name) {
   std::ostringstream os;
   os.precision(8);
-  os << "check " << name << "\n";
+  os << "check " << displayName(name) << "\n";
   os << "  triangles            " << r.faces << "\n";
   os << "  vertices             " << r.vertices << " (" << r.inputVertices << " before welding)\n";
   os << "  closed               " << (r.closed ? "yes" : "no") << " (" << r.borderEdges
@@ -35,7 +36,7 @@ std::string reportToText(const CheckReport& r, const std::string& name) {
 
 std::string reportToJson(const CheckReport& r, const std::string& name) {
   nlohmann::json j;
-  j["file"] = name;
+  j["file"] = displayName(name);  // valid UTF-8 whatever the file name's bytes
   j["printable"] = r.printable();
   j["reasons"] = r.reasons;
   j["triangles"] = r.faces;
@@ -54,7 +55,7 @@ std::string reportToJson(const CheckReport& r, const std::string& name) {
   j["volume"] = r.volume;
   j["area"] = r.area;
   j["bbox"] = {r.bbox.lo[0], r.bbox.lo[1], r.bbox.lo[2], r.bbox.hi[0], r.bbox.hi[1], r.bbox.hi[2]};
-  return j.dump(2) + "\n";
+  return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace frep

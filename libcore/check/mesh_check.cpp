@@ -1,6 +1,6 @@
 // The only translation unit that includes CGAL (slow to compile: keep it alone).
 #include "check/mesh_check.h"
-#include "mesh/triangle_geometry.h"
+#include "base/triangle_geometry.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
@@ -54,7 +54,10 @@ std::vector<std::uint32_t> weld(const std::vector<Vec3f>& pos, std::vector<Vec3f
 
 }  // namespace
 
-CheckReport checkMesh(const TriangleMesh& mesh) {
+CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)>& progress) {
+  auto tick = [&](double f) {
+    if (progress) progress(f);
+  };
   CheckReport r;
   r.inputVertices = mesh.positions.size();
   r.faces = mesh.triangles.size();
@@ -103,6 +106,7 @@ CheckReport checkMesh(const TriangleMesh& mesh) {
       }
   }
 
+  tick(0.1);
   // Edges: border, non-manifold, orientation consistency.
   std::vector<std::tuple<std::uint32_t, std::uint32_t, bool>> edges;
   edges.reserve(faces.size() * 3);
@@ -125,6 +129,7 @@ CheckReport checkMesh(const TriangleMesh& mesh) {
   }
   r.closed = r.borderEdges == 0 && !faces.empty();
 
+  tick(0.2);
   // Non-manifold vertices: the triangles around a vertex must form a single fan.
   std::vector<std::uint32_t> start(pos.size() + 1, 0), incident(faces.size() * 3);
   for (const auto& f : faces)
@@ -152,6 +157,7 @@ CheckReport checkMesh(const TriangleMesh& mesh) {
     if (roots > 1) ++r.nonManifoldVertices;
   }
 
+  tick(0.3);
   // Connected components (through shared edges and vertices).
   UnionFind parts(pos.size());
   for (const auto& f : faces) {
@@ -161,6 +167,7 @@ CheckReport checkMesh(const TriangleMesh& mesh) {
   for (std::uint32_t v = 0; v < pos.size(); ++v)
     if (start[v + 1] > start[v] && parts.find(v) == v) ++r.components;
 
+  tick(0.35);
   // CGAL: self-intersections and orientation. A soup that is not a valid polygon mesh is
   // first made one by CGAL's orient_polygon_soup (which splits non-manifold vertices).
   if (!faces.empty()) {
@@ -170,16 +177,19 @@ CheckReport checkMesh(const TriangleMesh& mesh) {
     if (!isMesh) PMP::orient_polygon_soup(soupPoints, soup);
     SurfaceMesh sm;
     PMP::polygon_soup_to_polygon_mesh(soupPoints, soup, sm);
+    tick(0.45);
     std::atomic<std::size_t> pairs{0};
     PMP::self_intersections<CGAL::Parallel_if_available_tag>(
         sm, boost::make_function_output_iterator([&](const auto&) { ++pairs; }));
     r.selfIntersections = pairs;
+    tick(0.95);
     const bool manifold = isMesh && r.nonManifoldEdges == 0 && r.nonManifoldVertices == 0 &&
                           r.misorientedEdges == 0;
     if (r.closed && manifold && r.selfIntersections == 0)
       r.outward = PMP::does_bound_a_volume(sm) && r.volume > 0;
   }
 
+  tick(1.0);
   if (r.borderEdges)
     r.reasons.push_back(count(r.borderEdges, "border edges: the mesh is not closed (holes)"));
   if (r.nonManifoldEdges)

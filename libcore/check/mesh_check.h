@@ -4,11 +4,12 @@
 // near-duplicate vertices fails).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
-#include "frep/vec.h"
-#include "mesh/triangle_mesh.h"
+#include "base/vec.h"
+#include "base/triangle_mesh.h"
 
 namespace frep {
 
@@ -34,7 +35,10 @@ struct CheckReport {
   bool printable() const { return reasons.empty(); }
 };
 
-CheckReport checkMesh(const TriangleMesh& mesh);
+// progress(fraction) is called between the check's phases (welding, topology, CGAL's
+// self-intersection test, orientation); it may throw to stop the check there.
+CheckReport checkMesh(const TriangleMesh& mesh,
+                      const std::function<void(double)>& progress = nullptr);
 
 std::string reportToText(const CheckReport& r, const std::string& name);
 std::string reportToJson(const CheckReport& r, const std::string& name);

@@ -7,7 +7,7 @@
 #include <limits>
 
 #include "frep/field.h"
-#include "frep/vec.h"
+#include "base/vec.h"
 
 namespace frep {
 

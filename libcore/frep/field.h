@@ -23,7 +23,7 @@
 
 #include "frep/dual.h"
 #include "frep/interval.h"
-#include "frep/vec.h"
+#include "base/vec.h"
 
 namespace frep {
 

@@ -227,13 +227,27 @@ class FormulaParser {
         return left;
     }
   }
+  // Parentheses, signs and powers recurse: their nesting is limited, so a hostile formula
+  // (a million '(') is an error, not a stack overflow.
+  struct Nesting {
+    explicit Nesting(FormulaParser& p) : p_(p) {
+      if (++p_.depth_ > kMaxFormulaNesting)
+        throw FormulaError(p_.peek().column,
+                           "nested deeper than " + std::to_string(kMaxFormulaNesting) +
+                               " levels (parentheses, signs, powers and calls)");
+    }
+    ~Nesting() { --p_.depth_; }
+    FormulaParser& p_;
+  };
   int expr() {
+    Nesting guard(*this);
     return chain("+", Formula::Expr::Add, "-", Formula::Expr::Sub, &FormulaParser::term);
   }
   int term() {
     return chain("*", Formula::Expr::Mul, "/", Formula::Expr::Div, &FormulaParser::unaryExpr);
   }
   int unaryExpr() {
+    Nesting guard(*this);
     if (accept("-")) return add({Formula::Expr::Neg, 0.0, "", {unaryExpr()}});
     if (accept("+")) return unaryExpr();
     return power();
@@ -304,6 +318,7 @@ class FormulaParser {
   std::vector<Token> tokens_;
   const std::vector<std::string>& names_;
   std::size_t pos_ = 0;
+  int depth_ = 0;
   Formula f_;
 };
 
@@ -322,11 +337,21 @@ Slot Formula::emit(ProgramBuilder& b, Slot x, Slot y, Slot z,
   return emitNode(root_, b, x, y, z, name);
 }
 
-Slot Formula::emitNode(int i, ProgramBuilder& b, Slot x, Slot y, Slot z,
+// Iterative, not recursive: a node's operands are always made before it (lower indices), so
+// one pass in order emits every node after its operands, whatever the depth of the formula
+// (a sum of a million terms is a chain a million deep).
+Slot Formula::emitNode(int root, ProgramBuilder& b, Slot x, Slot y, Slot z,
                        const std::function<Slot(const std::string&)>& name) const {
-  const Expr& e = nodes_[static_cast<std::size_t>(i)];
+  std::vector<Slot> slots(nodes_.size(), 0);
+  for (std::size_t i = 0; i <= static_cast<std::size_t>(root); ++i)
+    slots[i] = emitOne(nodes_[i], slots, b, x, y, z, name);
+  return slots[static_cast<std::size_t>(root)];
+}
+
+Slot Formula::emitOne(const Expr& e, const std::vector<Slot>& slots, ProgramBuilder& b, Slot x,
+                      Slot y, Slot z, const std::function<Slot(const std::string&)>& name) const {
   std::vector<Slot> a;
-  for (int arg : e.args) a.push_back(emitNode(arg, b, x, y, z, name));
+  for (int arg : e.args) a.push_back(slots[static_cast<std::size_t>(arg)]);
   switch (e.kind) {
     case Expr::Number:
       return b.constant(e.value);

@@ -26,6 +26,9 @@ struct FormulaError : std::runtime_error {
   int column;
 };
 
+// How deep parentheses, signs, powers and calls may nest in a formula.
+constexpr int kMaxFormulaNesting = 500;
+
 // Names of the functions a formula may call, for docs and error messages.
 std::string formulaFunctionList();
 
@@ -50,8 +53,10 @@ class Formula {
     std::vector<int> args;  // operands, indices into nodes_
   };
   friend class FormulaParser;
-  Slot emitNode(int i, ProgramBuilder& b, Slot x, Slot y, Slot z,
+  Slot emitNode(int root, ProgramBuilder& b, Slot x, Slot y, Slot z,
                 const std::function<Slot(const std::string&)>& name) const;
+  Slot emitOne(const Expr& e, const std::vector<Slot>& slots, ProgramBuilder& b, Slot x, Slot y,
+               Slot z, const std::function<Slot(const std::string&)>& name) const;
   std::vector<Expr> nodes_;
   int root_ = -1;
 };

@@ -18,7 +18,7 @@
 #include "frep/dual.h"
 #include "frep/field.h"
 #include "frep/interval.h"
-#include "frep/vec.h"
+#include "base/vec.h"
 
 namespace frep {
 

@@ -1,12 +1,17 @@
 #include "frep/model_json.h"
 
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 
-#include "frep/errors.h"
+#include "base/errors.h"
+#include "base/file_names.h"
 
 namespace frep {
 
@@ -93,6 +98,19 @@ class Parser {
   Parser(const json& doc, std::string source) : doc_(doc), source_(std::move(source)) {}
 
   NodePtr node(const json& j, const std::string& path) {
+    // Nested nodes and chains of refs recurse here; makeNode refuses deep trees too, but
+    // only after the recursion: count it on the way down.
+    struct Depth {
+      explicit Depth(int& d) : d_(d) { ++d_; }
+      ~Depth() { --d_; }
+      int& d_;
+    } depth(depth_);
+    if (depth_ > kMaxTreeDepth)
+      throw ModelError(source_ + ": nodes nested deeper than " + std::to_string(kMaxTreeDepth) +
+                       " (inputs within inputs, or a chain of refs); combine wide rather "
+                       "than deep");
+    // The path names the node in messages; deep down only its end is kept (a path of every
+    // level would cost memory growing with the square of the depth).
     const std::string where = source_ + ": " + path;
     if (!j.is_object()) throw ModelError(where + ": a node must be an object, got " + typeOf(j));
     if (j.contains("ref")) return reference(j, path);
@@ -129,7 +147,7 @@ class Parser {
       if (!j["inputs"].is_array())
         throw ModelError(nodeWhere + ": \"inputs\" must be an array of nodes");
       for (std::size_t i = 0; i < j["inputs"].size(); ++i)
-        inputs.push_back(node(j["inputs"][i], path + ".inputs[" + std::to_string(i) + "]"));
+        inputs.push_back(node(j["inputs"][i], shortPath(path) + ".inputs[" + std::to_string(i) + "]"));
     }
     return makeNode(typeId, std::move(params), std::move(inputs), source_ + ": " + path);
   }
@@ -151,11 +169,57 @@ class Parser {
     return n;
   }
 
+  static std::string shortPath(const std::string& path) {
+    constexpr std::size_t kKeep = 120;
+    if (path.size() <= kKeep) return path;
+    return "..." + path.substr(path.size() - kKeep);
+  }
+
   const json& doc_;
   std::string source_;
   std::map<std::string, NodePtr> done_;
   std::set<std::string> active_;
+  int depth_ = 0;
 };
+
+// nlohmann's parse errors, in our words: where (line and column) and what, without the
+// library's exception ids.
+std::string jsonErrorText(const std::string& text, std::size_t byte, const std::string& what) {
+  std::size_t line = 1, column = 1;
+  for (std::size_t i = 0; i + 1 < byte && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  std::string reason = "a syntax error";
+  if (what.find("invalid literal") != std::string::npos) {
+    const std::size_t at = std::min(byte ? byte - 1 : 0, text.size());
+    const std::string rest = text.substr(at > 8 ? at - 8 : 0, 16);
+    if (rest.find("NaN") != std::string::npos || rest.find("nfinity") != std::string::npos)
+      reason = "NaN and Infinity are not JSON numbers (numbers must be finite)";
+    else
+      reason = "an invalid literal (strings need double quotes; true, false and null are lower "
+               "case)";
+  } else if (what.find("unexpected end of input") != std::string::npos ||
+             (what.find("missing closing quote") != std::string::npos && byte >= text.size())) {
+    reason = "the text ends in the middle of a value (a truncated file?)";
+  } else if (what.find("UTF-8") != std::string::npos || what.find("utf-8") != std::string::npos ||
+             what.find("ill-formed") != std::string::npos) {
+    reason = "the text is not UTF-8";
+  } else if (what.find("number overflow") != std::string::npos) {
+    reason = "a number beyond the range of double (about 1.8e308)";
+  } else if (what.find("control character") != std::string::npos) {
+    reason = "a control character inside a string";
+  } else if (what.find("expected") != std::string::npos) {
+    const std::size_t e = what.find("expected");
+    reason = "a syntax error: " + what.substr(e);
+  }
+  return "not valid JSON at line " + std::to_string(line) + ", column " +
+         std::to_string(column) + ": " + reason;
+}
 
 }  // namespace
 
@@ -164,9 +228,30 @@ Model parseModel(const std::string& text, const std::string& source) {
   try {
     doc = json::parse(text);
   } catch (const json::parse_error& e) {
-    throw ModelError(source + ": not valid JSON (" + std::string(e.what()) + ")");
+    throw ModelError(source + ": " + jsonErrorText(text, e.byte, e.what()));
+  } catch (const json::exception& e) {  // out_of_range: a number beyond double
+    throw ModelError(source + ": " + jsonErrorText(text, text.size(), e.what()));
   }
   if (!doc.is_object()) throw ModelError(source + ": a model file must hold a JSON object");
+  for (auto it = doc.begin(); it != doc.end(); ++it) {
+    static const std::set<std::string> keys = {"frepcad", "description", "root", "definitions",
+                                               "export"};
+    if (!keys.count(it.key()))
+      throw ModelError(source + ": unknown key \"" + it.key() +
+                       "\"; a model file has \"frepcad\", \"description\", \"root\", "
+                       "\"definitions\" and \"export\"");
+  }
+  if (doc.contains("frepcad")) {
+    const json& v = doc["frepcad"];
+    if (!v.is_number_integer() || v.get<long long>() != kModelFormatVersion)
+      throw ModelError(source + ": \"frepcad\": " + v.dump() + " is not a format version this "
+                       "frepcad reads; allowed: " + std::to_string(kModelFormatVersion) +
+                       " (a newer frepcad wrote the file?)");
+  }
+  if (doc.contains("definitions") && !doc["definitions"].is_object())
+    throw ModelError(source + ": \"definitions\" must be an object of named nodes");
+  if (doc.contains("description") && !doc["description"].is_string())
+    throw ModelError(source + ": \"description\" must be a string");
   if (!doc.contains("root"))
     throw ModelError(source + ": no \"root\" node (the tree to build); see docs/file-formats.md");
   Model m;
@@ -177,6 +262,10 @@ Model parseModel(const std::string& text, const std::string& source) {
   if (doc.contains("export")) {
     const json& e = doc["export"];
     if (!e.is_object()) throw ModelError(source + ": \"export\" must be an object");
+    for (auto it = e.begin(); it != e.end(); ++it)
+      if (it.key() != "bbox" && it.key() != "resolution")
+        throw ModelError(source + ": export: unknown key \"" + it.key() +
+                         "\"; export has \"bbox\" and \"resolution\"");
     if (e.contains("bbox")) {
       const json& b = e["bbox"];
       bool ok = b.is_array() && b.size() == 6;
@@ -205,11 +294,20 @@ Model parseModel(const std::string& text, const std::string& source) {
 }
 
 Model loadModel(const std::string& path) {
+  // A folder, a FIFO (which would block) or a device is refused before it is opened, and so
+  // is a file too large to be a model.
+  requireRegularFile(path, "the model file");
+  struct stat st {};
+  ::stat(path.c_str(), &st);
+  if (static_cast<std::uint64_t>(st.st_size) > kMaxModelBytes)
+    throw FileError(displayName(path) + ": " + std::to_string(st.st_size) +
+                    " bytes is too large for a model file; at most " +
+                    std::to_string(kMaxModelBytes) + " are read");
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError(path + ": cannot open the model file");
+  if (!in) throw FileError(displayName(path) + ": cannot open the model file");
   std::stringstream ss;
   ss << in.rdbuf();
-  return parseModel(ss.str(), path);
+  return parseModel(ss.str(), displayName(path));
 }
 
 std::string modelToJson(const Model& model) {
@@ -251,7 +349,7 @@ std::string modelToJson(const Model& model) {
     return j;
   };
   json doc;
-  doc["frepcad"] = 1;
+  doc["frepcad"] = kModelFormatVersion;
   if (!model.description.empty()) doc["description"] = model.description;
   doc["root"] = write(model.root, true);
   if (!defs.empty()) doc["definitions"] = defs;

@@ -3,13 +3,19 @@
 // errors name the file, the node's path, the parameter and what is allowed.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
 #include "frep/tree.h"
-#include "frep/vec.h"
+#include "base/vec.h"
 
 namespace frep {
+
+// The "frepcad" version this build reads and writes.
+constexpr int kModelFormatVersion = 1;
+// A model file larger than this is refused before it is read (a hostile or mistaken file).
+constexpr std::uint64_t kMaxModelBytes = 64ull << 20;
 
 struct Model {
   NodePtr root;

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "frep/bounds.h"
-#include "frep/errors.h"
+#include "base/errors.h"
 #include "frep/instances.h"
 #include "frep/node_helpers.h"
 #include "frep/registry.h"

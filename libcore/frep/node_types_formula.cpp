@@ -2,7 +2,7 @@
 #include <string>
 #include <vector>
 
-#include "frep/errors.h"
+#include "base/errors.h"
 #include "frep/formula.h"
 #include "frep/registry.h"
 #include "frep/tree.h"

@@ -1,5 +1,6 @@
 #include "frep/program_builder.h"
 
+#include <cstring>
 #include <utility>
 
 namespace frep {
@@ -47,7 +48,13 @@ Slot ProgramBuilder::emit(Op op, Slot a, Slot b, Slot c, std::initializer_list<d
   if (op == Op::Mul && isConstant(b) && constantValue(b) == 1.0) return a;
   if (op == Op::Mul && isConstant(a) && constantValue(a) == 1.0) return b;
 
-  Key key{op, a, b, c, std::vector<double>(k)};
+  std::vector<std::uint64_t> bits;
+  for (double v : k) {
+    std::uint64_t u;
+    std::memcpy(&u, &v, sizeof u);
+    bits.push_back(u);
+  }
+  Key key{op, a, b, c, std::move(bits)};
   auto it = seen_.find(key);
   if (it != seen_.end()) return it->second;
 

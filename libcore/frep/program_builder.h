@@ -6,6 +6,7 @@
 #include <initializer_list>
 #include <map>
 #include <memory>
+#include <cstdint>
 #include <tuple>
 #include <vector>
 
@@ -52,7 +53,8 @@ class ProgramBuilder {
   Program finish(Slot result) const;
 
  private:
-  using Key = std::tuple<Op, Slot, Slot, Slot, std::vector<double>>;
+  // Constants by their bits: a NaN must not compare equal to every other constant.
+  using Key = std::tuple<Op, Slot, Slot, Slot, std::vector<std::uint64_t>>;
   std::vector<Instruction> code_;
   std::vector<double> constants_;
   std::map<Key, Slot> seen_;

@@ -4,7 +4,7 @@
 #include <sstream>
 #include <utility>
 
-#include "frep/errors.h"
+#include "base/errors.h"
 
 namespace frep {
 

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "frep/program_builder.h"
-#include "frep/vec.h"
+#include "base/vec.h"
 
 namespace frep {
 

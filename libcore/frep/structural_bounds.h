@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "frep/tree.h"
-#include "frep/vec.h"
+#include "base/vec.h"
 
 namespace frep {
 

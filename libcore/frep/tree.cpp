@@ -1,9 +1,10 @@
 #include "frep/tree.h"
 
+#include <algorithm>
 #include <tuple>
 #include <utility>
 
-#include "frep/errors.h"
+#include "base/errors.h"
 
 namespace frep {
 
@@ -52,9 +53,16 @@ NodePtr makeNode(const std::string& typeId, std::map<std::string, ParamValue> pa
   if (n < type->minInputs || (type->maxInputs != kVariadic && n > type->maxInputs))
     throw ModelError(where + ": takes " + type->inputsText() + " input(s), got " +
                      std::to_string(n));
-  for (int i = 0; i < n; ++i)
+  int depth = 0;
+  for (int i = 0; i < n; ++i) {
     if (!inputs[i])
       throw ModelError(where + ": input " + std::to_string(i) + " is missing");
+    depth = std::max(depth, inputs[i]->depth);
+  }
+  if (depth + 1 > kMaxTreeDepth)
+    throw ModelError(where + ": the tree is nested deeper than " + std::to_string(kMaxTreeDepth) +
+                     " nodes; combine wide (one union of many inputs) rather than deep");
+  node->depth = depth + 1;
   node->inputs = std::move(inputs);
   if (type->check) {
     const std::string problem = type->check(*node);

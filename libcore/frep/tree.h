@@ -20,11 +20,18 @@ struct Node {
   std::vector<NodePtr> inputs;
   // The field of an external node (makeFieldNode); null for every registry type.
   std::shared_ptr<const Field> field;
+  // 1 for a leaf, else 1 + the deepest input (kept at most kMaxTreeDepth).
+  int depth = 1;
 
   const ParamValue& param(const std::string& name) const;
   double real(const std::string& name) const { return param(name).numbers.at(0); }
   Vec3 vec3(const std::string& name) const;
 };
+
+// How deep a tree may be. Compiling, bounding and freeing a tree recurse over it: deeper trees
+// (a hostile file, a runaway script) are refused with a message instead of overflowing the
+// stack. Wide trees (a union of 100,000 inputs) are fine.
+constexpr int kMaxTreeDepth = 1000;
 
 // Makes a validated node. `params` may omit parameters (their defaults are used). `path` names
 // the node in error messages (e.g. "root.inputs[1]"). Throws ModelError.

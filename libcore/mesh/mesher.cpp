@@ -1,5 +1,5 @@
 #include "mesh/mesher.h"
-#include "mesh/triangle_geometry.h"
+#include "base/triangle_geometry.h"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -7,11 +7,13 @@
 
 #include <atomic>
 #include <chrono>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <sstream>
 
-#include "frep/errors.h"
+#include "base/errors.h"
 #include "mesh/kuhn_tetrahedra.h"
 
 namespace frep {
@@ -21,6 +23,8 @@ namespace {
 // A vertex is kept at least this fraction of its edge away from both grid points, so no two
 // vertices coincide and no triangle degenerates, whatever the field does at grid points.
 constexpr double kEdgeMargin = 0.01;
+// The least number of float32 steps a cell must span (so kEdgeMargin is a few steps).
+constexpr double kMinCellFloatSteps = 256.0;
 
 // The sampling grid. Grid point j on an axis sits at lo + (j - 0.5) h, j = 0 .. n + 1: points 0
 // and n + 1 lie half a cell outside the box, so the surface closes there (box caps).
@@ -374,6 +378,27 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
     g.points[a] = n + 2;
     cells.lo[a] = 0;
     cells.hi[a] = n + 1;
+  }
+
+  // Vertices are float32 (as STL stores them) and are kept kEdgeMargin of an edge away from
+  // its grid points: a cell must span enough float steps at the box's coordinates for that
+  // margin to survive rounding, or triangles collapse (a fine grid far from the origin).
+  {
+    double far = 0.0, h = g.h[0];
+    for (int a = 0; a < 3; ++a) {
+      far = std::max({far, std::abs(box.lo[a]), std::abs(box.hi[a])});
+      h = std::min(h, g.h[a]);
+    }
+    const float f = static_cast<float>(far);
+    const double step = static_cast<double>(std::nextafter(f, std::numeric_limits<float>::infinity())) - f;
+    if (h < kMinCellFloatSteps * step) {
+      std::ostringstream os;
+      os << "mesher: cells of " << h << " at coordinates up to " << far << " span only "
+         << std::floor(h / step) << " float32 steps (meshes store float32 coordinates, as STL "
+         << "does); allowed here: cells of at least " << kMinCellFloatSteps * step
+         << ": use a larger cell size or move the model nearer the origin";
+      throw ModelError(os.str());
+    }
   }
 
   const int bc = opt.brickCells;

@@ -12,8 +12,8 @@
 #include <functional>
 
 #include "frep/field.h"
-#include "frep/vec.h"
-#include "mesh/triangle_mesh.h"
+#include "base/vec.h"
+#include "base/triangle_mesh.h"
 
 namespace frep {
 

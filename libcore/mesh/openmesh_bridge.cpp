@@ -1,6 +1,6 @@
 #include "mesh/openmesh_bridge.h"
 
-#include "frep/errors.h"
+#include "base/errors.h"
 
 namespace frep {
 

@@ -4,7 +4,7 @@
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
-#include "mesh/triangle_mesh.h"
+#include "base/triangle_mesh.h"
 
 namespace frep {
 

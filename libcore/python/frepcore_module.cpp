@@ -16,14 +16,15 @@
 #include "check/mesh_check.h"
 #include "frep/bounds.h"
 #include "frep/structural_bounds.h"
-#include "frep/errors.h"
+#include "base/errors.h"
 #include "frep/model_json.h"
 #include "frep/registry.h"
 #include "frep/registry_docs.h"
 #include "frep/tree.h"
-#include "mesh/mesh_io.h"
+#include "io/mesh_io.h"
 #include "mesh/mesher.h"
-#include "mesh/triangle_geometry.h"
+#include "base/triangle_geometry.h"
+#include "pipeline/export_pipeline.h"
 
 namespace py = pybind11;
 
@@ -229,6 +230,30 @@ py::dict boundsDict(const SolidBounds& b) {
   return d;
 }
 
+SolidBounds boundsFromDict(const py::dict& d) {
+  SolidBounds b;
+  b.empty = d["empty"].cast<bool>();
+  const char* names[3][2] = {{"-x", "+x"}, {"-y", "+y"}, {"-z", "+z"}};
+  for (auto side : d["unbounded_sides"].cast<py::list>()) {
+    const std::string n = side.cast<std::string>();
+    for (int a = 0; a < 3; ++a)
+      for (int s = 0; s < 2; ++s)
+        if (n == names[a][s]) b.unbounded[a][s] = true;
+  }
+  if (!b.empty) b.box = toBox(d["box"].cast<py::sequence>());
+  return b;
+}
+
+BoxRequest boxRequest(const py::object& bbox, const py::object& resolution,
+                      const py::object& cells, double paddingCells) {
+  BoxRequest r;
+  if (!bbox.is_none()) r.bbox = toBox(bbox.cast<py::sequence>());
+  if (!resolution.is_none()) r.resolution = resolution.cast<double>();
+  if (!cells.is_none()) r.cells = cells.cast<int>();
+  r.paddingCells = paddingCells;
+  return r;
+}
+
 // Registry and check report reach Python through the same JSON the CLI prints
 // (registry_docs.cpp, check_report_format.cpp): one description, two front ends.
 py::object fromJson(const std::string& text) {
@@ -241,6 +266,7 @@ py::object fromJson(const std::string& text) {
 PYBIND11_MODULE(_frepcore, m) {
   using namespace frep;
   m.doc() = "FRepCAD core: FRep trees, evaluation, meshing, checking and mesh files.";
+  m.attr("DEFAULT_CELLS") = kDefaultCells;
 
   static py::exception<Cancelled> cancelled(m, "Cancelled");
   py::register_exception_translator([](std::exception_ptr p) {
@@ -343,6 +369,72 @@ PYBIND11_MODULE(_frepcore, m) {
           "Tight box of the solid by interval branch and bound: dict(empty, bounded, "
           "unbounded_sides, box).")
       .def("instruction_count", [](PyNode& n) { return n.compiled().instructionCount(); })
+      .def(
+          "choose_box",
+          [](PyNode& n, py::object bbox, py::object resolution, py::object cells,
+             double paddingCells, py::object bounds) {
+            const BoxRequest r = boxRequest(bbox, resolution, cells, paddingCells);
+            MeshingBox m;
+            if (!bounds.is_none()) {
+              m = chooseBox(boundsFromDict(bounds.cast<py::dict>()), r);
+            } else {
+              const Program& p = n.compiled();
+              const Box3 known = structuralBounds(n.node);
+              py::gil_scoped_release release;
+              m = chooseBox(p, known, r);
+            }
+            return py::make_tuple(fromBox(m.box), m.resolution);
+          },
+          py::arg("bbox") = py::none(), py::arg("resolution") = py::none(),
+          py::arg("cells") = py::none(), py::arg("padding_cells") = kPaddingCells,
+          py::arg("bounds") = py::none(),
+          "The export pipeline's box policy: ((lo, hi), cell size).")
+      .def(
+          "export",
+          [](PyNode& n, const std::string& path, py::object bbox, py::object resolution,
+             py::object cells, const std::string& format, bool check, bool force,
+             py::object progress) {
+            ExportRequest r;
+            r.box = boxRequest(bbox, resolution, cells, kPaddingCells);
+            r.known = structuralBounds(n.node);
+            if (!format.empty()) r.format = parseFormat(format);
+            r.check = check;
+            r.force = force;
+            n.compiled();
+            std::shared_ptr<const Program> program = n.program;
+            // Stages as one fraction for Python's progress: bounds 2 %, meshing to 40 %,
+            // checking to 95 %, writing the rest.
+            const double from[4] = {0.0, 0.02, 0.4, 0.95}, to[4] = {0.02, 0.4, 0.95, 1.0};
+            ExportResult result = runWithProgress<ExportResult>(
+                [&](std::function<bool(double)> tick) {
+                  r.progress = [&](ExportStage s, double f) {
+                    const int i = static_cast<int>(s);
+                    return tick(from[i] + (to[i] - from[i]) * f);
+                  };
+                  return exportField(*program, r, path, path);
+                },
+                progress);
+            py::dict d;
+            if (result.checked) {
+              d = fromJson(reportToJson(result.report, path)).cast<py::dict>();
+              d["text"] = reportToText(result.report, path);
+            } else {
+              d["printable"] = py::none();
+              d["text"] = "";
+            }
+            d["written"] = result.written;
+            d["triangles"] = result.triangles;
+            d["box"] = fromBox(result.box.box);
+            d["resolution"] = result.box.resolution;
+            d["seconds"] = py::make_tuple(result.seconds[0], result.seconds[1],
+                                          result.seconds[2], result.seconds[3]);
+            return d;
+          },
+          py::arg("path"), py::arg("bbox") = py::none(), py::arg("resolution") = py::none(),
+          py::arg("cells") = py::none(), py::arg("format") = "", py::arg("check") = true,
+          py::arg("force") = false, py::arg("progress") = py::none(),
+          "The export pipeline: box policy, mesh, CGAL check, atomic write. Returns the check "
+          "report dict plus 'written'; a refused mesh is not written unless force.")
       .def(
           "mesh",
           [](PyNode& n, py::object bbox, double resolution, py::object progress, bool normals) {

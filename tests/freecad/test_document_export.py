@@ -63,3 +63,68 @@ def test_bad_overrides_are_clear_errors_and_write_nothing(sheet_document, tmp_pa
         assert r.returncode == 2, (extra, r.stdout, r.stderr)
         assert message in r.stderr, (extra, r.stderr)
         assert not os.path.exists(out)
+
+
+def test_same_options_as_json_models(sheet_document, tmp_path):
+    """--resolution, --bbox, --format and --force reach FCStd exports too."""
+    out = str(tmp_path / "box.obj")
+    r = frepcad(sheet_document, "-o", out, "--format", "obj", "--resolution", "0.1",
+                "--bbox", "-1", "-1", "-1", "1", "1", "1")
+    assert r.returncode == 0, r.stderr
+    mesh = frepcore.read_mesh(out)
+    lo = [min(p[a] for p in mesh.points) for a in range(3)]
+    hi = [max(p[a] for p in mesh.points) for a in range(3)]
+    # the box cuts the solid (caps within a fraction of a 0.1 cell of its faces)
+    assert all(-1.05 <= l <= -0.95 for l in lo) and all(0.95 <= h <= 1.05 for h in hi)
+    r = frepcad(sheet_document, "-o", str(tmp_path / "x.stl"), "--cells", "8",
+                "--resolution", "0.1")
+    assert r.returncode == 2 and "not both" in r.stderr
+
+
+def _zip(path, members):
+    import zipfile
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
+        for name, data in members.items():
+            z.writestr(name, data)
+
+
+def test_damaged_and_hostile_documents_are_one_line_errors(sheet_document, tmp_path):
+    import zipfile
+    with zipfile.ZipFile(sheet_document) as z:
+        xml = z.read("Document.xml").decode("utf-8")
+    not_zip = tmp_path / "text.FCStd"
+    not_zip.write_text("hello")
+    no_xml = tmp_path / "noxml.FCStd"
+    _zip(no_xml, {"GuiDocument.xml": "<x/>"})
+    truncated = tmp_path / "cut.FCStd"
+    _zip(truncated, {"Document.xml": xml[: len(xml) // 2]})
+    # a zip bomb: a member whose central directory entry says it unpacks to 4 GB
+    bomb = tmp_path / "bomb.FCStd"
+    _zip(bomb, {"Document.xml": xml, "padding.bin": b"\0" * 16})
+    data = bytearray(bomb.read_bytes())
+    entry = data.rfind(b"PK\x01\x02")  # the last central directory entry: padding.bin
+    data[entry + 24:entry + 28] = (0xFFFFFFF0).to_bytes(4, "little")
+    bomb.write_bytes(bytes(data))
+    unknown = tmp_path / "unknown.FCStd"
+    _zip(unknown, {"Document.xml": xml.replace('type="Mesh::FeaturePython"',
+                                               'type="Nowhere::NoSuchClass"', 1)})
+    folder = tmp_path / "folder.FCStd"
+    folder.mkdir()
+    cases = [
+        (not_zip, "not a FreeCAD document (an .FCStd file is a zip archive)"),
+        (no_xml, "no Document.xml in the archive"),
+        (truncated, "Document.xml is not well-formed XML"),
+        (bomb, "unpacks to"),
+        (unknown, "could not be loaded"),
+        (folder, "is a folder"),
+    ]
+    out = str(tmp_path / "never.stl")
+    for path, message in cases:
+        r = frepcad(str(path), "-o", out)
+        assert r.returncode == 2, (path, r.stdout, r.stderr)
+        assert message in r.stderr, (path, r.stderr)
+        assert "Traceback" not in r.stderr, r.stderr
+        # FreeCAD itself may print what it could not load; ours is the one frepcad line
+        ours = [line for line in r.stderr.splitlines() if line.startswith("frepcad:")]
+        assert len(ours) == 1, r.stderr
+        assert not os.path.exists(out)

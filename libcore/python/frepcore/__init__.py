@@ -20,6 +20,7 @@ import os
 
 from ._frepcore import Cancelled, Mesh, Node, node_types, parse_model, read_mesh
 from ._frepcore import check_param, node_reference_markdown
+from ._frepcore import DEFAULT_CELLS  # cells along the longest side when no resolution is given
 
 __all__ = ["Cancelled", "Mesh", "Node", "Shape", "node_types", "parse_model", "read_mesh",
            "load", "automatic_box", "NotPrintable"]
@@ -38,8 +39,6 @@ _POSITIONAL = {
     "twist": ["rate", "axis", "center"],
     "taper": ["scale2", "length", "scale1", "axis", "start"],
 }
-
-DEFAULT_CELLS = 128  # grid cells along the longest side when no resolution is given
 
 
 class NotPrintable(ValueError):
@@ -116,22 +115,19 @@ class Shape:
         return self.node.mesh(box, cell, progress, normals)
 
     def export(self, path, resolution=None, bbox=None, cells=None, format="", check=True,
-               progress=None):
-        """Meshes, checks with CGAL and writes path atomically; returns the check report.
+               progress=None, force=False):
+        """Meshes, checks with CGAL and writes path atomically (libcore's export pipeline,
+        the same as `frepcad export`); returns the check report (a dict with 'text').
 
-        Raises NotPrintable (nothing written) when the check fails, Cancelled when progress
-        returns False.
+        Raises NotPrintable (nothing written) when the check fails and force is not given,
+        Cancelled when progress returns False (nothing written).
         """
-        mesh = self.mesh(resolution=resolution, bbox=bbox, cells=cells,
-                         progress=_scaled(progress, 0.0, 0.5))
-        report = None
-        if check:
-            report = mesh.check(os.path.basename(path), _scaled(progress, 0.5, 0.9))
-            if not report["printable"]:
-                raise NotPrintable("%s: not written, the mesh is not printable: %s"
-                                   % (path, "; ".join(report["reasons"])), report)
-        mesh.write(path, format, _scaled(progress, 0.9, 1.0))
-        return report
+        report = self.node.export(path, bbox=bbox, resolution=resolution, cells=cells,
+                                  format=format, check=check, force=force, progress=progress)
+        if check and not report["printable"] and not force:
+            raise NotPrintable("%s: not written, the mesh is not printable: %s"
+                               % (path, "; ".join(report["reasons"])), report)
+        return report if check else None
 
     def to_json(self, bbox=None, resolution=None, description=""):
         return self.node.to_json(bbox, resolution, description)
@@ -165,7 +161,8 @@ def _scaled(progress, lo, hi):
 
 def automatic_box(shape, resolution=None, bbox=None, cells=None, padding_cells=1.5,
                   bounds=None):
-    """The meshing box and cell size for shape.
+    """The meshing box and cell size for shape: libcore's box policy (the one `frepcad
+    export` and every export use).
 
     bbox defaults to the solid's interval bounds, padded so the surface never touches the
     box; resolution (cell size) defaults to the longest side over `cells` (default 128).
@@ -173,21 +170,9 @@ def automatic_box(shape, resolution=None, bbox=None, cells=None, padding_cells=1
     pass a result of shape.bounds() already at hand.
     """
     if bbox is not None:
-        lo, hi = _box_pair(bbox)
-        longest = max(h - l for l, h in zip(lo, hi))
-        cell = resolution if resolution else longest / (cells or DEFAULT_CELLS)
-        return (tuple(lo), tuple(hi)), cell
-    b = bounds if bounds is not None else shape.bounds()
-    if b["empty"]:
-        raise ValueError("the solid is empty: no point of the search box is inside")
-    if not b["bounded"]:
-        raise ValueError("the solid is unbounded towards %s; give a bounding box or intersect "
-                         "it with a bounded solid" % ", ".join(b["unbounded_sides"]))
-    lo, hi = b["box"]
-    longest = max(max(h - l for l, h in zip(lo, hi)), 1e-9)
-    cell = resolution if resolution else longest / (cells or DEFAULT_CELLS)
-    pad = padding_cells * cell + 1e-3 * longest
-    return (tuple(l - pad for l in lo), tuple(h + pad for h in hi)), cell
+        bbox = _box_pair(bbox)
+    return _node(shape).choose_box(bbox=bbox, resolution=resolution or None, cells=cells,
+                                   padding_cells=padding_cells, bounds=bounds)
 
 
 def _box_pair(bbox):

@@ -7,7 +7,7 @@
 #include <functional>
 #include <string>
 
-#include "mesh/triangle_mesh.h"
+#include "base/triangle_mesh.h"
 
 namespace frep {
 

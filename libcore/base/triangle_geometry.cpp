@@ -1,4 +1,4 @@
-#include "mesh/triangle_geometry.h"
+#include "base/triangle_geometry.h"
 
 namespace frep {
 

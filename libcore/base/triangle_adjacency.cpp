@@ -1,4 +1,4 @@
-#include "mesh/triangle_adjacency.h"
+#include "base/triangle_adjacency.h"
 
 namespace frep {
 

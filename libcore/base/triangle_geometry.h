@@ -6,7 +6,7 @@
 #include <array>
 #include <cmath>
 
-#include "mesh/triangle_mesh.h"
+#include "base/triangle_mesh.h"
 
 namespace frep {
 

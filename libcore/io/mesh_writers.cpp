@@ -2,11 +2,11 @@
 #include <cmath>
 #include <cstring>
 
-#include "frep/errors.h"
-#include "mesh/atomic_file.h"
-#include "mesh/mesh_io.h"
-#include "mesh/triangle_adjacency.h"
-#include "mesh/triangle_geometry.h"
+#include "base/errors.h"
+#include "base/atomic_file.h"
+#include "io/mesh_io.h"
+#include "base/triangle_adjacency.h"
+#include "base/triangle_geometry.h"
 
 namespace frep {
 

@@ -1,5 +1,6 @@
-#include "mesh/atomic_file.h"
+#include "base/atomic_file.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -7,7 +8,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "frep/errors.h"
+#include "base/errors.h"
 
 namespace frep {
 
@@ -22,7 +23,9 @@ AtomicFile::AtomicFile(const std::string& path) : path_(path) {
   const auto slash = path.find_last_of('/');
   const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
   if (name.empty()) throw FileError(path + ": not a file name");
-  std::string pattern = folderOf(path) + "/." + name + ".tmp-XXXXXX";
+  // A short temporary name, whatever the length of the target's (a name near the 255-byte
+  // limit must still be writable); still recognisable by its prefix.
+  std::string pattern = folderOf(path) + "/.frep-tmp-XXXXXX";
   const int fd = mkstemp(pattern.data());
   if (fd < 0)
     throw FileError(path + ": cannot write in folder '" + folderOf(path) +
@@ -55,6 +58,11 @@ void AtomicFile::print(const char* fmt, ...) {
 }
 
 void AtomicFile::commit() {
+  // mkstemp makes the file private (0600); the finished file gets the mode any new file
+  // would get (0666 less the umask).
+  const mode_t mask = ::umask(0);
+  ::umask(mask);
+  ::fchmod(fileno(file_), 0666 & ~mask);
   const bool ok = std::fflush(file_) == 0 && fsync(fileno(file_)) == 0;
   const int closeResult = std::fclose(file_);
   file_ = nullptr;

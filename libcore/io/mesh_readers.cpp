@@ -2,19 +2,21 @@
 #include <fstream>
 #include <sstream>
 
-#include "frep/errors.h"
-#include "mesh/mesh_io.h"
+#include "base/errors.h"
+#include "base/file_names.h"
+#include "io/mesh_io.h"
 
 namespace frep {
 
 namespace {
 
 std::string slurp(const std::string& path) {
+  requireRegularFile(path, "a mesh file");  // a FIFO would block, a folder reads as empty
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError(path + ": cannot open the file");
+  if (!in) throw FileError(displayName(path) + ": cannot open the file");
   std::stringstream ss;
   ss << in.rdbuf();
-  if (in.bad()) throw FileError(path + ": read error");
+  if (in.bad()) throw FileError(displayName(path) + ": read error");
   return ss.str();
 }
 
@@ -51,24 +53,56 @@ TriangleMesh readStl(const std::string& path, const std::string& data) {
     }
   }
   if (data.compare(0, 5, "solid") != 0)
-    throw FileError(path + ": not an STL file (binary size does not match its triangle count, "
+    throw FileError(displayName(path) + ": not an STL file (binary size does not match its triangle count, "
                            "and it does not start with 'solid')");
+  // ASCII STL, read strictly: a garbage file is bad input (exit 2), not an empty mesh that
+  // the check would call "not printable".
   std::istringstream in(data);
-  std::string word;
-  std::size_t corner = 0;
-  while (in >> word) {
-    if (word != "vertex") continue;
-    Vec3f p;
-    if (!(in >> p[0] >> p[1] >> p[2]))
-      throw FileError(path + ": ASCII STL vertex " + std::to_string(m.positions.size() + 1) +
-                      " does not have three numbers");
-    m.positions.push_back(p);
-    if (++corner % 3 == 0) {
+  std::string line;
+  std::size_t lineNo = 0, inLoop = 0;
+  bool ended = false, loop = false;
+  while (std::getline(in, line)) {
+    ++lineNo;
+    std::istringstream ls(line);
+    std::string word;
+    if (!(ls >> word)) continue;
+    const std::string where = displayName(path) + ":" + std::to_string(lineNo);
+    if (ended) throw FileError(where + ": text after 'endsolid'");
+    if (lineNo == 1 && word == "solid") continue;
+    if (word == "facet") {
+      std::string normal;
+      float n[3];
+      if (!(ls >> normal >> n[0] >> n[1] >> n[2]) || normal != "normal")
+        throw FileError(where + ": ASCII STL 'facet' needs 'normal' and three numbers");
+    } else if (word == "outer") {
+      std::string l;
+      if (!(ls >> l) || l != "loop") throw FileError(where + ": ASCII STL expects 'outer loop'");
+      loop = true;
+      inLoop = 0;
+    } else if (word == "vertex") {
+      Vec3f p;
+      if (!loop || !(ls >> p[0] >> p[1] >> p[2]))
+        throw FileError(where + ": ASCII STL 'vertex' needs three numbers inside 'outer loop'");
+      m.positions.push_back(p);
+      ++inLoop;
+    } else if (word == "endloop") {
+      if (!loop || inLoop != 3)
+        throw FileError(where + ": ASCII STL facet with " + std::to_string(inLoop) +
+                        " vertices; a facet has 3");
       const std::uint32_t b = static_cast<std::uint32_t>(m.positions.size() - 3);
       m.triangles.push_back({b, b + 1, b + 2});
+      loop = false;
+    } else if (word == "endfacet") {
+      if (loop) throw FileError(where + ": 'endfacet' before 'endloop'");
+    } else if (word == "endsolid") {
+      ended = true;
+    } else {
+      throw FileError(where + ": unexpected '" + word.substr(0, 40) +
+                      "' in an ASCII STL (facet, outer loop, vertex, endloop, endfacet, "
+                      "endsolid)");
     }
   }
-  if (corner % 3 != 0) throw FileError(path + ": ASCII STL has a facet without three vertices");
+  if (!ended) throw FileError(displayName(path) + ": ASCII STL ends without 'endsolid' (a truncated file?)");
   return m;
 }
 
@@ -82,7 +116,7 @@ TriangleMesh readObj(const std::string& path, const std::string& data) {
     std::istringstream ls(line);
     std::string tag;
     ls >> tag;
-    const std::string where = path + ":" + std::to_string(lineNo);
+    const std::string where = displayName(path) + ":" + std::to_string(lineNo);
     if (tag == "v") {
       Vec3f p;
       if (!(ls >> p[0] >> p[1] >> p[2])) throw FileError(where + ": 'v' needs three numbers");
@@ -109,9 +143,9 @@ TriangleMesh readObj(const std::string& path, const std::string& data) {
 TriangleMesh readPly(const std::string& path, const std::string& data) {
   std::size_t headerEnd = data.find("end_header");
   if (data.compare(0, 3, "ply") != 0 || headerEnd == std::string::npos)
-    throw FileError(path + ": not a PLY file (no 'ply' ... 'end_header')");
+    throw FileError(displayName(path) + ": not a PLY file (no 'ply' ... 'end_header')");
   std::size_t bodyStart = data.find('\n', headerEnd);
-  if (bodyStart == std::string::npos) throw FileError(path + ": PLY header not terminated");
+  if (bodyStart == std::string::npos) throw FileError(displayName(path) + ": PLY header not terminated");
   ++bodyStart;
   std::istringstream header(data.substr(0, headerEnd));
   std::string line, format;
@@ -134,7 +168,8 @@ TriangleMesh readPly(const std::string& path, const std::string& data) {
       Element e;
       ls >> e.name >> e.count;
       elements.push_back(e);
-    } else if (w == "property" && !elements.empty()) {
+    } else if (w == "property") {
+      if (elements.empty()) throw FileError(displayName(path) + ": PLY property before any element");
       Prop p;
       ls >> p.type;
       if (p.type == "list") {
@@ -147,7 +182,7 @@ TriangleMesh readPly(const std::string& path, const std::string& data) {
   }
   const bool ascii = format == "ascii";
   if (!ascii && format != "binary_little_endian")
-    throw FileError(path + ": PLY format '" + format +
+    throw FileError(displayName(path) + ": PLY format '" + format +
                     "' not supported; supported: ascii, binary_little_endian");
   auto size = [&](const std::string& t) -> std::size_t {
     if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
@@ -156,18 +191,18 @@ TriangleMesh readPly(const std::string& path, const std::string& data) {
         t == "float32")
       return 4;
     if (t == "double" || t == "float64") return 8;
-    throw FileError(path + ": PLY property type '" + t + "' not supported");
+    throw FileError(displayName(path) + ": PLY property type '" + t + "' not supported");
   };
   std::size_t pos = bodyStart;
   std::istringstream text(ascii ? data.substr(bodyStart) : std::string());
   auto readValue = [&](const std::string& t) -> double {
     if (ascii) {
       double v;
-      if (!(text >> v)) throw FileError(path + ": PLY data ends early");
+      if (!(text >> v)) throw FileError(displayName(path) + ": PLY data ends early");
       return v;
     }
     const std::size_t n = size(t);
-    if (pos + n > data.size()) throw FileError(path + ": PLY data ends early");
+    if (pos + n > data.size()) throw FileError(displayName(path) + ": PLY data ends early");
     const char* p = data.data() + pos;
     pos += n;
     if (t == "float" || t == "float32") { float v; std::memcpy(&v, p, 4); return v; }
@@ -182,6 +217,10 @@ TriangleMesh readPly(const std::string& path, const std::string& data) {
   };
   TriangleMesh m;
   for (const Element& e : elements) {
+    // An element without properties takes no bytes: its count could claim anything (and
+    // reading it would loop for as long as the count says).
+    if (e.props.empty() && e.count > 0)
+      throw FileError(displayName(path) + ": PLY element '" + e.name + "' has no properties");
     for (std::size_t i = 0; i < e.count; ++i) {
       Vec3f p{0, 0, 0};
       std::vector<long long> ids;
@@ -199,7 +238,7 @@ TriangleMesh readPly(const std::string& path, const std::string& data) {
         }
       }
       if (e.name == "vertex") m.positions.push_back(p);
-      else if (e.name == "face") addPolygon(m, ids, path + ": face " + std::to_string(i));
+      else if (e.name == "face") addPolygon(m, ids, displayName(path) + ": face " + std::to_string(i));
     }
   }
   return m;
@@ -214,10 +253,10 @@ TriangleMesh readFreecadBms(const std::string& path, const std::string& data) {
     std::memcpy(counts, data.data() + 264, 8);
   }
   if (data.size() < header || head[0] != 0xA0B0C0D0u)
-    throw FileError(path + ": not a FreeCAD binary mesh (no magic number)");
+    throw FileError(displayName(path) + ": not a FreeCAD binary mesh (no magic number)");
   const std::size_t points = counts[0], facets = counts[1];
   if (data.size() != header + 12 * points + 24 * facets + 24)
-    throw FileError(path + ": FreeCAD binary mesh of " + std::to_string(points) + " points and " +
+    throw FileError(displayName(path) + ": FreeCAD binary mesh of " + std::to_string(points) + " points and " +
                     std::to_string(facets) + " facets has the wrong size");
   TriangleMesh m;
   m.positions.resize(points);
@@ -228,7 +267,7 @@ TriangleMesh readFreecadBms(const std::string& path, const std::string& data) {
     std::memcpy(m.triangles[i].data(), f, 12);
     for (std::uint32_t id : m.triangles[i])
       if (id >= points)
-        throw FileError(path + ": facet " + std::to_string(i) + " has point index " +
+        throw FileError(displayName(path) + ": facet " + std::to_string(i) + " has point index " +
                         std::to_string(id) + " out of range (" + std::to_string(points) +
                         " points)");
   }

@@ -1,0 +1,150 @@
+"""Task panels: the parameters of an FRep feature, edited with a live preview.
+
+Opened by double-clicking a feature (its view provider's setEdit). Every change is applied to
+the property at once and the document recomputed, so the 3D view follows. The whole edit is
+one undo step ("Edit <label>"): OK commits it, Cancel aborts it and every value is as it was.
+Parameters the panel cannot show as a field (matrices, point lists) are left to the property
+view, and the panel says so.
+"""
+
+import FreeCAD
+import FreeCADGui
+
+import FRepProperties as props
+
+try:
+    translate = FreeCAD.Qt.translate
+except AttributeError:  # FreeCAD without its Qt helpers (headless tests)
+    def translate(context, text):
+        return text
+
+# A field's range: the registry's allowed range where finite, else this.
+UNBOUNDED = 1e9
+
+
+def _limits(param):
+    lo = param["min"] if param["min"] is not None else -UNBOUNDED
+    hi = param["max"] if param["max"] is not None else UNBOUNDED
+    return lo, hi
+
+
+class ParametersPanel:
+    """The Qt form of one feature's parameters (FreeCAD task panel protocol)."""
+
+    def __init__(self, obj):
+        from PySide import QtGui
+        self.obj = obj
+        self.doc = obj.Document
+        self.fields = {}  # property name -> (getter, setter of the widget)
+        self.doc.openTransaction(translate("FRep", "Edit %s") % obj.Label)
+        self.form = QtGui.QWidget()
+        self.form.setObjectName("FRepParametersPanel")
+        self.form.setWindowTitle(translate("FRep", "%s parameters") % obj.Label)
+        layout = QtGui.QFormLayout(self.form)
+        skipped = []
+        for param in obj.Proxy.parameters():
+            name = props.property_name(param["name"])
+            widget = self._field(param, name)
+            if widget is None:
+                skipped.append(name)
+                continue
+            widget.setToolTip(props.tooltip(param))
+            layout.addRow(name, widget)
+        if skipped:
+            note = QtGui.QLabel(translate("FRep", "Edit in the property view: %s")
+                                % ", ".join(skipped))
+            note.setWordWrap(True)
+            layout.addRow(note)
+        self.status = QtGui.QLabel("")
+        self.status.setObjectName("FRepPanelStatus")
+        self.status.setWordWrap(True)
+        layout.addRow(self.status)
+
+    # -- fields -------------------------------------------------------------------------
+    def _field(self, param, name):
+        from PySide import QtGui
+        t = param["type"]
+        value = getattr(self.obj, name)
+        if t in ("real", "integer"):
+            box = QtGui.QDoubleSpinBox() if t == "real" else QtGui.QSpinBox()
+            lo, hi = _limits(param)
+            if t == "real":
+                box.setDecimals(6)
+                box.setSingleStep(0.1)
+            else:
+                lo, hi = int(max(lo, -2 ** 31 + 1)), int(min(hi, 2 ** 31 - 1))
+            box.setRange(lo, hi)
+            box.setValue(float(value) if t == "real" else int(value))
+            box.setObjectName(name)
+            box.valueChanged.connect(lambda v, n=name: self._apply(n, v))
+            self.fields[name] = box
+            return box
+        if t == "boolean":
+            box = QtGui.QCheckBox()
+            box.setChecked(bool(value))
+            box.setObjectName(name)
+            box.toggled.connect(lambda v, n=name: self._apply(n, v))
+            self.fields[name] = box
+            return box
+        if t == "choice":
+            box = QtGui.QComboBox()
+            box.addItems(list(param["choices"]))
+            box.setCurrentIndex(list(param["choices"]).index(value))
+            box.setObjectName(name)
+            box.currentIndexChanged.connect(
+                lambda i, n=name, c=list(param["choices"]): self._apply(n, c[i]))
+            self.fields[name] = box
+            return box
+        if t == "vector3":
+            row = QtGui.QWidget()
+            row.setObjectName(name)
+            h = QtGui.QHBoxLayout(row)
+            h.setContentsMargins(0, 0, 0, 0)
+            boxes = []
+            for axis in range(3):
+                b = QtGui.QDoubleSpinBox()
+                b.setDecimals(6)
+                b.setRange(-UNBOUNDED, UNBOUNDED)
+                b.setValue(value[axis])
+                b.setObjectName("%s.%s" % (name, "xyz"[axis]))
+                h.addWidget(b)
+                boxes.append(b)
+            for b in boxes:
+                b.valueChanged.connect(lambda _v, n=name, bs=boxes: self._apply(
+                    n, FreeCAD.Vector(*[x.value() for x in bs])))
+            self.fields[name] = row
+            return row
+        if t == "text":
+            line = QtGui.QLineEdit(value)
+            line.setObjectName(name)
+            line.editingFinished.connect(lambda n=name, w=line: self._apply(n, w.text()))
+            self.fields[name] = line
+            return line
+        return None
+
+    def _apply(self, name, value):
+        """Live preview: the property takes the value and the document recomputes."""
+        try:
+            setattr(self.obj, name, value)
+        except Exception as e:  # a value the property refuses: say so, keep editing
+            self.status.setText(str(e))
+            return
+        self.doc.recompute()
+        self.status.setText(self.obj.getStatusString() if "Invalid" in self.obj.State else "")
+
+    # -- FreeCAD task panel protocol ------------------------------------------------------
+    def getStandardButtons(self):
+        from PySide import QtGui
+        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
+
+    def accept(self):
+        self.doc.commitTransaction()
+        self.doc.recompute()
+        FreeCADGui.ActiveDocument.resetEdit()
+        return True
+
+    def reject(self):
+        self.doc.abortTransaction()  # every value as it was before the panel opened
+        self.doc.recompute()
+        FreeCADGui.ActiveDocument.resetEdit()
+        return True

@@ -1,0 +1,146 @@
+#include "pipeline/export_pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "base/errors.h"
+
+namespace frep {
+
+namespace {
+
+std::string sideNames(const SolidBounds& b) {
+  static const char* names[3][2] = {{"-x", "+x"}, {"-y", "+y"}, {"-z", "+z"}};
+  std::string s;
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side)
+      if (b.unbounded[a][side]) s += (s.empty() ? "" : ", ") + std::string(names[a][side]);
+  return s;
+}
+
+double longestSide(const Box3& b) {
+  return std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]});
+}
+
+void checkRequest(const BoxRequest& r) {
+  if (r.resolution && !(*r.resolution > 0.0 && std::isfinite(*r.resolution)))
+    throw ModelError("resolution (cell size) must be a number > 0");
+  if (r.cells && (*r.cells < 1 || *r.cells > kMaxCells))
+    throw ModelError("cells must be between 1 and " + std::to_string(kMaxCells) + ", got " +
+                     std::to_string(*r.cells));
+  if (r.bbox) {
+    for (int a = 0; a < 3; ++a)
+      if (!std::isfinite(r.bbox->lo[a]) || !std::isfinite(r.bbox->hi[a]) ||
+          !(r.bbox->lo[a] < r.bbox->hi[a]))
+        throw ModelError("bounding box must be finite with min < max on every axis");
+  }
+}
+
+double cellSize(const BoxRequest& r, double longest) {
+  if (r.resolution) return *r.resolution;
+  return longest / static_cast<double>(r.cells.value_or(kDefaultCells));
+}
+
+}  // namespace
+
+MeshingBox chooseBox(const SolidBounds& b, const BoxRequest& r) {
+  checkRequest(r);
+  if (r.bbox) return {*r.bbox, cellSize(r, longestSide(*r.bbox))};
+  if (b.empty) throw ModelError("the solid is empty: no point is inside");
+  if (!b.bounded())
+    throw ModelError("the solid is unbounded towards " + sideNames(b) +
+                     "; give a bounding box or intersect it with a bounded solid");
+  const double longest = std::max(longestSide(b.box), 1e-9);
+  MeshingBox m{b.box, cellSize(r, longest)};
+  const double pad = r.paddingCells * m.resolution + 1e-3 * longest;
+  for (int a = 0; a < 3; ++a) {
+    m.box.lo[a] -= pad;
+    m.box.hi[a] += pad;
+  }
+  return m;
+}
+
+MeshingBox chooseBox(const Field& field, const Box3& known, const BoxRequest& r) {
+  checkRequest(r);
+  if (r.bbox) return chooseBox(SolidBounds{}, r);
+  BoundsOptions o;
+  o.known = known;
+  return chooseBox(findBounds(field, o), r);
+}
+
+const char* stageName(ExportStage s) {
+  switch (s) {
+    case ExportStage::Bounds: return "bounds";
+    case ExportStage::Mesh: return "meshing";
+    case ExportStage::Check: return "checking";
+    case ExportStage::Write: return "writing";
+  }
+  return "?";
+}
+
+ExportResult exportField(const Field& field, const ExportRequest& request,
+                         const std::string& path, const std::string& name) {
+  using Clock = std::chrono::steady_clock;
+  auto report = [&](ExportStage s, double f) {
+    if (request.progress && !request.progress(s, f)) throw Cancelled();
+  };
+  auto since = [](Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+  };
+  // The format first: a bad output name is refused before any work.
+  const MeshFormat format = request.format ? *request.format : formatFromPath(path);
+  ExportResult result;
+
+  auto t = Clock::now();
+  report(ExportStage::Bounds, 0.0);
+  try {
+    result.box = chooseBox(field, request.known, request.box);
+  } catch (const ModelError& e) {
+    throw ModelError(name + ": " + e.what());
+  }
+  report(ExportStage::Bounds, 1.0);
+  result.seconds[0] = since(t);
+
+  t = Clock::now();
+  MeshingOptions o;
+  o.bbox = result.box.box;
+  o.resolution = result.box.resolution;
+  o.normals = request.normals;
+  if (request.progress)
+    o.progress = [&](double f) { return request.progress(ExportStage::Mesh, f); };
+  TriangleMesh mesh;
+  try {
+    mesh = polygonize(field, o, &result.stats);
+  } catch (const ModelError& e) {
+    throw ModelError(name + ": " + e.what());
+  }
+  result.triangles = mesh.triangleCount();
+  result.seconds[1] = since(t);
+
+  if (request.check) {
+    t = Clock::now();
+    report(ExportStage::Check, 0.0);
+    result.report = checkMesh(mesh, [&](double f) {
+      // The check cannot stop inside CGAL; a cancel asked for meanwhile is honoured at the
+      // next phase, before anything is written.
+      report(ExportStage::Check, f);
+    });
+    result.checked = true;
+    result.seconds[2] = since(t);
+    if (!result.report.printable() && !request.force) return result;
+  }
+
+  t = Clock::now();
+  report(ExportStage::Write, 0.0);
+  writeMesh(mesh, path, format, [&](double f) {
+    return !request.progress || request.progress(ExportStage::Write, f);
+  });
+  result.written = true;
+  result.seconds[3] = since(t);
+  report(ExportStage::Write, 1.0);
+  return result;
+}
+
+}  // namespace frep

@@ -1,0 +1,79 @@
+// The one export pipeline: box policy -> mesh -> check -> write, with progress and cancel
+// across all of it. The CLI (JSON and, through the workbench, FCStd inputs), frepcore and the
+// workbench all come here, so they choose the same box, mesh the same way and refuse the
+// same meshes.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "base/vec.h"
+#include "check/mesh_check.h"
+#include "frep/bounds.h"
+#include "frep/field.h"
+#include "io/mesh_io.h"
+#include "mesh/mesher.h"
+
+namespace frep {
+
+// Grid cells along the longest side of the solid's box when no cell size is given.
+constexpr int kDefaultCells = 128;
+// The automatic box is the solid's own box grown by this many cells (and 1/1000 of its
+// size), so the surface never touches the meshing box.
+constexpr double kPaddingCells = 1.5;
+// Cells along the longest side that `cells` may ask for.
+constexpr int kMaxCells = 1 << 16;
+
+struct BoxRequest {
+  std::optional<Box3> bbox;          // given: meshed as is
+  std::optional<double> resolution;  // cell size; wins over cells
+  std::optional<int> cells;          // cells along the longest side (kDefaultCells)
+  double paddingCells = kPaddingCells;
+};
+
+struct MeshingBox {
+  Box3 box;
+  double resolution = 0.0;
+};
+
+// The box policy. Without a bbox the solid's box comes from `bounds` (findBounds); an empty or
+// unbounded solid is a ModelError saying what to do. Bad requests (resolution <= 0, cells out
+// of range, an inverted box) are ModelErrors naming the parameter.
+MeshingBox chooseBox(const SolidBounds& bounds, const BoxRequest& request);
+// The same, finding the bounds of `field` itself when they are needed; `known` is a box the
+// solid is known to lie in (structuralBounds of its tree).
+MeshingBox chooseBox(const Field& field, const Box3& known, const BoxRequest& request);
+
+enum class ExportStage { Bounds, Mesh, Check, Write };
+const char* stageName(ExportStage s);
+
+struct ExportRequest {
+  BoxRequest box;
+  Box3 known = BoundsOptions().known;  // structural bounds of the solid, when known
+  std::optional<MeshFormat> format;    // default: from the output's extension
+  bool check = true;                   // judge the mesh with CGAL before writing
+  bool force = false;                  // write a mesh the check refused
+  bool normals = true;                 // vertex normals from the gradient (OBJ and PLY keep them)
+  // (stage, fraction of that stage done); false cancels: throws Cancelled, nothing written.
+  // Called from the calling thread or worker threads, one call at a time.
+  std::function<bool(ExportStage, double)> progress;
+};
+
+struct ExportResult {
+  MeshingBox box;
+  MeshingStats stats;
+  CheckReport report;  // empty when the check was not asked for
+  bool checked = false;
+  bool written = false;  // false: the check refused the mesh (and force was not given)
+  std::size_t triangles = 0;
+  double seconds[4] = {0, 0, 0, 0};  // per ExportStage
+};
+
+// Meshes `field`, checks and writes `path` atomically (nothing is left on failure or cancel;
+// an existing file is replaced only by a complete new one). `name` names the solid in
+// messages. Throws ModelError, FileError, Cancelled.
+ExportResult exportField(const Field& field, const ExportRequest& request,
+                         const std::string& path, const std::string& name);
+
+}  // namespace frep

@@ -1,0 +1,206 @@
+#!/usr/bin/env python3
+"""Fuzz test of frepcad: random mutations of the example models and of small meshes, each run
+through `frepcad export` or `frepcad check`.
+
+Asserts for every case: no signal (no crash), exit status 0, 1 or 2 only, at most a few lines
+on stderr and none of a library's own exception text, no file or temporary file left in the
+output folder beyond the output itself, and an existing output file untouched when the
+command fails.
+
+usage: fuzz_cli.py FREPCAD SOURCE_DIR CASES [SEED]     (make test: 2,000 cases; make fuzz: more)
+"""
+import concurrent.futures
+import json
+import os
+import random
+import shutil
+import subprocess
+import sys
+import tempfile
+
+TOKENS = ["NaN", "Infinity", "-Infinity", "1e999", "-1e999", "-1", "0", "1e-320", "1e308",
+          '"x"', "[]", "{}", "null", "true", '"ref"', "\xff\xfe", '{"type": "sphere"}',
+          '{"ref": "a"}', ",", ":", "[", "{", '"', "\\u0000", '"frepcad": 99', '"exprot": 1',
+          "9" * 400, "[[[[[[[[[[", "-0", "0.0000000000000000000000001"]
+STATUS = {}  # exit status -> cases, to show the cases reach past the parser
+LIBRARY_TEXT = ("json.exception", "terminate called", "Traceback", "what():", "basic_string",
+                "std::", "Segmentation", "Aborted")
+
+
+def mutate_text(rng, text):
+    data = bytearray(text.encode("utf-8", "surrogateescape"))
+    for _ in range(rng.randint(1, 3)):
+        kind = rng.randrange(7)
+        if not data:
+            data = bytearray(b"{}")
+        at = rng.randrange(len(data))
+        if kind == 0:  # flip a byte
+            data[at] = rng.randrange(256)
+        elif kind == 1:  # delete a span
+            del data[at:at + rng.randint(1, 40)]
+        elif kind == 2:  # duplicate a span
+            span = data[at:at + rng.randint(1, 200)]
+            data[at:at] = span
+        elif kind == 3:  # insert a token
+            data[at:at] = rng.choice(TOKENS).encode("utf-8", "surrogateescape")
+        elif kind == 4:  # truncate
+            del data[at:]
+        elif kind == 5:  # replace a number
+            digits = [i for i, c in enumerate(data) if chr(c).isdigit()]
+            if digits:
+                i = rng.choice(digits)
+                data[i:i + 1] = rng.choice(["1e308", "-1e308", "0", "-5", "1e-300", "NaN",
+                                            "123456789"]).encode()
+        else:  # structural: a value replaced in parsed JSON
+            try:
+                doc = json.loads(bytes(data))
+                paths = []
+
+                def walk(v, path):
+                    paths.append(path)
+                    if isinstance(v, dict):
+                        for k in v:
+                            walk(v[k], path + [k])
+                    elif isinstance(v, list):
+                        for i, x in enumerate(v):
+                            walk(x, path + [i])
+                walk(doc, [])
+                path = rng.choice(paths[1:] or [[]])
+                target = doc
+                for p in path[:-1]:
+                    target = target[p]
+                if path:
+                    target[path[-1]] = rng.choice(
+                        [None, True, -1, 0, 1e308, -1e-308, "sphere", "x", [], {}, [1, 2, 3],
+                         [[0, 0, 0]] * 3, {"type": "union"}, {"ref": "nothing"}, 10 ** 30])
+                data = bytearray(json.dumps(doc).encode())
+            except (ValueError, RecursionError):
+                pass
+    return bytes(data)
+
+
+def mutate_mesh(rng, data):
+    data = bytearray(data)
+    kind = rng.randrange(5)
+    if kind == 0 and len(data) > 84:  # a binary STL's triangle count lies
+        data[80:84] = rng.randrange(2 ** 32).to_bytes(4, "little")
+    elif kind == 1:
+        del data[rng.randrange(len(data)):]
+    elif kind == 2:
+        for _ in range(rng.randint(1, 20)):
+            data[rng.randrange(len(data))] = rng.randrange(256)
+    elif kind == 3:
+        at = rng.randrange(len(data))
+        data[at:at] = rng.choice([b"\nf 1 2 99999\n", b"\nv nan nan nan\n", b"element x 99\n",
+                                  b"facet normal\n", b"\x00" * 50, b"endsolid\n", b"-1 -1 -1\n"])
+    else:
+        at = rng.randrange(len(data))
+        data[at:at + 8] = b""
+    return bytes(data)
+
+
+def seeds(frepcad, src, work):
+    models = []
+    for folder in (os.path.join(src, "examples"), os.path.join(src, "examples", "showcase")):
+        for name in sorted(os.listdir(folder)):
+            if name.endswith(".json"):
+                with open(os.path.join(folder, name), encoding="utf-8") as f:
+                    models.append(f.read())
+    meshes = []
+    for fmt, ext in (("stl", ".stl"), ("stl-ascii", ".stl"), ("obj", ".obj"), ("ply", ".ply")):
+        path = os.path.join(work, "seed" + ext)
+        subprocess.run([frepcad, "export", os.path.join(src, "examples", "sphere.json"), "-o",
+                        path, "--cells", "4", "--format", fmt, "--quiet"], check=True)
+        with open(path, "rb") as f:
+            meshes.append((ext, f.read()))
+        os.remove(path)
+    return models, meshes
+
+
+def run_case(frepcad, work, index, kind, payload, ext, keep):
+    case = os.path.join(work, "case%d" % index)
+    os.makedirs(os.path.join(case, "out"))
+    inp = os.path.join(case, "in" + ext)
+    with open(inp, "wb") as f:
+        f.write(payload)
+    out = os.path.join(case, "out", "part.stl")
+    before = None
+    if keep:
+        before = b"solid keep\nendsolid keep\n"
+        with open(out, "wb") as f:
+            f.write(before)
+    if kind == "export":
+        cmd = [frepcad, "export", inp, "-o", out, "--cells", "12", "--quiet"]
+    else:
+        cmd = [frepcad, "check", inp, "--json"]
+    try:
+        p = subprocess.run(cmd, capture_output=True, timeout=60)
+    except subprocess.TimeoutExpired:
+        return "hung (60 s): %s" % " ".join(cmd)
+    problems = []
+    err = p.stderr.decode("utf-8", "replace")
+    if p.returncode < 0:
+        problems.append("killed by signal %d" % -p.returncode)
+    elif p.returncode not in (0, 1, 2):
+        problems.append("exit status %d" % p.returncode)
+    if len(err.strip().splitlines()) > 4:
+        problems.append("more than 4 lines on stderr")
+    for text in LIBRARY_TEXT:
+        if text in err:
+            problems.append("library text %r on stderr" % text)
+    left = sorted(os.listdir(os.path.join(case, "out")))
+    if any("tmp" in n for n in left) or len(left) > 1:
+        problems.append("files left: %s" % left)
+    if kind == "export" and p.returncode != 0 and keep:
+        with open(out, "rb") as f:
+            if f.read() != before:
+                problems.append("an existing output was changed by a failed export")
+    if kind == "check" and p.returncode in (0, 1):
+        try:
+            json.loads(p.stdout.decode("utf-8"))
+        except ValueError:
+            problems.append("check --json printed invalid JSON")
+    STATUS[p.returncode] = STATUS.get(p.returncode, 0) + 1
+    if problems:
+        keepdir = os.path.join(tempfile.gettempdir(), "frep-fuzz-failure-%d" % index)
+        shutil.rmtree(keepdir, ignore_errors=True)
+        shutil.copytree(case, keepdir)
+        return "case %d (%s, kept in %s): %s\n  %s" % (index, " ".join(cmd), keepdir,
+                                                       "; ".join(problems), err[-500:])
+    shutil.rmtree(case)
+    return None
+
+
+def main(argv):
+    if len(argv) not in (4, 5):
+        print(__doc__)
+        return 2
+    frepcad, src, cases = argv[1], argv[2], int(argv[3])
+    seed = int(argv[4]) if len(argv) == 5 else 20261201
+    rng = random.Random(seed)
+    work = tempfile.mkdtemp(prefix="frep-fuzz-")
+    try:
+        models, meshes = seeds(frepcad, src, work)
+        jobs = []
+        for i in range(cases):
+            if rng.random() < 0.7:
+                jobs.append((i, "export", mutate_text(rng, rng.choice(models)), ".json",
+                             rng.random() < 0.5))
+            else:
+                ext, data = rng.choice(meshes)
+                jobs.append((i, "check", mutate_mesh(rng, data), ext, False))
+        failures = []
+        with concurrent.futures.ThreadPoolExecutor(max_workers=os.cpu_count() or 2) as pool:
+            for result in pool.map(lambda j: run_case(frepcad, work, *j), jobs):
+                if result:
+                    failures.append(result)
+                    print("FAIL", result, flush=True)
+        print("fuzz: %d cases from seed %d; exit statuses %s" % (cases, seed, dict(sorted(STATUS.items()))))
+        print("%d passed, %d failed" % (cases - len(failures), len(failures)))
+        return 1 if failures else 0
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
