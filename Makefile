@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
 
-.PHONY: all deps configure build test acceptance fuzz demo bench screenshots examples format clean
+.PHONY: all deps configure build test acceptance fuzz install demo bench screenshots examples format clean
 
 all: build
 
@@ -24,6 +24,13 @@ test: build
 
 acceptance: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) -L acceptance
+
+# Installs frepcad and the workbench (with frepcore inside it) where FreeCAD finds them, no
+# source tree needed: PREFIX/bin/frepcad and PREFIX/share/FreeCAD/Mod/FRep (FreeCAD's user Mod
+# folder for the default PREFIX).
+PREFIX ?= $(HOME)/.local
+install: build
+	cmake --install $(BUILD_DIR) --prefix $(PREFIX)
 
 # The fuzz test at length: FUZZ_CASES mutations (default 50,000), FUZZ_SEED to vary them.
 FUZZ_CASES ?= 50000

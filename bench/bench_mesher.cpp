@@ -59,7 +59,7 @@ void BM_MeshTwist(benchmark::State& s) { meshModel(s, "twist"); }
 
 // The reference models at N cells across the longest side of their box (the figure the issues
 // quote: "256 cells"), so models of different sizes are compared at the same grid.
-void meshAcross(benchmark::State& state, const std::string& name) {
+void meshAcross(benchmark::State& state, const std::string& name, bool normals = true) {
   const frep::Model model =
       frep::loadModel(std::string(FREP_SOURCE_DIR) + "/examples/" + name + ".json");
   const frep::Program program = frep::compile(model.root);
@@ -68,6 +68,7 @@ void meshAcross(benchmark::State& state, const std::string& name) {
   double longest = 0;
   for (int a = 0; a < 3; ++a) longest = std::max(longest, options.bbox.hi[a] - options.bbox.lo[a]);
   options.resolution = longest / static_cast<double>(state.range(0));
+  options.normals = normals;
   std::size_t triangles = 0;
   for (auto _ : state) {
     const frep::TriangleMesh mesh = frep::polygonize(program, options);
@@ -76,6 +77,11 @@ void meshAcross(benchmark::State& state, const std::string& name) {
   }
   state.counters["triangles"] = static_cast<double>(triangles);
 }
+// Without vertex normals: what an STL export and a workbench preview mesh.
+void BM_AcrossHelixNoNormals(benchmark::State& s) { meshAcross(s, "helix", false); }
+void BM_AcrossCsgNoNormals(benchmark::State& s) { meshAcross(s, "csg", false); }
+BENCHMARK(BM_AcrossHelixNoNormals)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_AcrossCsgNoNormals)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 void BM_AcrossHelix(benchmark::State& s) { meshAcross(s, "helix"); }
 void BM_AcrossCsg(benchmark::State& s) { meshAcross(s, "csg"); }
 void BM_AcrossTwist(benchmark::State& s) { meshAcross(s, "twist"); }

@@ -91,13 +91,14 @@ BENCHMARK(BM_InstancerEval10k)->Unit(benchmark::kMillisecond)->UseRealTime();
 void BM_InstancerAcross(benchmark::State& state) {
   const frep::Program p = frep::compile(plate());
   frep::MeshingOptions o;
+  o.normals = state.range(1) != 0;
   o.bbox = {{-0.5, -0.5, -0.5}, {50.5, 50.5, 0.5}};
   o.resolution = 51.0 / static_cast<double>(state.range(0));
   std::size_t triangles = 0;
   for (auto _ : state) triangles = frep::polygonize(p, o).triangleCount();
   state.counters["triangles"] = static_cast<double>(triangles);
 }
-BENCHMARK(BM_InstancerAcross)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_InstancerAcross)->Args({256, 1})->Args({256, 0})->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_InstancerMesh10k)->Arg(10)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_SphereNodeEval)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_SphereFormulaEval)->Unit(benchmark::kMillisecond)->UseRealTime();

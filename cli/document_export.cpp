@@ -43,8 +43,26 @@ bool isDocumentPath(const std::string& path) {
   return ext == ".fcstd";
 }
 
+// The workbench: FREPCAD_WORKBENCH_DIR, else the installed one beside this binary
+// (<prefix>/bin/frepcad -> <prefix>/<FREP_MOD_DIR>/FRep), else the source tree's.
+fs::path workbenchDir(bool* installed) {
+  *installed = false;
+  if (const char* v = std::getenv("FREPCAD_WORKBENCH_DIR"); v && *v) return v;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const fs::path beside = exe.parent_path() / FREP_INSTALLED_WORKBENCH;
+    if (fs::exists(beside / "FRepDocumentExport.py", ec)) {
+      *installed = true;
+      return fs::weakly_canonical(beside, ec);
+    }
+  }
+  return FREP_WORKBENCH_DIR;
+}
+
 int exportDocument(const ExportOptions& o) {
-  const fs::path workbench = envOr("FREPCAD_WORKBENCH_DIR", FREP_WORKBENCH_DIR);
+  bool installed = false;
+  const fs::path workbench = workbenchDir(&installed);
   const fs::path script = workbench / "FRepDocumentExport.py";
   if (!fs::exists(script))
     throw FileError("frepcad: the FRep workbench is not at " + workbench.string() +
@@ -58,7 +76,8 @@ int exportDocument(const ExportOptions& o) {
   fs::create_directory_symlink(fs::absolute(workbench), home / "Mod" / "FRep");
 
   setenv("FREECAD_USER_HOME", home.c_str(), 1);
-  setenv("FREPCORE_PATH", envOr("FREPCORE_PATH", FREPCORE_BUILD_DIR).c_str(), 1);
+  // An installed workbench carries its own frepcore; the source tree's is in the build.
+  if (!installed) setenv("FREPCORE_PATH", envOr("FREPCORE_PATH", FREPCORE_BUILD_DIR).c_str(), 1);
   // The options travel parsed, so both kinds of input read them alike.
   nlohmann::json args = {{"document", o.input}, {"output", o.output},     {"format", o.format},
                          {"object", o.object},  {"sets", o.sets},         {"force", o.force},

@@ -443,3 +443,23 @@ TEST(SetOperations, BlendAddsPaskoDisplacement) {
 
 }  // namespace
 }  // namespace frep
+
+namespace frep {
+namespace {
+// The interval's own next-double steps agree with std::nextafter everywhere, signs, zeros,
+// subnormals and infinities included.
+TEST(IntervalMath, NextUpAndDownAreNextafter) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const double values[] = {0.0, -0.0, 1.0, -1.0, 1e-310, -1e-310,
+                           std::numeric_limits<double>::denorm_min(),
+                           -std::numeric_limits<double>::denorm_min(),
+                           std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
+                           inf, -inf, 3.5e200, -2.25e-300};
+  for (double v : values) {
+    EXPECT_EQ(interval_detail::nextUp(v), std::nextafter(v, inf)) << v;
+    EXPECT_EQ(interval_detail::nextDown(v), std::nextafter(v, -inf)) << v;
+  }
+  EXPECT_TRUE(std::isnan(interval_detail::nextUp(std::nan(""))));
+}
+}  // namespace
+}  // namespace frep

@@ -1,7 +1,9 @@
 """Where the workbench's parts live, and how it finds the frepcore module.
 
-The workbench folder is symlinked into FreeCAD's user Mod folder by the set-up; frepcore is
-built into <repository>/build/python. FREPCORE_PATH overrides that location.
+Two layouts: in the repository the workbench folder is symlinked into FreeCAD's user Mod
+folder by the set-up and frepcore is built into <repository>/build/python; installed
+(`make install`, `cmake --install`) frepcore sits inside the workbench folder itself, so no
+source tree is needed. FREPCORE_PATH overrides both.
 """
 
 import os
@@ -27,6 +29,7 @@ def frepcore_dirs():
     dirs = []
     if os.environ.get("FREPCORE_PATH"):
         dirs.append(os.environ["FREPCORE_PATH"])
+    dirs.append(WORKBENCH_DIR)  # installed: Mod/FRep/frepcore
     dirs.append(os.path.join(REPOSITORY_DIR, "build", "python"))
     return dirs
 

@@ -18,6 +18,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 
 namespace frep {
@@ -49,12 +51,24 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // Worst error of glibc's exp, log, sin, cos, tan, atan, atan2, pow on x86-64, plus one.
 constexpr int kLibmUlps = 3;
 
+// The next double above v (std::nextafter towards +inf, without the library call: interval
+// evaluation runs for every cell of the mesher's octree and every sub-block of a brick).
+inline double nextUp(double v) {
+  if (!(v < kInf)) return v;  // +inf, NaN
+  if (v == 0.0) return std::numeric_limits<double>::denorm_min();
+  std::uint64_t u;
+  std::memcpy(&u, &v, sizeof u);
+  u = v > 0.0 ? u + 1 : u - 1;  // a negative v moves towards 0: its magnitude's bits shrink
+  std::memcpy(&v, &u, sizeof v);
+  return v;
+}
+inline double nextDown(double v) { return -nextUp(-v); }
 inline double down(double v, int ulps) {
-  for (int i = 0; i < ulps; ++i) v = std::nextafter(v, -kInf);
+  for (int i = 0; i < ulps; ++i) v = nextDown(v);
   return v;
 }
 inline double up(double v, int ulps) {
-  for (int i = 0; i < ulps; ++i) v = std::nextafter(v, kInf);
+  for (int i = 0; i < ulps; ++i) v = nextUp(v);
   return v;
 }
 }  // namespace interval_detail

@@ -25,6 +25,13 @@ namespace {
 constexpr double kEdgeMargin = 0.01;
 // The least number of float32 steps a cell must span (so kEdgeMargin is a few steps).
 constexpr double kMinCellFloatSteps = 256.0;
+// Triangles per cell of a brick's face, for the memory estimate.
+constexpr double kTrianglesPerFaceCell = 6.0;
+// Cells per edge of the sub-blocks of a brick that are proven uniform before its points are
+// evaluated.
+constexpr std::int64_t kSubCells = 4;
+// Root finding stops on an edge once its bracket is this narrow (a fraction of the edge).
+constexpr double kRootBracket = 1e-7;
 
 // The sampling grid. Grid point j on an axis sits at lo + (j - 0.5) h, j = 0 .. n + 1: points 0
 // and n + 1 lie half a cell outside the box, so the surface closes there (box caps).
@@ -75,28 +82,39 @@ Box3 rangeBox(const Grid& g, const CellRange& r) {
 // Interval proof that every grid point of the range has the same side. Intervals enclose the
 // computed point values rigorously (frep/interval.h), so no margin is needed; a point that may
 // be NaN counts as outside, so it spoils an "inside" proof only.
-bool provenUniform(const Field& field, const Grid& g, const CellRange& r) {
+// +1: every grid point of the range proven inside, -1: outside, 0: not proven.
+int provenSign(const Field& field, const Grid& g, const CellRange& r) {
   Interval p[3];
   for (int a = 0; a < 3; ++a) p[a] = {g.coord(a, r.lo[a]), g.coord(a, r.hi[a])};
   const Interval f = field.evalInterval(p[0], p[1], p[2]);
   const Interval v = min(f, g.boxField(p[0], p[1], p[2]));
-  return v.hi < 0.0 || (v.lo >= 0.0 && !v.nan);
+  if (v.hi < 0.0) return -1;
+  if (v.lo >= 0.0 && !v.nan) return 1;
+  return 0;
+}
+bool provenUniform(const Field& field, const Grid& g, const CellRange& r) {
+  return provenSign(field, g, r) != 0;
 }
 
 struct BrickResult {
   std::vector<std::uint64_t> keys;  // global edge key per local vertex
   std::vector<Vec3f> positions;
+  std::vector<Vec3f> normals;  // when asked for
   std::vector<Triangle> triangles;  // local vertex ids
 };
 
 struct Scratch {
   std::vector<double> x, y, z, f;
+  std::vector<double> qx, qy, qz, qf;  // the points evaluated, packed
+  std::vector<char> need;              // grid point needs its value
+  std::vector<std::int8_t> standIn;    // proven sign of a point that needs none
   std::vector<std::int32_t> edgeVertex;  // local edge key -> local vertex id
   std::vector<std::uint32_t> edgeOf;  // new local vertex -> local edge key
   std::vector<std::uint32_t> polys;  // 4 ids per polygon, last = UINT32_MAX for triangles
   // root finding, one entry per new vertex
   std::vector<double> px, py, pz, dx, dy, dz, ta, tb, fa, fb;
   std::vector<std::int8_t> lastSide;
+  std::vector<std::uint32_t> active;  // edges still being refined
 };
 
 double quality(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
@@ -107,6 +125,24 @@ double quality(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
   };
   const double edges = sq(a, b) + sq(a, c) + sq(b, c);
   return edges > 0 ? area2 / edges : 0.0;
+}
+
+// The unit normal at a vertex: minus the field's gradient (the field grows inward), or the box
+// face on a box cap.
+Vec3f vertexNormal(const Field& field, const Grid& g, const Vec3f& p) {
+  const Dual d = field.evalGradient(p[0], p[1], p[2]);
+  double n[3] = {-d.d[0], -d.d[1], -d.d[2]};
+  if (g.boxField(p[0], p[1], p[2]) < d.v) {
+    const double dist[6] = {p[0] - g.lo[0], g.hi[0] - p[0], p[1] - g.lo[1],
+                            g.hi[1] - p[1], p[2] - g.lo[2], g.hi[2] - p[2]};
+    const int face = static_cast<int>(std::min_element(dist, dist + 6) - dist);
+    n[0] = n[1] = n[2] = 0.0;
+    n[face / 2] = face % 2 ? 1.0 : -1.0;
+  }
+  const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  return len > 0 && std::isfinite(len)
+             ? Vec3f{float(n[0] / len), float(n[1] / len), float(n[2] / len)}
+             : Vec3f{0.f, 0.f, 0.f};
 }
 
 class BrickMesher {
@@ -122,11 +158,40 @@ class BrickMesher {
       return static_cast<std::uint32_t>(i + n[0] * (j + n[1] * k));
     };
 
-    // 1. Field at every grid point of the brick.
+    // 1. Field at the grid points of the brick. Sub-blocks of kSubCells^3 cells that
+    // intervals prove uniform need no values: none of their cells is crossed, and every
+    // crossed edge lies in a cell of an unproven sub-block, whose corners are all evaluated.
+    // Their other points get a stand-in of the proven sign, read only by the cell masks, so
+    // the mesh is the same as with every point evaluated.
     s.x.resize(count);
     s.y.resize(count);
     s.z.resize(count);
     s.f.resize(count);
+    s.need.assign(count, 0);
+    s.standIn.assign(count, 0);
+    const std::int64_t c[3] = {n[0] - 1, n[1] - 1, n[2] - 1};
+    for (std::int64_t k0 = 0; k0 < c[2]; k0 += kSubCells)
+      for (std::int64_t j0 = 0; j0 < c[1]; j0 += kSubCells)
+        for (std::int64_t i0 = 0; i0 < c[0]; i0 += kSubCells) {
+          const std::int64_t i1 = std::min(i0 + kSubCells, c[0]),
+                             j1 = std::min(j0 + kSubCells, c[1]),
+                             k1 = std::min(k0 + kSubCells, c[2]);
+          CellRange sub{{r.lo[0] + i0, r.lo[1] + j0, r.lo[2] + k0},
+                        {r.lo[0] + i1, r.lo[1] + j1, r.lo[2] + k1}};
+          const bool whole = i1 - i0 == c[0] && j1 - j0 == c[1] && k1 - k0 == c[2];
+          const int sign = whole ? 0 : provenSign(field, g_, sub);
+          for (std::int64_t k = k0; k <= k1; ++k)
+            for (std::int64_t j = j0; j <= j1; ++j)
+              for (std::int64_t i = i0; i <= i1; ++i) {
+                const std::uint32_t id = local(i, j, k);
+                if (sign == 0) s.need[id] = 1;
+                else s.standIn[id] = static_cast<std::int8_t>(sign);
+              }
+        }
+    std::vector<double>&qx = s.qx, &qy = s.qy, &qz = s.qz, &qf = s.qf;
+    qx.clear();
+    qy.clear();
+    qz.clear();
     for (std::int64_t k = 0; k < n[2]; ++k)
       for (std::int64_t j = 0; j < n[1]; ++j)
         for (std::int64_t i = 0; i < n[0]; ++i) {
@@ -134,10 +199,18 @@ class BrickMesher {
           s.x[id] = g_.coord(0, r.lo[0] + i);
           s.y[id] = g_.coord(1, r.lo[1] + j);
           s.z[id] = g_.coord(2, r.lo[2] + k);
+          if (s.need[id]) {
+            qx.push_back(s.x[id]);
+            qy.push_back(s.y[id]);
+            qz.push_back(s.z[id]);
+          }
         }
-    field.evalBatch(s.x.data(), s.y.data(), s.z.data(), count, s.f.data());
-    for (std::size_t id = 0; id < count; ++id)
-      s.f[id] = combine(s.f[id], g_.boxField(s.x[id], s.y[id], s.z[id]));
+    qf.resize(qx.size());
+    field.evalBatch(qx.data(), qy.data(), qz.data(), qx.size(), qf.data());
+    for (std::size_t id = 0, q = 0; id < count; ++id)
+      s.f[id] = s.need[id] ? combine(qf[q++], g_.boxField(s.x[id], s.y[id], s.z[id]))
+                           : static_cast<double>(s.standIn[id]);
+    const std::size_t evaluated = qx.size();
 
     // 2. Polygons of every tetrahedron the surface crosses; one vertex per crossed edge.
     const KuhnTables& kt = kuhnTables();
@@ -180,7 +253,14 @@ class BrickMesher {
     const std::size_t m = edgeOf.size();
     out.keys.resize(m);
     out.positions.resize(m);
-    locateRoots(field, s, edgeOf, n, r, out);
+    const std::size_t rootEvaluations = locateRoots(field, s, edgeOf, n, r, out);
+    // Normals with the brick's own (specialised) field: a vertex on a face two bricks share
+    // gets the same normal from both, since both fields equal the whole one there.
+    out.normals.clear();
+    if (opt_.normals) {
+      out.normals.resize(m);
+      for (std::size_t e = 0; e < m; ++e) out.normals[e] = vertexNormal(field, g_, out.positions[e]);
+    }
 
     // 4. Triangles; a quad is split along the diagonal giving the better-shaped pair.
     out.triangles.clear();
@@ -204,16 +284,17 @@ class BrickMesher {
         out.triangles.push_back({q[1], q[2], q[3]});
       }
     }
-    return count + m * static_cast<std::size_t>(opt_.rootIterations);
+    return evaluated + rootEvaluations;
   }
 
  private:
   // Illinois (modified regula falsi), all edges of the brick at once so each iteration is one
   // batch evaluation. The edge is parametrised from its lower grid point, so a vertex on a
   // face shared by two bricks is computed identically from both sides.
-  void locateRoots(const Field& field, Scratch& s, const std::vector<std::uint32_t>& edgeOf,
-                   const std::int64_t n[3],
-                   const CellRange& r, BrickResult& out) const {
+  // Returns the points evaluated.
+  std::size_t locateRoots(const Field& field, Scratch& s,
+                          const std::vector<std::uint32_t>& edgeOf, const std::int64_t n[3],
+                          const CellRange& r, BrickResult& out) const {
     const std::size_t m = edgeOf.size();
     for (auto* v : {&s.px, &s.py, &s.pz, &s.dx, &s.dy, &s.dz, &s.ta, &s.tb, &s.fa, &s.fb})
       v->resize(m);
@@ -249,16 +330,28 @@ class BrickMesher {
       if (!(x > a && x < b)) x = 0.5 * (a + b);  // NaN, infinities, flat: bisect
       return x;
     };
-    for (int it = 0; it < opt_.rootIterations; ++it) {
-      for (std::size_t e = 0; e < m; ++e) {
+    // An edge leaves the iteration once its bracket is narrower than kRootBracket of the
+    // edge (far below what float32 coordinates resolve); each edge's steps depend on its
+    // own values only, so an edge two bricks share still ends the same in both.
+    std::vector<std::uint32_t>& active = s.active;
+    active.resize(m);
+    for (std::size_t e = 0; e < m; ++e) active[e] = static_cast<std::uint32_t>(e);
+    std::size_t evaluations = 0;
+    for (int it = 0; it < opt_.rootIterations && !active.empty(); ++it) {
+      const std::size_t na = active.size();
+      for (std::size_t q = 0; q < na; ++q) {
+        const std::uint32_t e = active[q];
         t[e] = interpolate(e);
-        qx[e] = s.px[e] + t[e] * s.dx[e];
-        qy[e] = s.py[e] + t[e] * s.dy[e];
-        qz[e] = s.pz[e] + t[e] * s.dz[e];
+        qx[q] = s.px[e] + t[e] * s.dx[e];
+        qy[q] = s.py[e] + t[e] * s.dy[e];
+        qz[q] = s.pz[e] + t[e] * s.dz[e];
       }
-      field.evalBatch(qx.data(), qy.data(), qz.data(), m, ft.data());
-      for (std::size_t e = 0; e < m; ++e) {
-        const double v = combine(ft[e], g_.boxField(qx[e], qy[e], qz[e]));
+      field.evalBatch(qx.data(), qy.data(), qz.data(), na, ft.data());
+      evaluations += na;
+      std::size_t kept = 0;
+      for (std::size_t q = 0; q < na; ++q) {
+        const std::uint32_t e = active[q];
+        const double v = combine(ft[q], g_.boxField(qx[q], qy[q], qz[q]));
         if (isInside(v) == isInside(s.fa[e])) {
           s.ta[e] = t[e];
           s.fa[e] = v;
@@ -270,7 +363,13 @@ class BrickMesher {
           if (s.lastSide[e] == -1) s.fa[e] *= 0.5;
           s.lastSide[e] = -1;
         }
+        if (v == 0.0) {  // the root exactly: the final interpolation returns it
+          s.ta[e] = s.tb[e] = t[e];
+          continue;
+        }
+        if (s.tb[e] - s.ta[e] > kRootBracket) active[kept++] = e;
       }
+      active.resize(kept);
     }
     for (std::size_t e = 0; e < m; ++e) {
       const double x = std::clamp(interpolate(e), kEdgeMargin, 1.0 - kEdgeMargin);
@@ -278,6 +377,7 @@ class BrickMesher {
                           static_cast<float>(s.py[e] + x * s.dy[e]),
                           static_cast<float>(s.pz[e] + x * s.dz[e])};
     }
+    return evaluations;
   }
 
   const Grid& g_;
@@ -320,30 +420,6 @@ void collectBricks(const Field& field, const std::shared_ptr<const Field>& holde
     }
     if (!empty) collectBricks(f, here, g, cells, bc, c0, c1, out);
   }
-}
-
-void computeNormals(const Field& field, const Grid& g, TriangleMesh& mesh) {
-  mesh.normals.resize(mesh.positions.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.positions.size(), 1024),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-    for (std::size_t v = range.begin(); v != range.end(); ++v) {
-      const Vec3f& p = mesh.positions[v];
-      const Dual d = field.evalGradient(p[0], p[1], p[2]);
-      double n[3] = {-d.d[0], -d.d[1], -d.d[2]};
-      // On a box cap the box's face is the surface.
-      if (g.boxField(p[0], p[1], p[2]) < d.v) {
-        const double dist[6] = {p[0] - g.lo[0], g.hi[0] - p[0], p[1] - g.lo[1],
-                                g.hi[1] - p[1], p[2] - g.lo[2], g.hi[2] - p[2]};
-        const int face = static_cast<int>(std::min_element(dist, dist + 6) - dist);
-        n[0] = n[1] = n[2] = 0.0;
-        n[face / 2] = face % 2 ? 1.0 : -1.0;
-      }
-      const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-      mesh.normals[v] = len > 0 && std::isfinite(len)
-                            ? Vec3f{float(n[0] / len), float(n[1] / len), float(n[2] / len)}
-                            : Vec3f{0.f, 0.f, 0.f};
-    }
-  });
 }
 
 }  // namespace
@@ -407,6 +483,27 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
   std::vector<ActiveBrick> bricks;
   collectBricks(field, nullptr, g, cells, bc, b0, b1, bricks);
 
+  // Memory guard: an ordinary surface makes about 6 triangles per cell of a brick's face
+  // (calibrated on the reference models: 5 to 7; a gyroid's dense sheets make more, so the
+  // estimate never refuses a mesh that would fit).
+  if (opt.memoryBudget > 0) {
+    const double triangles = static_cast<double>(bricks.size()) * bc * bc * kTrianglesPerFaceCell;
+    const double bytes = triangles * opt.bytesPerTriangle;
+    if (bytes > static_cast<double>(opt.memoryBudget)) {
+      double h = g.h[0];
+      for (int a = 1; a < 3; ++a) h = std::max(h, g.h[a]);
+      std::ostringstream os;
+      os.precision(3);
+      os << "mesher: at cell size " << opt.resolution << " the mesh would have about "
+         << triangles / 1e6 << " million triangles, needing about " << bytes / 1e9
+         << " GB, and " << static_cast<double>(opt.memoryBudget) / 1e9
+         << " GB is available: use a cell size of at least "
+         << h * std::sqrt(bytes / static_cast<double>(opt.memoryBudget)) * 1.1
+         << " (or a smaller box)";
+      throw ModelError(os.str());
+    }
+  }
+
   std::vector<BrickResult> results(bricks.size());
   tbb::enumerable_thread_specific<Scratch> scratch;
   BrickMesher mesher(g, opt);
@@ -448,12 +545,15 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
 
   TriangleMesh mesh;
   mesh.positions.resize(owner.size());
+  if (opt.normals) mesh.normals.resize(owner.size());
   std::vector<std::size_t> brickOf(order.size());
   for (std::size_t i = 0; i < results.size(); ++i)
     for (std::size_t v = first[i]; v < first[i + 1]; ++v) brickOf[v] = i;
   for (std::size_t u = 0; u < owner.size(); ++u) {
     const std::size_t entry = owner[u];
-    mesh.positions[u] = results[brickOf[entry]].positions[entry - first[brickOf[entry]]];
+    const BrickResult& from = results[brickOf[entry]];
+    mesh.positions[u] = from.positions[entry - first[brickOf[entry]]];
+    if (opt.normals) mesh.normals[u] = from.normals[entry - first[brickOf[entry]]];
   }
   std::size_t triangleCount = 0;
   for (const auto& r : results) triangleCount += r.triangles.size();
@@ -464,7 +564,6 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
       mesh.triangles.push_back({unique[base + t[0]], unique[base + t[1]], unique[base + t[2]]});
     results[i] = BrickResult();  // free as we go
   }
-  if (opt.normals) computeNormals(field, g, mesh);
   if (opt.progress) opt.progress(1.0);
 
   if (stats) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <sstream>
 
 #include "base/errors.h"
@@ -10,6 +11,21 @@
 namespace frep {
 
 namespace {
+
+// MemAvailable from /proc/meminfo (bytes), 0 when unknown (no limit then).
+std::size_t availableMemory() {
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  std::size_t kib = 0;
+  while (in >> key) {
+    if (key == "MemAvailable:") {
+      in >> kib;
+      return kib * 1024;
+    }
+    in.ignore(1 << 12, '\n');
+  }
+  return 0;
+}
 
 std::string sideNames(const SolidBounds& b) {
   static const char* names[3][2] = {{"-x", "+x"}, {"-y", "+y"}, {"-z", "+z"}};
@@ -107,7 +123,11 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
   MeshingOptions o;
   o.bbox = result.box.box;
   o.resolution = result.box.resolution;
-  o.normals = request.normals;
+  // Vertex normals only where the file keeps them: STL's facet normals come from the
+  // triangles, FreeCAD computes its own for .bms.
+  o.normals = request.normals && (format == MeshFormat::Obj || format == MeshFormat::Ply);
+  o.memoryBudget = request.memoryBudget ? *request.memoryBudget : availableMemory();
+  o.bytesPerTriangle = kMesherBytesPerTriangle + (request.check ? kCheckBytesPerTriangle : 0.0);
   if (request.progress)
     o.progress = [&](double f) { return request.progress(ExportStage::Mesh, f); };
   TriangleMesh mesh;

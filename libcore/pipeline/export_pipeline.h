@@ -22,6 +22,9 @@ constexpr int kDefaultCells = 128;
 // The automatic box is the solid's own box grown by this many cells (and 1/1000 of its
 // size), so the surface never touches the meshing box.
 constexpr double kPaddingCells = 1.5;
+// Memory per triangle of meshing and of the CGAL check (measured: docs/performance.md).
+constexpr double kMesherBytesPerTriangle = 70.0;
+constexpr double kCheckBytesPerTriangle = 750.0;
 // Cells along the longest side that `cells` may ask for.
 constexpr int kMaxCells = 1 << 16;
 
@@ -55,6 +58,9 @@ struct ExportRequest {
   bool check = true;                   // judge the mesh with CGAL before writing
   bool force = false;                  // write a mesh the check refused
   bool normals = true;                 // vertex normals from the gradient (OBJ and PLY keep them)
+  // Memory the export may take; default: what the system has available now. A mesh
+  // estimated to need more is refused before it is made (MeshingOptions::memoryBudget).
+  std::optional<std::size_t> memoryBudget;
   // (stage, fraction of that stage done); false cancels: throws Cancelled, nothing written.
   // Called from the calling thread or worker threads, one call at a time.
   std::function<bool(ExportStage, double)> progress;
