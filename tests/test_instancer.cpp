@@ -226,6 +226,35 @@ TEST(Instancer, NestedInstancersEvaluateAlikeInPointAndBatch) {
   EXPECT_GT(p.eval(1.3, 1, 1), 0.0);  // the last pair's second ball
 }
 
+// Specialised to a box, the instancer keeps only the copies within reach of it; points no
+// copy reaches, and intervals, are answered by the whole set. Every mode gives the same values
+// as the whole program, near the copies, between them and far from all of them.
+TEST(Instancer, SpecialisedToABoxGivesTheSameValues) {
+  const NodePtr ball = makeNode("sphere", {{"radius", realValue(0.3)}}, {});
+  for (const char* combine : {"union", "blend"}) {
+    const Program whole = compile(instancer(ball, plate(), combine));
+    std::mt19937 g(5);
+    std::uniform_real_distribution<double> u(-3.0, 53.0), w(-2.0, 2.0), size(0.05, 4.0);
+    for (int b = 0; b < 40; ++b) {
+      const double c[3] = {u(g), u(g), w(g)}, h = size(g);
+      const Box3 box{{c[0] - h, c[1] - h, c[2] - h}, {c[0] + h, c[1] + h, c[2] + h}};
+      const Program part = whole.specialised(box);
+      std::uniform_real_distribution<double> in(-h, h);
+      for (int i = 0; i < 50; ++i) {
+        const double x = c[0] + in(g), y = c[1] + in(g), z = c[2] + in(g);
+        ASSERT_EQ(part.eval(x, y, z), whole.eval(x, y, z)) << combine << " box " << b;
+        double batch = 0;
+        part.evalBatch(&x, &y, &z, 1, &batch);
+        ASSERT_EQ(batch, whole.eval(x, y, z));
+        ASSERT_EQ(part.evalGradient(x, y, z).d[0], whole.evalGradient(x, y, z).d[0]);
+      }
+      const Interval a = part.evalInterval({c[0] - h / 2, c[0]}, {c[1], c[1] + h / 3}, {c[2], c[2]});
+      const Interval e = whole.evalInterval({c[0] - h / 2, c[0]}, {c[1], c[1] + h / 3}, {c[2], c[2]});
+      ASSERT_TRUE(a.lo == e.lo && a.hi == e.hi && a.nan == e.nan);
+    }
+  }
+}
+
 TEST(Instancer, RefusesAnUnboundedCopy) {
   try {
     instancer(makeNode("halfspace", {}, {}), {{0, 0, 0}});

@@ -16,6 +16,8 @@ namespace {
 // Above this many candidate copies an interval over a (large) box is not evaluated copy by
 // copy; a conservative bound is returned and the caller's subdivision narrows the box.
 constexpr std::size_t kMaxIntervalCopies = 64;
+// Up to this many copies, a scan beats the k-d tree.
+constexpr std::size_t kLinearScan = 64;
 
 struct Cloud {
   const std::vector<Vec3>* points;
@@ -74,8 +76,25 @@ struct InstanceSet::Index {
   explicit Index(const std::vector<Vec3>& points)
       : cloud{&points}, tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(8)) {}
 
-  // Indices of the copies within `radius` of q, in increasing order.
+  // Indices of the copies within `radius` of q, in increasing order. Few copies (a set
+  // specialised to a brick) are scanned directly, with nanoflann's own metric and test
+  // (sum of squared differences in x, y, z order, strictly below radius^2), so both ways
+  // find the same copies.
   void within(const double q[3], double radius, std::vector<std::uint32_t>& out) const {
+    if (cloud.points->size() <= kLinearScan) {
+      out.clear();
+      const double r2 = radius * radius;
+      for (std::uint32_t i = 0; i < cloud.points->size(); ++i) {
+        const Vec3& p = (*cloud.points)[i];
+        double d2 = 0.0;
+        for (int a = 0; a < 3; ++a) {
+          const double diff = q[a] - p[a];
+          d2 += diff * diff;
+        }
+        if (d2 < r2) out.push_back(i);
+      }
+      return;
+    }
     thread_local std::vector<std::pair<std::uint32_t, double>> found;
     found.clear();
     tree.radiusSearch(q, radius * radius, found, nanoflann::SearchParams(32, 0, false));
@@ -84,6 +103,24 @@ struct InstanceSet::Index {
     std::sort(out.begin(), out.end());
   }
   std::uint32_t nearest(const double q[3], double* distance) const {
+    if (cloud.points->size() <= kLinearScan) {
+      std::uint32_t best = 0;
+      double best2 = std::numeric_limits<double>::infinity();
+      for (std::uint32_t i = 0; i < cloud.points->size(); ++i) {
+        const Vec3& p = (*cloud.points)[i];
+        double d2 = 0.0;
+        for (int a = 0; a < 3; ++a) {
+          const double diff = q[a] - p[a];
+          d2 += diff * diff;
+        }
+        if (d2 < best2) {
+          best2 = d2;
+          best = i;
+        }
+      }
+      *distance = std::sqrt(best2);
+      return best;
+    }
     std::uint32_t index = 0;
     double d2 = 0;
     tree.knnSearch(q, 1, &index, &d2);
@@ -132,7 +169,7 @@ std::uint32_t InstanceSet::nearest(const double q[3], double* distance) const {
 void InstanceSet::near(double x, double y, double z, std::vector<std::uint32_t>& out) const {
   const double q[3] = {x, y, z};
   index_->within(q, reach_, out);
-  if (out.empty() && !positions_.empty()) {
+  if (out.empty() && !positions_.empty() && !whole_) {
     double d = 0;
     out.push_back(nearest(q, &d));
   }
@@ -179,6 +216,7 @@ double InstanceSet::eval(double x, double y, double z) const {
   std::vector<std::uint32_t>& ids = work->ids;
   std::vector<double>& values = work->values;
   near(x, y, z, ids);
+  if (ids.empty() && whole_) return whole_->eval(x, y, z);
   values.resize(ids.size());
   for (std::size_t i = 0; i < ids.size(); ++i) {
     double q[3];
@@ -214,13 +252,16 @@ void InstanceSet::evalBatch(const double* x, const double* y, const double* z, s
   values.resize(qx.size());
   copy_->evalBatch(qx.data(), qy.data(), qz.data(), qx.size(), values.data());
   for (std::size_t j = 0; j < n; ++j)
-    out[j] = combine(values.data() + start[j], start[j + 1] - start[j]);
+    out[j] = start[j + 1] == start[j] && whole_
+                 ? whole_->eval(x[j], y[j], z[j])  // no copy of the subset reaches it
+                 : combine(values.data() + start[j], start[j + 1] - start[j]);
 }
 
 Dual InstanceSet::evalGradient(const Dual& x, const Dual& y, const Dual& z) const {
   ScopedWork work;
   std::vector<std::uint32_t>& ids = work->ids;
   near(x.v, y.v, z.v, ids);
+  if (ids.empty() && whole_) return whole_->evalGradient(x, y, z);
   std::vector<Dual>& values = work->duals;
   values.resize(ids.size());
   const Dual* in[3] = {&x, &y, &z};
@@ -244,6 +285,7 @@ Dual InstanceSet::evalGradient(const Dual& x, const Dual& y, const Dual& z) cons
 }
 
 Interval InstanceSet::evalInterval(const Interval& x, const Interval& y, const Interval& z) const {
+  if (whole_) return whole_->evalInterval(x, y, z);  // identical to the whole set's, as promised
   const Interval box[3] = {x, y, z};
   double c[3], h2 = 0;
   for (int a = 0; a < 3; ++a) {
@@ -302,14 +344,11 @@ std::shared_ptr<const Field> InstanceSet::specialise(const Box3& box) const {
   }
   const double h = std::sqrt(h2);
   if (positions_.empty()) return nullptr;
-  // As evalInterval's candidates: every copy within reach of a point of the box, and every
-  // copy that can be a point's nearest, with a little slack for the nearest's tie test.
-  double dNearest = 0;
-  index_->nearest(c, &dNearest);
+  // Every copy within reach of a point of the box (with a little slack); points no copy
+  // reaches go to the whole set.
   std::vector<std::uint32_t> keep;
-  index_->within(c, std::max(reach_ + h, dNearest + 2 * h) * (1 + 1e-6) + 1e-12, keep);
+  index_->within(c, (reach_ + h) * (1 + 1e-6) + 1e-12, keep);
   if (keep.size() == positions_.size()) return nullptr;
-  if (keep.empty()) keep.push_back(nearest(c, &dNearest));
   std::vector<Vec3> positions;
   std::vector<std::array<double, 9>> rotations;
   positions.reserve(keep.size());
@@ -317,8 +356,10 @@ std::shared_ptr<const Field> InstanceSet::specialise(const Box3& box) const {
     positions.push_back(positions_[i]);
     if (!rotations_.empty()) rotations.push_back(rotations_[i]);
   }
-  return std::make_shared<const InstanceSet>(std::move(positions), std::move(rotations), copy_,
-                                             reach_, combine_, blend_);
+  auto subset = std::make_shared<InstanceSet>(std::move(positions), std::move(rotations), copy_,
+                                              reach_, combine_, blend_);
+  subset->whole_ = whole_ ? whole_ : shared_from_this();
+  return subset;
 }
 
 Box3 InstanceSet::bounds() const {

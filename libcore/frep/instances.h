@@ -25,7 +25,7 @@ namespace frep {
 class Program;
 
 // A Field: the instancer compiles to one `external` instruction holding it.
-class InstanceSet final : public Field {
+class InstanceSet final : public Field, public std::enable_shared_from_this<InstanceSet> {
  public:
   // union: max of the copies; blend: the largest two, m1 >= m2, as Pasko's blend union,
   // m1 + a0 / (1 + (m1/a1)^2 + (m2/a1)^2) (exactly the union where only one copy reaches).
@@ -50,9 +50,9 @@ class InstanceSet final : public Field {
   // x, y, z carry their derivatives (the instancer may sit under a transform).
   Dual evalGradient(const Dual& x, const Dual& y, const Dual& z) const override;
   using Field::evalGradient;
-  // The copies that can matter inside the box (within reach of it, or nearest to one of its
-  // points), in the same order, so every mode gives the same values there; nullptr when that
-  // is every copy.
+  // The copies within reach of the box, in the same order, so every mode gives the same
+  // values there; a point of the box that no copy reaches is evaluated by the whole set (its
+  // nearest copy), and so are intervals. nullptr when that is every copy.
   std::shared_ptr<const Field> specialise(const Box3& box) const override;
   Box3 bounds() const override;
 
@@ -79,6 +79,9 @@ class InstanceSet final : public Field {
   Combine combine_;
   Blend blend_;
   std::unique_ptr<Index> index_;
+  // A specialised subset's whole set: it answers points no copy of the subset reaches, and
+  // intervals. Null for the whole set itself.
+  std::shared_ptr<const InstanceSet> whole_;
 };
 
 }  // namespace frep

@@ -115,6 +115,7 @@ struct Scratch {
   std::vector<double> px, py, pz, dx, dy, dz, ta, tb, fa, fb;
   std::vector<std::int8_t> lastSide;
   std::vector<std::uint32_t> active;  // edges still being refined
+  std::vector<double> tPrev;          // each edge's previous estimate
 };
 
 double quality(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
@@ -331,9 +332,10 @@ class BrickMesher {
       return x;
     };
     // An edge leaves the iteration once its bracket is narrower than kRootBracket of the
-    // edge (far below what float32 coordinates resolve); each edge's steps depend on its
-    // own values only, so an edge two bricks share still ends the same in both.
+    // edge or its two ends give the same float32 vertex; each edge's steps depend on its own
+    // values only, so an edge two bricks share still ends the same in both.
     std::vector<std::uint32_t>& active = s.active;
+    s.tPrev.assign(m, -1.0);
     active.resize(m);
     for (std::size_t e = 0; e < m; ++e) active[e] = static_cast<std::uint32_t>(e);
     std::size_t evaluations = 0;
@@ -367,7 +369,17 @@ class BrickMesher {
           s.ta[e] = s.tb[e] = t[e];
           continue;
         }
-        if (s.tb[e] - s.ta[e] > kRootBracket) active[kept++] = e;
+        // Done once this estimate and the last give the same float32 vertex: the iteration
+        // has settled below what the mesh can store.
+        const auto vertexAt = [&](double tt, int axis) {
+          const double p[3] = {s.px[e], s.py[e], s.pz[e]}, d[3] = {s.dx[e], s.dy[e], s.dz[e]};
+          return static_cast<float>(p[axis] + tt * d[axis]);
+        };
+        const bool sameVertex = s.tPrev[e] >= 0.0 && vertexAt(t[e], 0) == vertexAt(s.tPrev[e], 0) &&
+                                vertexAt(t[e], 1) == vertexAt(s.tPrev[e], 1) &&
+                                vertexAt(t[e], 2) == vertexAt(s.tPrev[e], 2);
+        s.tPrev[e] = t[e];
+        if (s.tb[e] - s.ta[e] > kRootBracket && !sameVertex) active[kept++] = e;
       }
       active.resize(kept);
     }
