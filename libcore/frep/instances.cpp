@@ -72,6 +72,16 @@ double valueOf(const Dual& v) {
 
 }  // namespace
 
+// nanoflann's L2_Simple metric, term for term, so a scan and the tree find the same copies.
+static double squaredDistance(const double q[3], const Vec3& p) {
+  double d2 = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    const double diff = q[a] - p[a];
+    d2 += diff * diff;
+  }
+  return d2;
+}
+
 struct InstanceSet::Index {
   explicit Index(const std::vector<Vec3>& points)
       : cloud{&points}, tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(8)) {}
@@ -85,12 +95,7 @@ struct InstanceSet::Index {
       out.clear();
       const double r2 = radius * radius;
       for (std::uint32_t i = 0; i < cloud.points->size(); ++i) {
-        const Vec3& p = (*cloud.points)[i];
-        double d2 = 0.0;
-        for (int a = 0; a < 3; ++a) {
-          const double diff = q[a] - p[a];
-          d2 += diff * diff;
-        }
+        const double d2 = squaredDistance(q, (*cloud.points)[i]);
         if (d2 < r2) out.push_back(i);
       }
       return;
@@ -107,12 +112,7 @@ struct InstanceSet::Index {
       std::uint32_t best = 0;
       double best2 = std::numeric_limits<double>::infinity();
       for (std::uint32_t i = 0; i < cloud.points->size(); ++i) {
-        const Vec3& p = (*cloud.points)[i];
-        double d2 = 0.0;
-        for (int a = 0; a < 3; ++a) {
-          const double diff = q[a] - p[a];
-          d2 += diff * diff;
-        }
+        const double d2 = squaredDistance(q, (*cloud.points)[i]);
         if (d2 < best2) {
           best2 = d2;
           best = i;
