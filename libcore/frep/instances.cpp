@@ -82,15 +82,102 @@ static double squaredDistance(const double q[3], const Vec3& p) {
   return d2;
 }
 
+// Buckets of a uniform grid whose cells are a little larger than the copies' reach: a
+// query of radius `reach` (the one every evaluated point makes) visits the 27 buckets round
+// its own and tests their copies exactly, several times faster than a k-d tree descent. Not
+// built where the copies are sparse (more cells than a few per copy).
+class BucketGrid {
+ public:
+  BucketGrid(const std::vector<Vec3>& points, double reach) : points_(points) {
+    if (points.empty() || !(reach > 0.0) || !std::isfinite(reach)) return;
+    // 1e-6 larger than the reach: a point within reach of q is then at most one cell away
+    // in every axis even after the divisions round.
+    cell_ = reach * (1.0 + 1e-6);
+    double lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) lo[a] = hi[a] = points[0][a];
+    for (const Vec3& p : points)
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::min(lo[a], p[a]);
+        hi[a] = std::max(hi[a], p[a]);
+      }
+    double cells = 1.0;
+    for (int a = 0; a < 3; ++a) {
+      lo_[a] = lo[a];
+      dims_[a] = static_cast<std::int64_t>(std::floor((hi[a] - lo[a]) / cell_)) + 1;
+      cells *= static_cast<double>(dims_[a]);
+    }
+    if (!(cells <= 4.0 * static_cast<double>(points.size()) + 64.0)) return;  // sparse
+    start_.assign(static_cast<std::size_t>(cells) + 1, 0);
+    std::vector<std::size_t> cellOf(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      cellOf[i] = linear(cellIndex(points[i][0], 0), cellIndex(points[i][1], 1),
+                         cellIndex(points[i][2], 2));
+      ++start_[cellOf[i] + 1];
+    }
+    for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
+    ids_.resize(points.size());
+    std::vector<std::size_t> fill(start_.begin(), start_.end() - 1);
+    for (std::size_t i = 0; i < points.size(); ++i)  // in index order: buckets stay sorted
+      ids_[fill[cellOf[i]]++] = static_cast<std::uint32_t>(i);
+    built_ = true;
+  }
+
+  bool built() const { return built_; }
+  double reach() const { return cell_ / (1.0 + 1e-6); }
+
+  // The copies strictly within `radius` (<= the reach) of q, in increasing order.
+  void within(const double q[3], double radius, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    const double r2 = radius * radius;
+    std::int64_t from[3], to[3];
+    for (int a = 0; a < 3; ++a) {
+      const double f = std::floor((q[a] - lo_[a]) / cell_);
+      if (!(f > -2.0 && f < static_cast<double>(dims_[a]) + 1.0)) return;  // no copy reaches
+      from[a] = std::max<std::int64_t>(0, static_cast<std::int64_t>(f) - 1);
+      to[a] = std::min<std::int64_t>(dims_[a] - 1, static_cast<std::int64_t>(f) + 1);
+    }
+    for (std::int64_t k = from[2]; k <= to[2]; ++k)
+      for (std::int64_t j = from[1]; j <= to[1]; ++j)
+        for (std::int64_t i = from[0]; i <= to[0]; ++i) {
+          const std::size_t c = linear(i, j, k);
+          for (std::size_t e = start_[c]; e < start_[c + 1]; ++e)
+            if (squaredDistance(q, points_[ids_[e]]) < r2) out.push_back(ids_[e]);
+        }
+    std::sort(out.begin(), out.end());
+  }
+
+ private:
+  std::int64_t cellIndex(double v, int axis) const {
+    const auto c = static_cast<std::int64_t>(std::floor((v - lo_[axis]) / cell_));
+    return std::min(std::max<std::int64_t>(c, 0), dims_[axis] - 1);
+  }
+  std::size_t linear(std::int64_t i, std::int64_t j, std::int64_t k) const {
+    return static_cast<std::size_t>(i + dims_[0] * (j + dims_[1] * k));
+  }
+
+  const std::vector<Vec3>& points_;
+  double cell_ = 0.0, lo_[3] = {0, 0, 0};
+  std::int64_t dims_[3] = {1, 1, 1};
+  std::vector<std::size_t> start_;
+  std::vector<std::uint32_t> ids_;
+  bool built_ = false;
+};
+
 struct InstanceSet::Index {
-  explicit Index(const std::vector<Vec3>& points)
-      : cloud{&points}, tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(8)) {}
+  Index(const std::vector<Vec3>& points, double reach)
+      : cloud{&points},
+        tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(8)),
+        buckets(points, reach) {}
 
   // Indices of the copies within `radius` of q, in increasing order. Few copies (a set
   // specialised to a brick) are scanned directly, with nanoflann's own metric and test
   // (sum of squared differences in x, y, z order, strictly below radius^2), so both ways
   // find the same copies.
   void within(const double q[3], double radius, std::vector<std::uint32_t>& out) const {
+    if (buckets.built() && radius <= buckets.reach() && cloud.points->size() > kLinearScan) {
+      buckets.within(q, radius, out);
+      return;
+    }
     if (cloud.points->size() <= kLinearScan) {
       out.clear();
       const double r2 = radius * radius;
@@ -130,6 +217,7 @@ struct InstanceSet::Index {
 
   Cloud cloud;
   Tree tree;
+  BucketGrid buckets;
 };
 
 InstanceSet::InstanceSet(std::vector<Vec3> positions,
@@ -142,7 +230,7 @@ InstanceSet::InstanceSet(std::vector<Vec3> positions,
       reach_(reach),
       combine_(combine),
       blend_(blend),
-      index_(std::make_unique<Index>(positions_)) {}
+      index_(std::make_unique<Index>(positions_, reach_)) {}
 
 InstanceSet::~InstanceSet() = default;
 
