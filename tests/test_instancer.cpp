@@ -2,6 +2,8 @@
 // brute-force union of every copy, in every evaluator mode, and meshed with 10,000 copies.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <cmath>
 #include <random>
 
@@ -252,6 +254,24 @@ TEST(Instancer, SpecialisedToABoxGivesTheSameValues) {
       const Interval e = whole.evalInterval({c[0] - h / 2, c[0]}, {c[1], c[1] + h / 3}, {c[2], c[2]});
       ASSERT_TRUE(a.lo == e.lo && a.hi == e.hi && a.nan == e.nan);
     }
+  }
+}
+
+// Found by the fuzz test: one copy 1e30 away made the bucket grid's cell count overflow. Far
+// apart copies must still evaluate, as the union of every copy.
+TEST(Instancer, CopiesFarApartStillEvaluate) {
+  const NodePtr ball = makeNode("sphere", {{"radius", realValue(0.3)}}, {});
+  std::vector<Vec3> at = plate();
+  at.resize(100);
+  at.push_back({1e30, 0, 0});
+  const Program p = compile(instancer(ball, at));
+  const Program one = compile(ball);
+  for (int i = 0; i < 200; ++i) {
+    const double x = 0.05 * i - 1, y = 0.3, z = 0.1;
+    double expect = -std::numeric_limits<double>::infinity();
+    for (const Vec3& c : at) expect = std::max(expect, one.eval(x - c[0], y - c[1], z - c[2]));
+    if (expect >= 0) EXPECT_EQ(p.eval(x, y, z), expect);
+    else EXPECT_LT(p.eval(x, y, z), 0.0);
   }
 }
 

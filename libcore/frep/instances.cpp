@@ -100,13 +100,17 @@ class BucketGrid {
         lo[a] = std::min(lo[a], p[a]);
         hi[a] = std::max(hi[a], p[a]);
       }
-    double cells = 1.0;
+    // The cell count in doubles first: copies far apart (1e30) must not overflow it.
+    double cells = 1.0, span[3];
     for (int a = 0; a < 3; ++a) {
-      lo_[a] = lo[a];
-      dims_[a] = static_cast<std::int64_t>(std::floor((hi[a] - lo[a]) / cell_)) + 1;
-      cells *= static_cast<double>(dims_[a]);
+      span[a] = std::floor((hi[a] - lo[a]) / cell_) + 1.0;
+      cells *= span[a];
     }
     if (!(cells <= 4.0 * static_cast<double>(points.size()) + 64.0)) return;  // sparse
+    for (int a = 0; a < 3; ++a) {
+      lo_[a] = lo[a];
+      dims_[a] = static_cast<std::int64_t>(span[a]);
+    }
     start_.assign(static_cast<std::size_t>(cells) + 1, 0);
     std::vector<std::size_t> cellOf(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
