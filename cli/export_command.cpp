@@ -112,10 +112,9 @@ void checkOutput(const ExportOptions& o) {
 int exportModel(const ExportOptions& opt) {
   const Model model = loadModel(opt.input);
   const Program program = compile(model.root);
-  // Output and format first: a bad output is refused before the work.
-  const std::optional<MeshFormat> format =
-      opt.format.empty() ? std::nullopt : std::optional<MeshFormat>(parseFormat(opt.format));
-  if (!format) formatFromPath(opt.output);
+  // The format first: a bad output name or format is refused before the work.
+  const MeshFormat format =
+      opt.format.empty() ? formatFromPath(opt.output) : parseFormat(opt.format);
 
   BoxRequest box;
   box.bbox = opt.bbox ? opt.bbox : model.bbox;
@@ -156,10 +155,7 @@ int exportModel(const ExportOptions& opt) {
               << ": the mesh is not printable (see reasons above; --force writes it anyway)\n";
     return 1;
   }
-  if (!opt.quiet) {
-    const MeshFormat f = format ? *format : formatFromPath(opt.output);
-    std::cout << "wrote " << opt.output << " (" << formatName(f) << ")\n";
-  }
+  if (!opt.quiet) std::cout << "wrote " << opt.output << " (" << formatName(format) << ")\n";
   return r.report.printable() ? 0 : 1;
 }
 

@@ -94,8 +94,9 @@ TEST(FieldSeam, AnExternalNodeIsEvaluatedInAllFourModesInsideATree) {
     const Dual g = both.evalGradient(x, y, z);
     const double h = 1e-6;
     const double fx = (both.eval(x + h, y, z) - both.eval(x - h, y, z)) / (2 * h);
-    if (std::abs(cap.eval(lx, ly, z) - alone.eval(x, y, z)) > 1e-3)  // away from the crease
+    if (std::abs(cap.eval(lx, ly, z) - alone.eval(x, y, z)) > 1e-3) {  // away from the crease
       EXPECT_NEAR(g.d[0], fx, 1e-5);
+    }
     const Interval iv = both.evalInterval({x - 0.01, x + 0.01}, {y, y + 0.01}, {z, z});
     EXPECT_TRUE(iv.contains(both.eval(x, y, z)));
   }

@@ -270,8 +270,11 @@ TEST(Instancer, CopiesFarApartStillEvaluate) {
     const double x = 0.05 * i - 1, y = 0.3, z = 0.1;
     double expect = -std::numeric_limits<double>::infinity();
     for (const Vec3& c : at) expect = std::max(expect, one.eval(x - c[0], y - c[1], z - c[2]));
-    if (expect >= 0) EXPECT_EQ(p.eval(x, y, z), expect);
-    else EXPECT_LT(p.eval(x, y, z), 0.0);
+    if (expect >= 0) {
+      EXPECT_EQ(p.eval(x, y, z), expect);
+    } else {
+      EXPECT_LT(p.eval(x, y, z), 0.0);
+    }
   }
 }
 

@@ -16,7 +16,7 @@ namespace {
 // Above this many candidate copies an interval over a (large) box is not evaluated copy by
 // copy; a conservative bound is returned and the caller's subdivision narrows the box.
 constexpr std::size_t kMaxIntervalCopies = 64;
-// Up to this many copies, a scan beats the k-d tree.
+// Up to this many copies, a scan beats the k-d tree (radius queries).
 constexpr std::size_t kLinearScan = 64;
 
 struct Cloud {
@@ -199,19 +199,6 @@ struct InstanceSet::Index {
     std::sort(out.begin(), out.end());
   }
   std::uint32_t nearest(const double q[3], double* distance) const {
-    if (cloud.points->size() <= kLinearScan) {
-      std::uint32_t best = 0;
-      double best2 = std::numeric_limits<double>::infinity();
-      for (std::uint32_t i = 0; i < cloud.points->size(); ++i) {
-        const double d2 = squaredDistance(q, (*cloud.points)[i]);
-        if (d2 < best2) {
-          best2 = d2;
-          best = i;
-        }
-      }
-      *distance = std::sqrt(best2);
-      return best;
-    }
     std::uint32_t index = 0;
     double d2 = 0;
     tree.knnSearch(q, 1, &index, &d2);
@@ -238,32 +225,12 @@ InstanceSet::InstanceSet(std::vector<Vec3> positions,
 
 InstanceSet::~InstanceSet() = default;
 
-std::uint32_t InstanceSet::nearest(const double q[3], double* distance) const {
-  double d = 0;
-  const std::uint32_t found = index_->nearest(q, &d);
-  // Ties (and near ties nanoflann may order either way) resolve to the lowest index.
-  thread_local std::vector<std::uint32_t> ties;
-  index_->within(q, d * (1 + 1e-9) + 1e-300, ties);
-  std::uint32_t best = found;
-  double best2 = std::numeric_limits<double>::infinity();
-  for (std::uint32_t i : ties) {
-    const Vec3& c = positions_[i];
-    const double d2 = sqr(q[0] - c[0]) + sqr(q[1] - c[1]) + sqr(q[2] - c[2]);
-    if (d2 < best2) {  // ties keeps increasing order: the first of equals wins
-      best2 = d2;
-      best = i;
-    }
-  }
-  *distance = std::sqrt(best2 < std::numeric_limits<double>::infinity() ? best2 : d * d);
-  return best;
-}
-
 void InstanceSet::near(double x, double y, double z, std::vector<std::uint32_t>& out) const {
   const double q[3] = {x, y, z};
   index_->within(q, reach_, out);
   if (out.empty() && !positions_.empty() && !whole_) {
     double d = 0;
-    out.push_back(nearest(q, &d));
+    out.push_back(index_->nearest(q, &d));
   }
 }
 
@@ -390,7 +357,7 @@ Interval InstanceSet::evalInterval(const Interval& x, const Interval& y, const I
   // Every copy that can matter at a point p of the box: those within reach of p (within
   // reach + h of the centre) and p's nearest copy (within d* + 2h, d* = the centre's).
   double dNearest = 0;
-  nearest(c, &dNearest);
+  index_->nearest(c, &dNearest);
   ScopedWork work;
   std::vector<std::uint32_t>& candidates = work->ids;
   index_->within(c, std::max(reach_ + h, dNearest + 2 * h), candidates);

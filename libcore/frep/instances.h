@@ -60,9 +60,6 @@ class InstanceSet final : public Field, public std::enable_shared_from_this<Inst
   double reach() const { return reach_; }
 
  private:
-  // Copy i among those within `radius` of q whose distance is least (lowest index on ties, so
-  // a subset holding all of them picks the same one).
-  std::uint32_t nearest(const double q[3], double* distance) const;
   // The copies N(p), in increasing index order (so every mode combines them alike).
   void near(double x, double y, double z, std::vector<std::uint32_t>& out) const;
   template <class T>

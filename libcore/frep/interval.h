@@ -149,44 +149,39 @@ inline Interval exp(Interval a) {
   return {std::max(0.0, r.lo), r.hi, r.nan};
 }
 
-// sin over an interval: the end point values plus any extremum (pi/2 + k*pi) inside.
-// sin(+-inf) is NaN.
-inline Interval sin(Interval a) {
-  using interval_detail::kLibmUlps;
+namespace interval_detail {
+// A 2 pi periodic function over an interval: its end point values, plus 1 where a maximum
+// (at maxAt + 2k pi) and -1 where a minimum (at minAt + 2k pi) lies inside. One ulp of
+// slack on the tests, so an extremum that rounding puts just outside still counts. +-inf
+// arguments give NaN.
+inline Interval periodicRange(Interval a, double (*f)(double), double maxAt, double minAt) {
   constexpr double kTwoPi = 6.283185307179586476925286766559;
-  constexpr double kHalfPi = 1.5707963267948966192313216916398;
   const bool nan = a.nan || hasInfinity(a);
   // Over a period or more, or where the argument is so large that k*pi is not resolved.
   if (!(a.hi - a.lo < kTwoPi) || std::max(-a.lo, a.hi) > 1e15) return {-1.0, 1.0, nan};
-  double lo = std::min(std::sin(a.lo), std::sin(a.hi));
-  double hi = std::max(std::sin(a.lo), std::sin(a.hi));
-  // maxima at pi/2 + 2k*pi, minima at -pi/2 + 2k*pi; one ulp of slack on the test, so an
-  // extremum that rounding puts just outside still counts
+  double lo = std::min(f(a.lo), f(a.hi));
+  double hi = std::max(f(a.lo), f(a.hi));
   const double slack = 4e-16 * std::max(1.0, std::max(-a.lo, a.hi));
-  const double kMax = std::ceil((a.lo - kHalfPi - slack) / kTwoPi);
-  if (kHalfPi + kMax * kTwoPi <= a.hi + slack) hi = 1.0;
-  const double kMin = std::ceil((a.lo + kHalfPi - slack) / kTwoPi);
-  if (-kHalfPi + kMin * kTwoPi <= a.hi + slack) lo = -1.0;
+  const double kMax = std::ceil((a.lo - maxAt - slack) / kTwoPi);
+  if (maxAt + kMax * kTwoPi <= a.hi + slack) hi = 1.0;
+  const double kMin = std::ceil((a.lo - minAt - slack) / kTwoPi);
+  if (minAt + kMin * kTwoPi <= a.hi + slack) lo = -1.0;
   const Interval r = outward(lo, hi, nan, kLibmUlps);
   return {std::max(-1.0, r.lo), std::min(1.0, r.hi), nan};
 }
+}  // namespace interval_detail
 
+// sin: maxima at pi/2 + 2k pi, minima at -pi/2 + 2k pi.
+inline Interval sin(Interval a) {
+  constexpr double kHalfPi = 1.5707963267948966192313216916398;
+  return interval_detail::periodicRange(a, [](double v) { return std::sin(v); }, kHalfPi,
+                                        -kHalfPi);
+}
+
+// cos: maxima at 2k pi, minima at pi + 2k pi (not sin(a + pi/2): the shift would round).
 inline Interval cos(Interval a) {
-  using interval_detail::kLibmUlps;
-  constexpr double kTwoPi = 6.283185307179586476925286766559;
   constexpr double kPi = 3.14159265358979323846;
-  const bool nan = a.nan || hasInfinity(a);
-  if (!(a.hi - a.lo < kTwoPi) || std::max(-a.lo, a.hi) > 1e15) return {-1.0, 1.0, nan};
-  double lo = std::min(std::cos(a.lo), std::cos(a.hi));
-  double hi = std::max(std::cos(a.lo), std::cos(a.hi));
-  // maxima at 2k*pi, minima at pi + 2k*pi
-  const double slack = 4e-16 * std::max(1.0, std::max(-a.lo, a.hi));
-  const double kMax = std::ceil((a.lo - slack) / kTwoPi);
-  if (kMax * kTwoPi <= a.hi + slack) hi = 1.0;
-  const double kMin = std::ceil((a.lo - kPi - slack) / kTwoPi);
-  if (kPi + kMin * kTwoPi <= a.hi + slack) lo = -1.0;
-  const Interval r = outward(lo, hi, nan, kLibmUlps);
-  return {std::max(-1.0, r.lo), std::min(1.0, r.hi), nan};
+  return interval_detail::periodicRange(a, [](double v) { return std::cos(v); }, 0.0, kPi);
 }
 
 inline Interval floor(Interval a) { return {std::floor(a.lo), std::floor(a.hi), a.nan}; }

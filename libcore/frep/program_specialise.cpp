@@ -19,9 +19,8 @@ namespace {
 
 enum class Decision { Keep, First, Second, Third, Negate };
 
-Decision decide(const Instruction& in, const double* k, const Interval& a, const Interval& b,
-                const Interval& c) {
-  (void)c;
+// The operand intervals a and b (a select's branches need none: its condition decides).
+Decision decide(const Instruction& in, const double* k, const Interval& a, const Interval& b) {
   Op op = in.op;
   if (op == Op::RUnion && k[0] == 1.0) op = Op::Max;
   if (op == Op::RIntersect && k[0] == 1.0) op = Op::Min;
@@ -74,7 +73,7 @@ Program Program::specialised(const Box3& box, bool* changed) const {
     const Instruction& in = code_[i];
     const Slot self = static_cast<Slot>(i + kFirstInstructionSlot);
     alias[self] = self;
-    switch (decide(in, k + in.k, iv[in.a], iv[in.b], iv[in.c])) {
+    switch (decide(in, k + in.k, iv[in.a], iv[in.b])) {
       case Decision::Keep: break;
       case Decision::First: alias[self] = alias[in.a]; break;
       case Decision::Second: alias[self] = alias[in.b]; break;

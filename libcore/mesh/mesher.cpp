@@ -128,6 +128,12 @@ double quality(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
   return edges > 0 ? area2 / edges : 0.0;
 }
 
+// The float32 vertex at parameter t along root-finding edge e.
+Vec3f vertexAt(const Scratch& s, std::size_t e, double t) {
+  return {static_cast<float>(s.px[e] + t * s.dx[e]), static_cast<float>(s.py[e] + t * s.dy[e]),
+          static_cast<float>(s.pz[e] + t * s.dz[e])};
+}
+
 // The unit normal at a vertex: minus the field's gradient (the field grows inward), or the box
 // face on a box cap.
 Vec3f vertexNormal(const Field& field, const Grid& g, const Vec3f& p) {
@@ -371,23 +377,14 @@ class BrickMesher {
         }
         // Done once this estimate and the last give the same float32 vertex: the iteration
         // has settled below what the mesh can store.
-        const auto vertexAt = [&](double tt, int axis) {
-          const double p[3] = {s.px[e], s.py[e], s.pz[e]}, d[3] = {s.dx[e], s.dy[e], s.dz[e]};
-          return static_cast<float>(p[axis] + tt * d[axis]);
-        };
-        const bool sameVertex = s.tPrev[e] >= 0.0 && vertexAt(t[e], 0) == vertexAt(s.tPrev[e], 0) &&
-                                vertexAt(t[e], 1) == vertexAt(s.tPrev[e], 1) &&
-                                vertexAt(t[e], 2) == vertexAt(s.tPrev[e], 2);
+        const bool sameVertex = s.tPrev[e] >= 0.0 && vertexAt(s, e, t[e]) == vertexAt(s, e, s.tPrev[e]);
         s.tPrev[e] = t[e];
         if (s.tb[e] - s.ta[e] > kRootBracket && !sameVertex) active[kept++] = e;
       }
       active.resize(kept);
     }
     for (std::size_t e = 0; e < m; ++e) {
-      const double x = std::clamp(interpolate(e), kEdgeMargin, 1.0 - kEdgeMargin);
-      out.positions[e] = {static_cast<float>(s.px[e] + x * s.dx[e]),
-                          static_cast<float>(s.py[e] + x * s.dy[e]),
-                          static_cast<float>(s.pz[e] + x * s.dz[e])};
+      out.positions[e] = vertexAt(s, e, std::clamp(interpolate(e), kEdgeMargin, 1.0 - kEdgeMargin));
     }
     return evaluations;
   }
