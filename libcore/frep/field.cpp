@@ -9,6 +9,11 @@ void Field::evalBatch(const double* x, const double* y, const double* z, std::si
   for (std::size_t i = 0; i < n; ++i) out[i] = eval(x[i], y[i], z[i]);
 }
 
+void Field::evalGradientBatch(const Dual* x, const Dual* y, const Dual* z, std::size_t n,
+                              Dual* out) const {
+  for (std::size_t i = 0; i < n; ++i) out[i] = evalGradient(x[i], y[i], z[i]);
+}
+
 std::shared_ptr<const Field> Field::specialise(const Box3&) const { return nullptr; }
 
 Box3 Field::bounds() const {

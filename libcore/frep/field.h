@@ -38,6 +38,10 @@ class Field {
   virtual Interval evalInterval(const Interval& x, const Interval& y,
                                 const Interval& z) const = 0;
   virtual Dual evalGradient(const Dual& x, const Dual& y, const Dual& z) const = 0;
+  // out[i] = evalGradient(x[i], y[i], z[i]); the default loops over evalGradient. (Normals
+  // of a whole brick's vertices at once.)
+  virtual void evalGradientBatch(const Dual* x, const Dual* y, const Dual* z, std::size_t n,
+                                 Dual* out) const;
 
   // The value and gradient in world coordinates at a point. (A class that overrides the
   // virtual one brings this one back with `using Field::evalGradient;`.)

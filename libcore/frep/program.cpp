@@ -1,5 +1,6 @@
 #include "frep/program.h"
 
+#include <algorithm>
 #include <deque>
 #include <sstream>
 #include <utility>
@@ -75,26 +76,77 @@ Program::Program(std::vector<Instruction> code, std::vector<double> constants, S
     : code_(std::move(code)),
       constants_(std::move(constants)),
       result_(result),
-      externals_(std::move(externals)) {}
+      externals_(std::move(externals)) {
+  makePlan();
+}
+
+// Linear-scan slot assignment over the SSA code: a value's physical slot is released after its
+// last use and taken by the next value. An instruction's output never shares a slot with its
+// own operands (so that kernels and external fields may read their inputs while writing), and
+// x, y, z and the result are never released. The arithmetic is unchanged, only where values
+// are kept: every mode stays bit-identical to the SSA order.
+void Program::makePlan() {
+  const std::size_t n = code_.size();
+  const std::size_t ssaSlots = n + kFirstInstructionSlot;
+  std::vector<std::size_t> lastUse(ssaSlots, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Instruction& in = code_[i];
+    const Slot args[3] = {in.a, in.b, in.c};
+    lastUse[i + kFirstInstructionSlot] = i;  // a value nothing reads is released at once
+    for (int j = 0; j < opArity(in.op); ++j) lastUse[args[j]] = i;
+  }
+  constexpr std::size_t kForever = static_cast<std::size_t>(-1);
+  lastUse[result_] = kForever;
+  for (Slot s = 0; s < kFirstInstructionSlot; ++s) lastUse[s] = kForever;
+
+  std::vector<Slot> physical(ssaSlots, 0);
+  for (Slot s = 0; s < kFirstInstructionSlot; ++s) physical[s] = s;
+  std::vector<Slot> freeSlots;
+  Slot next = kFirstInstructionSlot;
+  plan_.clear();
+  plan_.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Instruction& in = code_[i];
+    const int arity = opArity(in.op);
+    Step step{in.op, 0, 0, 0, 0, in.k};
+    Slot* operands[3] = {&step.a, &step.b, &step.c};
+    const Slot args[3] = {in.a, in.b, in.c};
+    for (int j = 0; j < arity; ++j) *operands[j] = physical[args[j]];
+    if (freeSlots.empty()) {
+      step.out = next++;
+    } else {
+      step.out = freeSlots.back();
+      freeSlots.pop_back();
+    }
+    physical[i + kFirstInstructionSlot] = step.out;
+    for (int j = 0; j < arity; ++j) {
+      const Slot arg = args[j];
+      const bool repeated = (j > 0 && args[0] == arg) || (j > 1 && args[1] == arg);
+      if (!repeated && lastUse[arg] == i) freeSlots.push_back(physical[arg]);
+    }
+    if (lastUse[i + kFirstInstructionSlot] == i) freeSlots.push_back(step.out);
+    plan_.push_back(step);
+  }
+  planResult_ = physical[result_];
+  planSlots_ = next;
+}
 
 template <class T>
 T Program::evalGeneric(const T& x, const T& y, const T& z) const {
   // Scratch per thread and type: evaluation is called from TBB workers.
-  Scratch<T> slots(code_.size() + kFirstInstructionSlot);
+  Scratch<T> slots(planSlots_);
   T* s = slots.data();
   s[kSlotX] = x;
   s[kSlotY] = y;
   s[kSlotZ] = z;
   const double* k = constants_.data();
-  for (std::size_t i = 0; i < code_.size(); ++i) {
-    const Instruction& in = code_[i];
-    s[i + kFirstInstructionSlot] =
-        in.op == Op::External
-            ? externalAt(*externals_[static_cast<std::size_t>(k[in.k])], s[in.a], s[in.b],
-                         s[in.c])
-            : applyOp<T>(in.op, s[in.a], s[in.b], s[in.c], k + in.k);
+  for (const Step& in : plan_) {
+    s[in.out] = in.op == Op::External
+                    ? externalAt(*externals_[static_cast<std::size_t>(k[in.k])], s[in.a],
+                                 s[in.b], s[in.c])
+                    : applyOp<T>(in.op, s[in.a], s[in.b], s[in.c], k + in.k);
   }
-  return s[result_];
+  return s[planResult_];
 }
 
 double Program::eval(double x, double y, double z) const { return evalGeneric<double>(x, y, z); }
@@ -107,10 +159,22 @@ Dual Program::evalGradient(const Dual& x, const Dual& y, const Dual& z) const {
   return evalGeneric<Dual>(x, y, z);
 }
 
+namespace {
+void externalBatch(const Field& f, const double* x, const double* y, const double* z,
+                   std::size_t n, double* out) {
+  f.evalBatch(x, y, z, n, out);
+}
+void externalBatch(const Field& f, const Dual* x, const Dual* y, const Dual* z, std::size_t n,
+                   Dual* out) {
+  f.evalGradientBatch(x, y, z, n, out);
+}
+}  // namespace
+
 // The switch is outside the loops so that each loop is a straight vectorisable kernel; each
 // kernel calls the same scalar function applyOp uses, so values are bit-identical.
-void Program::evalChunk(const double* x, const double* y, const double* z, std::size_t n,
-                        double* out, double* slots) const {
+template <class T>
+void Program::evalChunk(const T* x, const T* y, const T* z, std::size_t n, T* out,
+                        T* slots) const {
   constexpr std::size_t B = kBatchSize;
   for (std::size_t j = 0; j < n; ++j) {
     slots[kSlotX * B + j] = x[j];
@@ -118,61 +182,70 @@ void Program::evalChunk(const double* x, const double* y, const double* z, std::
     slots[kSlotZ * B + j] = z[j];
   }
   const double* kbase = constants_.data();
-  for (std::size_t i = 0; i < code_.size(); ++i) {
-    const Instruction& in = code_[i];
-    double* o = slots + (i + kFirstInstructionSlot) * B;
-    const double* a = slots + in.a * B;
-    const double* b = slots + in.b * B;
-    const double* c = slots + in.c * B;
+  for (const Step& in : plan_) {
+    T* o = slots + in.out * B;
+    const T* a = slots + in.a * B;
+    const T* b = slots + in.b * B;
+    const T* c = slots + in.c * B;
     const double* k = kbase + in.k;
 #define FREP_KERNEL(expr) \
   for (std::size_t j = 0; j < n; ++j) o[j] = (expr); \
   break
     switch (in.op) {
-      case Op::Const: FREP_KERNEL(k[0]);
+      case Op::Const: FREP_KERNEL(T(k[0]));
       case Op::Add: FREP_KERNEL(a[j] + b[j]);
       case Op::Sub: FREP_KERNEL(a[j] - b[j]);
       case Op::Mul: FREP_KERNEL(a[j] * b[j]);
       case Op::Div: FREP_KERNEL(a[j] / b[j]);
       case Op::Neg: FREP_KERNEL(-a[j]);
       case Op::Sqr: FREP_KERNEL(sqr(a[j]));
-      case Op::Sqrt: FREP_KERNEL(std::sqrt(a[j]));
-      case Op::Abs: FREP_KERNEL(std::abs(a[j]));
-      case Op::Min: FREP_KERNEL(frep::min(a[j], b[j]));
-      case Op::Max: FREP_KERNEL(frep::max(a[j], b[j]));
-      case Op::Exp: FREP_KERNEL(std::exp(a[j]));
-      case Op::Sin: FREP_KERNEL(std::sin(a[j]));
-      case Op::Cos: FREP_KERNEL(std::cos(a[j]));
-      case Op::Affine: FREP_KERNEL(affine<double>(a[j], b[j], c[j], k));
-      case Op::RUnion: FREP_KERNEL(rUnion<double>(a[j], b[j], k[0]));
-      case Op::RIntersect: FREP_KERNEL(rIntersect<double>(a[j], b[j], k[0]));
-      case Op::BlendBump: FREP_KERNEL(blendBump<double>(a[j], b[j], k));
-      case Op::Atan2: FREP_KERNEL(std::atan2(a[j], b[j]));
+      case Op::Sqrt: FREP_KERNEL(sqrt(a[j]));
+      case Op::Abs: FREP_KERNEL(abs(a[j]));
+      case Op::Min: FREP_KERNEL(min(a[j], b[j]));
+      case Op::Max: FREP_KERNEL(max(a[j], b[j]));
+      case Op::Exp: FREP_KERNEL(exp(a[j]));
+      case Op::Sin: FREP_KERNEL(sin(a[j]));
+      case Op::Cos: FREP_KERNEL(cos(a[j]));
+      case Op::Affine: FREP_KERNEL(affine<T>(a[j], b[j], c[j], k));
+      case Op::RUnion: FREP_KERNEL(rUnion<T>(a[j], b[j], k[0]));
+      case Op::RIntersect: FREP_KERNEL(rIntersect<T>(a[j], b[j], k[0]));
+      case Op::BlendBump: FREP_KERNEL(blendBump<T>(a[j], b[j], k));
+      case Op::Atan2: FREP_KERNEL(atan2(a[j], b[j]));
       case Op::PowAbs: FREP_KERNEL(powAbs(a[j], k[0]));
-      case Op::Floor: FREP_KERNEL(std::floor(a[j]));
-      case Op::Tan: FREP_KERNEL(std::tan(a[j]));
-      case Op::Atan: FREP_KERNEL(std::atan(a[j]));
-      case Op::Log: FREP_KERNEL(std::log(a[j]));
+      case Op::Floor: FREP_KERNEL(floor(a[j]));
+      case Op::Tan: FREP_KERNEL(tan(a[j]));
+      case Op::Atan: FREP_KERNEL(atan(a[j]));
+      case Op::Log: FREP_KERNEL(log(a[j]));
       case Op::PowConst: FREP_KERNEL(powConst(a[j], k[0]));
       case Op::Select: FREP_KERNEL(select(a[j], b[j], c[j]));
       case Op::External:
-        externals_[static_cast<std::size_t>(k[0])]->evalBatch(a, b, c, n, o);
+        externalBatch(*externals_[static_cast<std::size_t>(k[0])], a, b, c, n, o);
         break;
       case Op::Count_: break;
     }
 #undef FREP_KERNEL
   }
-  const double* r = slots + result_ * B;
+  const T* r = slots + planResult_ * B;
   for (std::size_t j = 0; j < n; ++j) out[j] = r[j];
+}
+
+template <class T>
+void Program::evalManyPoints(const T* x, const T* y, const T* z, std::size_t n, T* out) const {
+  Scratch<T> slots(planSlots_ * kBatchSize);
+  for (std::size_t start = 0; start < n; start += kBatchSize) {
+    const std::size_t m = std::min(kBatchSize, n - start);
+    evalChunk<T>(x + start, y + start, z + start, m, out + start, slots.data());
+  }
 }
 
 void Program::evalBatch(const double* x, const double* y, const double* z, std::size_t n,
                         double* out) const {
-  Scratch<double> slots((code_.size() + kFirstInstructionSlot) * kBatchSize);
-  for (std::size_t start = 0; start < n; start += kBatchSize) {
-    const std::size_t m = std::min(kBatchSize, n - start);
-    evalChunk(x + start, y + start, z + start, m, out + start, slots.data());
-  }
+  evalManyPoints<double>(x, y, z, n, out);
+}
+
+void Program::evalGradientBatch(const Dual* x, const Dual* y, const Dual* z, std::size_t n,
+                                Dual* out) const {
+  evalManyPoints<Dual>(x, y, z, n, out);
 }
 
 std::string Program::disassemble() const {

@@ -1,5 +1,7 @@
 // A compiled FRep program: a flat list of instructions in SSA form, shared sub-trees already
-// merged. Slots 0, 1, 2 hold x, y, z; instruction i writes slot i + 3.
+// merged. Slots 0, 1, 2 hold x, y, z; instruction i writes slot i + 3. For evaluation the SSA
+// slots are mapped onto as few physical slots as the values live at once (a plan made when
+// the program is built), so a batch's working set stays in the first-level cache.
 // Four evaluation modes: point, batch (structure of arrays), interval and gradient. A Program
 // is a Field; other fields (the instancer's copies, grids, ...) sit inside it through
 // `external` instructions.
@@ -45,6 +47,9 @@ class Program final : public Field {
   // gives dF/dx, dF/dy, dF/dz).
   Dual evalGradient(const Dual& x, const Dual& y, const Dual& z) const override;
   using Field::evalGradient;
+  // Gradients of many points, bit-identical to evalGradient at each.
+  void evalGradientBatch(const Dual* x, const Dual* y, const Dual* z, std::size_t n,
+                         Dual* out) const override;
 
   // Region specialisation: the program restricted to `box`. Where the intervals over the box
   // decide a min or max (and R-functions with alpha = 1, selects, absolute values), the
@@ -60,18 +65,33 @@ class Program final : public Field {
   Slot result() const { return result_; }
   const std::vector<std::shared_ptr<const Field>>& externals() const { return externals_; }
   std::string disassemble() const;
+  // Physical slots evaluation uses (x, y, z included).
+  std::size_t evaluationSlotCount() const { return planSlots_; }
 
  private:
+  // One instruction of the evaluation plan: the SSA instruction on physical slots.
+  struct Step {
+    Op op;
+    Slot out, a, b, c;
+    std::uint32_t k;
+  };
+  void makePlan();
+
   template <class T>
   T evalGeneric(const T& x, const T& y, const T& z) const;
-  void evalChunk(const double* x, const double* y, const double* z, std::size_t n, double* out,
-                 double* slots) const;
+  template <class T>
+  void evalChunk(const T* x, const T* y, const T* z, std::size_t n, T* out, T* slots) const;
+  template <class T>
+  void evalManyPoints(const T* x, const T* y, const T* z, std::size_t n, T* out) const;
 
   std::vector<Instruction> code_;
   std::vector<double> constants_;
   Slot result_ = kSlotX;
   // The fields of `external` instructions (the instancer, ...), by the index in their constant.
   std::vector<std::shared_ptr<const Field>> externals_;
+  std::vector<Step> plan_;
+  Slot planResult_ = kSlotX;
+  std::size_t planSlots_ = kFirstInstructionSlot;
 };
 
 }  // namespace frep
