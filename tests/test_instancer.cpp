@@ -9,6 +9,9 @@
 
 #include "check/mesh_check.h"
 #include "base/errors.h"
+#include "frep/instances.h"
+#include "frep/ops.h"
+#include "frep/program.h"
 #include "frep/structural_bounds.h"
 #include "frep/tree.h"
 #include "mesh/mesher.h"
@@ -255,6 +258,100 @@ TEST(Instancer, SpecialisedToABoxGivesTheSameValues) {
       ASSERT_TRUE(a.lo == e.lo && a.hi == e.hi && a.nan == e.nan);
     }
   }
+}
+
+// The blend takes a point's two largest copies among those within reach, so a copy missed or
+// wrongly taken at the edge of its reach changes the value. Copies scattered in 3D (the
+// bucket grid's 3D neighbourhoods), points just inside and just outside each copy's reach:
+// the value is that of the brute-force rule over every copy.
+TEST(Instancer, BlendFindsExactlyTheCopiesWithinReach) {
+  std::mt19937 g(21);
+  std::uniform_real_distribution<double> u(0, 6), dir(-1, 1);
+  std::vector<Vec3> at(1500);
+  for (Vec3& c : at) c = {u(g), u(g), u(g)};
+  const NodePtr ball = sphere(0.4);
+  const double a0 = 0.3, a1 = 0.5;
+  const Program p = compile(instancer(ball, at, "blend", a0, a1)), one = compile(ball);
+  const auto* set = dynamic_cast<const InstanceSet*>(p.externals().at(0).get());
+  ASSERT_NE(set, nullptr);
+  const double reach = set->reach();
+  auto expected = [&](double x, double y, double z, bool* anyInReach) {
+    // copies strictly within reach (squared distances summed in x, y, z order), in index
+    // order; the first largest and the next largest
+    int first = -1, second = -1;
+    double v1 = 0, v2 = 0;
+    for (std::size_t i = 0; i < at.size(); ++i) {
+      const double dx = x - at[i][0], dy = y - at[i][1], dz = z - at[i][2];
+      if (!(dx * dx + dy * dy + dz * dz < reach * reach)) continue;
+      const double v = one.eval(dx, dy, dz);
+      if (first < 0 || v > v1) {
+        second = first;
+        v2 = v1;
+        first = static_cast<int>(i);
+        v1 = v;
+      } else if (second < 0 || v > v2) {
+        second = static_cast<int>(i);
+        v2 = v;
+      }
+    }
+    *anyInReach = first >= 0;
+    if (second < 0) return v1;
+    const double k[3] = {a0, a1, a1};
+    return v1 + blendBump(v1, v2, k);
+  };
+  int compared = 0;
+  for (int i = 0; i < 3000; ++i) {
+    double x, y, z;
+    if (i % 2) {
+      x = u(g), y = u(g), z = u(g);
+    } else {  // on the edge of a copy's reach, inside or outside by a hair
+      const Vec3& c = at[static_cast<std::size_t>(i / 2) % at.size()];
+      double d[3] = {dir(g), dir(g), dir(g)};
+      const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      const double r = reach * (i % 4 ? 1 - 1e-12 : 1 + 1e-12) / len;
+      x = c[0] + d[0] * r, y = c[1] + d[1] * r, z = c[2] + d[2] * r;
+    }
+    bool reached = false;
+    const double e = expected(x, y, z, &reached);
+    if (!reached) continue;
+    ASSERT_EQ(p.eval(x, y, z), e) << i << " at " << x << "," << y << "," << z;
+    ++compared;
+  }
+  EXPECT_GT(compared, 2000);
+}
+
+// Gradients of many points at once are those of each point, under a transform, with turned
+// copies and with copies of copies.
+TEST(Instancer, GradientBatchEqualsGradientAtEachPoint) {
+  const NodePtr brick = makeNode(
+      "box", {{"corner", vec3Value({0.1, -0.1, -0.2})}, {"size", vec3Value({0.6, 0.2, 0.3})}}, {});
+  const NodePtr turned =
+      makeNode("instancer",
+               {{"positions", pointsValue({{0, 0, 0}, {0.5, 0, 0}, {0, 0.5, 0.2}})},
+                {"rotations", pointsValue({{0, 0, 90}, {0, 0, 0}, {30, 40, 0}})},
+                {"combine", choiceValue("blend")}},
+               {brick}, "copies");
+  const NodePtr nested = instancer(turned, {{0, 0, 0}, {0.4, 0.4, 0}, {2, 2, 2}});
+  const Program p = compile(
+      makeNode("rotate", {{"axis", vec3Value({1, 2, 0})}, {"angle", realValue(25)}}, {nested}));
+  std::mt19937 g(12);
+  std::uniform_real_distribution<double> u(-0.4, 1.0);
+  const std::size_t n = 3000;
+  std::vector<Dual> x(n), y(n), z(n), out(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    x[i] = Dual(u(g), 1, 0, 0);
+    y[i] = Dual(u(g), 0, 1, 0);
+    z[i] = Dual(u(g), 0, 0, 1);
+  }
+  p.evalGradientBatch(x.data(), y.data(), z.data(), n, out.data());
+  int inside = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Dual d = p.evalGradient(x[i].v, y[i].v, z[i].v);
+    ASSERT_EQ(out[i].v, d.v) << i;
+    for (int a = 0; a < 3; ++a) ASSERT_EQ(out[i].d[a], d.d[a]) << i << " axis " << a;
+    inside += d.v >= 0;
+  }
+  EXPECT_GT(inside, 50);
 }
 
 // Found by the fuzz test: one copy 1e30 away made the bucket grid's cell count overflow. Far

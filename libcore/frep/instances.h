@@ -50,6 +50,8 @@ class InstanceSet final : public Field, public std::enable_shared_from_this<Inst
   // x, y, z carry their derivatives (the instancer may sit under a transform).
   Dual evalGradient(const Dual& x, const Dual& y, const Dual& z) const override;
   using Field::evalGradient;
+  void evalGradientBatch(const Dual* x, const Dual* y, const Dual* z, std::size_t n,
+                         Dual* out) const override;
   // The copies within reach of the box, in the same order, so every mode gives the same
   // values there; a point of the box that no copy reaches is evaluated by the whole set (its
   // nearest copy), and so are intervals. nullptr when that is every copy.
@@ -64,6 +66,7 @@ class InstanceSet final : public Field, public std::enable_shared_from_this<Inst
   void near(double x, double y, double z, std::vector<std::uint32_t>& out) const;
   template <class T>
   T combine(const T* values, std::size_t n) const;
+  Dual toWorld(std::uint32_t i, const Dual& g, const Dual& x, const Dual& y, const Dual& z) const;
   // The point in copy i's own coordinates: R_i^T (p - c_i).
   template <class T>
   void local(std::uint32_t i, const T& x, const T& y, const T& z, T q[3]) const;
