@@ -267,7 +267,7 @@ TEST(Instancer, SpecialisedToABoxGivesTheSameValues) {
 TEST(Instancer, BlendFindsExactlyTheCopiesWithinReach) {
   std::mt19937 g(21);
   std::uniform_real_distribution<double> u(0, 6), dir(-1, 1);
-  std::vector<Vec3> at(1500);
+  std::vector<Vec3> at(200);  // sparse: a copy at the edge of reach is often one of the two
   for (Vec3& c : at) c = {u(g), u(g), u(g)};
   const NodePtr ball = sphere(0.4);
   const double a0 = 0.3, a1 = 0.5;
@@ -317,7 +317,7 @@ TEST(Instancer, BlendFindsExactlyTheCopiesWithinReach) {
     ASSERT_EQ(p.eval(x, y, z), e) << i << " at " << x << "," << y << "," << z;
     ++compared;
   }
-  EXPECT_GT(compared, 2000);
+  EXPECT_GT(compared, 1000);
 }
 
 // Gradients of many points at once are those of each point, under a transform, with turned
