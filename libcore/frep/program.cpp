@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <deque>
 #include <sstream>
+#include <type_traits>
 #include <utility>
 
 
@@ -168,21 +169,18 @@ void externalBatch(const Field& f, const Dual* x, const Dual* y, const Dual* z, 
                    Dual* out) {
   f.evalGradientBatch(x, y, z, n, out);
 }
-}  // namespace
 
-// The switch is outside the loops so that each loop is a straight vectorisable kernel; each
-// kernel calls the same scalar function applyOp uses, so values are bit-identical.
-template <class T>
-void Program::evalChunk(const T* x, const T* y, const T* z, std::size_t n, T* out,
-                        T* slots) const {
-  constexpr std::size_t B = kBatchSize;
-  for (std::size_t j = 0; j < n; ++j) {
-    slots[kSlotX * B + j] = x[j];
-    slots[kSlotY * B + j] = y[j];
-    slots[kSlotZ * B + j] = z[j];
-  }
-  const double* kbase = constants_.data();
-  for (const Step& in : plan_) {
+// Runs the plan over one chunk of points (the slots of x, y, z filled). The switch is outside
+// the loops so that each loop is a straight vectorisable kernel; each kernel calls the same
+// scalar function applyOp uses, so values are bit-identical to the point modes.
+template <class T, class Step>
+__attribute__((always_inline)) inline void runPlan(const Step* plan, std::size_t steps,
+                                                   const double* kbase,
+                                                   const std::shared_ptr<const Field>* externals,
+                                                   std::size_t n, T* slots) {
+  constexpr std::size_t B = Program::kBatchSize;
+  for (std::size_t s = 0; s < steps; ++s) {
+    const Step& in = plan[s];
     T* o = slots + in.out * B;
     const T* a = slots + in.a * B;
     const T* b = slots + in.b * B;
@@ -219,12 +217,51 @@ void Program::evalChunk(const T* x, const T* y, const T* z, std::size_t n, T* ou
       case Op::PowConst: FREP_KERNEL(powConst(a[j], k[0]));
       case Op::Select: FREP_KERNEL(select(a[j], b[j], c[j]));
       case Op::External:
-        externalBatch(*externals_[static_cast<std::size_t>(k[0])], a, b, c, n, o);
+        externalBatch(*externals[static_cast<std::size_t>(k[0])], a, b, c, n, o);
         break;
       case Op::Count_: break;
     }
 #undef FREP_KERNEL
   }
+}
+
+// On x86-64 the kernels are also compiled for AVX2 (four doubles per instruction), chosen at
+// load time where the processor has it. Only the vector width changes: every operation is
+// still one IEEE operation on doubles (no FMA: -ffp-contract=off), so the values are the
+// same bits on every processor.
+#if defined(__x86_64__) && defined(__GNUC__)
+#define FREP_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define FREP_VECTOR_CLONES
+#endif
+
+template <class Step>
+FREP_VECTOR_CLONES void runPlanDouble(const Step* plan, std::size_t steps, const double* kbase,
+                                      const std::shared_ptr<const Field>* externals,
+                                      std::size_t n, double* slots) {
+  runPlan<double>(plan, steps, kbase, externals, n, slots);
+}
+template <class Step>
+FREP_VECTOR_CLONES void runPlanDual(const Step* plan, std::size_t steps, const double* kbase,
+                                    const std::shared_ptr<const Field>* externals,
+                                    std::size_t n, Dual* slots) {
+  runPlan<Dual>(plan, steps, kbase, externals, n, slots);
+}
+}  // namespace
+
+template <class T>
+void Program::evalChunk(const T* x, const T* y, const T* z, std::size_t n, T* out,
+                        T* slots) const {
+  constexpr std::size_t B = kBatchSize;
+  for (std::size_t j = 0; j < n; ++j) {
+    slots[kSlotX * B + j] = x[j];
+    slots[kSlotY * B + j] = y[j];
+    slots[kSlotZ * B + j] = z[j];
+  }
+  if constexpr (std::is_same_v<T, double>)
+    runPlanDouble(plan_.data(), plan_.size(), constants_.data(), externals_.data(), n, slots);
+  else
+    runPlanDual(plan_.data(), plan_.size(), constants_.data(), externals_.data(), n, slots);
   const T* r = slots + planResult_ * B;
   for (std::size_t j = 0; j < n; ++j) out[j] = r[j];
 }

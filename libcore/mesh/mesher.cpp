@@ -28,8 +28,11 @@ constexpr double kMinCellFloatSteps = 256.0;
 // Triangles per cell of a brick's face, for the memory estimate.
 constexpr double kTrianglesPerFaceCell = 6.0;
 // Cells per edge of the sub-blocks of a brick that are proven uniform before its points are
-// evaluated.
-constexpr std::int64_t kSubCells = 4;
+// evaluated: the octants of a 16-cell brick. An interval evaluation costs about as much as
+// a few dozen point evaluations (branches and outward rounding against straight vector
+// kernels), so 4-cell sub-blocks evaluated fewer points but took longer (the helix at 256
+// cells: 2.7 million points in 0.53 s against 4.0 million in 0.38 s with octants).
+constexpr std::int64_t kSubCells = 8;
 // Root finding stops on an edge once its bracket is this narrow (a fraction of the edge).
 constexpr double kRootBracket = 1e-7;
 // ... or once the next estimate would move the vertex by less than this fraction of the edge.
