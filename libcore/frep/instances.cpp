@@ -114,13 +114,15 @@ class BucketGrid {
     const double r2 = radius * radius;
     std::int64_t at[3];
     for (int a = 0; a < 3; ++a) {
-      const double f = std::floor((q[a] - lo_[a]) / cell_);
+      // q's cell; a product, not a division (rounding may put q a hair outside the cell's
+      // box: the lists are built with slack for that)
+      const double f = std::floor((q[a] - lo_[a]) * inverseCell_);
       if (!(f >= 0.0 && f < static_cast<double>(dims_[a]))) return;  // no copy reaches
       at[a] = static_cast<std::int64_t>(f);
     }
     const std::size_t c = linear(at[0], at[1], at[2]);
     for (std::size_t e = start_[c]; e < start_[c + 1]; ++e)
-      if (squaredDistance(q, points_[ids_[e]]) < r2) out.push_back(ids_[e]);
+      if (squaredDistance(q, entries_[e].position) < r2) out.push_back(entries_[e].id);
   }
 
  private:
@@ -130,6 +132,7 @@ class BucketGrid {
   bool build(double reach, int divisions) {
     const double n = static_cast<double>(points_.size());
     cell_ = reach / divisions;
+    inverseCell_ = 1.0 / cell_;
     double lo[3], hi[3];
     for (int a = 0; a < 3; ++a) lo[a] = hi[a] = points_[0][a];
     for (const Vec3& p : points_)
@@ -150,7 +153,8 @@ class BucketGrid {
       lo_[a] = lo[a];
       dims_[a] = static_cast<std::int64_t>(span[a]);
     }
-    // Rounding of q's cell index can put q a hair outside its cell's box.
+    // Rounding of q's cell index can put q a hair outside its cell's box (relative error of
+    // the index a few ulps of the largest coordinate).
     const double slack = 1e-9 * (cell_ + std::max({std::abs(lo[0]), std::abs(lo[1]),
                                                     std::abs(lo[2]), std::abs(hi[0]),
                                                     std::abs(hi[1]), std::abs(hi[2])}));
@@ -188,10 +192,10 @@ class BucketGrid {
     std::stable_sort(pairs.begin(), pairs.end(),
                      [](const auto& a, const auto& b) { return a.first < b.first; });
     start_.assign(cellCount + 1, 0);
-    ids_.resize(pairs.size());
+    entries_.resize(pairs.size());
     for (std::size_t e = 0; e < pairs.size(); ++e) {
       ++start_[pairs[e].first + 1];
-      ids_[e] = pairs[e].second;
+      entries_[e] = {points_[pairs[e].second], pairs[e].second};
     }
     for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
     return true;
@@ -202,10 +206,16 @@ class BucketGrid {
   }
 
   const std::vector<Vec3>& points_;
-  double reach_ = 0.0, cell_ = 0.0, lo_[3] = {0, 0, 0};
+  double reach_ = 0.0, cell_ = 0.0, inverseCell_ = 0.0, lo_[3] = {0, 0, 0};
   std::int64_t dims_[3] = {1, 1, 1};
-  std::vector<std::size_t> start_;   // cell -> first entry of its list in ids_
-  std::vector<std::uint32_t> ids_;  // the cells' lists, one after another
+  // A copy in a cell's list: its position kept beside its index, so a query reads one
+  // contiguous run.
+  struct Entry {
+    Vec3 position;
+    std::uint32_t id;
+  };
+  std::vector<std::size_t> start_;  // cell -> first entry of its list
+  std::vector<Entry> entries_;      // the cells' lists, one after another
   bool built_ = false;
 };
 
