@@ -143,6 +143,8 @@ TEST(Mesher, SameMeshWhateverTheBrickSize) {
     return t;
   };
   const TriangleMesh a = meshModel(m, 1.0 / 24, 4), b = meshModel(m, 1.0 / 24, 16);
+  const TriangleMesh odd = meshModel(m, 1.0 / 24, 7);  // bricks that do not divide the grid
+  EXPECT_EQ(sortedTriangles(odd), sortedTriangles(b));
   EXPECT_EQ(a.positions.size(), b.positions.size());
   EXPECT_EQ(sortedTriangles(a), sortedTriangles(b));
   const TriangleMesh c = meshModel(m, 1.0 / 24, 16);
@@ -237,7 +239,11 @@ TEST_P(RandomTreeShard, EveryMeshIsPrintable) {
     MeshingOptions o;
     o.bbox = {{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}};
     o.resolution = resolutions[rng.integer(0, 3)];
-    const TriangleMesh mesh = polygonize(compile(tree), o);
+    o.brickCells = rng.integer(0, 1) ? 16 : 5;  // bricks that do not divide the grid, too
+    MeshingStats stats;
+    const TriangleMesh mesh = polygonize(compile(tree), o, &stats);
+    // every vertex a brick shares was found in its owner's list
+    ASSERT_FALSE(stats.weldedBySorting) << "tree " << i;
     if (mesh.triangleCount() == 0) continue;
     ++nonEmpty;
     const CheckReport r = checkMesh(mesh);

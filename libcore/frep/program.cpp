@@ -241,48 +241,128 @@ FREP_VECTOR_CLONES void runPlanDouble(const Step* plan, std::size_t steps, const
                                       std::size_t n, double* slots) {
   runPlan<double>(plan, steps, kbase, externals, n, slots);
 }
+// Gradients, with each slot's duals stored as four arrays (values, d/dx, d/dy, d/dz) so that
+// the kernels vectorise across points; each lane runs the Dual functions of dual.h, so the
+// results are those of the point mode.
+constexpr std::size_t kDualStride = Program::kBatchSize;  // between a slot's four arrays
+inline Dual loadDual(const double* p, std::size_t j) {
+  return Dual(p[j], p[kDualStride + j], p[2 * kDualStride + j], p[3 * kDualStride + j]);
+}
+inline void storeDual(double* p, std::size_t j, const Dual& v) {
+  p[j] = v.v;
+  p[kDualStride + j] = v.d[0];
+  p[2 * kDualStride + j] = v.d[1];
+  p[3 * kDualStride + j] = v.d[2];
+}
+
 template <class Step>
 FREP_VECTOR_CLONES void runPlanDual(const Step* plan, std::size_t steps, const double* kbase,
                                     const std::shared_ptr<const Field>* externals,
-                                    std::size_t n, Dual* slots) {
-  runPlan<Dual>(plan, steps, kbase, externals, n, slots);
+                                    std::size_t n, double* slots) {
+  constexpr std::size_t W = 4 * Program::kBatchSize;  // one slot
+  for (std::size_t s = 0; s < steps; ++s) {
+    const Step& in = plan[s];
+    double* o = slots + in.out * W;
+    const double* a = slots + in.a * W;
+    const double* b = slots + in.b * W;
+    const double* c = slots + in.c * W;
+    const double* k = kbase + in.k;
+#define FREP_KERNEL(expr)                                       \
+  for (std::size_t j = 0; j < n; ++j) {                         \
+    const Dual A = loadDual(a, j), B = loadDual(b, j), C = loadDual(c, j); \
+    storeDual(o, j, (expr));                                    \
+  }                                                             \
+  break
+    switch (in.op) {
+      case Op::Const: FREP_KERNEL(Dual(k[0]));
+      case Op::Add: FREP_KERNEL(A + B);
+      case Op::Sub: FREP_KERNEL(A - B);
+      case Op::Mul: FREP_KERNEL(A * B);
+      case Op::Div: FREP_KERNEL(A / B);
+      case Op::Neg: FREP_KERNEL(-A);
+      case Op::Sqr: FREP_KERNEL(sqr(A));
+      case Op::Sqrt: FREP_KERNEL(sqrt(A));
+      case Op::Abs: FREP_KERNEL(abs(A));
+      case Op::Min: FREP_KERNEL(min(A, B));
+      case Op::Max: FREP_KERNEL(max(A, B));
+      case Op::Exp: FREP_KERNEL(exp(A));
+      case Op::Sin: FREP_KERNEL(sin(A));
+      case Op::Cos: FREP_KERNEL(cos(A));
+      case Op::Affine: FREP_KERNEL(affine<Dual>(A, B, C, k));
+      case Op::RUnion: FREP_KERNEL(rUnion<Dual>(A, B, k[0]));
+      case Op::RIntersect: FREP_KERNEL(rIntersect<Dual>(A, B, k[0]));
+      case Op::BlendBump: FREP_KERNEL(blendBump<Dual>(A, B, k));
+      case Op::Atan2: FREP_KERNEL(atan2(A, B));
+      case Op::PowAbs: FREP_KERNEL(powAbs(A, k[0]));
+      case Op::Floor: FREP_KERNEL(floor(A));
+      case Op::Tan: FREP_KERNEL(tan(A));
+      case Op::Atan: FREP_KERNEL(atan(A));
+      case Op::Log: FREP_KERNEL(log(A));
+      case Op::PowConst: FREP_KERNEL(powConst(A, k[0]));
+      case Op::Select: FREP_KERNEL(select(A, B, C));
+      case Op::External: {
+        // The external field takes duals one after another: unpack, evaluate, pack (in
+        // scratch per nesting depth: the field may be a program with externals of its own).
+        Scratch<Dual> buffer(4 * n);
+        Dual *xa = buffer.data(), *ya = xa + n, *za = ya + n, *ra = za + n;
+        for (std::size_t j = 0; j < n; ++j) {
+          xa[j] = loadDual(a, j);
+          ya[j] = loadDual(b, j);
+          za[j] = loadDual(c, j);
+        }
+        externals[static_cast<std::size_t>(k[0])]->evalGradientBatch(xa, ya, za, n, ra);
+        for (std::size_t j = 0; j < n; ++j) storeDual(o, j, ra[j]);
+        break;
+      }
+      case Op::Count_: break;
+    }
+#undef FREP_KERNEL
+  }
 }
 }  // namespace
 
-template <class T>
-void Program::evalChunk(const T* x, const T* y, const T* z, std::size_t n, T* out,
-                        T* slots) const {
+void Program::evalChunk(const double* x, const double* y, const double* z, std::size_t n,
+                        double* out, double* slots) const {
   constexpr std::size_t B = kBatchSize;
   for (std::size_t j = 0; j < n; ++j) {
     slots[kSlotX * B + j] = x[j];
     slots[kSlotY * B + j] = y[j];
     slots[kSlotZ * B + j] = z[j];
   }
-  if constexpr (std::is_same_v<T, double>)
-    runPlanDouble(plan_.data(), plan_.size(), constants_.data(), externals_.data(), n, slots);
-  else
-    runPlanDual(plan_.data(), plan_.size(), constants_.data(), externals_.data(), n, slots);
-  const T* r = slots + planResult_ * B;
+  runPlanDouble(plan_.data(), plan_.size(), constants_.data(), externals_.data(), n, slots);
+  const double* r = slots + planResult_ * B;
   for (std::size_t j = 0; j < n; ++j) out[j] = r[j];
 }
 
-template <class T>
-void Program::evalManyPoints(const T* x, const T* y, const T* z, std::size_t n, T* out) const {
-  Scratch<T> slots(planSlots_ * kBatchSize);
-  for (std::size_t start = 0; start < n; start += kBatchSize) {
-    const std::size_t m = std::min(kBatchSize, n - start);
-    evalChunk<T>(x + start, y + start, z + start, m, out + start, slots.data());
+void Program::evalDualChunk(const Dual* x, const Dual* y, const Dual* z, std::size_t n,
+                            Dual* out, double* slots) const {
+  constexpr std::size_t W = 4 * kBatchSize;
+  for (std::size_t j = 0; j < n; ++j) {
+    storeDual(slots + kSlotX * W, j, x[j]);
+    storeDual(slots + kSlotY * W, j, y[j]);
+    storeDual(slots + kSlotZ * W, j, z[j]);
   }
+  runPlanDual(plan_.data(), plan_.size(), constants_.data(), externals_.data(), n, slots);
+  const double* r = slots + planResult_ * W;
+  for (std::size_t j = 0; j < n; ++j) out[j] = loadDual(r, j);
 }
 
 void Program::evalBatch(const double* x, const double* y, const double* z, std::size_t n,
                         double* out) const {
-  evalManyPoints<double>(x, y, z, n, out);
+  Scratch<double> slots(planSlots_ * kBatchSize);
+  for (std::size_t start = 0; start < n; start += kBatchSize) {
+    const std::size_t m = std::min(kBatchSize, n - start);
+    evalChunk(x + start, y + start, z + start, m, out + start, slots.data());
+  }
 }
 
 void Program::evalGradientBatch(const Dual* x, const Dual* y, const Dual* z, std::size_t n,
                                 Dual* out) const {
-  evalManyPoints<Dual>(x, y, z, n, out);
+  Scratch<double> slots(planSlots_ * 4 * kBatchSize);
+  for (std::size_t start = 0; start < n; start += kBatchSize) {
+    const std::size_t m = std::min(kBatchSize, n - start);
+    evalDualChunk(x + start, y + start, z + start, m, out + start, slots.data());
+  }
 }
 
 std::string Program::disassemble() const {

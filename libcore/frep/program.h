@@ -79,10 +79,11 @@ class Program final : public Field {
 
   template <class T>
   T evalGeneric(const T& x, const T& y, const T& z) const;
-  template <class T>
-  void evalChunk(const T* x, const T* y, const T* z, std::size_t n, T* out, T* slots) const;
-  template <class T>
-  void evalManyPoints(const T* x, const T* y, const T* z, std::size_t n, T* out) const;
+  void evalChunk(const double* x, const double* y, const double* z, std::size_t n, double* out,
+                 double* slots) const;
+  // Gradients of one chunk; `slots` holds each slot's duals as four arrays.
+  void evalDualChunk(const Dual* x, const Dual* y, const Dual* z, std::size_t n, Dual* out,
+                     double* slots) const;
 
   std::vector<Instruction> code_;
   std::vector<double> constants_;

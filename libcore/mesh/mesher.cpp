@@ -450,6 +450,159 @@ void collectBricks(const Field& field, const std::shared_ptr<const Field>& holde
   }
 }
 
+// Weld, the reference way: sort every brick's vertices by global edge key and merge equal
+// keys. Used where the ownership weld below cannot place a vertex (it never should).
+TriangleMesh weldBySorting(std::vector<BrickResult>& results, bool normals) {
+  std::vector<std::size_t> first(results.size() + 1, 0);
+  for (std::size_t i = 0; i < results.size(); ++i)
+    first[i + 1] = first[i] + results[i].keys.size();
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> order(first.back());
+  tbb::parallel_for(std::size_t(0), results.size(), [&](std::size_t i) {
+    for (std::size_t v = 0; v < results[i].keys.size(); ++v)
+      order[first[i] + v] = {results[i].keys[v], static_cast<std::uint32_t>(first[i] + v)};
+  });
+  tbb::parallel_sort(order.begin(), order.end());
+  std::vector<std::uint32_t> unique(order.size());
+  std::vector<std::uint32_t> owner;  // unique vertex -> its first entry
+  owner.reserve(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    if (i == 0 || order[i].first != order[i - 1].first) owner.push_back(order[i].second);
+    unique[order[i].second] = static_cast<std::uint32_t>(owner.size() - 1);
+  }
+  TriangleMesh mesh;
+  mesh.positions.resize(owner.size());
+  if (normals) mesh.normals.resize(owner.size());
+  std::vector<std::size_t> brickOf(order.size());
+  for (std::size_t i = 0; i < results.size(); ++i)
+    for (std::size_t v = first[i]; v < first[i + 1]; ++v) brickOf[v] = i;
+  for (std::size_t u = 0; u < owner.size(); ++u) {
+    const std::size_t entry = owner[u];
+    const BrickResult& from = results[brickOf[entry]];
+    mesh.positions[u] = from.positions[entry - first[brickOf[entry]]];
+    if (normals) mesh.normals[u] = from.normals[entry - first[brickOf[entry]]];
+  }
+  std::size_t triangleCount = 0;
+  for (const auto& r : results) triangleCount += r.triangles.size();
+  mesh.triangles.reserve(triangleCount);
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const std::uint32_t base = static_cast<std::uint32_t>(first[i]);
+    for (const Triangle& t : results[i].triangles)
+      mesh.triangles.push_back({unique[base + t[0]], unique[base + t[1]], unique[base + t[2]]});
+  }
+  return mesh;
+}
+
+// Weld by ownership: every grid edge belongs to the one brick whose half-open cell range
+// holds its lower grid point (the last brick on an axis also holds the grid's last points).
+// A vertex on an edge a brick owns gets the next number of that brick's block; a vertex on
+// an edge another brick owns takes that brick's number for it, found by key in the owner's
+// sorted list. The owner always made that vertex: its edge lies on the face the two bricks
+// share, a brick proven uniform has no crossed edge on its closed box, and both bricks
+// compute the edge identically. Every step is per brick, in parallel; no global sort.
+TriangleMesh weld(const Grid& g, int bc, const std::int64_t bricksPerAxis[3],
+                  const std::vector<ActiveBrick>& bricks, std::vector<BrickResult>& results,
+                  bool normals, bool* bySorting) {
+  const std::size_t count = bricks.size();
+  auto brickLinear = [&](const std::int64_t b[3]) {
+    return static_cast<std::uint64_t>(b[0] + bricksPerAxis[0] * (b[1] + bricksPerAxis[1] * b[2]));
+  };
+  // The owner of an edge key, as a brick linear index.
+  auto ownerOf = [&](std::uint64_t key) {
+    std::uint64_t p = key / 7;
+    std::int64_t b[3];
+    for (int a = 0; a < 3; ++a) {
+      const std::int64_t at = static_cast<std::int64_t>(p % static_cast<std::uint64_t>(g.points[a]));
+      p /= static_cast<std::uint64_t>(g.points[a]);
+      b[a] = std::min(at / bc, bricksPerAxis[a] - 1);
+    }
+    return brickLinear(b);
+  };
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> brickIndex(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::int64_t b[3] = {bricks[i].range.lo[0] / bc, bricks[i].range.lo[1] / bc,
+                               bricks[i].range.lo[2] / bc};
+    brickIndex[i] = {brickLinear(b), static_cast<std::uint32_t>(i)};
+  }
+  std::sort(brickIndex.begin(), brickIndex.end());
+
+  // 1. Per brick: which vertices it owns, numbered in local order; its owned keys, sorted.
+  std::vector<std::vector<std::int32_t>> ownedRank(count);  // local vertex -> rank, or -1
+  std::vector<std::vector<std::pair<std::uint64_t, std::uint32_t>>> ownedKeys(count);
+  std::vector<std::size_t> base(count + 1, 0);
+  tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
+    const std::int64_t b[3] = {bricks[i].range.lo[0] / bc, bricks[i].range.lo[1] / bc,
+                               bricks[i].range.lo[2] / bc};
+    const std::uint64_t self = brickLinear(b);
+    const std::vector<std::uint64_t>& keys = results[i].keys;
+    std::vector<std::int32_t>& rank = ownedRank[i];
+    rank.assign(keys.size(), -1);
+    std::int32_t next = 0;
+    for (std::size_t v = 0; v < keys.size(); ++v)
+      if (ownerOf(keys[v]) == self) {
+        ownedKeys[i].emplace_back(keys[v], static_cast<std::uint32_t>(next));
+        rank[v] = next++;
+      }
+    std::sort(ownedKeys[i].begin(), ownedKeys[i].end());
+    base[i + 1] = static_cast<std::size_t>(next);
+  });
+  for (std::size_t i = 0; i < count; ++i) base[i + 1] += base[i];
+
+  // 2. Per brick: the global number of every local vertex.
+  std::vector<std::vector<std::uint32_t>> global(count);
+  std::atomic<bool> lost{false};
+  tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
+    const std::vector<std::uint64_t>& keys = results[i].keys;
+    std::vector<std::uint32_t>& out = global[i];
+    out.resize(keys.size());
+    for (std::size_t v = 0; v < keys.size(); ++v) {
+      if (ownedRank[i][v] >= 0) {
+        out[v] = static_cast<std::uint32_t>(base[i] + static_cast<std::size_t>(ownedRank[i][v]));
+        continue;
+      }
+      const std::uint64_t owner = ownerOf(keys[v]);
+      const auto at = std::lower_bound(brickIndex.begin(), brickIndex.end(),
+                                       std::make_pair(owner, std::uint32_t(0)));
+      bool found = false;
+      if (at != brickIndex.end() && at->first == owner) {
+        const auto& list = ownedKeys[at->second];
+        const auto k = std::lower_bound(list.begin(), list.end(),
+                                        std::make_pair(keys[v], std::uint32_t(0)));
+        if (k != list.end() && k->first == keys[v]) {
+          out[v] = static_cast<std::uint32_t>(base[at->second] + k->second);
+          found = true;
+        }
+      }
+      if (!found) lost = true;
+    }
+  });
+  if (lost) {
+    *bySorting = true;
+    return weldBySorting(results, normals);
+  }
+
+  // 3. Positions, normals and triangles, written in place per brick.
+  TriangleMesh mesh;
+  mesh.positions.resize(base[count]);
+  if (normals) mesh.normals.resize(base[count]);
+  std::vector<std::size_t> firstTriangle(count + 1, 0);
+  for (std::size_t i = 0; i < count; ++i)
+    firstTriangle[i + 1] = firstTriangle[i] + results[i].triangles.size();
+  mesh.triangles.resize(firstTriangle[count]);
+  tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
+    BrickResult& r = results[i];
+    for (std::size_t v = 0; v < r.keys.size(); ++v)
+      if (ownedRank[i][v] >= 0) {
+        mesh.positions[global[i][v]] = r.positions[v];
+        if (normals) mesh.normals[global[i][v]] = r.normals[v];
+      }
+    Triangle* out = mesh.triangles.data() + firstTriangle[i];
+    for (const Triangle& t : r.triangles)
+      *out++ = {global[i][t[0]], global[i][t[1]], global[i][t[2]]};
+    r = BrickResult();  // free as we go
+  });
+  return mesh;
+}
+
 }  // namespace
 
 TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingStats* stats) {
@@ -552,46 +705,8 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
   });
   if (cancelled) throw Cancelled();
 
-  // Weld: a vertex on a face shared by two bricks was computed identically by both; merge by
-  // its global edge key.
-  std::vector<std::size_t> first(results.size() + 1, 0);
-  for (std::size_t i = 0; i < results.size(); ++i)
-    first[i + 1] = first[i] + results[i].keys.size();
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> order(first.back());
-  tbb::parallel_for(std::size_t(0), results.size(), [&](std::size_t i) {
-    for (std::size_t v = 0; v < results[i].keys.size(); ++v)
-      order[first[i] + v] = {results[i].keys[v], static_cast<std::uint32_t>(first[i] + v)};
-  });
-  tbb::parallel_sort(order.begin(), order.end());
-  std::vector<std::uint32_t> unique(order.size());
-  std::vector<std::uint32_t> owner;  // unique vertex -> its first entry
-  owner.reserve(order.size());
-  for (std::size_t i = 0; i < order.size(); ++i) {
-    if (i == 0 || order[i].first != order[i - 1].first) owner.push_back(order[i].second);
-    unique[order[i].second] = static_cast<std::uint32_t>(owner.size() - 1);
-  }
-
-  TriangleMesh mesh;
-  mesh.positions.resize(owner.size());
-  if (opt.normals) mesh.normals.resize(owner.size());
-  std::vector<std::size_t> brickOf(order.size());
-  for (std::size_t i = 0; i < results.size(); ++i)
-    for (std::size_t v = first[i]; v < first[i + 1]; ++v) brickOf[v] = i;
-  for (std::size_t u = 0; u < owner.size(); ++u) {
-    const std::size_t entry = owner[u];
-    const BrickResult& from = results[brickOf[entry]];
-    mesh.positions[u] = from.positions[entry - first[brickOf[entry]]];
-    if (opt.normals) mesh.normals[u] = from.normals[entry - first[brickOf[entry]]];
-  }
-  std::size_t triangleCount = 0;
-  for (const auto& r : results) triangleCount += r.triangles.size();
-  mesh.triangles.reserve(triangleCount);
-  for (std::size_t i = 0; i < results.size(); ++i) {
-    const std::uint32_t base = static_cast<std::uint32_t>(first[i]);
-    for (const Triangle& t : results[i].triangles)
-      mesh.triangles.push_back({unique[base + t[0]], unique[base + t[1]], unique[base + t[2]]});
-    results[i] = BrickResult();  // free as we go
-  }
+  bool bySorting = false;
+  TriangleMesh mesh = weld(g, bc, b1, bricks, results, opt.normals, &bySorting);
   if (opt.progress) opt.progress(1.0);
 
   if (stats) {
@@ -599,6 +714,7 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
     stats->bricksTotal = static_cast<std::size_t>(b1[0] * b1[1] * b1[2]);
     stats->bricksActive = bricks.size();
     stats->pointsEvaluated = evaluated;
+    stats->weldedBySorting = bySorting;
     stats->seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }

@@ -39,6 +39,9 @@ struct MeshingStats {
   std::size_t bricksTotal = 0;
   std::size_t bricksActive = 0;  // bricks interval pruning could not prove empty or full
   std::size_t pointsEvaluated = 0;
+  // The bricks' vertices were merged by a global sort because the ownership weld could not
+  // place one (never expected: a sign that bricks disagree about a shared face).
+  bool weldedBySorting = false;
   double seconds = 0.0;
 };
 
