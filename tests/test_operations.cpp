@@ -283,6 +283,86 @@ TEST(Blobs, BoundsEncloseTheSolidAndTheMeshIsOnePart) {
   }
 }
 
+// From 16 centres on, the kernels of compact support are summed through the instancer's
+// spatial index. The values are those of the written-out sum: each centre's kernel alone,
+// added in order, minus the threshold; batches agree with points and
+// intervals enclose the samples.
+TEST(Blobs, ManyCentresGoThroughTheIndexWithTheSameValues) {
+  std::mt19937 g(17);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Vec3> centres(300);
+  for (Vec3& c : centres) c = {u(g), u(g), u(g)};
+  for (const char* id : {"soft_objects", "metaballs"}) {
+    std::map<std::string, ParamValue> params = {{"radius", realValue(0.25)},
+                                                {"threshold", realValue(0.4)}};
+    const Program p = compile(blob(id, centres, params));
+    ASSERT_EQ(p.externals().size(), 1u) << id << ": not through the index";
+    // Each centre alone with a threshold far below every kernel value that is not 0 (the
+    // kernels' smallest such values are about 1e-32): eval + 1e-300 is its kernel exactly.
+    params["threshold"] = realValue(1e-300);
+    std::vector<Program> each;
+    for (const Vec3& c : centres) each.push_back(compile(blob(id, {c}, params)));
+    std::vector<double> x, y, z;
+    int inside = 0;
+    for (int i = 0; i < 3000; ++i) {
+      // near a centre (often within several kernels) or anywhere
+      const Vec3& c = centres[static_cast<std::size_t>(i) % centres.size()];
+      const double s = i % 2 ? 0.3 : 1.2;
+      x.push_back(c[0] + s * u(g));
+      y.push_back(c[1] + s * u(g));
+      z.push_back(c[2] + s * u(g));
+      double sum = 0;
+      for (std::size_t k = 0; k < each.size(); ++k) {
+        const double v = each[k].eval(x.back(), y.back(), z.back()) + 1e-300;
+        sum = k == 0 ? v : sum + v;
+      }
+      const double expect = sum - 0.4;
+      ASSERT_EQ(p.eval(x.back(), y.back(), z.back()), expect) << id << " point " << i;
+      inside += expect >= 0;
+    }
+    EXPECT_GT(inside, 300) << id;
+    std::vector<double> out(x.size());
+    p.evalBatch(x.data(), y.data(), z.data(), x.size(), out.data());
+    for (std::size_t i = 0; i < x.size(); ++i)
+      ASSERT_EQ(out[i], p.eval(x[i], y[i], z[i])) << id;
+    std::uniform_real_distribution<double> size(0.01, 0.8);
+    for (int b = 0; b < 200; ++b) {
+      const double cx = u(g), cy = u(g), cz = u(g), h = size(g);
+      const Interval range = p.evalInterval({cx - h, cx + h}, {cy - h, cy + h}, {cz - h, cz + h});
+      std::uniform_real_distribution<double> in(-h, h);
+      for (int k = 0; k < 40; ++k) {
+        const double v = p.eval(cx + in(g), cy + in(g), cz + in(g));
+        ASSERT_TRUE(range.contains(v)) << id << ": " << v << " outside [" << range.lo << ", "
+                                       << range.hi << "]";
+      }
+    }
+  }
+}
+
+// 100,000 centres: a point costs the centres within reach, so a coarse mesh takes seconds
+// (every centre per point, as before the index, would not finish a coarse export in 60 s).
+TEST(Blobs, HundredThousandMetaballsMeshPrintable) {
+  std::mt19937 g(5);
+  std::uniform_real_distribution<double> jitter(-0.02, 0.02);
+  std::vector<Vec3> centres;
+  for (int i = 0; i < 100; ++i)
+    for (int j = 0; j < 100; ++j)
+      for (int k = 0; k < 10; ++k)
+        centres.push_back({0.1 * i + jitter(g), 0.1 * j + jitter(g), 0.1 * k + jitter(g)});
+  const NodePtr n = blob("metaballs", centres,
+                         {{"radius", realValue(0.15)}, {"threshold", realValue(0.5)}});
+  MeshingOptions o;
+  o.bbox = structuralBounds(n);
+  o.resolution = 0.1;
+  const TriangleMesh mesh = polygonize(compile(n), o);
+  const CheckReport r = checkMesh(mesh);
+  EXPECT_TRUE(r.printable());
+  EXPECT_EQ(r.components, 1u);
+  // a slab of about 10 x 10 x 1 units
+  EXPECT_GT(r.volume, 70.0);
+  EXPECT_LT(r.volume, 130.0);
+}
+
 TEST(Blobs, MetaballsArePiecewiseQuadraticC1AndZeroBeyondTheRadius) {
   const NodePtr n = blob("metaballs", {{0, 0, 0}},
                          {{"strength", realValue(2.0)}, {"radius", realValue(0.9)},

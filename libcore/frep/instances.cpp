@@ -287,7 +287,7 @@ InstanceSet::~InstanceSet() = default;
 void InstanceSet::near(double x, double y, double z, std::vector<std::uint32_t>& out) const {
   const double q[3] = {x, y, z};
   index_->within(q, reach_, out);
-  if (out.empty() && !positions_.empty() && !whole_) {
+  if (out.empty() && !positions_.empty() && !whole_ && combine_ != Combine::Sum) {
     double d = 0;
     out.push_back(index_->nearest(q, &d));
   }
@@ -309,6 +309,12 @@ void InstanceSet::local(std::uint32_t i, const T& x, const T& y, const T& z, T q
 
 template <class T>
 T InstanceSet::combine(const T* values, std::size_t n) const {
+  if (combine_ == Combine::Sum) {
+    if (n == 0) return T(0.0);
+    T r = values[0];
+    for (std::size_t i = 1; i < n; ++i) r = r + values[i];
+    return r;
+  }
   if (combine_ == Combine::Union) {
     T r = values[0];
     for (std::size_t i = 1; i < n; ++i) r = max(r, values[i]);
@@ -454,6 +460,7 @@ Interval InstanceSet::evalInterval(const Interval& x, const Interval& y, const I
     h2 += 0.25 * box[a].width() * box[a].width();
   }
   const double h = std::sqrt(h2);
+  if (combine_ == Combine::Sum) return sumInterval(box, c, h);
   const double inf = std::numeric_limits<double>::infinity();
   // Every copy that can matter at a point p of the box: those within reach of p (within
   // reach + h of the centre) and p's nearest copy (within d* + 2h, d* = the centre's).
@@ -495,6 +502,35 @@ Interval InstanceSet::evalInterval(const Interval& x, const Interval& y, const I
   return {lo, hi, nan};
 }
 
+Interval InstanceSet::sumInterval(const Interval box[3], const double c[3], double h) const {
+  // The copies within reach of some point of the box. Each adds its own interval over the box
+  // where it reaches every point, and that interval joined with 0 where it may not reach
+  // some; summed in index order with outward rounding, as the points sum them.
+  ScopedWork work;
+  std::vector<std::uint32_t>& candidates = work->ids;
+  index_->within(c, reach_ + h, candidates);
+  if (candidates.empty()) return Interval(0.0);
+  if (candidates.size() > kMaxIntervalCopies) {
+    const Interval one =
+        copy_->evalInterval({-reach_, reach_}, {-reach_, reach_}, {-reach_, reach_});
+    const double n = static_cast<double>(candidates.size());
+    return outward(n * std::min(one.lo, 0.0), n * std::max(one.hi, 0.0), one.nan, 4);
+  }
+  Interval sum;
+  bool first = true;
+  for (std::uint32_t id : candidates) {
+    const Vec3& p = positions_[id];
+    Interval q[3];
+    local(id, box[0], box[1], box[2], q);
+    Interval v = copy_->evalInterval(q[0], q[1], q[2]);
+    const double d = std::sqrt(sqr(c[0] - p[0]) + sqr(c[1] - p[1]) + sqr(c[2] - p[2]));
+    if (!(d + h < reach_ * (1 - 1e-12))) v = hull(v, Interval(0.0));  // may be left out
+    sum = first ? v : sum + v;
+    first = false;
+  }
+  return sum;
+}
+
 std::shared_ptr<const Field> InstanceSet::specialise(const Box3& box) const {
   double c[3], h2 = 0;
   for (int a = 0; a < 3; ++a) {
@@ -527,7 +563,8 @@ std::shared_ptr<const Field> InstanceSet::specialise(const Box3& box) const {
 
 Box3 InstanceSet::bounds() const {
   Box3 b = Field::bounds();
-  if (positions_.empty()) return b;
+  // A sum is >= 0 everywhere: its solid is whatever the threshold subtracted from it makes.
+  if (positions_.empty() || combine_ == Combine::Sum) return b;
   for (int a = 0; a < 3; ++a) {
     b.lo[a] = std::numeric_limits<double>::infinity();
     b.hi[a] = -std::numeric_limits<double>::infinity();

@@ -28,8 +28,11 @@ class Program;
 class InstanceSet final : public Field, public std::enable_shared_from_this<InstanceSet> {
  public:
   // union: max of the copies; blend: the largest two, m1 >= m2, as Pasko's blend union,
-  // m1 + a0 / (1 + (m1/a1)^2 + (m2/a1)^2) (exactly the union where only one copy reaches).
-  enum class Combine { Union, Blend };
+  // m1 + a0 / (1 + (m1/a1)^2 + (m2/a1)^2) (exactly the union where only one copy reaches);
+  // sum: the sum of the copies within reach, in index order, 0 where none reaches (the blob
+  // kernels of compact support: a copy's field is >= 0 and exactly 0 beyond its reach, so
+  // the sum equals the sum over every copy).
+  enum class Combine { Union, Blend, Sum };
   struct Blend {
     double a0 = 0.0;  // displacement: how much material the blend adds
     double a1 = 1.0;  // range: how far from each copy the blend reaches
@@ -66,6 +69,8 @@ class InstanceSet final : public Field, public std::enable_shared_from_this<Inst
   void near(double x, double y, double z, std::vector<std::uint32_t>& out) const;
   template <class T>
   T combine(const T* values, std::size_t n) const;
+  // evalInterval of a sum (Combine::Sum) over the box with centre c and half-diagonal h.
+  Interval sumInterval(const Interval box[3], const double c[3], double h) const;
   Dual toWorld(std::uint32_t i, const Dual& g, const Dual& x, const Dual& y, const Dual& z) const;
   // The point in copy i's own coordinates: R_i^T (p - c_i).
   template <class T>

@@ -12,10 +12,14 @@
 // HyperFun gives each centre its own strength; here one value serves all the centres of a
 // node (sum several nodes' fields with `union` only where they do not meet).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 
+#include "frep/instances.h"
 #include "frep/node_helpers.h"
+#include "frep/program.h"
+#include "frep/program_builder.h"
 #include "frep/registry.h"
 #include "frep/structural_bounds.h"
 #include "frep/tree.h"
@@ -27,9 +31,33 @@ namespace {
 using Kernel = std::function<Slot(ProgramBuilder&, Slot r2, const Node&)>;
 // How far from its centre one kernel can still matter, given n centres and the threshold.
 using Reach = std::function<double(const Node&, std::size_t n)>;
+// The radius beyond which one kernel is exactly 0, or 0 where it never is (Gaussian, Cauchy).
+using Support = std::function<double(const Node&)>;
+
+// From this many centres on, a kernel of compact support is summed through the instancer's
+// spatial index (a point costs the centres within reach, not every centre); fewer are
+// written out as instructions, which region specialisation can then shorten.
+constexpr std::size_t kIndexedCentres = 16;
+
+// The sum of the kernels over the centres through an InstanceSet: the kernel, compiled once
+// at the origin, is each copy. Its r^2 is the same (x - c)^2 sum the written-out form
+// computes, and the centres it leaves out add exactly 0 there, so both forms give the same
+// values.
+Slot indexedSum(CompileContext& c, const std::vector<Vec3>& centres, const Kernel& kernel,
+                double support) {
+  ProgramBuilder kb;
+  const Slot r2 = kb.add(kb.add(kb.sqr(kb.x()), kb.sqr(kb.y())), kb.sqr(kb.z()));
+  auto one = std::make_shared<const Program>(kb.finish(kernel(kb, r2, c.node())));
+  // A hair beyond the support: a centre whose kernel is not exactly 0 is always within reach.
+  auto set = std::make_shared<const InstanceSet>(
+      centres, std::vector<std::array<double, 9>>{}, std::move(one), support * (1 + 1e-9),
+      InstanceSet::Combine::Sum, InstanceSet::Blend{});
+  return c.b.external(std::move(set), c.p.x, c.p.y, c.p.z);
+}
 
 void addBlob(Registry& r, const char* id, const char* doc, const char* formula,
-             std::vector<ParamTemplate> own, Kernel kernel, Reach reach) {
+             std::vector<ParamTemplate> own, Kernel kernel, Reach reach,
+             Support support = nullptr) {
   std::vector<ParamTemplate> params = {
       pointsParam("centers", {{-0.4, 0, 0}, {0.4, 0, 0}}, 1, "length", "The blobs' centres.")};
   params.insert(params.end(), own.begin(), own.end());
@@ -37,11 +65,15 @@ void addBlob(Registry& r, const char* id, const char* doc, const char* formula,
   range(threshold, 0.0, kInf, true);
   params.push_back(threshold);
   r.add({id, "primitive", doc, formula, 0, 0, params,
-         [kernel](CompileContext& c) {
+         [kernel, support](CompileContext& c) {
            auto& b = c.b;
+           const std::vector<Vec3> centres = pointsOf(c.param("centers"));
+           if (support && centres.size() >= kIndexedCentres)
+             return b.sub(indexedSum(c, centres, kernel, support(c.node())),
+                          b.constant(c.real("threshold")));
            Slot sum = 0;
            bool first = true;
-           for (const Vec3& m : pointsOf(c.param("centers"))) {
+           for (const Vec3& m : centres) {
              const Point3Slots d = shifted(b, c.p, m);
              const Slot r2 = b.add(b.add(b.sqr(d.x), b.sqr(d.y)), b.sqr(d.z));
              const Slot k = kernel(b, r2, c.node());
@@ -125,7 +157,8 @@ void registerBlobs(Registry& r) {
         const Slot rest = b.affine(t, t, t, -1.0, 0, 0, 1.0);
         return b.mul(b.sqr(rest), b.affine(t, t, t, -4.0 / 9.0, 0, 0, 1.0));
       },
-      [](const Node& n, std::size_t) { return n.real("radius"); });
+      [](const Node& n, std::size_t) { return n.real("radius"); },
+      [](const Node& n) { return n.real("radius"); });
 
   addBlob(
       r, "convolution",
@@ -161,7 +194,8 @@ void registerBlobs(Registry& r) {
         const Slot outer = b.affine(b.sqr(rest), t, t, 1.5 * a, 0, 0, 0);
         return b.emit(Op::Select, b.affine(t, t, t, -1.0, 0, 0, 1.0 / 3.0), inner, outer);
       },
-      [](const Node& n, std::size_t) { return n.real("radius"); });
+      [](const Node& n, std::size_t) { return n.real("radius"); },
+      [](const Node& n) { return n.real("radius"); });
 
   {
     ParamTemplate points = pointsParam("points", {{-0.5, 0, 0}, {0.5, 0, 0}, {0.5, 0.6, 0}}, 2,
