@@ -34,6 +34,7 @@ LIBRARIES = {
     "tbb/": {"mesh"},
     "nlohmann/": {"frep", "check"},
     "nanoflann": {"frep/instances.cpp"},
+    "Eigen/": {"base/affine.cpp"},
     "pybind11/": {"python"},
     "Python.h": {"python"},
 }

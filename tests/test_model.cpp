@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "base/affine.h"
 #include "base/errors.h"
 #include "frep/model_json.h"
 #include "frep/registry_docs.h"
@@ -148,6 +149,36 @@ TEST(Docs, NodeReferenceIsGeneratedFromTheRegistry) {
   ss << in.rdbuf();
   EXPECT_EQ(ss.str(), registryMarkdown())
       << "docs/node-reference.md is stale: build/bin/frepcad info --markdown > docs/node-reference.md";
+}
+
+// The affine helpers the node types build on (Eigen behind base/affine.h).
+TEST(Affine, RotationInverseDeterminant) {
+  auto apply = [](const Mat34& m, const Vec3& p) {
+    return Vec3{m[0] * p[0] + m[1] * p[1] + m[2] * p[2] + m[3],
+                m[4] * p[0] + m[5] * p[1] + m[6] * p[2] + m[7],
+                m[8] * p[0] + m[9] * p[1] + m[10] * p[2] + m[11]};
+  };
+  // a quarter turn about z through (1, 0, 0): (2, 0, 5) -> (1, 1, 5); the axis's length is
+  // irrelevant
+  const Mat34 r = rotationMatrix({0, 0, 7}, 90, {1, 0, 0});
+  const Vec3 q = apply(r, {2, 0, 5});
+  EXPECT_NEAR(q[0], 1, 1e-15);
+  EXPECT_NEAR(q[1], 1, 1e-15);
+  EXPECT_NEAR(q[2], 5, 1e-15);
+  EXPECT_NEAR(linearDeterminant(r), 1.0, 1e-15);
+  // an affine map and its inverse compose to the identity
+  const Mat34 m = {2, 1, 0, 3, 0, 1, 4, -1, 1, 0, 0.5, 2};
+  EXPECT_NEAR(linearDeterminant(m), 2 * 0.5 - 1 * (0 - 4) + 0, 1e-14);
+  const Mat34 inv = invertAffine(m);
+  for (const Vec3& p : {Vec3{0, 0, 0}, Vec3{1, -2, 3}, Vec3{-5, 0.5, 9}}) {
+    const Vec3 back = apply(inv, apply(m, p));
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(back[a], p[a], 1e-12);
+  }
+  const Vec3 n = normalized({3, 0, 4});
+  EXPECT_NEAR(n[0], 0.6, 1e-15);
+  EXPECT_NEAR(n[2], 0.8, 1e-15);
+  const Vec3 c = cross({1, 0, 0}, {0, 1, 0});
+  EXPECT_EQ(c, (Vec3{0, 0, 1}));
 }
 
 }  // namespace

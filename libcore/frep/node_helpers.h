@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "base/affine.h"
 #include "frep/registry.h"
 
 namespace frep {
@@ -29,11 +30,6 @@ inline ParamTemplate axisParam(const char* doc) {
 }
 inline ParamTemplate centerParam(const char* doc) {
   return vec3Param("center", {0, 0, 0}, "length", doc);
-}
-
-inline Vec3 normalized(const Vec3& v) {
-  const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  return {v[0] / n, v[1] / n, v[2] / n};
 }
 
 // Orthonormal frame (u, v, w) with w along `axis`.
@@ -86,46 +82,6 @@ inline Point3Slots applyAffine(ProgramBuilder& b, Point3Slots p, const Mat34& m)
   return {b.affine(p.x, p.y, p.z, m[0], m[1], m[2], m[3]),
           b.affine(p.x, p.y, p.z, m[4], m[5], m[6], m[7]),
           b.affine(p.x, p.y, p.z, m[8], m[9], m[10], m[11])};
-}
-
-// Inverse of a row-major 3x4 affine matrix (assumed invertible: validated by the registry).
-inline Mat34 invertAffine(const Mat34& m) {
-  const double a = m[0], b = m[1], c = m[2], d = m[4], e = m[5], f = m[6], g = m[8], h = m[9],
-               i = m[10];
-  const double det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
-  const double r[9] = {(e * i - f * h) / det, (c * h - b * i) / det, (b * f - c * e) / det,
-                       (f * g - d * i) / det, (a * i - c * g) / det, (c * d - a * f) / det,
-                       (d * h - e * g) / det, (b * g - a * h) / det, (a * e - b * d) / det};
-  const double t[3] = {m[3], m[7], m[11]};
-  Mat34 out{};
-  for (int row = 0; row < 3; ++row) {
-    out[row * 4 + 0] = r[row * 3 + 0];
-    out[row * 4 + 1] = r[row * 3 + 1];
-    out[row * 4 + 2] = r[row * 3 + 2];
-    out[row * 4 + 3] = -(r[row * 3 + 0] * t[0] + r[row * 3 + 1] * t[1] + r[row * 3 + 2] * t[2]);
-  }
-  return out;
-}
-
-// Rotation by `angleDeg` about `axis` through `center`, as a 3x4 matrix (Rodrigues).
-inline Mat34 rotationMatrix(const Vec3& axis, double angleDeg, const Vec3& center) {
-  const Vec3 k = normalized(axis);
-  const double th = angleDeg * kPi / 180.0, c = std::cos(th), s = std::sin(th), C = 1 - c;
-  const double R[9] = {c + k[0] * k[0] * C,        k[0] * k[1] * C - k[2] * s,
-                       k[0] * k[2] * C + k[1] * s, k[1] * k[0] * C + k[2] * s,
-                       c + k[1] * k[1] * C,        k[1] * k[2] * C - k[0] * s,
-                       k[2] * k[0] * C - k[1] * s, k[2] * k[1] * C + k[0] * s,
-                       c + k[2] * k[2] * C};
-  Mat34 m{};
-  for (int row = 0; row < 3; ++row) {
-    m[row * 4 + 0] = R[row * 3 + 0];
-    m[row * 4 + 1] = R[row * 3 + 1];
-    m[row * 4 + 2] = R[row * 3 + 2];
-    // q = R (p - c) + c
-    m[row * 4 + 3] = center[row] - (R[row * 3 + 0] * center[0] + R[row * 3 + 1] * center[1] +
-                                    R[row * 3 + 2] * center[2]);
-  }
-  return m;
 }
 
 }  // namespace frep

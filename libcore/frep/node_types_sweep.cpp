@@ -49,9 +49,6 @@ Vec3 minus(const Vec3& p, const Vec3& q) {
 double dot(const Vec3& p, const Vec3& q) {
   return p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
 }
-Vec3 cross(const Vec3& p, const Vec3& q) {
-  return {p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0]};
-}
 Vec3 scaled(const Vec3& p, double k) {
   return {p[0] * k, p[1] * k, p[2] * k};
 }

@@ -1,9 +1,11 @@
 #include "frep/registry.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <utility>
 
+#include "base/affine.h"
 #include "base/errors.h"
 
 namespace frep {
@@ -181,10 +183,9 @@ std::string ParamTemplate::check(const ParamValue& v) const {
   if (nonZeroVector && v.numbers[0] == 0 && v.numbers[1] == 0 && v.numbers[2] == 0)
     return "[0, 0, 0] is not allowed; allowed: " + rangeText();
   if (type == ParamType::Matrix3x4) {
-    const auto& m = v.numbers;
-    const double det = m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
-                       m[2] * (m[4] * m[9] - m[5] * m[8]);
-    if (std::abs(det) < 1e-12) return "the matrix is singular; allowed: " + rangeText();
+    Mat34 m{};
+    std::copy(v.numbers.begin(), v.numbers.begin() + 12, m.begin());
+    if (std::abs(linearDeterminant(m)) < 1e-12) return "the matrix is singular; allowed: " + rangeText();
   }
   return "";
 }
