@@ -12,21 +12,6 @@ namespace frep {
 
 namespace {
 
-// MemAvailable from /proc/meminfo (bytes), 0 when unknown (no limit then).
-std::size_t availableMemory() {
-  std::ifstream in("/proc/meminfo");
-  std::string key;
-  std::size_t kib = 0;
-  while (in >> key) {
-    if (key == "MemAvailable:") {
-      in >> kib;
-      return kib * 1024;
-    }
-    in.ignore(1 << 12, '\n');
-  }
-  return 0;
-}
-
 std::string sideNames(const SolidBounds& b) {
   static const char* names[3][2] = {{"-x", "+x"}, {"-y", "+y"}, {"-z", "+z"}};
   std::string s;
@@ -84,6 +69,20 @@ MeshingBox chooseBox(const Field& field, const Box3& known, const BoxRequest& r)
   BoundsOptions o;
   o.known = known;
   return chooseBox(findBounds(field, o), r);
+}
+
+std::size_t availableMemory() {
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  std::size_t kib = 0;
+  while (in >> key) {
+    if (key == "MemAvailable:") {
+      in >> kib;
+      return kib * 1024;
+    }
+    in.ignore(1 << 12, '\n');
+  }
+  return 0;
 }
 
 const char* stageName(ExportStage s) {

@@ -442,6 +442,9 @@ PYBIND11_MODULE(_frepcore, m) {
             o.bbox = toBox(bbox.cast<py::sequence>());
             o.resolution = resolution;
             o.normals = normals;
+            // A preview too large for the memory is refused with the figures, before any
+            // allocation (FreeCAD would die with the process).
+            o.memoryBudget = availableMemory();
             n.compiled();
             std::shared_ptr<const Program> program = n.program;
             return runWithProgress<TriangleMesh>(

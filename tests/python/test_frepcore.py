@@ -68,6 +68,12 @@ def test_bounds_and_mesh_volume():
         (fc.sphere(1) & fc.sphere(1, (3, 0, 0))).mesh()
 
 
+def test_a_preview_too_large_for_the_memory_is_refused_with_the_figures():
+    # a unit sphere at 1e-4: about 6e10 triangles, refused before any allocation
+    with pytest.raises(ValueError, match=r"million triangles.*GB.*use a cell size of at least"):
+        fc.sphere(1).mesh(resolution=1e-4)
+
+
 def test_export_checks_and_writes(tmp_path):
     out = str(tmp_path / "part.stl")
     seen = []
