@@ -161,63 +161,101 @@ Dual Program::evalGradient(const Dual& x, const Dual& y, const Dual& z) const {
 }
 
 namespace {
-void externalBatch(const Field& f, const double* x, const double* y, const double* z,
-                   std::size_t n, double* out) {
-  f.evalBatch(x, y, z, n, out);
-}
-void externalBatch(const Field& f, const Dual* x, const Dual* y, const Dual* z, std::size_t n,
-                   Dual* out) {
-  f.evalGradientBatch(x, y, z, n, out);
-}
+// How a batch keeps one slot's values. Doubles: one array of kBatchSize. Duals: four arrays
+// (values, d/dx, d/dy, d/dz), so that the dual kernels vectorise across points too.
+struct DoubleSlots {
+  using Value = double;
+  static constexpr std::size_t kWidth = Program::kBatchSize;  // doubles per slot
+  static double load(const double* p, std::size_t j) { return p[j]; }
+  static void store(double* p, std::size_t j, double v) { p[j] = v; }
+  static void external(const Field& f, const double* a, const double* b, const double* c,
+                       std::size_t n, double* o) {
+    f.evalBatch(a, b, c, n, o);
+  }
+};
+
+struct DualSlots {
+  using Value = Dual;
+  static constexpr std::size_t kStride = Program::kBatchSize;  // between a slot's arrays
+  static constexpr std::size_t kWidth = 4 * kStride;
+  static Dual load(const double* p, std::size_t j) {
+    return Dual(p[j], p[kStride + j], p[2 * kStride + j], p[3 * kStride + j]);
+  }
+  static void store(double* p, std::size_t j, const Dual& v) {
+    p[j] = v.v;
+    p[kStride + j] = v.d[0];
+    p[2 * kStride + j] = v.d[1];
+    p[3 * kStride + j] = v.d[2];
+  }
+  // An external field takes duals one after another: unpack, evaluate, pack (in scratch per
+  // nesting depth: the field may be a program with externals of its own).
+  static void external(const Field& f, const double* a, const double* b, const double* c,
+                       std::size_t n, double* o) {
+    Scratch<Dual> buffer(4 * n);
+    Dual *xa = buffer.data(), *ya = xa + n, *za = ya + n, *ra = za + n;
+    for (std::size_t j = 0; j < n; ++j) {
+      xa[j] = load(a, j);
+      ya[j] = load(b, j);
+      za[j] = load(c, j);
+    }
+    f.evalGradientBatch(xa, ya, za, n, ra);
+    for (std::size_t j = 0; j < n; ++j) store(o, j, ra[j]);
+  }
+};
 
 // Runs the plan over one chunk of points (the slots of x, y, z filled). The switch is outside
 // the loops so that each loop is a straight vectorisable kernel; each kernel calls the same
-// scalar function applyOp uses, so values are bit-identical to the point modes.
-template <class T, class Step>
+// scalar function applyOp uses, so values are bit-identical to the point modes. (An operand
+// an op does not use is loaded from a valid slot and the load is dropped by the compiler.)
+template <class Slots, class Step>
 __attribute__((always_inline)) inline void runPlan(const Step* plan, std::size_t steps,
                                                    const double* kbase,
                                                    const std::shared_ptr<const Field>* externals,
-                                                   std::size_t n, T* slots) {
-  constexpr std::size_t B = Program::kBatchSize;
+                                                   std::size_t n, double* slots) {
+  using V = typename Slots::Value;
+  constexpr std::size_t W = Slots::kWidth;
   for (std::size_t s = 0; s < steps; ++s) {
     const Step& in = plan[s];
-    T* o = slots + in.out * B;
-    const T* a = slots + in.a * B;
-    const T* b = slots + in.b * B;
-    const T* c = slots + in.c * B;
+    double* o = slots + in.out * W;
+    const double* a = slots + in.a * W;
+    const double* b = slots + in.b * W;
+    const double* c = slots + in.c * W;
     const double* k = kbase + in.k;
-#define FREP_KERNEL(expr) \
-  for (std::size_t j = 0; j < n; ++j) o[j] = (expr); \
+#define FREP_KERNEL(expr)                                                          \
+  for (std::size_t j = 0; j < n; ++j) {                                            \
+    const V A = Slots::load(a, j), B = Slots::load(b, j), C = Slots::load(c, j); \
+    Slots::store(o, j, (expr));                                                    \
+  }                                                                                \
   break
     switch (in.op) {
-      case Op::Const: FREP_KERNEL(T(k[0]));
-      case Op::Add: FREP_KERNEL(a[j] + b[j]);
-      case Op::Sub: FREP_KERNEL(a[j] - b[j]);
-      case Op::Mul: FREP_KERNEL(a[j] * b[j]);
-      case Op::Div: FREP_KERNEL(a[j] / b[j]);
-      case Op::Neg: FREP_KERNEL(-a[j]);
-      case Op::Sqr: FREP_KERNEL(sqr(a[j]));
-      case Op::Sqrt: FREP_KERNEL(sqrt(a[j]));
-      case Op::Abs: FREP_KERNEL(abs(a[j]));
-      case Op::Min: FREP_KERNEL(min(a[j], b[j]));
-      case Op::Max: FREP_KERNEL(max(a[j], b[j]));
-      case Op::Exp: FREP_KERNEL(exp(a[j]));
-      case Op::Sin: FREP_KERNEL(sin(a[j]));
-      case Op::Cos: FREP_KERNEL(cos(a[j]));
-      case Op::Affine: FREP_KERNEL(affine<T>(a[j], b[j], c[j], k));
-      case Op::RUnion: FREP_KERNEL(rUnion<T>(a[j], b[j], k[0]));
-      case Op::RIntersect: FREP_KERNEL(rIntersect<T>(a[j], b[j], k[0]));
-      case Op::BlendBump: FREP_KERNEL(blendBump<T>(a[j], b[j], k));
-      case Op::Atan2: FREP_KERNEL(atan2(a[j], b[j]));
-      case Op::PowAbs: FREP_KERNEL(powAbs(a[j], k[0]));
-      case Op::Floor: FREP_KERNEL(floor(a[j]));
-      case Op::Tan: FREP_KERNEL(tan(a[j]));
-      case Op::Atan: FREP_KERNEL(atan(a[j]));
-      case Op::Log: FREP_KERNEL(log(a[j]));
-      case Op::PowConst: FREP_KERNEL(powConst(a[j], k[0]));
-      case Op::Select: FREP_KERNEL(select(a[j], b[j], c[j]));
+      case Op::Const: FREP_KERNEL(V(k[0]));
+      case Op::Add: FREP_KERNEL(A + B);
+      case Op::Sub: FREP_KERNEL(A - B);
+      case Op::Mul: FREP_KERNEL(A * B);
+      case Op::Div: FREP_KERNEL(A / B);
+      case Op::Neg: FREP_KERNEL(-A);
+      case Op::Sqr: FREP_KERNEL(sqr(A));
+      case Op::Sqrt: FREP_KERNEL(sqrt(A));
+      case Op::Abs: FREP_KERNEL(abs(A));
+      case Op::Min: FREP_KERNEL(min(A, B));
+      case Op::Max: FREP_KERNEL(max(A, B));
+      case Op::Exp: FREP_KERNEL(exp(A));
+      case Op::Sin: FREP_KERNEL(sin(A));
+      case Op::Cos: FREP_KERNEL(cos(A));
+      case Op::Affine: FREP_KERNEL(affine<V>(A, B, C, k));
+      case Op::RUnion: FREP_KERNEL(rUnion<V>(A, B, k[0]));
+      case Op::RIntersect: FREP_KERNEL(rIntersect<V>(A, B, k[0]));
+      case Op::BlendBump: FREP_KERNEL(blendBump<V>(A, B, k));
+      case Op::Atan2: FREP_KERNEL(atan2(A, B));
+      case Op::PowAbs: FREP_KERNEL(powAbs(A, k[0]));
+      case Op::Floor: FREP_KERNEL(floor(A));
+      case Op::Tan: FREP_KERNEL(tan(A));
+      case Op::Atan: FREP_KERNEL(atan(A));
+      case Op::Log: FREP_KERNEL(log(A));
+      case Op::PowConst: FREP_KERNEL(powConst(A, k[0]));
+      case Op::Select: FREP_KERNEL(select(A, B, C));
       case Op::External:
-        externalBatch(*externals[static_cast<std::size_t>(k[0])], a, b, c, n, o);
+        Slots::external(*externals[static_cast<std::size_t>(k[0])], a, b, c, n, o);
         break;
       case Op::Count_: break;
     }
@@ -239,85 +277,13 @@ template <class Step>
 FREP_VECTOR_CLONES void runPlanDouble(const Step* plan, std::size_t steps, const double* kbase,
                                       const std::shared_ptr<const Field>* externals,
                                       std::size_t n, double* slots) {
-  runPlan<double>(plan, steps, kbase, externals, n, slots);
+  runPlan<DoubleSlots>(plan, steps, kbase, externals, n, slots);
 }
-// Gradients, with each slot's duals stored as four arrays (values, d/dx, d/dy, d/dz) so that
-// the kernels vectorise across points; each lane runs the Dual functions of dual.h, so the
-// results are those of the point mode.
-constexpr std::size_t kDualStride = Program::kBatchSize;  // between a slot's four arrays
-inline Dual loadDual(const double* p, std::size_t j) {
-  return Dual(p[j], p[kDualStride + j], p[2 * kDualStride + j], p[3 * kDualStride + j]);
-}
-inline void storeDual(double* p, std::size_t j, const Dual& v) {
-  p[j] = v.v;
-  p[kDualStride + j] = v.d[0];
-  p[2 * kDualStride + j] = v.d[1];
-  p[3 * kDualStride + j] = v.d[2];
-}
-
 template <class Step>
 FREP_VECTOR_CLONES void runPlanDual(const Step* plan, std::size_t steps, const double* kbase,
                                     const std::shared_ptr<const Field>* externals,
                                     std::size_t n, double* slots) {
-  constexpr std::size_t W = 4 * Program::kBatchSize;  // one slot
-  for (std::size_t s = 0; s < steps; ++s) {
-    const Step& in = plan[s];
-    double* o = slots + in.out * W;
-    const double* a = slots + in.a * W;
-    const double* b = slots + in.b * W;
-    const double* c = slots + in.c * W;
-    const double* k = kbase + in.k;
-#define FREP_KERNEL(expr)                                       \
-  for (std::size_t j = 0; j < n; ++j) {                         \
-    const Dual A = loadDual(a, j), B = loadDual(b, j), C = loadDual(c, j); \
-    storeDual(o, j, (expr));                                    \
-  }                                                             \
-  break
-    switch (in.op) {
-      case Op::Const: FREP_KERNEL(Dual(k[0]));
-      case Op::Add: FREP_KERNEL(A + B);
-      case Op::Sub: FREP_KERNEL(A - B);
-      case Op::Mul: FREP_KERNEL(A * B);
-      case Op::Div: FREP_KERNEL(A / B);
-      case Op::Neg: FREP_KERNEL(-A);
-      case Op::Sqr: FREP_KERNEL(sqr(A));
-      case Op::Sqrt: FREP_KERNEL(sqrt(A));
-      case Op::Abs: FREP_KERNEL(abs(A));
-      case Op::Min: FREP_KERNEL(min(A, B));
-      case Op::Max: FREP_KERNEL(max(A, B));
-      case Op::Exp: FREP_KERNEL(exp(A));
-      case Op::Sin: FREP_KERNEL(sin(A));
-      case Op::Cos: FREP_KERNEL(cos(A));
-      case Op::Affine: FREP_KERNEL(affine<Dual>(A, B, C, k));
-      case Op::RUnion: FREP_KERNEL(rUnion<Dual>(A, B, k[0]));
-      case Op::RIntersect: FREP_KERNEL(rIntersect<Dual>(A, B, k[0]));
-      case Op::BlendBump: FREP_KERNEL(blendBump<Dual>(A, B, k));
-      case Op::Atan2: FREP_KERNEL(atan2(A, B));
-      case Op::PowAbs: FREP_KERNEL(powAbs(A, k[0]));
-      case Op::Floor: FREP_KERNEL(floor(A));
-      case Op::Tan: FREP_KERNEL(tan(A));
-      case Op::Atan: FREP_KERNEL(atan(A));
-      case Op::Log: FREP_KERNEL(log(A));
-      case Op::PowConst: FREP_KERNEL(powConst(A, k[0]));
-      case Op::Select: FREP_KERNEL(select(A, B, C));
-      case Op::External: {
-        // The external field takes duals one after another: unpack, evaluate, pack (in
-        // scratch per nesting depth: the field may be a program with externals of its own).
-        Scratch<Dual> buffer(4 * n);
-        Dual *xa = buffer.data(), *ya = xa + n, *za = ya + n, *ra = za + n;
-        for (std::size_t j = 0; j < n; ++j) {
-          xa[j] = loadDual(a, j);
-          ya[j] = loadDual(b, j);
-          za[j] = loadDual(c, j);
-        }
-        externals[static_cast<std::size_t>(k[0])]->evalGradientBatch(xa, ya, za, n, ra);
-        for (std::size_t j = 0; j < n; ++j) storeDual(o, j, ra[j]);
-        break;
-      }
-      case Op::Count_: break;
-    }
-#undef FREP_KERNEL
-  }
+  runPlan<DualSlots>(plan, steps, kbase, externals, n, slots);
 }
 }  // namespace
 
@@ -338,13 +304,13 @@ void Program::evalDualChunk(const Dual* x, const Dual* y, const Dual* z, std::si
                             Dual* out, double* slots) const {
   constexpr std::size_t W = 4 * kBatchSize;
   for (std::size_t j = 0; j < n; ++j) {
-    storeDual(slots + kSlotX * W, j, x[j]);
-    storeDual(slots + kSlotY * W, j, y[j]);
-    storeDual(slots + kSlotZ * W, j, z[j]);
+    DualSlots::store(slots + kSlotX * W, j, x[j]);
+    DualSlots::store(slots + kSlotY * W, j, y[j]);
+    DualSlots::store(slots + kSlotZ * W, j, z[j]);
   }
   runPlanDual(plan_.data(), plan_.size(), constants_.data(), externals_.data(), n, slots);
   const double* r = slots + planResult_ * W;
-  for (std::size_t j = 0; j < n; ++j) out[j] = loadDual(r, j);
+  for (std::size_t j = 0; j < n; ++j) out[j] = DualSlots::load(r, j);
 }
 
 void Program::evalBatch(const double* x, const double* y, const double* z, std::size_t n,
