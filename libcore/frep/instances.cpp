@@ -36,9 +36,8 @@ using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<do
 // from within this one's loop on the same thread.
 struct Work {
   std::vector<std::uint32_t> ids;
-  std::vector<std::size_t> start;
-  std::vector<double> qx, qy, qz, values;
-  std::vector<std::uint32_t> copies;
+  InstanceSet::PairBatch pairs;
+  std::vector<double> values;
   std::vector<Dual> duals, dqx, dqy, dqz;
 };
 class ScopedWork {
@@ -350,31 +349,42 @@ double InstanceSet::eval(double x, double y, double z) const {
   return combine(values.data(), values.size());
 }
 
+// Every (point, copy) pair of a batch: the point in the copy's coordinates (qx, qy, qz), the
+// copy, and where each point's pairs start. `at(j)` gives point j's x, y, z.
+template <class At>
+void InstanceSet::gatherPairs(std::size_t n, At at, PairBatch& pairs) const {
+  pairs.start.assign(1, 0);
+  pairs.copies.clear();
+  pairs.qx.clear();
+  pairs.qy.clear();
+  pairs.qz.clear();
+  for (std::size_t j = 0; j < n; ++j) {
+    const std::array<double, 3> p = at(j);
+    near(p[0], p[1], p[2], pairs.ids);
+    for (std::uint32_t id : pairs.ids) {
+      double q[3];
+      local(id, p[0], p[1], p[2], q);
+      pairs.qx.push_back(q[0]);
+      pairs.qy.push_back(q[1]);
+      pairs.qz.push_back(q[2]);
+      pairs.copies.push_back(id);
+    }
+    pairs.start.push_back(pairs.qx.size());
+  }
+}
+
 void InstanceSet::evalBatch(const double* x, const double* y, const double* z, std::size_t n,
                             double* out) const {
   // Every (point, copy) pair of the chunk is evaluated in one batch call of the copy, then
   // each point's values are combined in the same order eval() uses.
   ScopedWork work;
-  std::vector<std::uint32_t>& ids = work->ids;
-  std::vector<std::size_t>& start = work->start;
-  std::vector<double>&qx = work->qx, &qy = work->qy, &qz = work->qz, &values = work->values;
-  start.assign(1, 0);
-  qx.clear();
-  qy.clear();
-  qz.clear();
-  for (std::size_t j = 0; j < n; ++j) {
-    near(x[j], y[j], z[j], ids);
-    for (std::uint32_t id : ids) {
-      double q[3];
-      local(id, x[j], y[j], z[j], q);
-      qx.push_back(q[0]);
-      qy.push_back(q[1]);
-      qz.push_back(q[2]);
-    }
-    start.push_back(qx.size());
-  }
-  values.resize(qx.size());
-  copy_->evalBatch(qx.data(), qy.data(), qz.data(), qx.size(), values.data());
+  PairBatch& pairs = work->pairs;
+  gatherPairs(n, [&](std::size_t j) { return std::array<double, 3>{x[j], y[j], z[j]}; }, pairs);
+  const std::vector<std::size_t>& start = pairs.start;
+  std::vector<double>& values = work->values;
+  values.resize(pairs.qx.size());
+  copy_->evalBatch(pairs.qx.data(), pairs.qy.data(), pairs.qz.data(), values.size(),
+                   values.data());
   for (std::size_t j = 0; j < n; ++j)
     out[j] = start[j + 1] == start[j] && whole_
                  ? whole_->eval(x[j], y[j], z[j])  // no copy of the subset reaches it
@@ -416,36 +426,29 @@ void InstanceSet::evalGradientBatch(const Dual* x, const Dual* y, const Dual* z,
   // As evalBatch: every (point, copy) pair in one gradient batch of the copy, then the same
   // steps as evalGradient per pair, so each result is bit-identical to evalGradient's.
   ScopedWork work;
-  std::vector<std::uint32_t>& ids = work->ids;
-  std::vector<std::size_t>& start = work->start;
-  std::vector<std::uint32_t>& copies = work->copies;
+  PairBatch& pairs = work->pairs;
+  gatherPairs(n, [&](std::size_t j) { return std::array<double, 3>{x[j].v, y[j].v, z[j].v}; },
+              pairs);
+  const std::vector<std::size_t>& start = pairs.start;
   std::vector<Dual>&qx = work->dqx, &qy = work->dqy, &qz = work->dqz, &values = work->duals;
-  start.assign(1, 0);
-  copies.clear();
-  qx.clear();
-  qy.clear();
-  qz.clear();
-  for (std::size_t j = 0; j < n; ++j) {
-    near(x[j].v, y[j].v, z[j].v, ids);
-    for (std::uint32_t id : ids) {
-      double q[3];
-      local(id, x[j].v, y[j].v, z[j].v, q);
-      qx.emplace_back(q[0], 1, 0, 0);
-      qy.emplace_back(q[1], 0, 1, 0);
-      qz.emplace_back(q[2], 0, 0, 1);
-      copies.push_back(id);
-    }
-    start.push_back(qx.size());
+  const std::size_t m = pairs.qx.size();
+  qx.resize(m);
+  qy.resize(m);
+  qz.resize(m);
+  for (std::size_t e = 0; e < m; ++e) {
+    qx[e] = Dual(pairs.qx[e], 1, 0, 0);
+    qy[e] = Dual(pairs.qy[e], 0, 1, 0);
+    qz[e] = Dual(pairs.qz[e], 0, 0, 1);
   }
-  values.resize(qx.size());
-  copy_->evalGradientBatch(qx.data(), qy.data(), qz.data(), qx.size(), values.data());
+  values.resize(m);
+  copy_->evalGradientBatch(qx.data(), qy.data(), qz.data(), m, values.data());
   for (std::size_t j = 0; j < n; ++j) {
     if (start[j + 1] == start[j] && whole_) {  // no copy of the subset reaches it
       out[j] = whole_->evalGradient(x[j], y[j], z[j]);
       continue;
     }
     for (std::size_t e = start[j]; e < start[j + 1]; ++e)
-      values[e] = toWorld(copies[e], values[e], x[j], y[j], z[j]);
+      values[e] = toWorld(pairs.copies[e], values[e], x[j], y[j], z[j]);
     out[j] = combine(values.data() + start[j], start[j + 1] - start[j]);
   }
 }

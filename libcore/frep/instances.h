@@ -62,9 +62,18 @@ class InstanceSet final : public Field, public std::enable_shared_from_this<Inst
   Box3 bounds() const override;
 
   std::size_t size() const { return positions_.size(); }
+
+  // The (point, copy) pairs of a batch (scratch for the batch modes).
+  struct PairBatch {
+    std::vector<std::uint32_t> ids, copies;
+    std::vector<std::size_t> start;
+    std::vector<double> qx, qy, qz;
+  };
   double reach() const { return reach_; }
 
  private:
+  template <class At>
+  void gatherPairs(std::size_t n, At at, PairBatch& pairs) const;
   // The copies N(p), in increasing index order (so every mode combines them alike).
   void near(double x, double y, double z, std::vector<std::uint32_t>& out) const;
   template <class T>
