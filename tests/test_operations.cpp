@@ -339,6 +339,52 @@ TEST(Blobs, ManyCentresGoThroughTheIndexWithTheSameValues) {
   }
 }
 
+// blobby's Gaussian bumps never reach 0: with many centres a point sums those within the
+// radius beyond which all the others add less than 1e-9 of the threshold. The values stay
+// within that of the full sum; batches agree with points; intervals enclose.
+TEST(Blobs, ManyGaussianBumpsAreTruncatedWithinTheTolerance) {
+  std::mt19937 g(23);
+  std::uniform_real_distribution<double> u(-3, 3);
+  std::vector<Vec3> centres(400);
+  for (Vec3& c : centres) c = {u(g), u(g), 0.3 * u(g)};
+  const double threshold = 0.5;
+  std::map<std::string, ParamValue> params = {{"falloff", realValue(20.0)},
+                                              {"threshold", realValue(threshold)}};
+  const Program p = compile(blob("blobby", centres, params));
+  ASSERT_EQ(p.externals().size(), 1u) << "not through the index";
+  params["threshold"] = realValue(1e-300);
+  std::vector<Program> each;
+  for (const Vec3& c : centres) each.push_back(compile(blob("blobby", {c}, params)));
+  std::vector<double> x, y, z;
+  double worst = 0;
+  int inside = 0;
+  for (int i = 0; i < 2000; ++i) {
+    x.push_back(u(g));
+    y.push_back(u(g));
+    z.push_back(0.3 * u(g));
+    double sum = 0;
+    for (const Program& e : each) sum += e.eval(x.back(), y.back(), z.back()) + 1e-300;
+    const double v = p.eval(x.back(), y.back(), z.back());
+    worst = std::max(worst, std::abs(v - (sum - threshold)));
+    inside += v >= 0;
+  }
+  EXPECT_LT(worst, 1e-9 * threshold + 1e-12);
+  EXPECT_GT(inside, 100);
+  std::vector<double> out(x.size());
+  p.evalBatch(x.data(), y.data(), z.data(), x.size(), out.data());
+  for (std::size_t i = 0; i < x.size(); ++i) ASSERT_EQ(out[i], p.eval(x[i], y[i], z[i]));
+  std::uniform_real_distribution<double> size(0.01, 1.0);
+  for (int b = 0; b < 200; ++b) {
+    const double cx = u(g), cy = u(g), cz = 0.3 * u(g), h = size(g);
+    const Interval range = p.evalInterval({cx - h, cx + h}, {cy - h, cy + h}, {cz - h, cz + h});
+    std::uniform_real_distribution<double> in(-h, h);
+    for (int k = 0; k < 40; ++k) {
+      const double v = p.eval(cx + in(g), cy + in(g), cz + in(g));
+      ASSERT_TRUE(range.contains(v)) << v << " outside [" << range.lo << ", " << range.hi << "]";
+    }
+  }
+}
+
 // 100,000 centres: a point costs the centres within reach, so a coarse mesh takes seconds
 // (every centre per point, as before the index, would not finish a coarse export in 60 s).
 TEST(Blobs, HundredThousandMetaballsMeshPrintable) {

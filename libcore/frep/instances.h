@@ -30,8 +30,8 @@ class InstanceSet final : public Field, public std::enable_shared_from_this<Inst
   // union: max of the copies; blend: the largest two, m1 >= m2, as Pasko's blend union,
   // m1 + a0 / (1 + (m1/a1)^2 + (m2/a1)^2) (exactly the union where only one copy reaches);
   // sum: the sum of the copies within reach, in index order, 0 where none reaches (the blob
-  // kernels of compact support: a copy's field is >= 0 and exactly 0 beyond its reach, so
-  // the sum equals the sum over every copy).
+  // kernels: a copy's field is >= 0 and exactly 0 beyond its reach, so the sum equals the
+  // sum over every copy, or, for a truncated kernel, negligible beyond it).
   enum class Combine { Union, Blend, Sum };
   struct Blend {
     double a0 = 0.0;  // displacement: how much material the blend adds

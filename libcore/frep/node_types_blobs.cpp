@@ -31,24 +31,35 @@ namespace {
 using Kernel = std::function<Slot(ProgramBuilder&, Slot r2, const Node&)>;
 // How far from its centre one kernel can still matter, given n centres and the threshold.
 using Reach = std::function<double(const Node&, std::size_t n)>;
-// The radius beyond which one kernel is exactly 0, or 0 where it never is (Gaussian, Cauchy).
-using Support = std::function<double(const Node&)>;
+// The radius beyond which the centres are left out of the sum: where one kernel is exactly
+// 0 (soft objects, metaballs), or where all the kernels beyond it together stay below
+// kTailTolerance of the threshold (blobby's Gaussian); 0 where no radius does (the Cauchy
+// kernel's tail: see below). Given the node and its number of centres.
+using Support = std::function<double(const Node&, std::size_t n)>;
 
-// From this many centres on, a kernel of compact support is summed through the instancer's
-// spatial index (a point costs the centres within reach, not every centre); fewer are
-// written out as instructions, which region specialisation can then shorten.
+// The most the centres left out of a truncated (Gaussian) sum may add together, as a
+// fraction of the threshold: far below what a mesh can show (the surface moves by about this
+// fraction of the distance over which the field changes by the threshold).
+constexpr double kTailTolerance = 1e-9;
+
+// From this many centres on, a kernel with a support radius (exact or truncated) is summed
+// through the instancer's spatial index (a point costs the centres within reach, not every
+// centre); fewer are written out as instructions, which region specialisation can then
+// shorten.
 constexpr std::size_t kIndexedCentres = 16;
 
 // The sum of the kernels over the centres through an InstanceSet: the kernel, compiled once
 // at the origin, is each copy. Its r^2 is the same (x - c)^2 sum the written-out form
-// computes, and the centres it leaves out add exactly 0 there, so both forms give the same
-// values.
+// computes, and the centres it leaves out add exactly 0 there (soft objects, metaballs), so
+// both forms give the same values; for a truncated kernel they differ by less than the
+// tolerance.
 Slot indexedSum(CompileContext& c, const std::vector<Vec3>& centres, const Kernel& kernel,
                 double support) {
   ProgramBuilder kb;
   const Slot r2 = kb.add(kb.add(kb.sqr(kb.x()), kb.sqr(kb.y())), kb.sqr(kb.z()));
   auto one = std::make_shared<const Program>(kb.finish(kernel(kb, r2, c.node())));
-  // A hair beyond the support: a centre whose kernel is not exactly 0 is always within reach.
+  // A hair beyond the support: a centre whose kernel is not exactly 0 (or, truncated, is not
+  // negligible) is always within reach.
   auto set = std::make_shared<const InstanceSet>(
       centres, std::vector<std::array<double, 9>>{}, std::move(one), support * (1 + 1e-9),
       InstanceSet::Combine::Sum, InstanceSet::Blend{});
@@ -68,8 +79,9 @@ void addBlob(Registry& r, const char* id, const char* doc, const char* formula,
          [kernel, support](CompileContext& c) {
            auto& b = c.b;
            const std::vector<Vec3> centres = pointsOf(c.param("centers"));
-           if (support && centres.size() >= kIndexedCentres)
-             return b.sub(indexedSum(c, centres, kernel, support(c.node())),
+           if (support && support(c.node(), centres.size()) > 0 &&
+               centres.size() >= kIndexedCentres)
+             return b.sub(indexedSum(c, centres, kernel, support(c.node(), centres.size())),
                           b.constant(c.real("threshold")));
            Slot sum = 0;
            bool first = true;
@@ -129,7 +141,10 @@ std::vector<std::pair<Vec3, Vec3>> skeletonSegments(const Node& n) {
 
 void registerBlobs(Registry& r) {
   addBlob(
-      r, "blobby", "Blinn's blobby object: Gaussian bumps around the centres, summed.",
+      r, "blobby",
+      "Blinn's blobby object: Gaussian bumps around the centres, summed. With 16 or more "
+      "centres a point sums only the bumps within reach, the reach chosen so that all the "
+      "others together add less than 1e-9 of the threshold.",
       "F = sum_i strength exp(-falloff |p - c_i|^2) - threshold",
       {positiveReal("strength", 1.0, "Height of each bump."),
        positiveReal("falloff", 8.0, "How fast a bump decays (per squared length).")},
@@ -141,12 +156,20 @@ void registerBlobs(Registry& r) {
         // The sum exceeds the threshold only where some bump exceeds threshold / count.
         const double q = double(count) * n.real("strength") / n.real("threshold");
         return q > 1 ? std::sqrt(std::log(q) / n.real("falloff")) : 0.0;
+      },
+      [](const Node& n, std::size_t count) {
+        // Beyond rho each of at most `count` bumps is below strength exp(-falloff rho^2),
+        // so together they stay below kTailTolerance * threshold.
+        const double q =
+            double(count) * n.real("strength") / (kTailTolerance * n.real("threshold"));
+        return q > 1 ? std::sqrt(std::log(q) / n.real("falloff")) : 0.0;
       });
 
   addBlob(
       r, "soft_objects",
       "Wyvill's soft objects: each centre's field falls smoothly to exactly 0 at `radius`, "
-      "so distant blobs do not interact.",
+      "so distant blobs do not interact (and, with 16 or more centres, a point evaluates "
+      "only the centres within `radius`: 100,000 centres are fine).",
       "t = min(|p - c_i|^2 / radius^2, 1);  F = sum_i (1 - 22/9 t + 17/9 t^2 - 4/9 t^3) - "
       "threshold",
       {positiveLength("radius", 0.6, "Reach of each centre's field.")},
@@ -158,7 +181,7 @@ void registerBlobs(Registry& r) {
         return b.mul(b.sqr(rest), b.affine(t, t, t, -4.0 / 9.0, 0, 0, 1.0));
       },
       [](const Node& n, std::size_t) { return n.real("radius"); },
-      [](const Node& n) { return n.real("radius"); });
+      [](const Node& n, std::size_t) { return n.real("radius"); });
 
   addBlob(
       r, "convolution",
@@ -181,7 +204,8 @@ void registerBlobs(Registry& r) {
   addBlob(
       r, "metaballs",
       "Nishimura's metaballs (HyperFun hfMetaBall): a piecewise quadratic bump that is "
-      "exactly 0 from `radius` on, smooth (C1) everywhere, summed over the centres.",
+      "exactly 0 from `radius` on, smooth (C1) everywhere, summed over the centres (with 16 "
+      "or more, a point evaluates only the centres within `radius`).",
       "t = |p - c_i| / radius;  k = strength (1 - 3t^2) for t <= 1/3, 3/2 strength (1 - t)^2 "
       "for t <= 1, 0 beyond;  F = sum_i k_i - threshold",
       {positiveReal("strength", 1.0, "Height of each bump (b)."),
@@ -195,7 +219,7 @@ void registerBlobs(Registry& r) {
         return b.emit(Op::Select, b.affine(t, t, t, -1.0, 0, 0, 1.0 / 3.0), inner, outer);
       },
       [](const Node& n, std::size_t) { return n.real("radius"); },
-      [](const Node& n) { return n.real("radius"); });
+      [](const Node& n, std::size_t) { return n.real("radius"); });
 
   {
     ParamTemplate points = pointsParam("points", {{-0.5, 0, 0}, {0.5, 0, 0}, {0.5, 0.6, 0}}, 2,
