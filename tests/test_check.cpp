@@ -1,6 +1,9 @@
 // The checker finds each defect class on small hand-made meshes.
 #include <gtest/gtest.h>
 
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <random>
+
 #include "check/mesh_check.h"
 
 namespace frep {
@@ -130,6 +133,76 @@ TEST(Check, ReportFormats) {
   EXPECT_NE(text.find("NOT printable"), std::string::npos);
   EXPECT_NE(text.find("3 border edges"), std::string::npos);
   EXPECT_NE(reportToJson(bad, "t.stl").find("\"printable\": false"), std::string::npos);
+}
+
+// Found by the test below: a vertex no triangle uses made CGAL's orientation test crash
+// (SIGSEGV), and mesh files may list such vertices.
+TEST(Check, UnusedVerticesDoNotMatter) {
+  TriangleMesh m = tetra();
+  m.positions.push_back({5, 5, 5});
+  m.positions.push_back({-3, 2, 1});
+  const CheckReport r = checkMesh(m);
+  EXPECT_TRUE(r.printable()) << r.reasons.size();
+  EXPECT_TRUE(r.outward);
+  EXPECT_EQ(r.components, 1u);
+}
+
+// The check decides "is this soup a polygon mesh?" from its own edge and fan counts instead
+// of CGAL's is_polygon_soup_a_polygon_mesh (a large part of its time). The two must agree:
+// soups made from two octahedra sharing vertices, with faces removed, flipped, repeated and
+// added at random.
+TEST(Check, PolygonMeshTestAgreesWithCgals) {
+  const std::vector<Vec3f> octahedron = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0},
+                                         {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  const std::vector<Triangle> faces = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                                       {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  std::mt19937 g(7);
+  int meshes = 0, soups = 0;
+  for (int i = 0; i < 3000; ++i) {
+    TriangleMesh m;
+    m.positions = octahedron;
+    // a second octahedron beside the first, sharing 0, 1 or 2 of its vertices
+    const int shared = std::uniform_int_distribution<int>(0, 2)(g);
+    for (const Vec3f& p : octahedron) m.positions.push_back({p[0] + 2, p[1], p[2]});
+    if (shared >= 1) m.positions[6 + 1] = m.positions[0];  // its -x vertex is our +x vertex
+    if (shared >= 2) m.positions[6 + 2] = m.positions[2];  // and its +y our +y... moved
+    const bool second = g() % 2;
+    for (int copy = 0; copy < (second ? 2 : 1); ++copy)
+      for (Triangle t : faces) {
+        const int what = std::uniform_int_distribution<int>(0, 19)(g);
+        if (what == 0) continue;                         // removed
+        if (what == 1) std::swap(t[1], t[2]);            // flipped
+        for (auto& v : t) v += 6 * copy;
+        m.triangles.push_back(t);
+        if (what == 2) m.triangles.push_back(t);         // repeated
+      }
+    const int extra = std::uniform_int_distribution<int>(0, 3)(g) == 0 ? 1 : 0;
+    for (int e = 0; e < extra; ++e) {  // a random face over the first octahedron's vertices
+      std::uint32_t a = g() % 6, b = g() % 6, c = g() % 6;
+      if (a == b || b == c || a == c) continue;
+      m.triangles.push_back({a, b, c});
+    }
+    if (m.triangles.empty()) continue;
+    const CheckReport r = checkMesh(m);
+    const bool ours = r.nonManifoldEdges == 0 && r.misorientedEdges == 0 &&
+                      r.nonManifoldVertices == 0;
+    // CGAL's verdict on the same welded soup (unused points do not matter to it)
+    std::vector<std::array<float, 3>> unique;
+    std::vector<std::vector<std::size_t>> soup;
+    auto id = [&](const Vec3f& p) {
+      for (std::size_t k = 0; k < unique.size(); ++k)
+        if (unique[k] == std::array<float, 3>{p[0], p[1], p[2]}) return k;
+      unique.push_back({p[0], p[1], p[2]});
+      return unique.size() - 1;
+    };
+    for (const Triangle& t : m.triangles)
+      soup.push_back({id(m.positions[t[0]]), id(m.positions[t[1]]), id(m.positions[t[2]])});
+    const bool cgal = CGAL::Polygon_mesh_processing::is_polygon_soup_a_polygon_mesh(soup);
+    ASSERT_EQ(ours, cgal) << "soup " << i;
+    (cgal ? meshes : soups) += 1;
+  }
+  EXPECT_GT(meshes, 300);  // both verdicts are exercised
+  EXPECT_GT(soups, 300);
 }
 
 }  // namespace

@@ -170,10 +170,30 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
   tick(0.35);
   // CGAL: self-intersections and orientation. A soup that is not a valid polygon mesh is
   // first made one by CGAL's orient_polygon_soup (which splits non-manifold vertices).
+  // Whether it is one follows from the counts above, which test exactly what CGAL's
+  // is_polygon_soup_a_polygon_mesh does (every edge in at most two faces, in opposite
+  // directions; one fan of faces round every vertex; no face repeating a vertex, those
+  // having been set aside), in a fraction of its time (it took 40 % of the check on a
+  // 1.4 million triangle mesh).
   if (!faces.empty()) {
-    std::vector<Point> soupPoints = points;
+    // Only the vertices the faces use: CGAL's orientation test crashes on a surface mesh with
+    // isolated vertices (a file may well list vertices no triangle uses).
+    std::vector<Point> soupPoints;
     std::vector<std::array<std::size_t, 3>> soup = faces;
-    const bool isMesh = PMP::is_polygon_soup_a_polygon_mesh(soup);
+    {
+      constexpr std::size_t kUnused = static_cast<std::size_t>(-1);
+      std::vector<std::size_t> renumber(points.size(), kUnused);
+      for (auto& f : soup)
+        for (std::size_t& v : f) {
+          if (renumber[v] == kUnused) {
+            renumber[v] = soupPoints.size();
+            soupPoints.push_back(points[v]);
+          }
+          v = renumber[v];
+        }
+    }
+    const bool isMesh =
+        r.nonManifoldEdges == 0 && r.misorientedEdges == 0 && r.nonManifoldVertices == 0;
     if (!isMesh) PMP::orient_polygon_soup(soupPoints, soup);
     SurfaceMesh sm;
     PMP::polygon_soup_to_polygon_mesh(soupPoints, soup, sm);
