@@ -29,9 +29,9 @@ ALLOWED = {
 }
 # <header prefix>: the layers (or layer/file) that may include it
 LIBRARIES = {
-    "CGAL/": {"check/mesh_check.cpp"},
+    "CGAL/": {"check/mesh_check.cpp", "check/self_intersections.cpp"},
     "OpenMesh/": {"mesh/openmesh_bridge.h", "mesh/openmesh_bridge.cpp"},
-    "tbb/": {"mesh"},
+    "tbb/": {"mesh", "check/self_intersections.cpp"},
     "nlohmann/": {"frep", "check"},
     "nanoflann": {"frep/instances.cpp"},
     "Eigen/": {"base/affine.cpp"},

@@ -2,9 +2,13 @@
 #include <gtest/gtest.h>
 
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <map>
 #include <random>
 
 #include "check/mesh_check.h"
+#include "check/self_intersections.h"
+#include "frep/tree.h"
+#include "mesh/mesher.h"
 
 namespace frep {
 namespace {
@@ -203,6 +207,76 @@ TEST(Check, PolygonMeshTestAgreesWithCgals) {
   }
   EXPECT_GT(meshes, 300);  // both verdicts are exercised
   EXPECT_GT(soups, 300);
+}
+
+// The surface of the cube [0, n]^3 as lattice triangles, two per unit square, outward.
+void latticeCube(int n, std::vector<Vec3f>& points, std::vector<FaceIndices>& faces) {
+  std::map<std::array<int, 3>, std::uint32_t> ids;
+  auto id = [&](int x, int y, int z) {
+    const auto it = ids.find({x, y, z});
+    if (it != ids.end()) return it->second;
+    points.push_back({float(x), float(y), float(z)});
+    return ids[{x, y, z}] = static_cast<std::uint32_t>(points.size() - 1);
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side)
+      for (int u = 0; u < n; ++u)
+        for (int v = 0; v < n; ++v) {
+          auto at = [&](int du, int dv) {
+            int c[3];
+            c[axis] = side * n;
+            c[(axis + 1) % 3] = u + du;
+            c[(axis + 2) % 3] = v + dv;
+            return id(c[0], c[1], c[2]);
+          };
+          const std::uint32_t a = at(0, 0), b = at(1, 0), c = at(1, 1), d = at(0, 1);
+          if (side == 1) {
+            faces.push_back({a, b, c});
+            faces.push_back({a, c, d});
+          } else {
+            faces.push_back({a, c, b});
+            faces.push_back({a, d, c});
+          }
+        }
+}
+
+// The grid count must be CGAL's count exactly: lattice cubes with vertices moved to other
+// lattice points (exactly coplanar folds over shared edges, shared-vertex crossings,
+// collinear faces, piercings), and a meshed ball with vertices jittered by a cell.
+TEST(Check, GridSelfIntersectionCountIsCgals) {
+  std::mt19937 g(31);
+  int withIntersections = 0;
+  for (int i = 0; i < 400; ++i) {
+    std::vector<Vec3f> points;
+    std::vector<FaceIndices> faces;
+    latticeCube(3 + i % 3, points, faces);
+    std::uniform_int_distribution<int> lattice(-1, 6), which(0, static_cast<int>(points.size()) - 1);
+    const int moves = 1 + i % 4;
+    for (int k = 0; k < moves; ++k)
+      points[static_cast<std::size_t>(which(g))] = {float(lattice(g)), float(lattice(g)),
+                                                    float(lattice(g))};
+    const std::size_t ours = countSelfIntersections(points, faces);
+    ASSERT_EQ(ours, countSelfIntersectionsWithCgal(points, faces)) << "cube " << i;
+    withIntersections += ours > 0;
+  }
+  EXPECT_GT(withIntersections, 150);
+  MeshingOptions o;
+  o.bbox = {{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}};
+  o.resolution = 0.2;
+  const TriangleMesh ball = polygonize(compile(makeNode("sphere", {}, {})), o);
+  std::vector<FaceIndices> faces(ball.triangles.begin(), ball.triangles.end());
+  for (int i = 0; i < 60; ++i) {
+    std::vector<Vec3f> points = ball.positions;
+    std::uniform_int_distribution<std::size_t> which(0, points.size() - 1);
+    std::uniform_real_distribution<float> jitter(-0.2f, 0.2f);
+    for (int k = 0; k < 1 + i % 20; ++k) {
+      Vec3f& q = points[which(g)];
+      for (float& c : q) c += jitter(g);
+    }
+    ASSERT_EQ(countSelfIntersections(points, faces), countSelfIntersectionsWithCgal(points, faces))
+        << "ball " << i;
+  }
+  EXPECT_EQ(countSelfIntersections(ball.positions, faces), 0u);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // The only translation unit that includes CGAL (slow to compile: keep it alone).
 #include "check/mesh_check.h"
+#include "check/self_intersections.h"
 #include "base/triangle_geometry.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -198,10 +199,20 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
     SurfaceMesh sm;
     PMP::polygon_soup_to_polygon_mesh(soupPoints, soup, sm);
     tick(0.45);
-    std::atomic<std::size_t> pairs{0};
-    PMP::self_intersections<CGAL::Parallel_if_available_tag>(
-        sm, boost::make_function_output_iterator([&](const auto&) { ++pairs; }));
-    r.selfIntersections = pairs;
+    if (isMesh) {
+      // A polygon mesh (every export the mesher makes): CGAL's count through a hash grid.
+      std::vector<FaceIndices> indexed;
+      indexed.reserve(faces.size());
+      for (const auto& f : faces)
+        indexed.push_back({static_cast<std::uint32_t>(f[0]), static_cast<std::uint32_t>(f[1]),
+                           static_cast<std::uint32_t>(f[2])});
+      r.selfIntersections = countSelfIntersections(pos, indexed);
+    } else {
+      std::atomic<std::size_t> pairs{0};
+      PMP::self_intersections<CGAL::Parallel_if_available_tag>(
+          sm, boost::make_function_output_iterator([&](const auto&) { ++pairs; }));
+      r.selfIntersections = pairs;
+    }
     tick(0.95);
     const bool manifold = isMesh && r.nonManifoldEdges == 0 && r.nonManifoldVertices == 0 &&
                           r.misorientedEdges == 0;

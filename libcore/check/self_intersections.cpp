@@ -1,0 +1,220 @@
+#include "check/self_intersections.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Surface_mesh.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <atomic>
+#include <boost/iterator/function_output_iterator.hpp>
+#include <cmath>
+
+namespace frep {
+
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Segment = Kernel::Segment_3;
+using TriangleK = Kernel::Triangle_3;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+struct Box {
+  double lo[3], hi[3];
+};
+
+bool overlap(const Box& a, const Box& b) {  // closed boxes, as CGAL's box intersection
+  for (int k = 0; k < 3; ++k)
+    if (a.hi[k] < b.lo[k] || b.hi[k] < a.lo[k]) return false;
+  return true;
+}
+
+// CGAL's do_faces_intersect (self_intersections.h, CGAL 5.5) on two faces of a polygon mesh
+// given by vertex indices: a shared edge intersects only where the four points are coplanar
+// and the two third vertices lie on the same side of it; a shared vertex where one face's
+// opposite side crosses the other face; else the triangles intersect anywhere.
+bool facesIntersect(const std::vector<Point>& p, const FaceIndices& f, const FaceIndices& g) {
+  auto in = [](std::uint32_t v, const FaceIndices& t) { return v == t[0] || v == t[1] || v == t[2]; };
+  for (int k = 0; k < 3; ++k) {
+    const std::uint32_t a = f[k], b = f[(k + 1) % 3];
+    if (in(a, g) && in(b, g)) {  // the shared edge a -> b (in f's order)
+      const std::uint32_t c = f[(k + 2) % 3];
+      std::uint32_t d = g[0];
+      for (std::uint32_t v : g)
+        if (v != a && v != b) d = v;
+      return CGAL::coplanar(p[a], p[b], p[c], p[d]) &&
+             CGAL::coplanar_orientation(p[a], p[b], p[c], p[d]) == CGAL::POSITIVE;
+    }
+  }
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (f[i] == g[j]) {  // one shared vertex: the opposite sides against the other faces
+        const TriangleK tf(p[f[0]], p[f[1]], p[f[2]]), tg(p[g[0]], p[g[1]], p[g[2]]);
+        const Segment sf(p[f[(i + 1) % 3]], p[f[(i + 2) % 3]]);
+        const Segment sg(p[g[(j + 1) % 3]], p[g[(j + 2) % 3]]);
+        return CGAL::do_intersect(tf, sg) || CGAL::do_intersect(tg, sf);
+      }
+  return CGAL::do_intersect(TriangleK(p[f[0]], p[f[1]], p[f[2]]),
+                            TriangleK(p[g[0]], p[g[1]], p[g[2]]));
+}
+
+// Grid limits: beyond them the grid would not pay and CGAL's box tree is used.
+constexpr double kMaxEntriesPerFace = 12.0;  // cells a face's box covers, on average
+constexpr double kMaxPairsPerFace = 64.0;    // candidate pairs, on average
+constexpr double kMaxCellsPerAxis = 2097152.0;  // 2^21: three axes in one 64-bit key
+
+}  // namespace
+
+std::size_t countSelfIntersectionsWithCgal(const std::vector<Vec3f>& points,
+                                           const std::vector<FaceIndices>& faces) {
+  std::vector<Point> pts;
+  pts.reserve(points.size());
+  for (const Vec3f& q : points) pts.emplace_back(q[0], q[1], q[2]);
+  std::vector<std::array<std::size_t, 3>> soup;
+  soup.reserve(faces.size());
+  for (const FaceIndices& f : faces) soup.push_back({f[0], f[1], f[2]});
+  // Only the vertices the faces use (CGAL's algorithms dislike isolated vertices).
+  std::vector<std::size_t> renumber(pts.size(), static_cast<std::size_t>(-1));
+  std::vector<Point> used;
+  for (auto& f : soup)
+    for (std::size_t& v : f) {
+      if (renumber[v] == static_cast<std::size_t>(-1)) {
+        renumber[v] = used.size();
+        used.push_back(pts[v]);
+      }
+      v = renumber[v];
+    }
+  CGAL::Surface_mesh<Point> sm;
+  PMP::polygon_soup_to_polygon_mesh(used, soup, sm);
+  std::atomic<std::size_t> pairs{0};
+  PMP::self_intersections<CGAL::Parallel_if_available_tag>(
+      sm, boost::make_function_output_iterator([&](const auto&) { ++pairs; }));
+  return pairs;
+}
+
+std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
+                                   const std::vector<FaceIndices>& faces) {
+  std::vector<Point> p;
+  p.reserve(points.size());
+  for (const Vec3f& q : points) p.emplace_back(q[0], q[1], q[2]);
+
+  // Degenerate faces count as a pair with themselves and take part in nothing else, as in CGAL.
+  std::size_t count = 0;
+  std::vector<std::uint32_t> live;
+  live.reserve(faces.size());
+  std::vector<Box> boxes(faces.size());
+  std::vector<double> extent;
+  extent.reserve(faces.size());
+  Box all{{HUGE_VAL, HUGE_VAL, HUGE_VAL}, {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}};
+  for (std::uint32_t i = 0; i < faces.size(); ++i) {
+    const FaceIndices& f = faces[i];
+    if (CGAL::collinear(p[f[0]], p[f[1]], p[f[2]])) {
+      ++count;
+      continue;
+    }
+    Box& b = boxes[i];
+    double e = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      b.lo[k] = std::min({p[f[0]][k], p[f[1]][k], p[f[2]][k]});
+      b.hi[k] = std::max({p[f[0]][k], p[f[1]][k], p[f[2]][k]});
+      e = std::max(e, b.hi[k] - b.lo[k]);
+      all.lo[k] = std::min(all.lo[k], b.lo[k]);
+      all.hi[k] = std::max(all.hi[k], b.hi[k]);
+    }
+    live.push_back(i);
+    extent.push_back(e);
+  }
+  if (live.size() < 2) return count;
+  const double n = static_cast<double>(live.size());
+
+  // Cells about as large as nine faces in ten: a typical face's box then covers at most two
+  // cells per axis.
+  std::nth_element(extent.begin(), extent.begin() + static_cast<std::ptrdiff_t>(0.9 * (n - 1)),
+                   extent.end());
+  const double cell = extent[static_cast<std::size_t>(0.9 * (n - 1))];
+  double dims[3];
+  bool grid = cell > 0.0 && std::isfinite(cell);
+  for (int k = 0; k < 3 && grid; ++k) {
+    dims[k] = std::floor((all.hi[k] - all.lo[k]) / cell) + 1.0;
+    grid = dims[k] <= kMaxCellsPerAxis;
+  }
+  auto index = [&](double v, int k) {
+    return static_cast<std::uint64_t>(std::floor((v - all.lo[k]) / cell));
+  };
+  auto key = [&](std::uint64_t i, std::uint64_t j, std::uint64_t k) {
+    return (k * static_cast<std::uint64_t>(dims[1]) + j) * static_cast<std::uint64_t>(dims[0]) + i;
+  };
+  // (cell, face) for every cell a face's box covers.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> entries;
+  if (grid) {
+    double total = 0.0;
+    for (std::uint32_t f : live) {
+      double cells = 1.0;
+      for (int k = 0; k < 3; ++k)
+        cells *= static_cast<double>(index(boxes[f].hi[k], k) - index(boxes[f].lo[k], k) + 1);
+      total += cells;
+    }
+    grid = total <= kMaxEntriesPerFace * n;
+  }
+  if (grid) {
+    entries.reserve(static_cast<std::size_t>(4.0 * n));
+    for (std::uint32_t f : live) {
+      const Box& b = boxes[f];
+      const std::uint64_t i0 = index(b.lo[0], 0), i1 = index(b.hi[0], 0);
+      const std::uint64_t j0 = index(b.lo[1], 1), j1 = index(b.hi[1], 1);
+      const std::uint64_t k0 = index(b.lo[2], 2), k1 = index(b.hi[2], 2);
+      for (std::uint64_t k = k0; k <= k1; ++k)
+        for (std::uint64_t j = j0; j <= j1; ++j)
+          for (std::uint64_t i = i0; i <= i1; ++i) entries.emplace_back(key(i, j, k), f);
+    }
+    tbb::parallel_sort(entries.begin(), entries.end());
+  }
+  // The cells, as runs of entries; and the work their pairs make.
+  std::vector<std::size_t> runs;
+  if (grid) {
+    double pairs = 0.0;
+    for (std::size_t e = 0; e < entries.size();) {
+      std::size_t end = e + 1;
+      while (end < entries.size() && entries[end].first == entries[e].first) ++end;
+      runs.push_back(e);
+      const double m = static_cast<double>(end - e);
+      pairs += m * (m - 1) / 2;
+      e = end;
+    }
+    runs.push_back(entries.size());
+    grid = pairs <= kMaxPairsPerFace * n;
+  }
+  if (!grid) return countSelfIntersectionsWithCgal(points, faces);
+
+  // Each pair of overlapping boxes is tested once: in the cell holding the lowest corner of
+  // the two boxes' intersection (both boxes cover that cell).
+  tbb::enumerable_thread_specific<std::size_t> found(0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, runs.size() - 1, 64),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      std::size_t& local = found.local();
+                      for (std::size_t r = range.begin(); r != range.end(); ++r) {
+                        const std::size_t from = runs[r], to = runs[r + 1];
+                        const std::uint64_t here = entries[from].first;
+                        for (std::size_t a = from; a < to; ++a)
+                          for (std::size_t b = a + 1; b < to; ++b) {
+                            const std::uint32_t fa = entries[a].second, fb = entries[b].second;
+                            const Box &ba = boxes[fa], &bb = boxes[fb];
+                            if (!overlap(ba, bb)) continue;
+                            const std::uint64_t owner =
+                                key(index(std::max(ba.lo[0], bb.lo[0]), 0),
+                                    index(std::max(ba.lo[1], bb.lo[1]), 1),
+                                    index(std::max(ba.lo[2], bb.lo[2]), 2));
+                            if (owner != here) continue;
+                            if (facesIntersect(p, faces[fa], faces[fb])) ++local;
+                          }
+                      }
+                    });
+  for (std::size_t c : found) count += c;
+  return count;
+}
+
+}  // namespace frep

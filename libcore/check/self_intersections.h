@@ -1,0 +1,30 @@
+// Self-intersections of a triangle mesh, counted as CGAL's
+// Polygon_mesh_processing::self_intersections counts them (its exact predicates, its rules for
+// triangles sharing an edge or a vertex, a degenerate triangle counted as one pair with
+// itself), but found through a hash grid of the triangles' boxes instead of a general box
+// tree: the meshes the mesher writes are many small triangles of similar size, for which a
+// grid finds the candidate pairs in a fraction of the time.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "base/triangle_mesh.h"
+
+namespace frep {
+
+using FaceIndices = std::array<std::uint32_t, 3>;
+
+// `faces` index `points` and form a polygon mesh: no face repeats a vertex, every edge is in
+// at most two faces, in opposite directions, and the faces round each vertex form one fan
+// (so two faces sharing two vertices share that edge). Uses CGAL's box tree instead where
+// the grid would not pay (triangles of very different sizes, or many piled in one place).
+std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
+                                   const std::vector<FaceIndices>& faces);
+
+// CGAL's own count on the same mesh (the reference the tests compare with).
+std::size_t countSelfIntersectionsWithCgal(const std::vector<Vec3f>& points,
+                                           const std::vector<FaceIndices>& faces);
+
+}  // namespace frep
