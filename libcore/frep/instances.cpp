@@ -35,7 +35,8 @@ using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<do
 // Scratch vectors per thread and nesting depth: a copy may itself be an instancer, evaluated
 // from within this one's loop on the same thread.
 struct Work {
-  std::vector<std::uint32_t> ids;
+  std::vector<std::uint32_t> ids, chosen;
+  std::vector<std::size_t> chosenStart;
   InstanceSet::PairBatch pairs;
   std::vector<double> values;
   std::vector<Dual> duals, dqx, dqy, dqz;
@@ -423,22 +424,60 @@ Dual InstanceSet::evalGradient(const Dual& x, const Dual& y, const Dual& z) cons
 
 void InstanceSet::evalGradientBatch(const Dual* x, const Dual* y, const Dual* z, std::size_t n,
                                     Dual* out) const {
-  // As evalBatch: every (point, copy) pair in one gradient batch of the copy, then the same
-  // steps as evalGradient per pair, so each result is bit-identical to evalGradient's.
+  // As evalBatch: every (point, copy) pair's value in one batch. A union's gradient is its
+  // first largest copy's and a blend's comes from its largest two, so only those copies'
+  // gradients are evaluated (one gradient batch), then combined as evalGradient combines
+  // them: each result is bit-identical to evalGradient's (a copy's gradient value is its
+  // point value, so the same copies are picked).
   ScopedWork work;
   PairBatch& pairs = work->pairs;
   gatherPairs(n, [&](std::size_t j) { return std::array<double, 3>{x[j].v, y[j].v, z[j].v}; },
               pairs);
   const std::vector<std::size_t>& start = pairs.start;
+  const bool all = combine_ == Combine::Sum;
+  std::vector<double>& v = work->values;
+  if (!all) {
+    v.resize(pairs.qx.size());
+    copy_->evalBatch(pairs.qx.data(), pairs.qy.data(), pairs.qz.data(), v.size(), v.data());
+  }
+  // The pairs whose gradients are needed, per point, in their order.
+  std::vector<std::size_t>& chosenStart = work->chosenStart;
+  std::vector<std::uint32_t>& chosen = work->chosen;
+  chosenStart.assign(1, 0);
+  chosen.clear();
+  for (std::size_t j = 0; j < n; ++j) {
+    const std::size_t from = start[j], to = start[j + 1];
+    if (all || to - from <= 1) {
+      for (std::size_t e = from; e < to; ++e) chosen.push_back(static_cast<std::uint32_t>(e));
+    } else if (combine_ == Combine::Union) {
+      std::size_t best = from;  // the first largest: max() keeps the earlier one on ties
+      for (std::size_t e = from + 1; e < to; ++e)
+        if (v[e] > v[best]) best = e;
+      chosen.push_back(static_cast<std::uint32_t>(best));
+    } else {  // blend: the largest two, found as combine() finds them, kept in index order
+      std::size_t first = from, second = to;
+      for (std::size_t e = from + 1; e < to; ++e) {
+        if (v[e] > v[first]) {
+          second = first;
+          first = e;
+        } else if (second == to || v[e] > v[second]) {
+          second = e;
+        }
+      }
+      chosen.push_back(static_cast<std::uint32_t>(std::min(first, second)));
+      chosen.push_back(static_cast<std::uint32_t>(std::max(first, second)));
+    }
+    chosenStart.push_back(chosen.size());
+  }
   std::vector<Dual>&qx = work->dqx, &qy = work->dqy, &qz = work->dqz, &values = work->duals;
-  const std::size_t m = pairs.qx.size();
+  const std::size_t m = chosen.size();
   qx.resize(m);
   qy.resize(m);
   qz.resize(m);
-  for (std::size_t e = 0; e < m; ++e) {
-    qx[e] = Dual(pairs.qx[e], 1, 0, 0);
-    qy[e] = Dual(pairs.qy[e], 0, 1, 0);
-    qz[e] = Dual(pairs.qz[e], 0, 0, 1);
+  for (std::size_t c = 0; c < m; ++c) {
+    qx[c] = Dual(pairs.qx[chosen[c]], 1, 0, 0);
+    qy[c] = Dual(pairs.qy[chosen[c]], 0, 1, 0);
+    qz[c] = Dual(pairs.qz[chosen[c]], 0, 0, 1);
   }
   values.resize(m);
   copy_->evalGradientBatch(qx.data(), qy.data(), qz.data(), m, values.data());
@@ -447,9 +486,9 @@ void InstanceSet::evalGradientBatch(const Dual* x, const Dual* y, const Dual* z,
       out[j] = whole_->evalGradient(x[j], y[j], z[j]);
       continue;
     }
-    for (std::size_t e = start[j]; e < start[j + 1]; ++e)
-      values[e] = toWorld(pairs.copies[e], values[e], x[j], y[j], z[j]);
-    out[j] = combine(values.data() + start[j], start[j + 1] - start[j]);
+    for (std::size_t c = chosenStart[j]; c < chosenStart[j + 1]; ++c)
+      values[c] = toWorld(pairs.copies[chosen[c]], values[c], x[j], y[j], z[j]);
+    out[j] = combine(values.data() + chosenStart[j], chosenStart[j + 1] - chosenStart[j]);
   }
 }
 

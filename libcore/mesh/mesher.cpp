@@ -124,6 +124,7 @@ struct Scratch {
   std::vector<std::int8_t> lastSide;
   std::vector<std::uint32_t> active;  // edges still being refined
   std::vector<Dual> gx, gy, gz, grad;  // normals: the vertices and the field's gradient there
+  std::vector<std::uint32_t> owned;    // normals: the vertices the brick owns
 };
 
 double quality(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
@@ -272,21 +273,35 @@ class BrickMesher {
     // gets the same normal from both, since both fields equal the whole one there.
     out.normals.clear();
     if (opt_.normals) {
-      // All the brick's vertices in one gradient batch.
-      s.gx.resize(m);
-      s.gy.resize(m);
-      s.gz.resize(m);
-      s.grad.resize(m);
+      // The normals of the vertices this brick owns (see weld()), in one gradient batch; a
+      // vertex another brick owns takes that brick's normal in the weld, so its own is
+      // never computed (NaN marks it).
+      std::vector<std::uint32_t>& owned = s.owned;
+      owned.clear();
       for (std::size_t e = 0; e < m; ++e) {
-        const Vec3f& p = out.positions[e];
-        s.gx[e] = Dual(p[0], 1, 0, 0);
-        s.gy[e] = Dual(p[1], 0, 1, 0);
-        s.gz[e] = Dual(p[2], 0, 0, 1);
+        const std::uint32_t low = edgeOf[e] / 7;
+        const std::int64_t l[3] = {low % n[0], (low / n[0]) % n[1], low / (n[0] * n[1])};
+        bool mine = true;
+        for (int a = 0; a < 3; ++a)
+          mine = mine && (r.lo[a] + l[a] < r.hi[a] || r.hi[a] == g_.points[a] - 1);
+        if (mine) owned.push_back(static_cast<std::uint32_t>(e));
       }
-      field.evalGradientBatch(s.gx.data(), s.gy.data(), s.gz.data(), m, s.grad.data());
-      out.normals.resize(m);
-      for (std::size_t e = 0; e < m; ++e)
-        out.normals[e] = vertexNormal(s.grad[e], g_, out.positions[e]);
+      const std::size_t k = owned.size();
+      s.gx.resize(k);
+      s.gy.resize(k);
+      s.gz.resize(k);
+      s.grad.resize(k);
+      for (std::size_t i = 0; i < k; ++i) {
+        const Vec3f& p = out.positions[owned[i]];
+        s.gx[i] = Dual(p[0], 1, 0, 0);
+        s.gy[i] = Dual(p[1], 0, 1, 0);
+        s.gz[i] = Dual(p[2], 0, 0, 1);
+      }
+      field.evalGradientBatch(s.gx.data(), s.gy.data(), s.gz.data(), k, s.grad.data());
+      const float nan = std::numeric_limits<float>::quiet_NaN();
+      out.normals.assign(m, Vec3f{nan, nan, nan});
+      for (std::size_t i = 0; i < k; ++i)
+        out.normals[owned[i]] = vertexNormal(s.grad[i], g_, out.positions[owned[i]]);
     }
 
     // 4. Triangles; a quad is split along the diagonal giving the better-shaped pair.
@@ -465,16 +480,22 @@ TriangleMesh weldBySorting(std::vector<BrickResult>& results, bool normals) {
   std::vector<std::uint32_t> unique(order.size());
   std::vector<std::uint32_t> owner;  // unique vertex -> its first entry
   owner.reserve(order.size());
+  std::vector<std::size_t> brickOf(order.size());
+  for (std::size_t i = 0; i < results.size(); ++i)
+    for (std::size_t v = first[i]; v < first[i + 1]; ++v) brickOf[v] = i;
+  auto normalOf = [&](std::size_t entry) -> const Vec3f& {
+    return results[brickOf[entry]].normals[entry - first[brickOf[entry]]];
+  };
   for (std::size_t i = 0; i < order.size(); ++i) {
     if (i == 0 || order[i].first != order[i - 1].first) owner.push_back(order[i].second);
+    // the copy whose normal was computed (its owner's: the others' are NaN)
+    if (normals && std::isnan(normalOf(owner.back())[0]) && !std::isnan(normalOf(order[i].second)[0]))
+      owner.back() = order[i].second;
     unique[order[i].second] = static_cast<std::uint32_t>(owner.size() - 1);
   }
   TriangleMesh mesh;
   mesh.positions.resize(owner.size());
   if (normals) mesh.normals.resize(owner.size());
-  std::vector<std::size_t> brickOf(order.size());
-  for (std::size_t i = 0; i < results.size(); ++i)
-    for (std::size_t v = first[i]; v < first[i + 1]; ++v) brickOf[v] = i;
   for (std::size_t u = 0; u < owner.size(); ++u) {
     const std::size_t entry = owner[u];
     const BrickResult& from = results[brickOf[entry]];
