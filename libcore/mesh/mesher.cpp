@@ -696,9 +696,17 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
       for (int a = 1; a < 3; ++a) h = std::max(h, g.h[a]);
       std::ostringstream os;
       os.precision(3);
+      // three significant digits, but whole numbers from 1,000 on (no 1.13e+04)
+      auto readable = [](double v) {
+        std::ostringstream t;
+        t.precision(3);
+        if (v >= 1000.0) t << std::llround(v);
+        else t << v;
+        return t.str();
+      };
       os << "mesher: at cell size " << opt.resolution << " the mesh would have about "
-         << triangles / 1e6 << " million triangles, needing about " << bytes / 1e9
-         << " GB, and " << static_cast<double>(opt.memoryBudget) / 1e9
+         << readable(triangles / 1e6) << " million triangles, needing about "
+         << readable(bytes / 1e9) << " GB, and " << static_cast<double>(opt.memoryBudget) / 1e9
          << " GB is available: use a cell size of at least "
          << h * std::sqrt(bytes / static_cast<double>(opt.memoryBudget)) * 1.1
          << " (or a smaller box)";
