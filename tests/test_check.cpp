@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <algorithm>
 #include <map>
 #include <random>
 
@@ -277,6 +278,32 @@ TEST(Check, GridSelfIntersectionCountIsCgals) {
         << "ball " << i;
   }
   EXPECT_EQ(countSelfIntersections(ball.positions, faces), 0u);
+}
+
+// Progress comes through the self-intersection pass too (it is most of a large check), in
+// order, up to 1; a progress callback that throws stops the check there.
+TEST(Check, ProgressCoversTheSelfIntersectionPassAndCanStopIt) {
+  MeshingOptions o;
+  o.bbox = {{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}};
+  o.resolution = 1.0 / 24;
+  const TriangleMesh ball = polygonize(compile(makeNode("sphere", {}, {})), o);
+  std::vector<double> ticks;
+  EXPECT_TRUE(checkMesh(ball, [&](double f) { ticks.push_back(f); }).printable());
+  ASSERT_FALSE(ticks.empty());
+  EXPECT_TRUE(std::is_sorted(ticks.begin(), ticks.end()));
+  EXPECT_EQ(ticks.back(), 1.0);
+  const auto inPass = std::count_if(ticks.begin(), ticks.end(),
+                                    [](double f) { return f > 0.45 && f < 0.95; });
+  EXPECT_GE(inPass, 10);
+  struct Stop {};
+  double last = 0;
+  EXPECT_THROW(checkMesh(ball,
+                         [&](double f) {
+                           last = f;
+                           if (f > 0.6) throw Stop();
+                         }),
+               Stop);
+  EXPECT_LT(last, 0.7);
 }
 
 }  // namespace

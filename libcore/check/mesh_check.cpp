@@ -206,7 +206,8 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
       for (const auto& f : faces)
         indexed.push_back({static_cast<std::uint32_t>(f[0]), static_cast<std::uint32_t>(f[1]),
                            static_cast<std::uint32_t>(f[2])});
-      r.selfIntersections = countSelfIntersections(pos, indexed);
+      r.selfIntersections =
+          countSelfIntersections(pos, indexed, [&](double f) { tick(0.45 + 0.5 * f); });
     } else {
       std::atomic<std::size_t> pairs{0};
       PMP::self_intersections<CGAL::Parallel_if_available_tag>(

@@ -38,7 +38,9 @@ bool overlap(const Box& a, const Box& b) {  // closed boxes, as CGAL's box inter
 // and the two third vertices lie on the same side of it; a shared vertex where one face's
 // opposite side crosses the other face; else the triangles intersect anywhere.
 bool facesIntersect(const std::vector<Point>& p, const FaceIndices& f, const FaceIndices& g) {
-  auto in = [](std::uint32_t v, const FaceIndices& t) { return v == t[0] || v == t[1] || v == t[2]; };
+  auto in = [](std::uint32_t v, const FaceIndices& t) {
+    return v == t[0] || v == t[1] || v == t[2];
+  };
   for (int k = 0; k < 3; ++k) {
     const std::uint32_t a = f[k], b = f[(k + 1) % 3];
     if (in(a, g) && in(b, g)) {  // the shared edge a -> b (in f's order)
@@ -63,8 +65,8 @@ bool facesIntersect(const std::vector<Point>& p, const FaceIndices& f, const Fac
 }
 
 // Grid limits: beyond them the grid would not pay and CGAL's box tree is used.
-constexpr double kMaxEntriesPerFace = 12.0;  // cells a face's box covers, on average
-constexpr double kMaxPairsPerFace = 64.0;    // candidate pairs, on average
+constexpr double kMaxEntriesPerFace = 12.0;     // cells a face's box covers, on average
+constexpr double kMaxPairsPerFace = 64.0;       // candidate pairs, on average
 constexpr double kMaxCellsPerAxis = 2097152.0;  // 2^21: three axes in one 64-bit key
 
 }  // namespace
@@ -97,7 +99,8 @@ std::size_t countSelfIntersectionsWithCgal(const std::vector<Vec3f>& points,
 }
 
 std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
-                                   const std::vector<FaceIndices>& faces) {
+                                   const std::vector<FaceIndices>& faces,
+                                   const std::function<void(double)>& progress) {
   std::vector<Point> p;
   p.reserve(points.size());
   for (const Vec3f& q : points) p.emplace_back(q[0], q[1], q[2]);
@@ -192,27 +195,34 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
 
   // Each pair of overlapping boxes is tested once: in the cell holding the lowest corner of
   // the two boxes' intersection (both boxes cover that cell).
+  // In parts of about a twentieth each, so progress (and a cancel) comes between them.
   tbb::enumerable_thread_specific<std::size_t> found(0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, runs.size() - 1, 64),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      std::size_t& local = found.local();
-                      for (std::size_t r = range.begin(); r != range.end(); ++r) {
-                        const std::size_t from = runs[r], to = runs[r + 1];
-                        const std::uint64_t here = entries[from].first;
-                        for (std::size_t a = from; a < to; ++a)
-                          for (std::size_t b = a + 1; b < to; ++b) {
-                            const std::uint32_t fa = entries[a].second, fb = entries[b].second;
-                            const Box &ba = boxes[fa], &bb = boxes[fb];
-                            if (!overlap(ba, bb)) continue;
-                            const std::uint64_t owner =
-                                key(index(std::max(ba.lo[0], bb.lo[0]), 0),
-                                    index(std::max(ba.lo[1], bb.lo[1]), 1),
-                                    index(std::max(ba.lo[2], bb.lo[2]), 2));
-                            if (owner != here) continue;
-                            if (facesIntersect(p, faces[fa], faces[fb])) ++local;
-                          }
-                      }
-                    });
+  const std::size_t cells = runs.size() - 1, part = std::max<std::size_t>(1, cells / 20);
+  for (std::size_t begin = 0; begin < cells; begin += part) {
+    if (progress) progress(static_cast<double>(begin) / static_cast<double>(cells));
+    const std::size_t end = std::min(cells, begin + part);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 64),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        std::size_t& local = found.local();
+                        for (std::size_t r = range.begin(); r != range.end(); ++r) {
+                          const std::size_t from = runs[r], to = runs[r + 1];
+                          const std::uint64_t here = entries[from].first;
+                          for (std::size_t a = from; a < to; ++a)
+                            for (std::size_t b = a + 1; b < to; ++b) {
+                              const std::uint32_t fa = entries[a].second, fb = entries[b].second;
+                              const Box &ba = boxes[fa], &bb = boxes[fb];
+                              if (!overlap(ba, bb)) continue;
+                              const std::uint64_t owner =
+                                  key(index(std::max(ba.lo[0], bb.lo[0]), 0),
+                                      index(std::max(ba.lo[1], bb.lo[1]), 1),
+                                      index(std::max(ba.lo[2], bb.lo[2]), 2));
+                              if (owner != here) continue;
+                              if (facesIntersect(p, faces[fa], faces[fb])) ++local;
+                            }
+                        }
+                      });
+  }
+  if (progress) progress(1.0);
   for (std::size_t c : found) count += c;
   return count;
 }
