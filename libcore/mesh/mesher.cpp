@@ -546,13 +546,15 @@ TriangleMesh weld(const Grid& g, int bc, const std::int64_t bricksPerAxis[3],
   }
   std::sort(brickIndex.begin(), brickIndex.end());
 
-  // 1. Per brick: which vertices it owns, numbered in local order; its owned keys, sorted.
+  // 1. Per brick: which vertices it owns, numbered in local order; the keys others may ask
+  // for, sorted. Another brick can only hold a vertex whose lower grid point lies on one of
+  // this brick's lower faces (its own upper face), so only those are listed.
   std::vector<std::vector<std::int32_t>> ownedRank(count);  // local vertex -> rank, or -1
   std::vector<std::vector<std::pair<std::uint64_t, std::uint32_t>>> ownedKeys(count);
   std::vector<std::size_t> base(count + 1, 0);
   tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
-    const std::int64_t b[3] = {bricks[i].range.lo[0] / bc, bricks[i].range.lo[1] / bc,
-                               bricks[i].range.lo[2] / bc};
+    const CellRange& range = bricks[i].range;
+    const std::int64_t b[3] = {range.lo[0] / bc, range.lo[1] / bc, range.lo[2] / bc};
     const std::uint64_t self = brickLinear(b);
     const std::vector<std::uint64_t>& keys = results[i].keys;
     std::vector<std::int32_t>& rank = ownedRank[i];
@@ -560,7 +562,14 @@ TriangleMesh weld(const Grid& g, int bc, const std::int64_t bricksPerAxis[3],
     std::int32_t next = 0;
     for (std::size_t v = 0; v < keys.size(); ++v)
       if (ownerOf(keys[v]) == self) {
-        ownedKeys[i].emplace_back(keys[v], static_cast<std::uint32_t>(next));
+        std::uint64_t p = keys[v] / 7;
+        bool onLowerFace = false;
+        for (int a = 0; a < 3; ++a) {
+          const auto at = static_cast<std::int64_t>(p % static_cast<std::uint64_t>(g.points[a]));
+          p /= static_cast<std::uint64_t>(g.points[a]);
+          onLowerFace = onLowerFace || at == range.lo[a];
+        }
+        if (onLowerFace) ownedKeys[i].emplace_back(keys[v], static_cast<std::uint32_t>(next));
         rank[v] = next++;
       }
     std::sort(ownedKeys[i].begin(), ownedKeys[i].end());
