@@ -104,10 +104,15 @@ bool provenUniform(const Field& field, const Grid& g, const CellRange& r) {
   return provenSign(field, g, r) != 0;
 }
 
+// Who owns a brick's vertex (see weld()): another brick, this one, or this one with the
+// vertex on one of its lower faces (where a neighbour may hold it too and ask for it).
+enum class Ownership : std::uint8_t { Other, Own, OwnShared };
+
 struct BrickResult {
   std::vector<std::uint64_t> keys;  // global edge key per local vertex
+  std::vector<Ownership> owner;     // per local vertex
   std::vector<Vec3f> positions;
-  std::vector<Vec3f> normals;  // when asked for
+  std::vector<Vec3f> normals;  // when asked for; NaN for the vertices other bricks own
   std::vector<Triangle> triangles;  // local vertex ids
 };
 
@@ -269,23 +274,27 @@ class BrickMesher {
     out.keys.resize(m);
     out.positions.resize(m);
     const std::size_t rootEvaluations = locateRoots(field, s, edgeOf, n, r, out);
-    // Normals with the brick's own (specialised) field: a vertex on a face two bricks share
-    // gets the same normal from both, since both fields equal the whole one there.
+    // Ownership: an edge belongs to the brick whose half-open cell range holds its lower grid
+    // point (the last brick on an axis also holds the grid's last points).
+    out.owner.resize(m);
+    for (std::size_t e = 0; e < m; ++e) {
+      const std::uint32_t low = edgeOf[e] / 7;
+      const std::int64_t l[3] = {low % n[0], (low / n[0]) % n[1], low / (n[0] * n[1])};
+      bool mine = true, lowerFace = false;
+      for (int a = 0; a < 3; ++a) {
+        mine = mine && (r.lo[a] + l[a] < r.hi[a] || r.hi[a] == g_.points[a] - 1);
+        lowerFace = lowerFace || l[a] == 0;
+      }
+      out.owner[e] = !mine ? Ownership::Other : lowerFace ? Ownership::OwnShared : Ownership::Own;
+    }
+    // Normals of the vertices this brick owns, with its own (specialised) field, in one
+    // gradient batch; a vertex another brick owns takes that brick's normal in the weld.
     out.normals.clear();
     if (opt_.normals) {
-      // The normals of the vertices this brick owns (see weld()), in one gradient batch; a
-      // vertex another brick owns takes that brick's normal in the weld, so its own is
-      // never computed (NaN marks it).
       std::vector<std::uint32_t>& owned = s.owned;
       owned.clear();
-      for (std::size_t e = 0; e < m; ++e) {
-        const std::uint32_t low = edgeOf[e] / 7;
-        const std::int64_t l[3] = {low % n[0], (low / n[0]) % n[1], low / (n[0] * n[1])};
-        bool mine = true;
-        for (int a = 0; a < 3; ++a)
-          mine = mine && (r.lo[a] + l[a] < r.hi[a] || r.hi[a] == g_.points[a] - 1);
-        if (mine) owned.push_back(static_cast<std::uint32_t>(e));
-      }
+      for (std::size_t e = 0; e < m; ++e)
+        if (out.owner[e] != Ownership::Other) owned.push_back(static_cast<std::uint32_t>(e));
       const std::size_t k = owned.size();
       s.gx.resize(k);
       s.gy.resize(k);
@@ -483,14 +492,13 @@ TriangleMesh weldBySorting(std::vector<BrickResult>& results, bool normals) {
   std::vector<std::size_t> brickOf(order.size());
   for (std::size_t i = 0; i < results.size(); ++i)
     for (std::size_t v = first[i]; v < first[i + 1]; ++v) brickOf[v] = i;
-  auto normalOf = [&](std::size_t entry) -> const Vec3f& {
-    return results[brickOf[entry]].normals[entry - first[brickOf[entry]]];
+  auto owned = [&](std::size_t entry) {
+    return results[brickOf[entry]].owner[entry - first[brickOf[entry]]] != Ownership::Other;
   };
   for (std::size_t i = 0; i < order.size(); ++i) {
     if (i == 0 || order[i].first != order[i - 1].first) owner.push_back(order[i].second);
-    // the copy whose normal was computed (its owner's: the others' are NaN)
-    if (normals && std::isnan(normalOf(owner.back())[0]) && !std::isnan(normalOf(order[i].second)[0]))
-      owner.back() = order[i].second;
+    // the owner's copy where there is one (only it has a normal)
+    if (!owned(owner.back()) && owned(order[i].second)) owner.back() = order[i].second;
     unique[order[i].second] = static_cast<std::uint32_t>(owner.size() - 1);
   }
   TriangleMesh mesh;
@@ -546,32 +554,22 @@ TriangleMesh weld(const Grid& g, int bc, const std::int64_t bricksPerAxis[3],
   }
   std::sort(brickIndex.begin(), brickIndex.end());
 
-  // 1. Per brick: which vertices it owns, numbered in local order; the keys others may ask
-  // for, sorted. Another brick can only hold a vertex whose lower grid point lies on one of
-  // this brick's lower faces (its own upper face), so only those are listed.
+  // 1. Per brick: its own vertices, numbered in local order; the keys others may ask for
+  // (those on its lower faces: a neighbour's upper face), sorted.
   std::vector<std::vector<std::int32_t>> ownedRank(count);  // local vertex -> rank, or -1
   std::vector<std::vector<std::pair<std::uint64_t, std::uint32_t>>> ownedKeys(count);
   std::vector<std::size_t> base(count + 1, 0);
   tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
-    const CellRange& range = bricks[i].range;
-    const std::int64_t b[3] = {range.lo[0] / bc, range.lo[1] / bc, range.lo[2] / bc};
-    const std::uint64_t self = brickLinear(b);
-    const std::vector<std::uint64_t>& keys = results[i].keys;
+    const BrickResult& r = results[i];
     std::vector<std::int32_t>& rank = ownedRank[i];
-    rank.assign(keys.size(), -1);
+    rank.assign(r.keys.size(), -1);
     std::int32_t next = 0;
-    for (std::size_t v = 0; v < keys.size(); ++v)
-      if (ownerOf(keys[v]) == self) {
-        std::uint64_t p = keys[v] / 7;
-        bool onLowerFace = false;
-        for (int a = 0; a < 3; ++a) {
-          const auto at = static_cast<std::int64_t>(p % static_cast<std::uint64_t>(g.points[a]));
-          p /= static_cast<std::uint64_t>(g.points[a]);
-          onLowerFace = onLowerFace || at == range.lo[a];
-        }
-        if (onLowerFace) ownedKeys[i].emplace_back(keys[v], static_cast<std::uint32_t>(next));
-        rank[v] = next++;
-      }
+    for (std::size_t v = 0; v < r.keys.size(); ++v) {
+      if (r.owner[v] == Ownership::Other) continue;
+      if (r.owner[v] == Ownership::OwnShared)
+        ownedKeys[i].emplace_back(r.keys[v], static_cast<std::uint32_t>(next));
+      rank[v] = next++;
+    }
     std::sort(ownedKeys[i].begin(), ownedKeys[i].end());
     base[i + 1] = static_cast<std::size_t>(next);
   });
