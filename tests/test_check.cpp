@@ -6,6 +6,7 @@
 #include <map>
 #include <random>
 
+#include "check/cgal_surface.h"
 #include "check/mesh_check.h"
 #include "check/self_intersections.h"
 #include "frep/tree.h"

@@ -1,18 +1,12 @@
 // The only translation unit that includes CGAL (slow to compile: keep it alone).
 #include "check/mesh_check.h"
+#include "check/cgal_surface.h"
 #include "check/self_intersections.h"
 #include "base/triangle_geometry.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
-#include <CGAL/Polygon_mesh_processing/orientation.h>
-#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
-#include <CGAL/Polygon_mesh_processing/self_intersections.h>
-#include <CGAL/Surface_mesh.h>
 
 #include <algorithm>
-#include <atomic>
-#include <boost/iterator/function_output_iterator.hpp>
 #include <cmath>
 #include <numeric>
 #include <tuple>
@@ -23,8 +17,6 @@ namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_3;
-using SurfaceMesh = CGAL::Surface_mesh<Point>;
-namespace PMP = CGAL::Polygon_mesh_processing;
 
 struct UnionFind {
   std::vector<std::uint32_t> parent;
@@ -169,56 +161,30 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
     if (start[v + 1] > start[v] && parts.find(v) == v) ++r.components;
 
   tick(0.35);
-  // CGAL: self-intersections and orientation. A soup that is not a valid polygon mesh is
-  // first made one by CGAL's orient_polygon_soup (which splits non-manifold vertices).
-  // Whether it is one follows from the counts above, which test exactly what CGAL's
+  // Self-intersections and orientation, CGAL's judgements. Whether the soup is a polygon
+  // mesh follows from the counts above, which test exactly what CGAL's
   // is_polygon_soup_a_polygon_mesh does (every edge in at most two faces, in opposite
   // directions; one fan of faces round every vertex; no face repeating a vertex, those
   // having been set aside), in a fraction of its time (it took 40 % of the check on a
   // 1.4 million triangle mesh).
   if (!faces.empty()) {
-    // Only the vertices the faces use: CGAL's orientation test crashes on a surface mesh with
-    // isolated vertices (a file may well list vertices no triangle uses).
-    std::vector<Point> soupPoints;
-    std::vector<std::array<std::size_t, 3>> soup = faces;
-    {
-      constexpr std::size_t kUnused = static_cast<std::size_t>(-1);
-      std::vector<std::size_t> renumber(points.size(), kUnused);
-      for (auto& f : soup)
-        for (std::size_t& v : f) {
-          if (renumber[v] == kUnused) {
-            renumber[v] = soupPoints.size();
-            soupPoints.push_back(points[v]);
-          }
-          v = renumber[v];
-        }
-    }
-    const bool isMesh =
+    const bool polygonMesh =
         r.nonManifoldEdges == 0 && r.misorientedEdges == 0 && r.nonManifoldVertices == 0;
-    if (!isMesh) PMP::orient_polygon_soup(soupPoints, soup);
-    SurfaceMesh sm;
-    PMP::polygon_soup_to_polygon_mesh(soupPoints, soup, sm);
+    std::vector<FaceIndices> indexed;
+    indexed.reserve(faces.size());
+    for (const auto& f : faces)
+      indexed.push_back({static_cast<std::uint32_t>(f[0]), static_cast<std::uint32_t>(f[1]),
+                         static_cast<std::uint32_t>(f[2])});
     tick(0.45);
-    if (isMesh) {
-      // A polygon mesh (every export the mesher makes): CGAL's count through a hash grid.
-      std::vector<FaceIndices> indexed;
-      indexed.reserve(faces.size());
-      for (const auto& f : faces)
-        indexed.push_back({static_cast<std::uint32_t>(f[0]), static_cast<std::uint32_t>(f[1]),
-                           static_cast<std::uint32_t>(f[2])});
-      r.selfIntersections =
-          countSelfIntersections(pos, indexed, [&](double f) { tick(0.45 + 0.5 * f); });
-    } else {
-      std::atomic<std::size_t> pairs{0};
-      PMP::self_intersections<CGAL::Parallel_if_available_tag>(
-          sm, boost::make_function_output_iterator([&](const auto&) { ++pairs; }));
-      r.selfIntersections = pairs;
-    }
+    // A polygon mesh (every export the mesher makes) through the hash grid; any other soup
+    // through CGAL's own routine, once orient_polygon_soup has made it a polygon mesh.
+    r.selfIntersections =
+        polygonMesh
+            ? countSelfIntersections(pos, indexed, [&](double f) { tick(0.45 + 0.5 * f); })
+            : countSelfIntersectionsWithCgal(pos, indexed, false);
     tick(0.95);
-    const bool manifold = isMesh && r.nonManifoldEdges == 0 && r.nonManifoldVertices == 0 &&
-                          r.misorientedEdges == 0;
-    if (r.closed && manifold && r.selfIntersections == 0)
-      r.outward = PMP::does_bound_a_volume(sm) && r.volume > 0;
+    if (r.closed && polygonMesh && r.selfIntersections == 0)
+      r.outward = boundsAVolume(pos, indexed) && r.volume > 0;
   }
 
   tick(1.0);

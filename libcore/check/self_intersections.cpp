@@ -1,17 +1,15 @@
 #include "check/self_intersections.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
-#include <CGAL/Polygon_mesh_processing/self_intersections.h>
-#include <CGAL/Surface_mesh.h>
+#include <CGAL/intersections.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
-#include <atomic>
-#include <boost/iterator/function_output_iterator.hpp>
 #include <cmath>
+
+#include "check/cgal_surface.h"
 
 namespace frep {
 
@@ -21,7 +19,6 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_3;
 using Segment = Kernel::Segment_3;
 using TriangleK = Kernel::Triangle_3;
-namespace PMP = CGAL::Polygon_mesh_processing;
 
 struct Box {
   double lo[3], hi[3];
@@ -70,33 +67,6 @@ constexpr double kMaxPairsPerFace = 64.0;       // candidate pairs, on average
 constexpr double kMaxCellsPerAxis = 2097152.0;  // 2^21: three axes in one 64-bit key
 
 }  // namespace
-
-std::size_t countSelfIntersectionsWithCgal(const std::vector<Vec3f>& points,
-                                           const std::vector<FaceIndices>& faces) {
-  std::vector<Point> pts;
-  pts.reserve(points.size());
-  for (const Vec3f& q : points) pts.emplace_back(q[0], q[1], q[2]);
-  std::vector<std::array<std::size_t, 3>> soup;
-  soup.reserve(faces.size());
-  for (const FaceIndices& f : faces) soup.push_back({f[0], f[1], f[2]});
-  // Only the vertices the faces use (CGAL's algorithms dislike isolated vertices).
-  std::vector<std::size_t> renumber(pts.size(), static_cast<std::size_t>(-1));
-  std::vector<Point> used;
-  for (auto& f : soup)
-    for (std::size_t& v : f) {
-      if (renumber[v] == static_cast<std::size_t>(-1)) {
-        renumber[v] = used.size();
-        used.push_back(pts[v]);
-      }
-      v = renumber[v];
-    }
-  CGAL::Surface_mesh<Point> sm;
-  PMP::polygon_soup_to_polygon_mesh(used, soup, sm);
-  std::atomic<std::size_t> pairs{0};
-  PMP::self_intersections<CGAL::Parallel_if_available_tag>(
-      sm, boost::make_function_output_iterator([&](const auto&) { ++pairs; }));
-  return pairs;
-}
 
 std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
                                    const std::vector<FaceIndices>& faces,

@@ -20,15 +20,12 @@ using FaceIndices = std::array<std::uint32_t, 3>;
 // `faces` index `points` and form a polygon mesh: no face repeats a vertex, every edge is in
 // at most two faces, in opposite directions, and the faces round each vertex form one fan
 // (so two faces sharing two vertices share that edge). Uses CGAL's box tree instead where
-// the grid would not pay (triangles of very different sizes, or many piled in one place).
+// the grid would not pay (triangles of very different sizes, or many piled in one place):
+// countSelfIntersectionsWithCgal (cgal_surface.h), the reference the tests compare with.
 // progress(fraction) is called on the calling thread between parts of the work (it may throw
 // to stop there).
 std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
                                    const std::vector<FaceIndices>& faces,
                                    const std::function<void(double)>& progress = nullptr);
-
-// CGAL's own count on the same mesh (the reference the tests compare with).
-std::size_t countSelfIntersectionsWithCgal(const std::vector<Vec3f>& points,
-                                           const std::vector<FaceIndices>& faces);
 
 }  // namespace frep

@@ -1,0 +1,63 @@
+#include "check/cgal_surface.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <atomic>
+#include <boost/iterator/function_output_iterator.hpp>
+
+namespace frep {
+
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using SurfaceMesh = CGAL::Surface_mesh<Point>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+SurfaceMesh surfaceMesh(const std::vector<Vec3f>& points, const std::vector<FaceIndices>& faces,
+                        bool polygonMesh) {
+  constexpr std::size_t kUnused = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> renumber(points.size(), kUnused);
+  std::vector<Point> used;
+  std::vector<std::array<std::size_t, 3>> soup;
+  soup.reserve(faces.size());
+  for (const FaceIndices& f : faces) {
+    std::array<std::size_t, 3> g{};
+    for (int k = 0; k < 3; ++k) {
+      std::size_t& id = renumber[f[k]];
+      if (id == kUnused) {
+        id = used.size();
+        used.emplace_back(points[f[k]][0], points[f[k]][1], points[f[k]][2]);
+      }
+      g[k] = id;
+    }
+    soup.push_back(g);
+  }
+  if (!polygonMesh) PMP::orient_polygon_soup(used, soup);
+  SurfaceMesh sm;
+  PMP::polygon_soup_to_polygon_mesh(used, soup, sm);
+  return sm;
+}
+
+}  // namespace
+
+std::size_t countSelfIntersectionsWithCgal(const std::vector<Vec3f>& points,
+                                           const std::vector<FaceIndices>& faces,
+                                           bool polygonMesh) {
+  const SurfaceMesh sm = surfaceMesh(points, faces, polygonMesh);
+  std::atomic<std::size_t> pairs{0};
+  PMP::self_intersections<CGAL::Parallel_if_available_tag>(
+      sm, boost::make_function_output_iterator([&](const auto&) { ++pairs; }));
+  return pairs;
+}
+
+bool boundsAVolume(const std::vector<Vec3f>& points, const std::vector<FaceIndices>& faces) {
+  return PMP::does_bound_a_volume(surfaceMesh(points, faces, true));
+}
+
+}  // namespace frep
