@@ -71,6 +71,22 @@ double valueOf(const Dual& v) {
   return v.v;
 }
 
+// The indices of the largest and the next largest of n values (the second is n when n is
+// 1), in a fixed scan order, so ties resolve alike in every mode.
+template <class T>
+std::pair<std::size_t, std::size_t> largestTwo(const T* values, std::size_t n) {
+  std::size_t first = 0, second = n;
+  for (std::size_t i = 1; i < n; ++i) {
+    if (valueOf(values[i]) > valueOf(values[first])) {
+      second = first;
+      first = i;
+    } else if (second == n || valueOf(values[i]) > valueOf(values[second])) {
+      second = i;
+    }
+  }
+  return {first, second};
+}
+
 }  // namespace
 
 // nanoflann's L2_Simple metric, term for term, so a scan and the tree find the same copies.
@@ -320,16 +336,7 @@ T InstanceSet::combine(const T* values, std::size_t n) const {
     for (std::size_t i = 1; i < n; ++i) r = max(r, values[i]);
     return r;
   }
-  // The largest two, in a fixed scan order, so ties resolve alike in every mode.
-  std::size_t first = 0, second = n;
-  for (std::size_t i = 1; i < n; ++i) {
-    if (valueOf(values[i]) > valueOf(values[first])) {
-      second = first;
-      first = i;
-    } else if (second == n || valueOf(values[i]) > valueOf(values[second])) {
-      second = i;
-    }
-  }
+  const auto [first, second] = largestTwo(values, n);
   if (second == n) return values[first];
   const double k[3] = {blend_.a0, blend_.a1, blend_.a1};
   return values[first] + blendBump(values[first], values[second], k);
@@ -455,17 +462,9 @@ void InstanceSet::evalGradientBatch(const Dual* x, const Dual* y, const Dual* z,
         if (v[e] > v[best]) best = e;
       chosen.push_back(static_cast<std::uint32_t>(best));
     } else {  // blend: the largest two, found as combine() finds them, kept in index order
-      std::size_t first = from, second = to;
-      for (std::size_t e = from + 1; e < to; ++e) {
-        if (v[e] > v[first]) {
-          second = first;
-          first = e;
-        } else if (second == to || v[e] > v[second]) {
-          second = e;
-        }
-      }
-      chosen.push_back(static_cast<std::uint32_t>(std::min(first, second)));
-      chosen.push_back(static_cast<std::uint32_t>(std::max(first, second)));
+      const auto [first, second] = largestTwo(v.data() + from, to - from);
+      chosen.push_back(static_cast<std::uint32_t>(from + std::min(first, second)));
+      chosen.push_back(static_cast<std::uint32_t>(from + std::max(first, second)));
     }
     chosenStart.push_back(chosen.size());
   }

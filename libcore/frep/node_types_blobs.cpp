@@ -79,10 +79,10 @@ void addBlob(Registry& r, const char* id, const char* doc, const char* formula,
          [kernel, support](CompileContext& c) {
            auto& b = c.b;
            const std::vector<Vec3> centres = pointsOf(c.param("centers"));
-           if (support && support(c.node(), centres.size()) > 0 &&
-               centres.size() >= kIndexedCentres)
-             return b.sub(indexedSum(c, centres, kernel, support(c.node(), centres.size())),
-                          b.constant(c.real("threshold")));
+           const double radius =
+               support && centres.size() >= kIndexedCentres ? support(c.node(), centres.size()) : 0.0;
+           if (radius > 0)
+             return b.sub(indexedSum(c, centres, kernel, radius), b.constant(c.real("threshold")));
            Slot sum = 0;
            bool first = true;
            for (const Vec3& m : centres) {
