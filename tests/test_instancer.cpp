@@ -186,7 +186,9 @@ TEST(Instancer, TurnedCopiesAreTheInputRotatedThenMoved) {
     const double h = 1e-6;
     const double fx = (p.eval(x + h, y, z) - p.eval(x - h, y, z)) / (2 * h);
     const double fx2 = (p.eval(x + 1e-5, y, z) - p.eval(x - 1e-5, y, z)) / 2e-5;
-    if (std::abs(fx - fx2) < 1e-6) EXPECT_NEAR(d.d[0], fx, 1e-5);
+    if (std::abs(fx - fx2) < 1e-6) {
+      EXPECT_NEAR(d.d[0], fx, 1e-5);
+    }
   }
   EXPECT_GT(inside, 25);  // the brick fills about 1.3 % of the sampled cubes
   // the structural box holds every turned copy
@@ -352,6 +354,55 @@ TEST(Instancer, GradientBatchEqualsGradientAtEachPoint) {
     inside += d.v >= 0;
   }
   EXPECT_GT(inside, 50);
+}
+
+// Hundreds of turned copies go through the bucket grid, where a batch gathers its (point,
+// copy) pairs in one pass over each cell's candidates. Every batch mode must still give each
+// point's value and gradient bit for bit, for a union and a blend, near the copies, between
+// them and beyond every copy's reach (where the nearest copy answers).
+TEST(Instancer, ManyTurnedCopiesEvaluateAlikeInPointAndBatch) {
+  std::mt19937 g(21);
+  std::uniform_real_distribution<double> u(0, 4), angle(-180, 180);
+  std::vector<Vec3> at, turns;
+  for (int i = 0; i < 400; ++i) {
+    at.push_back({u(g), u(g), u(g)});
+    turns.push_back({angle(g), angle(g), angle(g)});
+  }
+  const NodePtr brick = makeNode(
+      "box", {{"corner", vec3Value({-0.1, -0.2, -0.15})}, {"size", vec3Value({0.4, 0.3, 0.2})}}, {});
+  for (const char* combine : {"union", "blend"}) {
+    const Program p = compile(makeNode("instancer",
+                                       {{"positions", pointsValue(at)},
+                                        {"rotations", pointsValue(turns)},
+                                        {"combine", choiceValue(combine)}},
+                                       {brick}, "copies"));
+    std::uniform_real_distribution<double> w(-1.5, 5.5);
+    const std::size_t n = 4000;
+    std::vector<double> x(n), y(n), z(n), out(n);
+    std::vector<Dual> dx(n), dy(n), dz(n), dout(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      x[i] = w(g);
+      y[i] = w(g);
+      z[i] = w(g);
+      dx[i] = Dual(x[i], 1, 0, 0);
+      dy[i] = Dual(y[i], 0, 1, 0);
+      dz[i] = Dual(z[i], 0, 0, 1);
+    }
+    p.evalBatch(x.data(), y.data(), z.data(), n, out.data());
+    p.evalGradientBatch(dx.data(), dy.data(), dz.data(), n, dout.data());
+    int inside = 0, far = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double v = p.eval(x[i], y[i], z[i]);
+      ASSERT_EQ(out[i], v) << combine << " point " << i;
+      const Dual d = p.evalGradient(x[i], y[i], z[i]);
+      ASSERT_EQ(dout[i].v, d.v) << combine << " point " << i;
+      for (int a = 0; a < 3; ++a) ASSERT_EQ(dout[i].d[a], d.d[a]) << combine << " point " << i;
+      inside += v >= 0;
+      far += x[i] < -1 || x[i] > 5;
+    }
+    EXPECT_GT(inside, 40) << combine;
+    EXPECT_GT(far, 400) << combine;  // beyond every copy's reach
+  }
 }
 
 // Found by the fuzz test: one copy 1e30 away made the bucket grid's cell count overflow. Far

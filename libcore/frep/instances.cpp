@@ -124,26 +124,39 @@ class BucketGrid {
   bool built() const { return built_; }
   double reach() const { return reach_; }
 
-  // The copies strictly within `radius` (<= the reach) of q, in increasing order.
-  void within(const double q[3], double radius, std::vector<std::uint32_t>& out) const {
-    out.clear();
-    const double r2 = radius * radius;
+  // A copy in a cell's list: its position kept beside its index, so a query reads one
+  // contiguous run.
+  struct Entry {
+    Vec3 position;
+    std::uint32_t id;
+  };
+
+  // The candidates of q's cell, in increasing index order: every copy within the reach of q
+  // is among them. An empty run where q is outside the grid (no copy reaches it).
+  std::pair<const Entry*, const Entry*> candidates(const double q[3]) const {
     std::int64_t at[3];
     for (int a = 0; a < 3; ++a) {
       // q's cell; a product, not a division (rounding may put q a hair outside the cell's
       // box: the lists are built with slack for that)
       const double f = std::floor((q[a] - lo_[a]) * inverseCell_);
-      if (!(f >= 0.0 && f < static_cast<double>(dims_[a]))) return;  // no copy reaches
+      if (!(f >= 0.0 && f < static_cast<double>(dims_[a]))) return {nullptr, nullptr};
       at[a] = static_cast<std::int64_t>(f);
     }
     const std::size_t c = linear(at[0], at[1], at[2]);
+    return {entries_.data() + start_[c], entries_.data() + start_[c + 1]};
+  }
+
+  // The copies strictly within `radius` (<= the reach) of q, in increasing order.
+  void within(const double q[3], double radius, std::vector<std::uint32_t>& out) const {
+    const auto [from, to] = candidates(q);
+    const double r2 = radius * radius;
     // Without a branch per candidate (about a third are within reach: a branch would
     // mispredict often): every candidate is written, and the count advances for those in reach.
-    out.resize(start_[c + 1] - start_[c]);
+    out.resize(static_cast<std::size_t>(to - from));
     std::size_t found = 0;
-    for (std::size_t e = start_[c]; e < start_[c + 1]; ++e) {
-      out[found] = entries_[e].id;
-      found += squaredDistance(q, entries_[e].position) < r2;
+    for (const Entry* e = from; e != to; ++e) {
+      out[found] = e->id;
+      found += squaredDistance(q, e->position) < r2;
     }
     out.resize(found);
   }
@@ -231,12 +244,6 @@ class BucketGrid {
   const std::vector<Vec3>& points_;
   double reach_ = 0.0, cell_ = 0.0, inverseCell_ = 0.0, lo_[3] = {0, 0, 0};
   std::int64_t dims_[3] = {1, 1, 1};
-  // A copy in a cell's list: its position kept beside its index, so a query reads one
-  // contiguous run.
-  struct Entry {
-    Vec3 position;
-    std::uint32_t id;
-  };
   std::vector<std::size_t> start_;  // cell -> first entry of its list
   std::vector<Entry> entries_;      // the cells' lists, one after another
   bool built_ = false;
@@ -252,8 +259,12 @@ struct InstanceSet::Index {
   // specialised to a brick) are scanned directly, with nanoflann's own metric and test
   // (sum of squared differences in x, y, z order, strictly below radius^2), so both ways
   // find the same copies.
+  // Whether queries of `radius` go to the bucket grid.
+  bool bucketed(double radius) const {
+    return buckets.built() && radius <= buckets.reach() && cloud.points->size() > kLinearScan;
+  }
   void within(const double q[3], double radius, std::vector<std::uint32_t>& out) const {
-    if (buckets.built() && radius <= buckets.reach() && cloud.points->size() > kLinearScan) {
+    if (bucketed(radius)) {
       buckets.within(q, radius, out);
       return;
     }
@@ -361,23 +372,59 @@ double InstanceSet::eval(double x, double y, double z) const {
 // copy, and where each point's pairs start. `at(j)` gives point j's x, y, z.
 template <class At>
 void InstanceSet::gatherPairs(std::size_t n, At at, PairBatch& pairs) const {
-  pairs.start.assign(1, 0);
-  pairs.copies.clear();
-  pairs.qx.clear();
-  pairs.qy.clear();
-  pairs.qz.clear();
+  pairs.start.resize(n + 1);
+  pairs.start[0] = 0;
+  std::size_t used = 0;  // pairs so far; the arrays are kept longer (no zeroing per batch)
+  const auto room = [&pairs](std::size_t need) {
+    if (need <= pairs.qx.size()) return;
+    const std::size_t size = std::max(need, 2 * pairs.qx.size());
+    pairs.qx.resize(size);
+    pairs.qy.resize(size);
+    pairs.qz.resize(size);
+    pairs.copies.resize(size);
+  };
+  const bool bucketed = index_->bucketed(reach_);
+  const double r2 = reach_ * reach_;
   for (std::size_t j = 0; j < n; ++j) {
     const std::array<double, 3> p = at(j);
-    near(p[0], p[1], p[2], pairs.ids);
-    for (std::uint32_t id : pairs.ids) {
-      double q[3];
-      local(id, p[0], p[1], p[2], q);
-      pairs.qx.push_back(q[0]);
-      pairs.qy.push_back(q[1]);
-      pairs.qz.push_back(q[2]);
-      pairs.copies.push_back(id);
+    const std::size_t before = used;
+    if (bucketed) {
+      // The bucket query and the pairs in one pass, without a branch per candidate: each
+      // candidate is written and kept when within reach (the test within() makes, and the
+      // difference local() takes).
+      const double q[3] = {p[0], p[1], p[2]};
+      const auto [from, to] = index_->buckets.candidates(q);
+      room(used + static_cast<std::size_t>(to - from));
+      for (auto e = from; e != to; ++e) {
+        const double d[3] = {q[0] - e->position[0], q[1] - e->position[1], q[2] - e->position[2]};
+        pairs.qx[used] = d[0];
+        pairs.qy[used] = d[1];
+        pairs.qz[used] = d[2];
+        pairs.copies[used] = e->id;
+        used += ((0.0 + d[0] * d[0]) + d[1] * d[1]) + d[2] * d[2] < r2;
+      }
+      if (!rotations_.empty())
+        for (std::size_t e = before; e < used; ++e) {
+          double r[3];
+          local(pairs.copies[e], p[0], p[1], p[2], r);
+          pairs.qx[e] = r[0];
+          pairs.qy[e] = r[1];
+          pairs.qz[e] = r[2];
+        }
     }
-    pairs.start.push_back(pairs.qx.size());
+    if (used == before) {  // not bucketed, or no copy within reach (near() decides what then)
+      near(p[0], p[1], p[2], pairs.ids);
+      room(used + pairs.ids.size());
+      for (std::uint32_t id : pairs.ids) {
+        double r[3];
+        local(id, p[0], p[1], p[2], r);
+        pairs.qx[used] = r[0];
+        pairs.qy[used] = r[1];
+        pairs.qz[used] = r[2];
+        pairs.copies[used++] = id;
+      }
+    }
+    pairs.start[j + 1] = used;
   }
 }
 
@@ -390,7 +437,7 @@ void InstanceSet::evalBatch(const double* x, const double* y, const double* z, s
   gatherPairs(n, [&](std::size_t j) { return std::array<double, 3>{x[j], y[j], z[j]}; }, pairs);
   const std::vector<std::size_t>& start = pairs.start;
   std::vector<double>& values = work->values;
-  values.resize(pairs.qx.size());
+  values.resize(pairs.start[n]);
   copy_->evalBatch(pairs.qx.data(), pairs.qy.data(), pairs.qz.data(), values.size(),
                    values.data());
   for (std::size_t j = 0; j < n; ++j)
@@ -444,7 +491,7 @@ void InstanceSet::evalGradientBatch(const Dual* x, const Dual* y, const Dual* z,
   const bool all = combine_ == Combine::Sum;
   std::vector<double>& v = work->values;
   if (!all) {
-    v.resize(pairs.qx.size());
+    v.resize(pairs.start[n]);
     copy_->evalBatch(pairs.qx.data(), pairs.qy.data(), pairs.qz.data(), v.size(), v.data());
   }
   // The pairs whose gradients are needed, per point, in their order.

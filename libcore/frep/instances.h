@@ -63,7 +63,9 @@ class InstanceSet final : public Field, public std::enable_shared_from_this<Inst
 
   std::size_t size() const { return positions_.size(); }
 
-  // The (point, copy) pairs of a batch (scratch for the batch modes).
+  // The (point, copy) pairs of a batch (scratch for the batch modes): point j's pairs are
+  // start[j] .. start[j + 1]; the arrays may be longer than start.back() (kept between
+  // batches, so they are not zeroed for each).
   struct PairBatch {
     std::vector<std::uint32_t> ids, copies;
     std::vector<std::size_t> start;
