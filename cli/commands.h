@@ -20,6 +20,8 @@ struct ExportOptions {
   std::optional<double> resolution;
   std::optional<int> cells;
   std::optional<Box3> bbox;
+  std::optional<double> tolerance;  // --tolerance D: simplify within D of the surface
+  bool sharp = true;                // --no-sharp: merged vertices stay where a vertex was
   std::vector<std::string> sets;  // --set Object.Property=VALUE (documents only)
   bool force = false, quiet = false, help = false;
 };

@@ -82,8 +82,9 @@ int exportDocument(const ExportOptions& o) {
   nlohmann::json args = {{"document", o.input}, {"output", o.output},     {"format", o.format},
                          {"object", o.object},  {"sets", o.sets},         {"force", o.force},
                          {"quiet", o.quiet},    {"cells", nullptr},       {"resolution", nullptr},
-                         {"bbox", nullptr}};
+                         {"bbox", nullptr},     {"tolerance", nullptr},   {"sharp", o.sharp}};
   if (o.cells) args["cells"] = *o.cells;
+  if (o.tolerance) args["tolerance"] = *o.tolerance;
   if (o.resolution) args["resolution"] = *o.resolution;
   if (o.bbox)
     args["bbox"] = {o.bbox->lo[0], o.bbox->lo[1], o.bbox->lo[2],

@@ -29,6 +29,11 @@ const char* const kExportHelp =
     "  --cells N               cells along the longest side of the box, instead of --resolution\n"
     "  --bbox X0 Y0 Z0 X1 Y1 Z1  meshing box (default: the model's, else the solid's own box)\n"
     "  --format F              stl, stl-ascii, obj, ply or bms (default: from OUT's extension)\n"
+    "  --tolerance D           simplify: far fewer triangles, the surface kept within D (model\n"
+    "                          units) of the exact one, still checked (a tenth of the cell size\n"
+    "                          is a good start)\n"
+    "  --no-sharp              with --tolerance: keep merged vertices where vertices were,\n"
+    "                          instead of placing them on the creases and corners\n"
     "  --force                 write the mesh even when the check refuses it (exit status 1)\n"
     "  --quiet                 print nothing but errors\n"
     "  -h, --help              this text\n"
@@ -66,7 +71,13 @@ ExportOptions parseExportOptions(const Args& args) {
         throw UsageError("--cells must be a whole number from 1 to " + std::to_string(kMaxCells) +
                          ", got '" + args[i] + "'");
       o.cells = static_cast<int>(n);
-    } else if (a == "--format") o.format = value("a format");
+    } else if (a == "--tolerance") {
+      o.tolerance = parseNumber(value("a distance"), a);
+      if (!(*o.tolerance > 0) || !std::isfinite(*o.tolerance))
+        throw UsageError("--tolerance must be a distance > 0 (model units), got '" + args[i] +
+                         "'");
+    } else if (a == "--no-sharp") o.sharp = false;
+    else if (a == "--format") o.format = value("a format");
     else if (a == "--force") o.force = true;
     else if (a == "--quiet") o.quiet = true;
     else if (a == "--object") o.object = value("an object name");
@@ -89,6 +100,7 @@ ExportOptions parseExportOptions(const Args& args) {
   if (o.input.empty()) throw UsageError("export needs an input file (MODEL.json or DOC.FCStd)");
   if (o.output.empty()) throw UsageError("export needs -o OUT");
   if (o.resolution && o.cells) throw UsageError("give --resolution or --cells, not both");
+  if (!o.sharp && !o.tolerance) throw UsageError("--no-sharp applies with --tolerance only");
   return o;
 }
 
@@ -126,6 +138,8 @@ int exportModel(const ExportOptions& opt) {
   request.known = structuralBounds(model.root);
   request.format = format;
   request.force = opt.force;
+  request.tolerance = opt.tolerance;
+  request.sharpFeatures = opt.sharp;
   // The box policy is the pipeline's; the CLI only adds where the user gives a box.
   try {
     const MeshingBox chosen = chooseBox(program, request.known, box);
@@ -149,6 +163,14 @@ int exportModel(const ExportOptions& opt) {
     std::cout << "meshed " << opt.input << ": " << r.triangles << " triangles, grid "
               << r.stats.cells[0] << "x" << r.stats.cells[1] << "x" << r.stats.cells[2] << ", "
               << r.seconds[1] << " s (check " << r.seconds[2] << " s)\n";
+  if (!opt.quiet && r.simplified)
+    std::cout << "simplified " << r.simplify.trianglesBefore << " -> " << r.simplify.trianglesAfter
+              << " triangles in " << r.simplify.seconds << " s, surface within "
+              << r.simplify.largestDistance << " of the exact one (tolerance " << *opt.tolerance
+              << ")\n";
+  if (r.simplificationRefused)
+    std::cerr << "frepcad: warning: the simplified mesh failed the check (a bug: please "
+                 "report it with the model); the unsimplified mesh, which passed, is written\n";
   if (!opt.quiet || !r.report.printable()) std::cout << reportToText(r.report, opt.output);
   if (!r.written) {
     std::cerr << "frepcad: refusing to write " << opt.output

@@ -11,7 +11,7 @@ namespace {
 
 const char* kUsage =
     "usage:\n"
-    "  frepcad export MODEL.json|DOC.FCStd -o OUT [--resolution R | --cells N]\n"
+    "  frepcad export MODEL.json|DOC.FCStd -o OUT [--resolution R | --cells N] [--tolerance D]\n"
     "                 [--bbox x0 y0 z0 x1 y1 z1] [--format stl|stl-ascii|obj|ply|bms]\n"
     "                 [--force] [--quiet] [--object NAME] [--set Object.Property=VALUE ...]\n"
     "  frepcad check MESH [--json]\n"

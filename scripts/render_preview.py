@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Renders a binary STL to a shaded PNG (orthographic, z-buffer) for the docs.
 
-usage: render_preview.py MESH.stl OUT.png [SIZE]
+usage: render_preview.py MESH.stl OUT.png [SIZE] [--edges]
+--edges draws each triangle's sides (to show how a mesh is made, not only its shape).
 Plain Python (no numpy on a bare machine): meant for meshes of up to ~100k triangles.
 """
 import math
@@ -34,7 +35,7 @@ def view_basis():
     return u, v, w
 
 
-def render(tris, size):
+def render(tris, size, edges=False):
     u, v, w = view_basis()
     dot = lambda a, b: a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
     proj = [[(dot(p, u), dot(p, v), dot(p, w)) for p in t] for t in tris]
@@ -63,6 +64,10 @@ def render(tris, size):
         den = (by - qy) * (ax - qx) + (qx - bx) * (ay - qy)
         if den == 0:
             continue
+        # pixels from each side: barycentric weight times the height over that side
+        side = [math.hypot(bx - qx, by - qy), math.hypot(qx - ax, qy - ay), math.hypot(ax - bx, ay - by)]
+        height = [abs(den) / (s or 1.0) for s in side]
+        dark = tuple(int(0.35 * c) for c in colour)
         for y in range(y0, y1 + 1):
             for x in range(x0, x1 + 1):
                 l1 = ((by - qy) * (x - qx) + (qx - bx) * (y - qy)) / den
@@ -73,7 +78,8 @@ def render(tris, size):
                 z = l1 * az + l2 * bz + l3 * qz
                 if z > depth[y][x]:
                     depth[y][x] = z
-                    image[y][x] = colour
+                    near_side = edges and min(l1 * height[0], l2 * height[1], l3 * height[2]) < 0.6
+                    image[y][x] = dark if near_side else colour
     return image
 
 
@@ -88,5 +94,6 @@ def write_png(path, image):
 
 
 if __name__ == "__main__":
-    size = int(sys.argv[3]) if len(sys.argv) > 3 else 480
-    write_png(sys.argv[2], render(read_stl(sys.argv[1]), size))
+    args = [a for a in sys.argv[1:] if a != "--edges"]
+    size = int(args[2]) if len(args) > 2 else 480
+    write_png(args[1], render(read_stl(args[0]), size, edges="--edges" in sys.argv))

@@ -4,6 +4,8 @@
     base   <- frep <- mesh          (mesh meshes any Field: it knows frep's field seam)
     base   <- io                    (readers and writers know no fields)
     base   <- check                 (the CGAL judge knows no fields and no mesher)
+    frep, check <- simplify         (guarded collapses: the field for distances, the check's
+                                     exact face-pair test for every collapse)
     all of them <- pipeline         (the export: box policy, mesh, check, write)
     python: the bindings, above all of them
 
@@ -24,17 +26,18 @@ ALLOWED = {
     "mesh": {"base", "frep", "mesh"},
     "io": {"base", "io"},
     "check": {"base", "check"},
-    "pipeline": {"base", "frep", "mesh", "io", "check", "pipeline"},
-    "python": {"base", "frep", "mesh", "io", "check", "pipeline"},
+    "simplify": {"base", "frep", "check", "simplify"},
+    "pipeline": {"base", "frep", "mesh", "io", "check", "simplify", "pipeline"},
+    "python": {"base", "frep", "mesh", "io", "check", "simplify", "pipeline"},
 }
 # <header prefix>: the layers (or layer/file) that may include it
 LIBRARIES = {
-    "CGAL/": {"check/mesh_check.cpp", "check/self_intersections.cpp", "check/cgal_surface.cpp"},
+    "CGAL/": {"check/mesh_check.cpp", "check/face_pair_test.cpp", "check/cgal_surface.cpp"},
     "OpenMesh/": {"mesh/openmesh_bridge.h", "mesh/openmesh_bridge.cpp"},
-    "tbb/": {"mesh", "check/self_intersections.cpp"},
+    "tbb/": {"mesh", "simplify", "check/self_intersections.cpp"},
     "nlohmann/": {"frep", "check"},
     "nanoflann": {"frep/instances.cpp"},
-    "Eigen/": {"base/affine.cpp"},
+    "Eigen/": {"base/affine.cpp", "base/qef.cpp"},
     "pybind11/": {"python"},
     "Python.h": {"python"},
 }

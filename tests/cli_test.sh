@@ -31,6 +31,15 @@ expect 0 '"printable": true' -- "$frepcad" check "$work/s.stl" --json
 expect 0 "wrote .*s.obj" -- "$frepcad" export "$src/examples/csg.json" -o "$work/s.obj" --resolution 0.1
 expect 0 "wrote .*s.ply" -- "$frepcad" export "$src/examples/csg.json" -o "$work/s.ply" --format ply --resolution 0.1
 expect 0 "verdict: printable" -- "$frepcad" check "$work/s.ply"
+# --tolerance: simplified (far fewer triangles), checked, written; the options are checked
+expect 0 "simplified [0-9]+ -> [0-9]+ triangles" -- "$frepcad" export "$src/examples/csg.json" -o "$work/t.stl" --resolution 0.1 --tolerance 0.01
+expect 0 "verdict: printable" -- "$frepcad" check "$work/t.stl"
+full=$("$frepcad" export "$src/examples/csg.json" -o "$work/full.stl" --resolution 0.1 --quiet; stat -c %s "$work/full.stl")
+small=$(stat -c %s "$work/t.stl")
+[ $((small * 4)) -lt "$full" ] || { echo "FAIL: --tolerance did not shrink the file ($small vs $full bytes)"; exit 1; }
+expect 0 "simplified" -- "$frepcad" export "$src/examples/csg.json" -o "$work/t2.obj" --resolution 0.1 --tolerance 0.01 --no-sharp
+expect 2 "--tolerance must be a distance > 0 \(model units\), got '0'" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.stl" --tolerance 0
+expect 2 "--no-sharp applies with --tolerance only" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.stl" --no-sharp
 expect 0 "wrote" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/a.stl" --format stl-ascii --resolution 0.2 --bbox -2 -2 -2 2 2 2
 head -c 5 "$work/a.stl" | grep -q solid || { echo "FAIL: stl-ascii not ASCII"; failures=$((failures + 1)); }
 expect 0 "radius : real = 1 \[length\]" -- "$frepcad" info sphere

@@ -19,7 +19,7 @@ class UsageError(Exception):
 
 
 KEYS = ("document", "output", "format", "object", "sets", "force", "quiet", "cells",
-        "resolution", "bbox")
+        "resolution", "bbox", "tolerance", "sharp")
 
 
 def parse_args(options):
@@ -188,7 +188,8 @@ def main(out):
     try:
         report = FRepExport.export_objects(
             [obj], args.output, progress=lambda f: not stop, cells=args.cells,
-            resolution=args.resolution, bbox=args.bbox, fmt=args.format, force=args.force)
+            resolution=args.resolution, bbox=args.bbox, fmt=args.format, force=args.force,
+            tolerance=args.tolerance, sharp=args.sharp)
     except frepcore.NotPrintable as e:
         print(e.report["text"], file=out)
         print("frepcad: refusing to write %s: the mesh is not printable (see reasons above; "

@@ -61,9 +61,10 @@ def solid_and_box(objects, cells=None, resolution=None, bbox=None):
 
 
 def export_objects(objects, filename, progress=None, cells=None, fmt="", resolution=None,
-                   bbox=None, force=False):
+                   bbox=None, force=False, tolerance=None, sharp=True):
     """Meshes, checks and writes (libcore's export pipeline); returns the check report (a
-    dict with 'text' and 'written').
+    dict with 'text' and 'written'). With a tolerance the mesh is simplified first, kept
+    within that distance of the surface (sharp: merged vertices on creases and corners).
 
     Raises frepcore.NotPrintable (nothing written) when the check fails and force is not
     given, RuntimeError when cancelled (nothing written), ValueError for bad input.
@@ -74,7 +75,7 @@ def export_objects(objects, filename, progress=None, cells=None, fmt="", resolut
     def work(tick):
         try:
             return solid.export(filename, resolution=cell, bbox=box, format=fmt, progress=tick,
-                                force=force)
+                                force=force, tolerance=tolerance, sharp=sharp)
         except frepcore.Cancelled:
             raise RuntimeError("export of %s cancelled; no file written" % name)
 

@@ -1,7 +1,5 @@
 #include "check/self_intersections.h"
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/intersections.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
@@ -10,15 +8,11 @@
 #include <cmath>
 
 #include "check/cgal_surface.h"
+#include "check/face_pair_test.h"
 
 namespace frep {
 
 namespace {
-
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Point = Kernel::Point_3;
-using Segment = Kernel::Segment_3;
-using TriangleK = Kernel::Triangle_3;
 
 struct Box {
   double lo[3], hi[3];
@@ -28,37 +22,6 @@ bool overlap(const Box& a, const Box& b) {  // closed boxes, as CGAL's box inter
   for (int k = 0; k < 3; ++k)
     if (a.hi[k] < b.lo[k] || b.hi[k] < a.lo[k]) return false;
   return true;
-}
-
-// CGAL's do_faces_intersect (self_intersections.h, CGAL 5.5) on two faces of a polygon mesh
-// given by vertex indices: a shared edge intersects only where the four points are coplanar
-// and the two third vertices lie on the same side of it; a shared vertex where one face's
-// opposite side crosses the other face; else the triangles intersect anywhere.
-bool facesIntersect(const std::vector<Point>& p, const FaceIndices& f, const FaceIndices& g) {
-  auto in = [](std::uint32_t v, const FaceIndices& t) {
-    return v == t[0] || v == t[1] || v == t[2];
-  };
-  for (int k = 0; k < 3; ++k) {
-    const std::uint32_t a = f[k], b = f[(k + 1) % 3];
-    if (in(a, g) && in(b, g)) {  // the shared edge a -> b (in f's order)
-      const std::uint32_t c = f[(k + 2) % 3];
-      std::uint32_t d = g[0];
-      for (std::uint32_t v : g)
-        if (v != a && v != b) d = v;
-      return CGAL::coplanar(p[a], p[b], p[c], p[d]) &&
-             CGAL::coplanar_orientation(p[a], p[b], p[c], p[d]) == CGAL::POSITIVE;
-    }
-  }
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
-      if (f[i] == g[j]) {  // one shared vertex: the opposite sides against the other faces
-        const TriangleK tf(p[f[0]], p[f[1]], p[f[2]]), tg(p[g[0]], p[g[1]], p[g[2]]);
-        const Segment sf(p[f[(i + 1) % 3]], p[f[(i + 2) % 3]]);
-        const Segment sg(p[g[(j + 1) % 3]], p[g[(j + 2) % 3]]);
-        return CGAL::do_intersect(tf, sg) || CGAL::do_intersect(tg, sf);
-      }
-  return CGAL::do_intersect(TriangleK(p[f[0]], p[f[1]], p[f[2]]),
-                            TriangleK(p[g[0]], p[g[1]], p[g[2]]));
 }
 
 // Grid limits: beyond them the grid would not pay and CGAL's box tree is used.
@@ -71,9 +34,7 @@ constexpr double kMaxCellsPerAxis = 2097152.0;  // 2^21: three axes in one 64-bi
 std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
                                    const std::vector<FaceIndices>& faces,
                                    const std::function<void(double)>& progress) {
-  std::vector<Point> p;
-  p.reserve(points.size());
-  for (const Vec3f& q : points) p.emplace_back(q[0], q[1], q[2]);
+  const std::vector<Vec3f>& p = points;
 
   // Degenerate faces count as a pair with themselves and take part in nothing else, as in CGAL.
   std::size_t count = 0;
@@ -85,7 +46,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
   Box all{{HUGE_VAL, HUGE_VAL, HUGE_VAL}, {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}};
   for (std::uint32_t i = 0; i < faces.size(); ++i) {
     const FaceIndices& f = faces[i];
-    if (CGAL::collinear(p[f[0]], p[f[1]], p[f[2]])) {
+    if (collinear(p[f[0]], p[f[1]], p[f[2]])) {
       ++count;
       continue;
     }
@@ -93,7 +54,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
     double e = 0.0;
     for (int k = 0; k < 3; ++k) {
       b.lo[k] = std::min({p[f[0]][k], p[f[1]][k], p[f[2]][k]});
-      b.hi[k] = std::max({p[f[0]][k], p[f[1]][k], p[f[2]][k]});
+      b.hi[k] = std::max({p[f[0]][k], p[f[1]][k], p[f[2]][k]});  // floats: exact in double
       e = std::max(e, b.hi[k] - b.lo[k]);
       all.lo[k] = std::min(all.lo[k], b.lo[k]);
       all.hi[k] = std::max(all.hi[k], b.hi[k]);
@@ -187,7 +148,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
                                       index(std::max(ba.lo[1], bb.lo[1]), 1),
                                       index(std::max(ba.lo[2], bb.lo[2]), 2));
                               if (owner != here) continue;
-                              if (facesIntersect(p, faces[fa], faces[fb])) ++local;
+                              if (facesIntersect(points, faces[fa], faces[fb])) ++local;
                             }
                         }
                       });

@@ -126,17 +126,38 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
   // triangles, FreeCAD computes its own for .bms.
   o.normals = request.normals && (format == MeshFormat::Obj || format == MeshFormat::Ply);
   o.memoryBudget = request.memoryBudget ? *request.memoryBudget : availableMemory();
-  o.bytesPerTriangle = kMesherBytesPerTriangle + (request.check ? kCheckBytesPerTriangle : 0.0);
+  o.bytesPerTriangle = kMesherBytesPerTriangle + (request.check ? kCheckBytesPerTriangle : 0.0) +
+                       (request.tolerance ? kSimplifyBytesPerTriangle : 0.0);
+  // with a simplification, meshing is the first half of the stage's bar and it the second
+  const double meshShare = request.tolerance ? 0.5 : 1.0;
   if (request.progress)
-    o.progress = [&](double f) { return request.progress(ExportStage::Mesh, f); };
-  TriangleMesh mesh;
+    o.progress = [&](double f) { return request.progress(ExportStage::Mesh, meshShare * f); };
+  SimplifyOptions so;
+  if (request.tolerance) {
+    so.bbox = o.bbox;
+    so.cell = o.resolution;
+    so.tolerance = *request.tolerance;
+    so.sharpFeatures = request.sharpFeatures;
+    if (!(so.tolerance > 0.0) || !std::isfinite(so.tolerance))
+      throw ModelError(name + ": tolerance must be a distance > 0 (model units), got " +
+                       std::to_string(so.tolerance));
+    if (request.progress)
+      so.progress = [&](double f) { return request.progress(ExportStage::Mesh, 0.5 + 0.5 * f); };
+  }
+  TriangleMesh mesh, unsimplified;
   try {
     mesh = polygonize(field, o, &result.stats);
+    if (request.tolerance) {
+      unsimplified = simplifyMesh(mesh, field, so, &result.simplify);
+      std::swap(mesh, unsimplified);
+      result.simplified = true;
+    }
   } catch (const ModelError& e) {
     throw ModelError(name + ": " + e.what());
   }
   result.triangles = mesh.triangleCount();
   result.seconds[1] = since(t);
+  if (!request.check) unsimplified = TriangleMesh();
 
   if (request.check) {
     t = Clock::now();
@@ -146,6 +167,19 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
       // next phase, before anything is written.
       report(ExportStage::Check, f);
     });
+    // Every collapse was proved safe, so a refused simplification is a bug; the mesher's
+    // own mesh is checked then and written if printable, and the result says so.
+    if (!result.report.printable() && result.simplified) {
+      CheckReport original = checkMesh(unsimplified);  // (progress stays at the end)
+      if (original.printable()) {
+        mesh = std::move(unsimplified);
+        result.triangles = mesh.triangleCount();
+        result.report = std::move(original);
+        result.simplified = false;
+        result.simplificationRefused = true;
+      }
+    }
+    unsimplified = TriangleMesh();
     result.checked = true;
     result.seconds[2] = since(t);
     if (!result.report.printable() && !request.force) return result;

@@ -14,6 +14,7 @@
 #include "frep/field.h"
 #include "io/mesh_io.h"
 #include "mesh/mesher.h"
+#include "simplify/simplify.h"
 
 namespace frep {
 
@@ -25,6 +26,8 @@ constexpr double kPaddingCells = 1.5;
 // Memory per triangle of meshing and of the CGAL check (measured: docs/performance.md).
 constexpr double kMesherBytesPerTriangle = 70.0;
 constexpr double kCheckBytesPerTriangle = 750.0;
+// and of the simplifier (per triangle of the mesher's mesh: a quadric per vertex, the faces)
+constexpr double kSimplifyBytesPerTriangle = 100.0;
 // Cells along the longest side that `cells` may ask for.
 constexpr int kMaxCells = 1 << 16;
 
@@ -62,6 +65,11 @@ struct ExportRequest {
   bool check = true;                   // judge the mesh with CGAL before writing
   bool force = false;                  // write a mesh the check refused
   bool normals = true;                 // vertex normals from the gradient (OBJ and PLY keep them)
+  // Given: the mesher's mesh is simplified (simplify/simplify.h), keeping the surface within
+  // this distance of F = 0 (model units, > 0); sharp features place merged vertices on the
+  // creases and corners of the field.
+  std::optional<double> tolerance;
+  bool sharpFeatures = true;
   // Memory the export may take; default: what the system has available now. A mesh
   // estimated to need more is refused before it is made (MeshingOptions::memoryBudget).
   std::optional<std::size_t> memoryBudget;
@@ -77,6 +85,11 @@ struct ExportResult {
   bool checked = false;
   bool written = false;  // false: the check refused the mesh (and force was not given)
   std::size_t triangles = 0;
+  bool simplified = false;
+  SimplifyStats simplify;            // when simplified (its seconds are part of meshing's)
+  // The simplified mesh failed the check (a bug: please report it) and the mesher's own,
+  // printable, was written instead.
+  bool simplificationRefused = false;
   double seconds[4] = {0, 0, 0, 0};  // per ExportStage
 };
 

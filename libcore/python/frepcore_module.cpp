@@ -393,13 +393,15 @@ PYBIND11_MODULE(_frepcore, m) {
           "export",
           [](PyNode& n, const std::string& path, py::object bbox, py::object resolution,
              py::object cells, const std::string& format, bool check, bool force,
-             py::object progress) {
+             py::object progress, py::object tolerance, bool sharp) {
             ExportRequest r;
             r.box = boxRequest(bbox, resolution, cells, kPaddingCells);
             r.known = structuralBounds(n.node);
             if (!format.empty()) r.format = parseFormat(format);
             r.check = check;
             r.force = force;
+            if (!tolerance.is_none()) r.tolerance = tolerance.cast<double>();
+            r.sharpFeatures = sharp;
             n.compiled();
             std::shared_ptr<const Program> program = n.program;
             // Stages as one fraction for Python's progress: bounds 2 %, meshing to 40 %,
@@ -424,6 +426,10 @@ PYBIND11_MODULE(_frepcore, m) {
             }
             d["written"] = result.written;
             d["triangles"] = result.triangles;
+            if (result.simplified) {
+              d["triangles_before_simplify"] = result.simplify.trianglesBefore;
+              d["largest_distance"] = result.simplify.largestDistance;
+            }
             d["box"] = fromBox(result.box.box);
             d["resolution"] = result.box.resolution;
             d["seconds"] = py::make_tuple(result.seconds[0], result.seconds[1],
@@ -433,7 +439,9 @@ PYBIND11_MODULE(_frepcore, m) {
           py::arg("path"), py::arg("bbox") = py::none(), py::arg("resolution") = py::none(),
           py::arg("cells") = py::none(), py::arg("format") = "", py::arg("check") = true,
           py::arg("force") = false, py::arg("progress") = py::none(),
-          "The export pipeline: box policy, mesh, CGAL check, atomic write. Returns the check "
+          py::arg("tolerance") = py::none(), py::arg("sharp") = true,
+          "The export pipeline: box policy, mesh, (simplify within `tolerance` of the surface, "
+          "creases placed unless sharp=False), CGAL check, atomic write. Returns the check "
           "report dict plus 'written'; a refused mesh is not written unless force.")
       .def(
           "mesh",

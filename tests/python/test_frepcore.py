@@ -83,6 +83,21 @@ def test_export_checks_and_writes(tmp_path):
     assert fc.read_mesh(out).triangle_count == report["triangles"]
 
 
+def test_export_with_a_tolerance_simplifies_and_still_checks(tmp_path):
+    full = csg().export(str(tmp_path / "full.stl"), cells=48)
+    out = str(tmp_path / "part.stl")
+    seen = []
+    report = csg().export(out, cells=48, tolerance=0.01, progress=lambda f: seen.append(f))
+    assert report["printable"] and report["written"]
+    assert report["triangles_before_simplify"] == full["triangles"]
+    assert 5 * report["triangles"] < full["triangles"]
+    assert 0 < report["largest_distance"] <= 0.01
+    assert seen == sorted(seen) and seen[-1] == 1.0
+    with pytest.raises(ValueError, match="tolerance must be a distance > 0"):
+        csg().export(str(tmp_path / "bad.stl"), cells=48, tolerance=-1)
+    assert not os.path.exists(str(tmp_path / "bad.stl"))
+
+
 def test_cancel_raises_and_writes_nothing(tmp_path):
     out = str(tmp_path / "part.stl")
     with pytest.raises(fc.Cancelled):

@@ -115,15 +115,20 @@ class Shape:
         return self.node.mesh(box, cell, progress, normals)
 
     def export(self, path, resolution=None, bbox=None, cells=None, format="", check=True,
-               progress=None, force=False):
+               progress=None, force=False, tolerance=None, sharp=True):
         """Meshes, checks with CGAL and writes path atomically (libcore's export pipeline,
         the same as `frepcad export`); returns the check report (a dict with 'text').
+        With a tolerance (model units) the mesh is simplified first, kept within it of the
+        surface, creases and corners placed unless sharp=False (`frepcad export
+        --tolerance`); the report then has 'triangles_before_simplify' and
+        'largest_distance'.
 
         Raises NotPrintable (nothing written) when the check fails and force is not given,
         Cancelled when progress returns False (nothing written).
         """
         report = self.node.export(path, bbox=bbox, resolution=resolution, cells=cells,
-                                  format=format, check=check, force=force, progress=progress)
+                                  format=format, check=check, force=force, progress=progress,
+                                  tolerance=tolerance, sharp=sharp)
         if check and not report["printable"] and not force:
             raise NotPrintable("%s: not written, the mesh is not printable: %s"
                                % (path, "; ".join(report["reasons"])), report)

@@ -1,0 +1,761 @@
+#include "simplify/simplify.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <queue>
+#include <sstream>
+
+#include "base/errors.h"
+#include "base/qef.h"
+#include "check/face_pair_test.h"
+
+namespace frep {
+
+namespace {
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+// A new face may be no thinner than this (4 sqrt(3) area / sum of squared sides: 1 for an
+// equilateral triangle) unless the faces it replaces were thinner already.
+constexpr double kQuality = 0.01;
+// The quadric's directions weaker than this fraction of its strongest are left at the mean:
+// low enough that a corner met by one plane among ten on its faces still counts.
+constexpr double kPlaneCutoff = 0.02;
+// A changed face's normal may turn by less than this cosine's angle (about 72 degrees).
+constexpr double kTurn = 0.3;
+
+Vec3 toVec3(const Vec3f& p) {
+  return {p[0], p[1], p[2]};
+}
+Vec3f toVec3f(const Vec3& p) {
+  return {static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2])};
+}
+Vec3 sub(const Vec3& a, const Vec3& b) {
+  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+double dot(const Vec3& a, const Vec3& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+Vec3 crossOf(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+
+// The surface the mesher meshed: min(F, distance to the box), its value and unit gradient.
+class Surface {
+ public:
+  Surface(const Field& f, const Box3& box) : f_(f), box_(box) {}
+
+  // An estimate of the distance from p to the surface: |G| / |grad G|.
+  double distance(const Vec3& p) const {
+    Vec3 n;
+    double v;
+    if (!plane(p, &v, &n)) return std::numeric_limits<double>::infinity();
+    return std::abs(v);
+  }
+  // G(p) / |grad G| in *value and the unit gradient in *normal; false where the gradient
+  // vanishes or is not finite.
+  bool plane(const Vec3& p, double* value, Vec3* normal) const {
+    const double d[6] = {p[0] - box_.lo[0], box_.hi[0] - p[0], p[1] - box_.lo[1],
+                         box_.hi[1] - p[1], p[2] - box_.lo[2], box_.hi[2] - p[2]};
+    const int face = static_cast<int>(std::min_element(d, d + 6) - d);
+    const Dual g = f_.evalGradient(p[0], p[1], p[2]);
+    if (d[face] < g.v) {  // the box's cap
+      *value = d[face];
+      *normal = {0, 0, 0};
+      (*normal)[face / 2] = face % 2 ? -1.0 : 1.0;
+      return true;
+    }
+    const double len = std::sqrt(g.d[0] * g.d[0] + g.d[1] * g.d[1] + g.d[2] * g.d[2]);
+    if (!(len > 0.0) || !std::isfinite(len) || !std::isfinite(g.v)) return false;
+    *value = g.v / len;
+    *normal = {g.d[0] / len, g.d[1] / len, g.d[2] / len};
+    return true;
+  }
+
+ private:
+  const Field& f_;
+  Box3 box_;
+};
+
+// Regions: cubes of `side` from `origin`; a region's key packs its three indices.
+struct Regions {
+  Vec3 origin;
+  double side;
+  std::int64_t index(double v, int a) const {
+    return static_cast<std::int64_t>(std::floor((v - origin[a]) / side));
+  }
+  static std::uint64_t key(std::int64_t i, std::int64_t j, std::int64_t k) {
+    const std::uint64_t bias = 1u << 20;
+    return ((static_cast<std::uint64_t>(k) + bias) << 42) |
+           ((static_cast<std::uint64_t>(j) + bias) << 21) | (static_cast<std::uint64_t>(i) + bias);
+  }
+  std::uint64_t of(const Vec3f& p) const {
+    return key(index(p[0], 0), index(p[1], 1), index(p[2], 2));
+  }
+};
+
+double quality(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
+  const Vec3 pa = toVec3(a), pb = toVec3(b), pc = toVec3(c);
+  const Vec3 n = crossOf(sub(pb, pa), sub(pc, pa));
+  const double s = dot(sub(pb, pa), sub(pb, pa)) + dot(sub(pc, pb), sub(pc, pb)) +
+                   dot(sub(pa, pc), sub(pa, pc));
+  return s > 0.0 ? 2.0 * std::sqrt(3.0) * std::sqrt(dot(n, n)) / s : 0.0;
+}
+Vec3 faceNormal(const std::vector<Vec3f>& pos, const Triangle& t) {
+  const Vec3 a = toVec3(pos[t[0]]);
+  return crossOf(sub(toVec3(pos[t[1]]), a), sub(toVec3(pos[t[2]]), a));
+}
+
+// The shared state of one simplification: positions (float, as written), quadrics, and which
+// vertices are gone or moved. A region's thread writes only its own free vertices.
+struct State {
+  std::vector<Vec3f> pos;
+  std::vector<Quadric> quadric;
+  std::vector<std::uint8_t> removed, moved;
+};
+
+struct RegionInput {
+  std::uint64_t key;
+  const std::uint32_t* inner;  // faces (indices into the pass's face list) inside the region
+  std::size_t innerCount;
+  const std::uint32_t* frozen;  // faces crossing regions whose box meets this region
+  std::size_t frozenCount;
+};
+
+struct RegionOutput {
+  std::vector<Triangle> faces;
+  std::size_t collapses = 0;
+  double largestDistance = 0.0;
+};
+
+// One region's collapses. Faces are kept with global vertex ids (the pair test reads the
+// shared positions); the region's vertices and faces have local numbers for the bookkeeping.
+class RegionSimplifier {
+ public:
+  RegionSimplifier(State& s, const Surface& surface, const SimplifyOptions& o,
+                   const Regions& regions, const std::vector<Triangle>& faces)
+      : s_(s), surface_(surface), o_(o), regions_(regions), all_(faces) {}
+
+  void run(const RegionInput& in, RegionOutput& out) {
+    key_ = in.key;
+    setUp(in);
+    using Entry = std::pair<double, std::uint64_t>;  // cost, candidate number
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap;
+    auto push = [&](std::uint32_t u, std::uint32_t v) {
+      if (u == kNone || v == kNone || fixed_[u] || removedLocal_[u] || removedLocal_[v]) return;
+      // shortest edges first (the grid's slivers go first); where v goes is found when
+      // the candidate is tried
+      Candidate c{u, v, stamp_[u], stamp_[v], Vec3{0, 0, 0}};
+      const Vec3 d = sub(toVec3(s_.pos[gid_[u]]), toVec3(s_.pos[gid_[v]]));
+      const double cost = dot(d, d);
+      candidates_.push_back(c);
+      heap.emplace(cost, candidates_.size() - 1);
+    };
+    for (std::uint32_t f = 0; f < faces_.size(); ++f) {
+      if (frozenFace_[f]) continue;
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t a = local(faces_[f][k]), b = local(faces_[f][(k + 1) % 3]);
+        push(a, b);  // each directed edge once: the face holding it in this order
+      }
+    }
+    while (!heap.empty()) {
+      Candidate c = candidates_[heap.top().second];
+      heap.pop();
+      if (removedLocal_[c.u] || removedLocal_[c.v] || stamp_[c.u] != c.stampU ||
+          stamp_[c.v] != c.stampV)
+        continue;
+      c.at = place(c.u, c.v);
+      // A merged vertex that cannot go to its quadric's point may still stay where v is,
+      // with sharp features only where that keeps it near every plane it carries: within
+      // the tolerance of the quadric's best (else a corner or crease would be rounded off).
+      bool done = admissible(c) && collapse(c, out);
+      if (!done && toVec3f(c.at) != s_.pos[gid_[c.v]]) {
+        const Candidate stay = stayAt(c);
+        done = admissible(stay) && collapse(stay, out);
+      }
+      if (!done) continue;
+      ++out.collapses;
+      for (std::uint32_t f : around_[c.v])
+        for (int k = 0; k < 3; ++k) {
+          const std::uint32_t a = local(faces_[f][k]), b = local(faces_[f][(k + 1) % 3]);
+          if (a == c.v || b == c.v) push(a, b);
+        }
+    }
+    if (o_.sharpFeatures) snapToFeatures(out);
+    for (std::uint32_t f = 0; f < faces_.size(); ++f)
+      if (!frozenFace_[f] && deadFace_[f] == kLive) out.faces.push_back(faces_[f]);
+  }
+
+ private:
+  struct Candidate {
+    std::uint32_t u, v;  // u goes, v stays (at `at`)
+    std::uint32_t stampU, stampV;
+    Vec3 at;
+  };
+
+  // With sharp features: the position keeps the merged planes' squared distances within
+  // tolerance^2 of their least (the quadric's minimiser).
+  bool admissible(const Candidate& c) const {
+    if (!o_.sharpFeatures) return true;
+    const Quadric q = merged(c.u, c.v);
+    if (q.count <= 0.0) return true;
+    return q.error(c.at) <= q.error(q.minimiser(kPlaneCutoff)) + o_.tolerance * o_.tolerance;
+  }
+
+  Candidate stayAt(Candidate c) const {
+    c.at = toVec3(s_.pos[gid_[c.v]]);
+    return c;
+  }
+
+  void setUp(const RegionInput& in) {
+    // the global -> local map is kept per thread, all kNone between regions
+    if (localOf_.size() != s_.pos.size()) localOf_.assign(s_.pos.size(), kNone);
+    for (std::uint32_t g : gid_) localOf_[g] = kNone;
+    gid_.clear();
+    faces_.clear();
+    frozenFace_.clear();
+    candidates_.clear();
+    for (std::size_t i = 0; i < in.innerCount; ++i) {
+      faces_.push_back(all_[in.inner[i]]);
+      frozenFace_.push_back(0);
+    }
+    for (std::size_t i = 0; i < in.frozenCount; ++i) {
+      faces_.push_back(all_[in.frozen[i]]);
+      frozenFace_.push_back(1);
+    }
+    deadFace_.assign(faces_.size(), kLive);
+    // the region's vertices: those of its faces that lie in it
+    for (const Triangle& t : faces_)
+      for (std::uint32_t v : t)
+        if (regions_.of(s_.pos[v]) == key_) gid_.push_back(v);
+    std::sort(gid_.begin(), gid_.end());
+    gid_.erase(std::unique(gid_.begin(), gid_.end()), gid_.end());
+    const std::size_t n = gid_.size();
+    for (std::uint32_t l = 0; l < n; ++l) localOf_[gid_[l]] = l;
+    // (the lists are cleared, not freed: the next region reuses them)
+    if (around_.size() < n) around_.resize(n);
+    for (std::size_t l = 0; l < n; ++l) around_[l].clear();
+    fixed_.assign(n, 0);
+    removedLocal_.assign(n, 0);
+    stamp_.assign(n, 0);
+    for (std::uint32_t f = 0; f < faces_.size(); ++f)
+      for (std::uint32_t v : faces_[f]) {
+        const std::uint32_t l = local(v);
+        if (l == kNone) continue;
+        around_[l].push_back(f);
+        if (frozenFace_[f]) fixed_[l] = 1;
+      }
+    // the search grid: cells of the mesher's size over the region and one cell round it
+    for (int a = 0; a < 3; ++a) {
+      const std::int64_t i = static_cast<std::int64_t>((key_ >> (21 * a)) & ((1u << 21) - 1)) -
+                             (std::int64_t(1) << 20);
+      gridLo_[a] = regions_.origin[a] + static_cast<double>(i) * regions_.side - o_.cell;
+    }
+    gridDim_ = o_.regionCells + 2;
+    grid_.resize(static_cast<std::size_t>(gridDim_) * gridDim_ * gridDim_);
+    for (std::vector<std::uint32_t>& cell : grid_) cell.clear();
+    visit_.assign(faces_.size(), 0);
+    inCell_.assign(faces_.size(), 0);
+    visitStamp_ = cellStamp_ = 0;
+    faceBox_.resize(faces_.size());
+    for (std::uint32_t f = 0; f < faces_.size(); ++f) {
+      faceBox_[f] = boxOf(faces_[f]);
+      insert(f);
+    }
+  }
+
+  std::uint32_t local(std::uint32_t global) const { return localOf_[global]; }
+
+  Quadric merged(std::uint32_t u, std::uint32_t v) const {
+    Quadric q = s_.quadric[gid_[u]];
+    q += s_.quadric[gid_[v]];
+    return q;
+  }
+  // Where v goes when u merges into it: it stays when fixed or without sharp features; else
+  // the quadric's minimiser.
+  Vec3 place(std::uint32_t u, std::uint32_t v) const {
+    const Vec3 pv = toVec3(s_.pos[gid_[v]]);
+    if (fixed_[v] || !o_.sharpFeatures) return pv;  // (admissible() judges a fixed v)
+    const Quadric q = merged(u, v);
+    if (q.count <= 0.0) return pv;
+    return q.minimiser(kPlaneCutoff);
+  }
+
+  void cellRange(const Triangle& t, int lo[3], int hi[3]) const {
+    for (int a = 0; a < 3; ++a) {
+      const double mn = std::min({s_.pos[t[0]][a], s_.pos[t[1]][a], s_.pos[t[2]][a]});
+      const double mx = std::max({s_.pos[t[0]][a], s_.pos[t[1]][a], s_.pos[t[2]][a]});
+      auto clamp = [&](double v) {
+        const double i = std::floor((v - gridLo_[a]) / o_.cell);
+        return static_cast<int>(std::max(0.0, std::min(i, static_cast<double>(gridDim_ - 1))));
+      };
+      lo[a] = clamp(mn);
+      hi[a] = clamp(mx);
+    }
+  }
+  void insert(std::uint32_t f) {
+    int lo[3], hi[3];
+    cellRange(faces_[f], lo, hi);
+    for (int k = lo[2]; k <= hi[2]; ++k)
+      for (int j = lo[1]; j <= hi[1]; ++j)
+        for (int i = lo[0]; i <= hi[0]; ++i)
+          grid_[(static_cast<std::size_t>(k) * gridDim_ + j) * gridDim_ + i].push_back(f);
+  }
+  // The live faces whose cells meet face f's (stale entries of moved faces included: the
+  // pair test decides). Each cell scanned drops its dead and repeated entries on the way.
+  void near(std::uint32_t f, std::vector<std::uint32_t>& out) {
+    out.clear();
+    ++visitStamp_;
+    int lo[3], hi[3];
+    cellRange(faces_[f], lo, hi);
+    for (int k = lo[2]; k <= hi[2]; ++k)
+      for (int j = lo[1]; j <= hi[1]; ++j)
+        for (int i = lo[0]; i <= hi[0]; ++i) {
+          std::vector<std::uint32_t>& cell =
+              grid_[(static_cast<std::size_t>(k) * gridDim_ + j) * gridDim_ + i];
+          ++cellStamp_;
+          std::size_t kept = 0;
+          for (std::uint32_t g : cell) {
+            // gone for good: dropped; gone only for the collapse under test: kept listed
+            if (deadFace_[g] == kGone || inCell_[g] == cellStamp_) continue;
+            inCell_[g] = cellStamp_;
+            cell[kept++] = g;
+            if (deadFace_[g] != kLive) continue;
+            if (visit_[g] != visitStamp_) {
+              visit_[g] = visitStamp_;
+              out.push_back(g);
+            }
+          }
+          cell.resize(kept);
+        }
+  }
+
+  struct FaceBox {
+    float lo[3], hi[3];
+    bool meets(const FaceBox& b) const {  // closed boxes
+      for (int a = 0; a < 3; ++a)
+        if (hi[a] < b.lo[a] || b.hi[a] < lo[a]) return false;
+      return true;
+    }
+  };
+  FaceBox boxOf(const Triangle& t) const {
+    FaceBox b;
+    for (int a = 0; a < 3; ++a) {
+      b.lo[a] = std::min({s_.pos[t[0]][a], s_.pos[t[1]][a], s_.pos[t[2]][a]});
+      b.hi[a] = std::max({s_.pos[t[0]][a], s_.pos[t[1]][a], s_.pos[t[2]][a]});
+    }
+    return b;
+  }
+
+  // The ring of local vertex l (global g): the vertex after it in each of its faces.
+  void ring(std::uint32_t l, std::uint32_t g, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    for (std::uint32_t f : around_[l]) {
+      const Triangle& t = faces_[f];
+      out.push_back(t[0] == g ? t[1] : (t[1] == g ? t[2] : t[0]));
+    }
+  }
+
+  bool holds(const Triangle& t, std::uint32_t v) const {
+    return t[0] == v || t[1] == v || t[2] == v;
+  }
+
+  // Each free vertex moved to the minimiser of its own and its ring's planes where that is a
+  // crease or a corner the collapses left cut off (a vertex that carries only planes of one
+  // face cannot find the third plane of a corner by itself), under the collapse's tests.
+  void snapToFeatures(RegionOutput& out) {
+    for (std::uint32_t l = 0; l < gid_.size(); ++l) {
+      if (fixed_[l] || removedLocal_[l]) continue;
+      const std::uint32_t g = gid_[l];
+      Quadric q = s_.quadric[g];
+      ring(l, g, neighboursU_);
+      for (std::uint32_t w : neighboursU_) q += s_.quadric[w];
+      if (q.count <= 0.0) continue;
+      const Vec3 p = q.minimiser(kPlaneCutoff), here = toVec3(s_.pos[g]);
+      const Vec3 d = sub(p, here);
+      // only a move the own planes allow, by less than a cell
+      if (dot(d, d) > o_.cell * o_.cell) continue;
+      const Quadric& own = s_.quadric[g];
+      if (own.count > 0.0 && own.error(p) > own.error(here) + o_.tolerance * o_.tolerance)
+        continue;
+      if (q.error(p) + o_.tolerance * o_.tolerance >= q.error(here)) continue;  // no gain
+      relocate(l, p, out);
+    }
+  }
+
+  // Moves local vertex l to p when every test passes; unchanged otherwise.
+  bool relocate(std::uint32_t l, const Vec3& p, RegionOutput& out) {
+    const std::uint32_t g = gid_[l];
+    const Vec3f at = toVec3f(p);
+    if (!std::isfinite(at[0]) || !std::isfinite(at[1]) || !std::isfinite(at[2]) ||
+        regions_.of(at) != key_ || at == s_.pos[g])
+      return false;
+    changed_ = around_[l];
+    double worstBefore = 1.0;
+    normalsBefore_.clear();
+    for (std::uint32_t f : changed_) {
+      const Triangle& t = faces_[f];
+      worstBefore = std::min(worstBefore, quality(s_.pos[t[0]], s_.pos[t[1]], s_.pos[t[2]]));
+      normalsBefore_.push_back(faceNormal(s_.pos, t));
+    }
+    const Vec3f old = s_.pos[g];
+    s_.pos[g] = at;
+    vMoves_ = true;
+    if (!acceptable(changed_, worstBefore, g, out)) {
+      s_.pos[g] = old;
+      return false;
+    }
+    s_.moved[g] = 1;
+    for (std::uint32_t f : changed_) {
+      faceBox_[f] = boxOf(faces_[f]);
+      insert(f);
+    }
+    return true;
+  }
+
+  // Merges u into v at c.at when every test passes; the region's state is unchanged otherwise.
+  bool collapse(const Candidate& c, RegionOutput& out) {
+    const std::uint32_t u = c.u, v = c.v, gu = gid_[u], gv = gid_[v];
+    // the two faces on the edge, and their third vertices
+    std::uint32_t edgeFaces[2], third[2], m = 0;
+    for (std::uint32_t f : around_[u])
+      if (holds(faces_[f], gv)) {
+        if (m == 2) return false;
+        edgeFaces[m] = f;
+        for (std::uint32_t w : faces_[f])
+          if (w != gu && w != gv) third[m] = w;
+        ++m;
+      }
+    if (m != 2 || third[0] == third[1]) return false;
+    // link condition: u's and v's neighbours in common are the two third vertices only
+    // (closed manifold fans: each face (w, a, b) gives w's ring the vertex after w)
+    ring(u, gu, neighboursU_);
+    ring(v, gv, neighboursV_);
+    std::size_t common = 0;
+    for (std::uint32_t w : neighboursU_)
+      if (std::find(neighboursV_.begin(), neighboursV_.end(), w) != neighboursV_.end()) {
+        if (w != third[0] && w != third[1]) return false;
+        ++common;
+      }
+    if (common != 2) return false;
+    // no pillow: the third vertices and v keep at least three faces each
+    for (std::uint32_t w : third) {
+      const std::uint32_t l = local(w);
+      if (l == kNone || around_[l].size() <= 3) return false;
+    }
+    if (around_[u].size() + around_[v].size() < 7) return false;
+
+    // where v goes: inside this region, as a float
+    const Vec3f at = toVec3f(c.at);
+    if (!std::isfinite(at[0]) || !std::isfinite(at[1]) || !std::isfinite(at[2]) ||
+        regions_.of(at) != key_)
+      return false;
+    const Vec3f oldV = s_.pos[gv];
+    const bool moves = at != oldV;
+    if (moves && fixed_[v]) return false;
+    vMoves_ = moves;
+
+    // the changed faces: u's (u becomes v) and, when v moves, v's; the edge's two go
+    changed_.clear();
+    for (std::uint32_t f : around_[u])
+      if (f != edgeFaces[0] && f != edgeFaces[1]) changed_.push_back(f);
+    if (moves)
+      for (std::uint32_t f : around_[v])
+        if (f != edgeFaces[0] && f != edgeFaces[1]) changed_.push_back(f);
+    double worstBefore = 1.0;
+    normalsBefore_.clear();
+    for (std::uint32_t f : changed_) {
+      const Triangle& t = faces_[f];
+      worstBefore = std::min(worstBefore, quality(s_.pos[t[0]], s_.pos[t[1]], s_.pos[t[2]]));
+      normalsBefore_.push_back(faceNormal(s_.pos, t));
+    }
+    for (int e = 0; e < 2; ++e) {
+      const Triangle& t = faces_[edgeFaces[e]];
+      worstBefore = std::min(worstBefore, quality(s_.pos[t[0]], s_.pos[t[1]], s_.pos[t[2]]));
+    }
+
+    // apply, test, and undo on failure
+    saved_.clear();
+    for (std::uint32_t f : changed_) saved_.push_back(faces_[f]);
+    for (std::uint32_t f : changed_)
+      for (std::uint32_t& w : faces_[f])
+        if (w == gu) w = gv;
+    s_.pos[gv] = at;
+    deadFace_[edgeFaces[0]] = deadFace_[edgeFaces[1]] = kGoingUnderTest;
+    const bool ok = acceptable(changed_, worstBefore, gv, out);
+    if (!ok) {
+      for (std::size_t i = 0; i < changed_.size(); ++i) faces_[changed_[i]] = saved_[i];
+      s_.pos[gv] = oldV;
+      deadFace_[edgeFaces[0]] = deadFace_[edgeFaces[1]] = kLive;
+      return false;
+    }
+    deadFace_[edgeFaces[0]] = deadFace_[edgeFaces[1]] = kGone;
+
+    // commit: u is gone, its faces are v's; the edge's faces leave every list
+    removedLocal_[u] = 1;
+    s_.removed[gu] = 1;
+    if (moves) s_.moved[gv] = 1;
+    s_.quadric[gv] += s_.quadric[gu];
+    auto drop = [&](std::uint32_t l) {
+      std::vector<std::uint32_t>& a = around_[l];
+      a.erase(std::remove_if(a.begin(), a.end(),
+                             [&](std::uint32_t f) { return f == edgeFaces[0] || f == edgeFaces[1]; }),
+              a.end());
+    };
+    drop(v);
+    for (std::uint32_t w : third) drop(local(w));
+    for (std::uint32_t f : around_[u])
+      if (f != edgeFaces[0] && f != edgeFaces[1]) around_[v].push_back(f);
+    around_[u].clear();
+    for (std::uint32_t f : changed_) {
+      faceBox_[f] = boxOf(faces_[f]);
+      insert(f);
+    }
+    ++stamp_[v];
+    for (std::uint32_t w : neighboursU_) {
+      const std::uint32_t l = local(w);
+      if (l != kNone) ++stamp_[l];
+    }
+    for (std::uint32_t w : neighboursV_) {
+      const std::uint32_t l = local(w);
+      if (l != kNone) ++stamp_[l];
+    }
+    return true;
+  }
+
+  // The tests on the applied collapse: shape, turn, distance, and no intersection.
+  bool acceptable(const std::vector<std::uint32_t>& changed, double worstBefore, std::uint32_t gv,
+                  RegionOutput& out) {
+    const double floorQuality = std::min(kQuality, worstBefore);
+    for (std::size_t i = 0; i < changed.size(); ++i) {
+      const Triangle& t = faces_[changed[i]];
+      if (quality(s_.pos[t[0]], s_.pos[t[1]], s_.pos[t[2]]) < floorQuality) return false;
+      const Vec3 n = faceNormal(s_.pos, t), before = normalsBefore_[i];
+      if (dot(n, before) < kTurn * std::sqrt(dot(n, n) * dot(before, before))) return false;
+      if (o_.maxEdge > 0.0)
+        for (int k = 0; k < 3; ++k) {
+          const Vec3 d = sub(toVec3(s_.pos[t[k]]), toVec3(s_.pos[t[(k + 1) % 3]]));
+          if (dot(d, d) > o_.maxEdge * o_.maxEdge) return false;
+        }
+      if (collinear(s_.pos[t[0]], s_.pos[t[1]], s_.pos[t[2]])) return false;
+    }
+    // the surface stays near F = 0: at v and at each changed face's centre
+    double largest = 0.0;
+    if (vMoves_) {
+      largest = surface_.distance(toVec3(s_.pos[gv]));
+      if (!(largest <= o_.tolerance)) return false;
+    }
+    // and each changed face faces out: against the gradient at its centre (a small part
+    // collapsed into itself, turned inside out, fails here)
+    for (std::uint32_t f : changed) {
+      const Triangle& t = faces_[f];
+      Vec3 centre{0, 0, 0};
+      for (std::uint32_t w : t)
+        for (int a = 0; a < 3; ++a) centre[a] += s_.pos[w][a] / 3.0;
+      double value;
+      Vec3 gradient;
+      if (!surface_.plane(centre, &value, &gradient)) return false;
+      const double d = std::abs(value);
+      if (!(d <= o_.tolerance)) return false;
+      if (!(dot(faceNormal(s_.pos, t), gradient) < 0.0)) return false;
+      largest = std::max(largest, d);
+    }
+    // no changed face meets another face (the changed ones among themselves too: the grid
+    // still lists them where they were)
+    // (only pairs whose boxes meet can intersect: the check tests no others either)
+    boxes_.resize(changed.size());
+    for (std::size_t i = 0; i < changed.size(); ++i) boxes_[i] = boxOf(faces_[changed[i]]);
+    for (std::size_t i = 0; i < changed.size(); ++i) {
+      const std::uint32_t f = changed[i];
+      near(f, nearby_);
+      for (std::uint32_t g : nearby_) {
+        if (g == f || std::find(changed.begin(), changed.end(), g) != changed.end()) continue;
+        if (!boxes_[i].meets(faceBox_[g])) continue;
+        if (facesIntersect(s_.pos, faces_[f], faces_[g])) return false;
+      }
+      for (std::size_t j = i + 1; j < changed.size(); ++j)
+        if (boxes_[i].meets(boxes_[j]) && facesIntersect(s_.pos, faces_[f], faces_[changed[j]]))
+          return false;
+    }
+    out.largestDistance = std::max(out.largestDistance, largest);
+    return true;
+  }
+
+  State& s_;
+  const Surface& surface_;
+  const SimplifyOptions& o_;
+  const Regions& regions_;
+  const std::vector<Triangle>& all_;
+  std::uint64_t key_ = 0;
+  std::vector<std::uint32_t> gid_;  // local vertex -> global
+  std::vector<std::uint32_t> localOf_;  // global vertex -> local, kNone outside the region
+  std::vector<std::vector<std::uint32_t>> around_;  // local vertex -> its faces
+  std::vector<std::uint8_t> fixed_, removedLocal_;
+  std::vector<std::uint32_t> stamp_;
+  std::vector<Triangle> faces_;
+  // a face's state: live, removed for good, or removed only by the collapse under test (it
+  // must stay in the search grid, which drops removed faces as it meets them)
+  static constexpr std::uint8_t kLive = 0, kGone = 1, kGoingUnderTest = 2;
+  std::vector<std::uint8_t> frozenFace_, deadFace_;
+  std::vector<Candidate> candidates_;
+  double gridLo_[3] = {0, 0, 0};
+  int gridDim_ = 0;
+  std::vector<std::vector<std::uint32_t>> grid_;
+  std::vector<std::uint32_t> visit_;
+  std::vector<std::uint32_t> inCell_;
+  std::uint32_t visitStamp_ = 0, cellStamp_ = 0;
+  // scratch
+  std::vector<std::uint32_t> neighboursU_, neighboursV_, changed_, nearby_;
+  std::vector<Triangle> saved_;
+  std::vector<Vec3> normalsBefore_;
+  std::vector<FaceBox> boxes_;    // the changed faces' boxes, during a test
+  std::vector<FaceBox> faceBox_;  // every face's box as it stands
+  bool vMoves_ = false;           // the collapse under test moves v
+};
+
+void validate(const SimplifyOptions& o) {
+  auto bad = [](const std::string& what) { throw ModelError("simplify: " + what); };
+  if (!(o.cell > 0.0) || !std::isfinite(o.cell)) bad("cell must be a positive number");
+  if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance))
+    bad("tolerance must be a positive distance");
+  if (!(o.maxEdge >= 0.0)) bad("maxEdge must be 0 (no bound) or a positive length");
+  if (o.regionCells < 4 || o.regionCells > 256) bad("regionCells must be 4 to 256");
+  if (o.passes < 1 || o.passes > 16) bad("passes must be 1 to 16");
+}
+
+}  // namespace
+
+TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field,
+                          const SimplifyOptions& o, SimplifyStats* stats) {
+  const auto start = std::chrono::steady_clock::now();
+  validate(o);
+  const Surface surface(field, o.bbox);
+  const std::size_t nv = mesh.positions.size();
+  State s;
+  s.pos = mesh.positions;
+  s.quadric.assign(nv, Quadric());
+  s.removed.assign(nv, 0);
+  s.moved.assign(nv, 0);
+  // Hermite data: each vertex's tangent plane of the meshed surface
+  tbb::parallel_for(std::size_t(0), nv, [&](std::size_t v) {
+    const Vec3 p = toVec3(s.pos[v]);
+    double value;
+    Vec3 n;
+    if (surface.plane(p, &value, &n)) {
+      // the plane through the surface point nearest p along n
+      const Vec3 foot{p[0] - value * n[0], p[1] - value * n[1], p[2] - value * n[2]};
+      s.quadric[v].addPlane(foot, n);
+    }
+  });
+
+  std::vector<Triangle> faces = mesh.triangles;
+  std::size_t collapses = 0;
+  double largest = 0.0;
+  const double side = o.cell * o.regionCells;
+  const double shifts[4] = {0.0, 0.5, 0.25, 0.75};
+  for (int pass = 0; pass < o.passes; ++pass) {
+    if (o.progress && !o.progress(static_cast<double>(pass) / o.passes)) throw Cancelled();
+    Regions regions;
+    for (int a = 0; a < 3; ++a)
+      regions.origin[a] = o.bbox.lo[a] - shifts[pass % 4] * side - o.cell * (pass / 4) * 0.37;
+    regions.side = side;
+    // faces inside one region, grouped by it; faces crossing regions, frozen
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> inner, frozen;
+    std::vector<std::uint32_t> crossing;
+    for (std::uint32_t f = 0; f < faces.size(); ++f) {
+      const Triangle& t = faces[f];
+      const std::uint64_t r = regions.of(s.pos[t[0]]);
+      if (regions.of(s.pos[t[1]]) == r && regions.of(s.pos[t[2]]) == r) {
+        inner.emplace_back(r, f);
+        continue;
+      }
+      crossing.push_back(f);
+      std::int64_t lo[3], hi[3];
+      for (int a = 0; a < 3; ++a) {
+        // every region whose closed cube the face's box meets
+        const double mn = std::min({s.pos[t[0]][a], s.pos[t[1]][a], s.pos[t[2]][a]});
+        const double mx = std::max({s.pos[t[0]][a], s.pos[t[1]][a], s.pos[t[2]][a]});
+        lo[a] = static_cast<std::int64_t>(std::floor((mn - regions.origin[a]) / side - 1e-9)) ;
+        hi[a] = static_cast<std::int64_t>(std::floor((mx - regions.origin[a]) / side + 1e-9));
+      }
+      for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
+        for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
+          for (std::int64_t i = lo[0]; i <= hi[0]; ++i)
+            frozen.emplace_back(Regions::key(i, j, k), f);
+    }
+    tbb::parallel_sort(inner.begin(), inner.end());
+    tbb::parallel_sort(frozen.begin(), frozen.end());
+    std::vector<std::uint32_t> innerFaces(inner.size()), frozenFaces(frozen.size());
+    for (std::size_t i = 0; i < inner.size(); ++i) innerFaces[i] = inner[i].second;
+    for (std::size_t i = 0; i < frozen.size(); ++i) frozenFaces[i] = frozen[i].second;
+    std::vector<RegionInput> work;
+    for (std::size_t i = 0; i < inner.size();) {
+      std::size_t j = i;
+      while (j < inner.size() && inner[j].first == inner[i].first) ++j;
+      const auto range = std::equal_range(
+          frozen.begin(), frozen.end(), std::make_pair(inner[i].first, std::uint32_t(0)),
+          [](const auto& a, const auto& b) { return a.first < b.first; });
+      work.push_back({inner[i].first, innerFaces.data() + i, j - i,
+                      frozenFaces.data() + (range.first - frozen.begin()),
+                      static_cast<std::size_t>(range.second - range.first)});
+      i = j;
+    }
+    std::vector<RegionOutput> results(work.size());
+    tbb::enumerable_thread_specific<std::unique_ptr<RegionSimplifier>> simplifiers;
+    tbb::parallel_for(std::size_t(0), work.size(), [&](std::size_t r) {
+      std::unique_ptr<RegionSimplifier>& rs = simplifiers.local();
+      if (!rs) rs = std::make_unique<RegionSimplifier>(s, surface, o, regions, faces);
+      rs->run(work[r], results[r]);
+    });
+    std::vector<Triangle> next;
+    next.reserve(faces.size());
+    for (std::uint32_t f : crossing) next.push_back(faces[f]);
+    for (RegionOutput& r : results) {
+      next.insert(next.end(), r.faces.begin(), r.faces.end());
+      collapses += r.collapses;
+      largest = std::max(largest, r.largestDistance);
+    }
+    faces.swap(next);
+  }
+
+  // the surviving vertices, renumbered in their order
+  TriangleMesh result;
+  std::vector<std::uint32_t> number(nv, kNone);
+  for (std::size_t v = 0; v < nv; ++v)
+    if (!s.removed[v]) {
+      number[v] = static_cast<std::uint32_t>(result.positions.size());
+      result.positions.push_back(s.pos[v]);
+    }
+  if (!mesh.normals.empty()) {
+    result.normals.resize(result.positions.size());
+    tbb::parallel_for(std::size_t(0), nv, [&](std::size_t v) {
+      if (number[v] == kNone) return;
+      Vec3f& n = result.normals[number[v]];
+      n = mesh.normals[v];
+      if (!s.moved[v]) return;
+      double value;
+      Vec3 g;
+      if (surface.plane(toVec3(s.pos[v]), &value, &g)) n = toVec3f({-g[0], -g[1], -g[2]});
+    });
+  }
+  result.triangles.reserve(faces.size());
+  for (const Triangle& t : faces) result.triangles.push_back({number[t[0]], number[t[1]], number[t[2]]});
+  if (o.progress) o.progress(1.0);
+  if (stats) {
+    stats->trianglesBefore = mesh.triangles.size();
+    stats->trianglesAfter = result.triangles.size();
+    stats->collapses = collapses;
+    stats->largestDistance = largest;
+    stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  return result;
+}
+
+}  // namespace frep

@@ -1,0 +1,256 @@
+// The guarded simplifier (simplify/simplify.h): far fewer triangles, creases placed, and every
+// mesh still printable by the check and by CGAL's own self-intersection test.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "base/errors.h"
+#include "check/cgal_surface.h"
+#include "check/mesh_check.h"
+#include "frep/model_json.h"
+#include "frep/program.h"
+#include "frep/tree.h"
+#include "mesh/mesher.h"
+#include "random_trees.h"
+#include "simplify/simplify.h"
+
+namespace frep {
+namespace {
+
+std::string reasons(const CheckReport& r) {
+  std::string s;
+  for (const std::string& x : r.reasons) s += x + "; ";
+  return s;
+}
+
+TriangleMesh meshOf(const Field& f, const Box3& box, double cell, bool normals = false) {
+  MeshingOptions o;
+  o.bbox = box;
+  o.resolution = cell;
+  o.normals = normals;
+  return polygonize(f, o);
+}
+
+SimplifyOptions optionsFor(const Box3& box, double cell, double tolerance, bool sharp = true) {
+  SimplifyOptions o;
+  o.bbox = box;
+  o.cell = cell;
+  o.tolerance = tolerance;
+  o.sharpFeatures = sharp;
+  return o;
+}
+
+// |G| / |grad G| for G = min(F, distance to the box): the estimate the simplifier bounds.
+double distanceEstimate(const Field& f, const Box3& box, const Vec3& p) {
+  double box_distance = HUGE_VAL;
+  for (int a = 0; a < 3; ++a)
+    box_distance = std::min({box_distance, p[a] - box.lo[a], box.hi[a] - p[a]});
+  const Dual d = f.evalGradient(p[0], p[1], p[2]);
+  if (box_distance < d.v) return std::abs(box_distance);
+  return std::abs(d.v) / std::sqrt(d.d[0] * d.d[0] + d.d[1] * d.d[1] + d.d[2] * d.d[2]);
+}
+
+NodePtr sphere(double r) {
+  return makeNode("sphere", {{"radius", realValue(r)}}, {});
+}
+
+// A cube turned off the grid's axes: its edges and corners fall inside cells, where marching
+// tetrahedra cut them off.
+NodePtr turnedCube() {
+  const NodePtr cube = makeNode(
+      "box", {{"corner", vec3Value({-0.5, -0.5, -0.5})}, {"size", vec3Value({1, 1, 1})}}, {});
+  const NodePtr a = makeNode("rotate", {{"axis", vec3Value({0, 0, 1})}, {"angle", realValue(30)}},
+                             {cube});
+  return makeNode("rotate", {{"axis", vec3Value({1, 0, 0})}, {"angle", realValue(20)}}, {a});
+}
+
+// The cube's corners, turned as turnedCube turns them.
+std::vector<Vec3> turnedCorners() {
+  std::vector<Vec3> out;
+  const double c30 = std::cos(M_PI / 6), s30 = std::sin(M_PI / 6);
+  const double c20 = std::cos(M_PI / 9), s20 = std::sin(M_PI / 9);
+  for (double x : {-0.5, 0.5})
+    for (double y : {-0.5, 0.5})
+      for (double z : {-0.5, 0.5}) {
+        const double x1 = c30 * x - s30 * y, y1 = s30 * x + c30 * y, z1 = z;
+        out.push_back({x1, c20 * y1 - s20 * z1, s20 * y1 + c20 * z1});
+      }
+  return out;
+}
+
+double nearestVertex(const TriangleMesh& m, const Vec3& p) {
+  double best = HUGE_VAL;
+  for (const Vec3f& v : m.positions)
+    best = std::min(best, std::hypot(v[0] - p[0], v[1] - p[1], v[2] - p[2]));
+  return best;
+}
+
+TEST(Simplify, SphereKeepsItsShapeWithAFractionOfTheTriangles) {
+  const Program p = compile(sphere(1));
+  const Box3 box{{-1.1, -1.1, -1.1}, {1.1, 1.1, 1.1}};
+  const double cell = 2.2 / 40;
+  const TriangleMesh mesh = meshOf(p, box, cell, true);
+  SimplifyStats stats;
+  const TriangleMesh s = simplifyMesh(mesh, p, optionsFor(box, cell, 0.1 * cell), &stats);
+  const CheckReport before = checkMesh(mesh), after = checkMesh(s);
+  ASSERT_TRUE(after.printable()) << reasons(after);
+  EXPECT_EQ(stats.trianglesBefore, mesh.triangleCount());
+  EXPECT_EQ(stats.trianglesAfter, s.triangleCount());
+  EXPECT_LT(5 * s.triangleCount(), mesh.triangleCount());  // measured: about 12x fewer
+  EXPECT_LE(stats.largestDistance, 0.1 * cell);
+  EXPECT_EQ(after.components, 1u);
+  // chords of a convex surface cut inside it: the volume changes by at most the area times
+  // the tolerance
+  EXPECT_NEAR(after.volume, before.volume, after.area * 0.1 * cell);
+  // every vertex and every face centre within the tolerance of the surface
+  for (const Vec3f& v : s.positions)
+    ASSERT_LE(distanceEstimate(p, box, {v[0], v[1], v[2]}), 0.1 * cell * (1 + 1e-6));
+  for (const Triangle& t : s.triangles) {
+    Vec3 c{0, 0, 0};
+    for (std::uint32_t v : t)
+      for (int a = 0; a < 3; ++a) c[a] += s.positions[v][a] / 3.0;
+    ASSERT_LE(distanceEstimate(p, box, c), 0.1 * cell * (1 + 1e-6));
+  }
+  // normals kept, unit length, pointing out
+  ASSERT_EQ(s.normals.size(), s.positions.size());
+  for (std::size_t v = 0; v < s.positions.size(); ++v) {
+    const Vec3f& n = s.normals[v];
+    const Vec3f& q = s.positions[v];
+    EXPECT_NEAR(std::hypot(n[0], n[1], n[2]), 1.0, 1e-5);
+    EXPECT_GT(n[0] * q[0] + n[1] * q[1] + n[2] * q[2], 0.9);
+  }
+}
+
+// With sharp features the merged vertices go onto the cube's corners (the quadric of the
+// three faces' planes meets there); without, every vertex stays where the grid put one, a
+// cut-off corner.
+TEST(Simplify, SharpFeaturesPutVerticesOnTheCorners) {
+  const Program p = compile(turnedCube());
+  const Box3 box{{-1, -1, -1}, {1, 1, 1}};
+  const double cell = 2.0 / 24;
+  const TriangleMesh mesh = meshOf(p, box, cell);
+  const TriangleMesh sharp = simplifyMesh(mesh, p, optionsFor(box, cell, 0.2 * cell, true));
+  const TriangleMesh smooth = simplifyMesh(mesh, p, optionsFor(box, cell, 0.2 * cell, false));
+  for (const TriangleMesh* m : {&sharp, &smooth}) {
+    const CheckReport r = checkMesh(*m);
+    ASSERT_TRUE(r.printable()) << reasons(r);
+  }
+  double worstSharp = 0, worstSmooth = 0, worstGrid = 0;
+  for (const Vec3& c : turnedCorners()) {
+    worstSharp = std::max(worstSharp, nearestVertex(sharp, c));
+    worstSmooth = std::max(worstSmooth, nearestVertex(smooth, c));
+    worstGrid = std::max(worstGrid, nearestVertex(mesh, c));
+  }
+  EXPECT_LT(worstSharp, 0.05 * cell) << "grid " << worstGrid / cell << " cells";
+  EXPECT_GT(worstSmooth, 0.05 * cell);
+  EXPECT_LT(sharp.triangleCount(), smooth.triangleCount());
+}
+
+// Random trees (sharp CSG, thin walls, tangent contacts, values exactly zero on grid points,
+// surfaces cut by the box), simplified with sharp features on and off: every mesh is
+// printable by the check, CGAL's own self-intersection test finds nothing either, and no
+// component is lost or split.
+void simplifyRandomTrees(unsigned seed, int trees) {
+  testing::RandomTrees rng(seed);
+  const double cells[] = {1.0 / 6, 1.0 / 8, 1.0 / 10};
+  int nonEmpty = 0, fewer = 0;
+  for (int i = 0; i < trees; ++i) {
+    const NodePtr tree = rng.tree(rng.integer(1, 4));
+    const Box3 box{{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}};
+    const double cell = cells[rng.integer(0, 2)];
+    const Program p = compile(tree);
+    const TriangleMesh mesh = meshOf(p, box, cell);
+    if (mesh.triangleCount() == 0) continue;
+    ++nonEmpty;
+    const std::size_t components = checkMesh(mesh).components;
+    for (bool sharp : {true, false}) {
+      SimplifyOptions o = optionsFor(box, cell, rng.uniform(0.05, 0.5) * cell, sharp);
+      o.regionCells = rng.integer(0, 1) ? 16 : 4;  // small regions: many frozen faces
+      const TriangleMesh s = simplifyMesh(mesh, p, o);
+      const CheckReport r = checkMesh(s);
+      ASSERT_TRUE(r.printable()) << "tree " << i << " sharp " << sharp << " tolerance "
+                                 << o.tolerance << " regions " << o.regionCells << ": " << reasons(r)
+                                 << "\n" << modelToJson(Model{tree, box, cell, ""});
+      ASSERT_EQ(countSelfIntersectionsWithCgal(s.positions, s.triangles, true), 0u) << "tree " << i;
+      EXPECT_EQ(r.components, components) << "tree " << i;
+      fewer += 2 * s.triangleCount() < mesh.triangleCount();
+    }
+  }
+  EXPECT_GT(nonEmpty, trees * 2 / 3);
+  EXPECT_GT(fewer, nonEmpty);  // most meshes lose more than half their triangles
+}
+
+// 128 trees in make test; the acceptance tier simplifies 1,008 more.
+class SimplifyRandomTrees : public ::testing::TestWithParam<int> {};
+TEST_P(SimplifyRandomTrees, EveryMeshStaysPrintable) {
+  simplifyRandomTrees(7000 + GetParam(), 32);
+}
+INSTANTIATE_TEST_SUITE_P(Shards, SimplifyRandomTrees, ::testing::Range(0, 4));
+
+class SimplifyRandomTreesAcceptance : public ::testing::TestWithParam<int> {};
+TEST_P(SimplifyRandomTreesAcceptance, EveryMeshStaysPrintable) {
+  simplifyRandomTrees(8000 + GetParam(), 63);
+}
+INSTANTIATE_TEST_SUITE_P(Shards, SimplifyRandomTreesAcceptance, ::testing::Range(0, 16));
+
+// A regression the random trees found: a face removed only for the collapse under test was
+// dropped from the search grid as the grid was scanned, so a later collapse did not see it
+// and made 3 self-intersecting pairs.
+TEST(Simplify, AFaceRemovedOnlyForATestStaysSearched) {
+  const Model m = loadModel(std::string(FREP_SOURCE_DIR) + "/tests/data/simplify_search_grid.json");
+  const Program p = compile(m.root);
+  const TriangleMesh mesh = meshOf(p, *m.bbox, *m.resolution);
+  const TriangleMesh s =
+      simplifyMesh(mesh, p, optionsFor(*m.bbox, *m.resolution, 0.033642576569059716, false));
+  const CheckReport r = checkMesh(s);
+  EXPECT_TRUE(r.printable()) << reasons(r);
+  EXPECT_LT(10 * s.triangleCount(), mesh.triangleCount());
+}
+
+TEST(Simplify, RefusesBadOptions) {
+  const Program p = compile(sphere(1));
+  const Box3 box{{-1.1, -1.1, -1.1}, {1.1, 1.1, 1.1}};
+  const TriangleMesh mesh = meshOf(p, box, 0.2);
+  auto message = [&](SimplifyOptions o) {
+    try {
+      simplifyMesh(mesh, p, o);
+    } catch (const ModelError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  SimplifyOptions o = optionsFor(box, 0.2, 0.02);
+  o.tolerance = 0;
+  EXPECT_NE(message(o).find("tolerance must be a positive distance"), std::string::npos);
+  o.tolerance = NAN;
+  EXPECT_NE(message(o).find("tolerance"), std::string::npos);
+  o = optionsFor(box, 0.2, 0.02);
+  o.cell = -1;
+  EXPECT_NE(message(o).find("cell must be a positive number"), std::string::npos);
+  o = optionsFor(box, 0.2, 0.02);
+  o.regionCells = 2;
+  EXPECT_NE(message(o).find("regionCells must be 4 to 256"), std::string::npos);
+}
+
+TEST(Simplify, ProgressRisesToTheEndAndCancelStops) {
+  const Program p = compile(sphere(1));
+  const Box3 box{{-1.1, -1.1, -1.1}, {1.1, 1.1, 1.1}};
+  const TriangleMesh mesh = meshOf(p, box, 0.1);
+  SimplifyOptions o = optionsFor(box, 0.1, 0.01);
+  std::vector<double> seen;
+  o.progress = [&](double f) {
+    seen.push_back(f);
+    return true;
+  };
+  simplifyMesh(mesh, p, o);
+  ASSERT_GE(seen.size(), 2u);
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+  EXPECT_EQ(seen.back(), 1.0);
+  o.progress = [](double f) { return f < 0.3; };
+  EXPECT_THROW(simplifyMesh(mesh, p, o), Cancelled);
+}
+
+}  // namespace
+}  // namespace frep
