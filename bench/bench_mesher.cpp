@@ -8,6 +8,7 @@
 
 #include "frep/model_json.h"
 #include "mesh/mesher.h"
+#include "simplify/simplify.h"
 
 namespace {
 
@@ -77,6 +78,40 @@ void meshAcross(benchmark::State& state, const std::string& name, bool normals =
   }
   state.counters["triangles"] = static_cast<double>(triangles);
 }
+// The simplifier on the mesher's mesh at N cells, tolerance a tenth of a cell, sharp features
+// on: the seconds are the simplification's alone (the mesh is made once, outside the loop).
+void simplifyAcross(benchmark::State& state, const std::string& name) {
+  const frep::Model model =
+      frep::loadModel(std::string(FREP_SOURCE_DIR) + "/examples/" + name + ".json");
+  const frep::Program program = frep::compile(model.root);
+  frep::MeshingOptions options;
+  options.bbox = *model.bbox;
+  double longest = 0;
+  for (int a = 0; a < 3; ++a) longest = std::max(longest, options.bbox.hi[a] - options.bbox.lo[a]);
+  options.resolution = longest / static_cast<double>(state.range(0));
+  options.normals = false;
+  const frep::TriangleMesh mesh = frep::polygonize(program, options);
+  frep::SimplifyOptions so;
+  so.bbox = options.bbox;
+  so.cell = options.resolution;
+  so.tolerance = 0.1 * options.resolution;
+  std::size_t triangles = 0;
+  for (auto _ : state) {
+    const frep::TriangleMesh s = frep::simplifyMesh(mesh, program, so);
+    triangles = s.triangleCount();
+    benchmark::DoNotOptimize(s.triangles.data());
+  }
+  state.counters["triangles_in"] = static_cast<double>(mesh.triangleCount());
+  state.counters["triangles"] = static_cast<double>(triangles);
+  state.counters["collapses_per_s"] = benchmark::Counter(
+      static_cast<double>(mesh.vertexCount()) -
+          static_cast<double>(mesh.vertexCount()) * triangles / mesh.triangleCount(),
+      benchmark::Counter::kIsIterationInvariantRate);
+}
+void BM_SimplifySphere(benchmark::State& s) { simplifyAcross(s, "sphere"); }
+void BM_SimplifyCsg(benchmark::State& s) { simplifyAcross(s, "csg"); }
+void BM_SimplifyHelix(benchmark::State& s) { simplifyAcross(s, "helix"); }
+
 // Without vertex normals: what an STL export and a workbench preview mesh.
 void BM_AcrossHelixNoNormals(benchmark::State& s) { meshAcross(s, "helix", false); }
 void BM_AcrossCsgNoNormals(benchmark::State& s) { meshAcross(s, "csg", false); }
@@ -98,5 +133,9 @@ BENCHMARK(BM_MeshGyroid)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->UseR
 BENCHMARK(BM_MeshTwist)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
+
+BENCHMARK(BM_SimplifySphere)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SimplifyCsg)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SimplifyHelix)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();

@@ -146,47 +146,67 @@ class RegionSimplifier {
   void run(const RegionInput& in, RegionOutput& out) {
     key_ = in.key;
     setUp(in);
-    using Entry = std::pair<double, std::uint64_t>;  // cost, candidate number
-    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap;
-    auto push = [&](std::uint32_t u, std::uint32_t v) {
-      if (u == kNone || v == kNone || fixed_[u] || removedLocal_[u] || removedLocal_[v]) return;
-      // shortest edges first (the grid's slivers go first); where v goes is found when
-      // the candidate is tried
-      Candidate c{u, v, stamp_[u], stamp_[v], Vec3{0, 0, 0}};
-      const Vec3 d = sub(toVec3(s_.pos[gid_[u]]), toVec3(s_.pos[gid_[v]]));
-      const double cost = dot(d, d);
-      candidates_.push_back(c);
-      heap.emplace(cost, candidates_.size() - 1);
+    // Edges, shortest first (the grid's slivers go first); each is tried in both directions,
+    // where v goes found when it is tried. An entry is stale once either end has changed.
+    using Entry = EdgeEntry;
+    heap_.clear();
+    auto push = [&](std::uint32_t a, std::uint32_t b) {
+      if (a == kNone || b == kNone || (fixed_[a] && fixed_[b])) return;
+      const Vec3 d = sub(toVec3(s_.pos[gid_[a]]), toVec3(s_.pos[gid_[b]]));
+      heap_.push_back({dot(d, d), a, b, stamp_[a], stamp_[b]});
+      std::push_heap(heap_.begin(), heap_.end(), std::greater<Entry>());
     };
     for (std::uint32_t f = 0; f < faces_.size(); ++f) {
       if (frozenFace_[f]) continue;
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t a = local(faces_[f][k]), b = local(faces_[f][(k + 1) % 3]);
-        push(a, b);  // each directed edge once: the face holding it in this order
+        if (a < b) push(a, b);  // each edge once: (a, b) in one face, (b, a) in the other
       }
     }
-    while (!heap.empty()) {
-      Candidate c = candidates_[heap.top().second];
-      heap.pop();
-      if (removedLocal_[c.u] || removedLocal_[c.v] || stamp_[c.u] != c.stampU ||
-          stamp_[c.v] != c.stampV)
+    while (!heap_.empty()) {
+      std::pop_heap(heap_.begin(), heap_.end(), std::greater<Entry>());
+      const Entry e = heap_.back();
+      heap_.pop_back();
+      if (removedLocal_[e.a] || removedLocal_[e.b] || stamp_[e.a] != e.stampA ||
+          stamp_[e.b] != e.stampB)
         continue;
-      c.at = place(c.u, c.v);
-      // A merged vertex that cannot go to its quadric's point may still stay where v is,
-      // with sharp features only where that keeps it near every plane it carries: within
-      // the tolerance of the quadric's best (else a corner or crease would be rounded off).
-      bool done = admissible(c) && collapse(c, out);
-      if (!done && toVec3f(c.at) != s_.pos[gid_[c.v]]) {
-        const Candidate stay = stayAt(c);
-        done = admissible(stay) && collapse(stay, out);
-      }
-      if (!done) continue;
-      ++out.collapses;
-      for (std::uint32_t f : around_[c.v])
-        for (int k = 0; k < 3; ++k) {
-          const std::uint32_t a = local(faces_[f][k]), b = local(faces_[f][(k + 1) % 3]);
-          if (a == c.v || b == c.v) push(a, b);
+      std::uint32_t v = kNone;
+      for (int direction = 0; direction < 2 && v == kNone; ++direction) {
+        Candidate c{direction ? e.b : e.a, direction ? e.a : e.b, Vec3{0, 0, 0}};
+        if (fixed_[c.u]) continue;
+        // Where v goes: it stays when fixed or without sharp features; else the merged
+        // quadric's minimiser. A merged vertex that cannot go there may still stay where v
+        // is, with sharp features only where that keeps it near every plane it carries:
+        // within tolerance^2 of the quadric's least (else a corner or crease would be
+        // rounded off).
+        const Vec3 here = toVec3(s_.pos[gid_[c.v]]);
+        Quadric q;
+        Vec3 best = here;
+        double least = 0.0;
+        if (o_.sharpFeatures) {
+          q = merged(c.u, c.v);
+          if (q.count > 0.0) {
+            best = q.minimiser(kPlaneCutoff);
+            least = q.error(best);
+          }
         }
+        auto admissible = [&](const Vec3& p) {
+          return !o_.sharpFeatures || q.count <= 0.0 ||
+                 q.error(p) <= least + o_.tolerance * o_.tolerance;
+        };
+        c.at = fixed_[c.v] ? here : best;
+        bool done = admissible(c.at) && collapse(c, out);
+        if (!done && toVec3f(c.at) != s_.pos[gid_[c.v]]) {
+          c.at = here;
+          done = admissible(here) && collapse(c, out);
+        }
+        if (done) v = c.v;
+      }
+      if (v == kNone) continue;
+      ++out.collapses;
+      if (2 * liveFaces_ < liveAtBuild_) buildGrid();
+      ring(v, gid_[v], neighboursU_);
+      for (std::uint32_t w : neighboursU_) push(v, local(w));
     }
     if (o_.sharpFeatures) snapToFeatures(out);
     for (std::uint32_t f = 0; f < faces_.size(); ++f)
@@ -194,25 +214,29 @@ class RegionSimplifier {
   }
 
  private:
+  struct FaceBox {
+    float lo[3], hi[3];
+    void grow(const FaceBox& b) {
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::min(lo[a], b.lo[a]);
+        hi[a] = std::max(hi[a], b.hi[a]);
+      }
+    }
+    bool meets(const FaceBox& b) const {  // closed boxes
+      for (int a = 0; a < 3; ++a)
+        if (hi[a] < b.lo[a] || b.hi[a] < lo[a]) return false;
+      return true;
+    }
+  };
   struct Candidate {
     std::uint32_t u, v;  // u goes, v stays (at `at`)
-    std::uint32_t stampU, stampV;
     Vec3 at;
   };
-
-  // With sharp features: the position keeps the merged planes' squared distances within
-  // tolerance^2 of their least (the quadric's minimiser).
-  bool admissible(const Candidate& c) const {
-    if (!o_.sharpFeatures) return true;
-    const Quadric q = merged(c.u, c.v);
-    if (q.count <= 0.0) return true;
-    return q.error(c.at) <= q.error(q.minimiser(kPlaneCutoff)) + o_.tolerance * o_.tolerance;
-  }
-
-  Candidate stayAt(Candidate c) const {
-    c.at = toVec3(s_.pos[gid_[c.v]]);
-    return c;
-  }
+  struct EdgeEntry {
+    double cost;
+    std::uint32_t a, b, stampA, stampB;
+    bool operator>(const EdgeEntry& e) const { return cost > e.cost; }
+  };
 
   void setUp(const RegionInput& in) {
     // the global -> local map is kept per thread, all kNone between regions
@@ -221,7 +245,6 @@ class RegionSimplifier {
     gid_.clear();
     faces_.clear();
     frozenFace_.clear();
-    candidates_.clear();
     for (std::size_t i = 0; i < in.innerCount; ++i) {
       faces_.push_back(all_[in.inner[i]]);
       frozenFace_.push_back(0);
@@ -252,23 +275,42 @@ class RegionSimplifier {
         around_[l].push_back(f);
         if (frozenFace_[f]) fixed_[l] = 1;
       }
-    // the search grid: cells of the mesher's size over the region and one cell round it
     for (int a = 0; a < 3; ++a) {
       const std::int64_t i = static_cast<std::int64_t>((key_ >> (21 * a)) & ((1u << 21) - 1)) -
                              (std::int64_t(1) << 20);
-      gridLo_[a] = regions_.origin[a] + static_cast<double>(i) * regions_.side - o_.cell;
+      regionLo_[a] = regions_.origin[a] + static_cast<double>(i) * regions_.side;
     }
-    gridDim_ = o_.regionCells + 2;
-    grid_.resize(static_cast<std::size_t>(gridDim_) * gridDim_ * gridDim_);
-    for (std::vector<std::uint32_t>& cell : grid_) cell.clear();
     visit_.assign(faces_.size(), 0);
     inCell_.assign(faces_.size(), 0);
     visitStamp_ = cellStamp_ = 0;
     faceBox_.resize(faces_.size());
+    for (std::uint32_t f = 0; f < faces_.size(); ++f) faceBox_[f] = boxOf(faces_[f]);
+    liveFaces_ = faces_.size();
+    buildGrid();
+  }
+
+  // The search grid over the region and a mesher cell round it, its cells about the size of
+  // the live faces (a face then covers a couple of cells per axis it spans). Rebuilt as the
+  // faces grow: a grid of the first, small faces would list a grown face in dozens of cells.
+  void buildGrid() {
+    double sum = 0.0;
+    std::size_t live = 0;
     for (std::uint32_t f = 0; f < faces_.size(); ++f) {
-      faceBox_[f] = boxOf(faces_[f]);
-      insert(f);
+      if (deadFace_[f] != kLive) continue;
+      const FaceBox& b = faceBox_[f];
+      sum += std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]});
+      ++live;
     }
+    gridCell_ = std::max(o_.cell, live ? sum / static_cast<double>(live) : o_.cell);
+    for (int a = 0; a < 3; ++a) gridLo_[a] = regionLo_[a] - o_.cell;
+    gridDim_ = std::max(
+        1, std::min(o_.regionCells + 2,
+                    static_cast<int>(std::ceil((regions_.side + 2 * o_.cell) / gridCell_))));
+    grid_.resize(static_cast<std::size_t>(gridDim_) * gridDim_ * gridDim_);
+    for (std::vector<std::uint32_t>& cell : grid_) cell.clear();
+    for (std::uint32_t f = 0; f < faces_.size(); ++f)
+      if (deadFace_[f] == kLive) insert(f);
+    liveAtBuild_ = live;
   }
 
   std::uint32_t local(std::uint32_t global) const { return localOf_[global]; }
@@ -278,31 +320,19 @@ class RegionSimplifier {
     q += s_.quadric[gid_[v]];
     return q;
   }
-  // Where v goes when u merges into it: it stays when fixed or without sharp features; else
-  // the quadric's minimiser.
-  Vec3 place(std::uint32_t u, std::uint32_t v) const {
-    const Vec3 pv = toVec3(s_.pos[gid_[v]]);
-    if (fixed_[v] || !o_.sharpFeatures) return pv;  // (admissible() judges a fixed v)
-    const Quadric q = merged(u, v);
-    if (q.count <= 0.0) return pv;
-    return q.minimiser(kPlaneCutoff);
-  }
-
-  void cellRange(const Triangle& t, int lo[3], int hi[3]) const {
+  void cellRange(const FaceBox& b, int lo[3], int hi[3]) const {
     for (int a = 0; a < 3; ++a) {
-      const double mn = std::min({s_.pos[t[0]][a], s_.pos[t[1]][a], s_.pos[t[2]][a]});
-      const double mx = std::max({s_.pos[t[0]][a], s_.pos[t[1]][a], s_.pos[t[2]][a]});
       auto clamp = [&](double v) {
-        const double i = std::floor((v - gridLo_[a]) / o_.cell);
+        const double i = std::floor((v - gridLo_[a]) / gridCell_);
         return static_cast<int>(std::max(0.0, std::min(i, static_cast<double>(gridDim_ - 1))));
       };
-      lo[a] = clamp(mn);
-      hi[a] = clamp(mx);
+      lo[a] = clamp(b.lo[a]);
+      hi[a] = clamp(b.hi[a]);
     }
   }
   void insert(std::uint32_t f) {
     int lo[3], hi[3];
-    cellRange(faces_[f], lo, hi);
+    cellRange(faceBox_[f], lo, hi);
     for (int k = lo[2]; k <= hi[2]; ++k)
       for (int j = lo[1]; j <= hi[1]; ++j)
         for (int i = lo[0]; i <= hi[0]; ++i)
@@ -310,11 +340,11 @@ class RegionSimplifier {
   }
   // The live faces whose cells meet face f's (stale entries of moved faces included: the
   // pair test decides). Each cell scanned drops its dead and repeated entries on the way.
-  void near(std::uint32_t f, std::vector<std::uint32_t>& out) {
+  void near(const FaceBox& box, std::vector<std::uint32_t>& out) {
     out.clear();
     ++visitStamp_;
     int lo[3], hi[3];
-    cellRange(faces_[f], lo, hi);
+    cellRange(box, lo, hi);
     for (int k = lo[2]; k <= hi[2]; ++k)
       for (int j = lo[1]; j <= hi[1]; ++j)
         for (int i = lo[0]; i <= hi[0]; ++i) {
@@ -337,14 +367,6 @@ class RegionSimplifier {
         }
   }
 
-  struct FaceBox {
-    float lo[3], hi[3];
-    bool meets(const FaceBox& b) const {  // closed boxes
-      for (int a = 0; a < 3; ++a)
-        if (hi[a] < b.lo[a] || b.hi[a] < lo[a]) return false;
-      return true;
-    }
-  };
   FaceBox boxOf(const Triangle& t) const {
     FaceBox b;
     for (int a = 0; a < 3; ++a) {
@@ -497,6 +519,7 @@ class RegionSimplifier {
       return false;
     }
     deadFace_[edgeFaces[0]] = deadFace_[edgeFaces[1]] = kGone;
+    liveFaces_ -= 2;
 
     // commit: u is gone, its faces are v's; the edge's faces leave every list
     removedLocal_[u] = 1;
@@ -570,20 +593,30 @@ class RegionSimplifier {
     // no changed face meets another face (the changed ones among themselves too: the grid
     // still lists them where they were)
     // (only pairs whose boxes meet can intersect: the check tests no others either)
+    // One search for the whole fan (its faces share most of their cells), then each
+    // candidate against each changed face whose box it meets.
     boxes_.resize(changed.size());
-    for (std::size_t i = 0; i < changed.size(); ++i) boxes_[i] = boxOf(faces_[changed[i]]);
+    FaceBox all = boxOf(faces_[changed[0]]);
     for (std::size_t i = 0; i < changed.size(); ++i) {
-      const std::uint32_t f = changed[i];
-      near(f, nearby_);
-      for (std::uint32_t g : nearby_) {
-        if (g == f || std::find(changed.begin(), changed.end(), g) != changed.end()) continue;
-        if (!boxes_[i].meets(faceBox_[g])) continue;
-        if (facesIntersect(s_.pos, faces_[f], faces_[g])) return false;
-      }
-      for (std::size_t j = i + 1; j < changed.size(); ++j)
-        if (boxes_[i].meets(boxes_[j]) && facesIntersect(s_.pos, faces_[f], faces_[changed[j]]))
+      boxes_[i] = boxOf(faces_[changed[i]]);
+      all.grow(boxes_[i]);
+    }
+    near(all, nearby_);  // (sets visit_ of every face found to visitStamp_)
+    ++visitStamp_;
+    for (std::uint32_t f : changed) visit_[f] = visitStamp_;  // the changed ones: below
+    for (std::uint32_t g : nearby_) {
+      if (visit_[g] == visitStamp_) continue;
+      const FaceBox& bg = faceBox_[g];
+      if (!all.meets(bg)) continue;
+      for (std::size_t i = 0; i < changed.size(); ++i)
+        if (boxes_[i].meets(bg) && facesIntersect(s_.pos, faces_[changed[i]], faces_[g]))
           return false;
     }
+    for (std::size_t i = 0; i < changed.size(); ++i)
+      for (std::size_t j = i + 1; j < changed.size(); ++j)
+        if (boxes_[i].meets(boxes_[j]) &&
+            facesIntersect(s_.pos, faces_[changed[i]], faces_[changed[j]]))
+          return false;
     out.largestDistance = std::max(out.largestDistance, largest);
     return true;
   }
@@ -604,9 +637,9 @@ class RegionSimplifier {
   // must stay in the search grid, which drops removed faces as it meets them)
   static constexpr std::uint8_t kLive = 0, kGone = 1, kGoingUnderTest = 2;
   std::vector<std::uint8_t> frozenFace_, deadFace_;
-  std::vector<Candidate> candidates_;
-  double gridLo_[3] = {0, 0, 0};
+  double regionLo_[3] = {0, 0, 0}, gridLo_[3] = {0, 0, 0}, gridCell_ = 0.0;
   int gridDim_ = 0;
+  std::size_t liveFaces_ = 0, liveAtBuild_ = 0;
   std::vector<std::vector<std::uint32_t>> grid_;
   std::vector<std::uint32_t> visit_;
   std::vector<std::uint32_t> inCell_;
@@ -615,6 +648,7 @@ class RegionSimplifier {
   std::vector<std::uint32_t> neighboursU_, neighboursV_, changed_, nearby_;
   std::vector<Triangle> saved_;
   std::vector<Vec3> normalsBefore_;
+  std::vector<EdgeEntry> heap_;
   std::vector<FaceBox> boxes_;    // the changed faces' boxes, during a test
   std::vector<FaceBox> faceBox_;  // every face's box as it stands
   bool vMoves_ = false;           // the collapse under test moves v
