@@ -34,6 +34,8 @@ const char* const kExportHelp =
     "                          is a good start)\n"
     "  --no-sharp              with --tolerance: keep merged vertices where vertices were,\n"
     "                          instead of placing them on the creases and corners\n"
+    "  --stats                 measure the mesh against the exact surface: the Hausdorff\n"
+    "                          distance (sampled), the volume and the crease length\n"
     "  --force                 write the mesh even when the check refuses it (exit status 1)\n"
     "  --quiet                 print nothing but errors\n"
     "  -h, --help              this text\n"
@@ -77,6 +79,7 @@ ExportOptions parseExportOptions(const Args& args) {
         throw UsageError("--tolerance must be a distance > 0 (model units), got '" + args[i] +
                          "'");
     } else if (a == "--no-sharp") o.sharp = false;
+    else if (a == "--stats") o.stats = true;
     else if (a == "--format") o.format = value("a format");
     else if (a == "--force") o.force = true;
     else if (a == "--quiet") o.quiet = true;
@@ -140,6 +143,7 @@ int exportModel(const ExportOptions& opt) {
   request.force = opt.force;
   request.tolerance = opt.tolerance;
   request.sharpFeatures = opt.sharp;
+  request.stats = opt.stats;
   // The box policy is the pipeline's; the CLI only adds where the user gives a box.
   try {
     const MeshingBox chosen = chooseBox(program, request.known, box);
@@ -165,13 +169,28 @@ int exportModel(const ExportOptions& opt) {
               << r.seconds[1] << " s (check " << r.seconds[2] << " s)\n";
   if (!opt.quiet && r.simplified)
     std::cout << "simplified " << r.simplify.trianglesBefore << " -> " << r.simplify.trianglesAfter
-              << " triangles in " << r.simplify.seconds << " s, surface within "
-              << r.simplify.largestDistance << " of the exact one (tolerance " << *opt.tolerance
-              << ")\n";
+              << " triangles in " << r.simplify.seconds << " s, the faces it made within "
+              << r.simplify.largestDistance << " of the exact surface (tolerance " << *opt.tolerance
+              << (r.simplify.largestDistance > *opt.tolerance
+                      ? "; where the grid had cut a crease off by more, only made better)\n"
+                      : ")\n");
   if (r.simplificationRefused)
     std::cerr << "frepcad: warning: the simplified mesh failed the check (a bug: please "
                  "report it with the model); the unsimplified mesh, which passed, is written\n";
   if (!opt.quiet || !r.report.printable()) std::cout << reportToText(r.report, opt.output);
+  if (r.accuracy) {
+    const AccuracyReport& a = *r.accuracy;
+    const double cell = r.box.resolution;
+    std::cout << "accuracy (" << a.samples << " points sampled through the function)\n"
+              << "  Hausdorff distance   " << a.hausdorff << " (" << a.hausdorff / cell
+              << " cells)\n"
+              << "  mesh to surface      " << a.meshToSurface << " largest, "
+              << a.meshToSurfaceMean << " mean\n"
+              << "  surface to mesh      " << a.surfaceToMesh << " largest\n"
+              << "  volume               " << a.volume << "\n"
+              << "  crease length        " << a.creaseLength << " (edges whose faces turn by over "
+              << AccuracyOptions().creaseAngleDeg << " degrees)\n";
+  }
   if (!r.written) {
     std::cerr << "frepcad: refusing to write " << opt.output
               << ": the mesh is not printable (see reasons above; --force writes it anyway)\n";

@@ -41,7 +41,8 @@ double Quadric::error(const Vec3& x) const {
   return e > 0.0 ? e : 0.0;  // rounding
 }
 
-Vec3 Quadric::minimiser(double relativeCutoff) const {
+Vec3 Quadric::minimiser(double relativeCutoff, int* rank) const {
+  if (rank) *rank = 0;
   if (count <= 0.0) return {0, 0, 0};
   const Eigen::Vector3d m(massSum[0] / count, massSum[1] / count, massSum[2] / count);
   Eigen::Matrix3d A;
@@ -56,6 +57,7 @@ Vec3 Quadric::minimiser(double relativeCutoff) const {
       if (std::abs(lambda[k]) > relativeCutoff * largest) {
         const Eigen::Vector3d e = eig.eigenvectors().col(k);
         x += e * (e.dot(r) / lambda[k]);
+        if (rank) ++*rank;
       }
   return {x[0], x[1], x[2]};
 }

@@ -22,8 +22,9 @@ struct Quadric {
   // The minimiser nearest the planes' mean point: directions whose eigenvalue is below
   // `relativeCutoff` of the largest are left at the mean (a flat region keeps its vertex on
   // the mean, a crease puts it on the crease line, a corner on the corner). The mean when
-  // there are no planes.
-  Vec3 minimiser(double relativeCutoff = 0.1) const;
+  // there are no planes. *rank (when given): the directions solved (1 a plane, 2 a crease
+  // line, 3 a corner point).
+  Vec3 minimiser(double relativeCutoff = 0.1, int* rank = nullptr) const;
 };
 
 }  // namespace frep

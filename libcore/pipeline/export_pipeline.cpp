@@ -184,6 +184,12 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
     result.seconds[2] = since(t);
     if (!result.report.printable() && !request.force) return result;
   }
+  if (request.stats) {
+    AccuracyOptions a;
+    a.bbox = result.box.box;
+    a.cell = result.box.resolution;
+    result.accuracy = measureAccuracy(mesh, field, a);
+  }
 
   t = Clock::now();
   report(ExportStage::Write, 0.0);

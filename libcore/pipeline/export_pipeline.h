@@ -14,6 +14,7 @@
 #include "frep/field.h"
 #include "io/mesh_io.h"
 #include "mesh/mesher.h"
+#include "pipeline/accuracy.h"
 #include "simplify/simplify.h"
 
 namespace frep {
@@ -70,6 +71,9 @@ struct ExportRequest {
   // creases and corners of the field.
   std::optional<double> tolerance;
   bool sharpFeatures = true;
+  // Measure the written mesh against the exact surface (pipeline/accuracy.h): distances
+  // both ways, volume, crease length. Costs a mesh at half the cell size.
+  bool stats = false;
   // Memory the export may take; default: what the system has available now. A mesh
   // estimated to need more is refused before it is made (MeshingOptions::memoryBudget).
   std::optional<std::size_t> memoryBudget;
@@ -90,6 +94,7 @@ struct ExportResult {
   // The simplified mesh failed the check (a bug: please report it) and the mesher's own,
   // printable, was written instead.
   bool simplificationRefused = false;
+  std::optional<AccuracyReport> accuracy;  // when stats were asked for
   double seconds[4] = {0, 0, 0, 0};  // per ExportStage
 };
 

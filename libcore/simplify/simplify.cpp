@@ -23,8 +23,11 @@ namespace frep {
 namespace {
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 // A new face may be no thinner than this (4 sqrt(3) area / sum of squared sides: 1 for an
-// equilateral triangle) unless the faces it replaces were thinner already.
-constexpr double kQuality = 0.01;
+// equilateral triangle) unless the faces it replaces were thinner already; a vertex placed on
+// a crease or corner may make faces down to kFeatureQuality (faces along a sharp edge are
+// long and thin by nature).
+constexpr double kQuality = 0.1;
+constexpr double kFeatureQuality = 0.01;
 // The quadric's directions weaker than this fraction of its strongest are left at the mean:
 // low enough that a corner met by one plane among ten on its faces still counts.
 constexpr double kPlaneCutoff = 0.02;
@@ -183,10 +186,11 @@ class RegionSimplifier {
         Quadric q;
         Vec3 best = here;
         double least = 0.0;
+        int rank = 0;
         if (o_.sharpFeatures) {
           q = merged(c.u, c.v);
           if (q.count > 0.0) {
-            best = q.minimiser(kPlaneCutoff);
+            best = q.minimiser(kPlaneCutoff, &rank);
             least = q.error(best);
           }
         }
@@ -195,9 +199,11 @@ class RegionSimplifier {
                  q.error(p) <= least + o_.tolerance * o_.tolerance;
         };
         c.at = fixed_[c.v] ? here : best;
+        featureMove_ = !fixed_[c.v] && rank >= 2;
         bool done = admissible(c.at) && collapse(c, out);
         if (!done && toVec3f(c.at) != s_.pos[gid_[c.v]]) {
           c.at = here;
+          featureMove_ = false;
           done = admissible(here) && collapse(c, out);
         }
         if (done) v = c.v;
@@ -208,7 +214,10 @@ class RegionSimplifier {
       ring(v, gid_[v], neighboursU_);
       for (std::uint32_t w : neighboursU_) push(v, local(w));
     }
-    if (o_.sharpFeatures) snapToFeatures(out);
+    // a vertex on a crease lets its neighbours find the crease too: sweep until none moves
+    if (o_.sharpFeatures)
+      for (int sweep = 0; sweep < 4 && snapToFeatures(out) > 0; ++sweep) {
+      }
     for (std::uint32_t f = 0; f < faces_.size(); ++f)
       if (!frozenFace_[f] && deadFace_[f] == kLive) out.faces.push_back(faces_[f]);
   }
@@ -254,6 +263,7 @@ class RegionSimplifier {
       frozenFace_.push_back(1);
     }
     deadFace_.assign(faces_.size(), kLive);
+    deviation_.assign(faces_.size(), std::numeric_limits<float>::quiet_NaN());
     // the region's vertices: those of its faces that lie in it
     for (const Triangle& t : faces_)
       for (std::uint32_t v : t)
@@ -376,6 +386,29 @@ class RegionSimplifier {
     return b;
   }
 
+  // How far face f's centre is from F = 0 (|F| / |grad F|), cached per face until it changes.
+  double deviation(std::uint32_t f) {
+    if (std::isnan(deviation_[f])) {
+      const Triangle& t = faces_[f];
+      Vec3 centre{0, 0, 0};
+      for (std::uint32_t w : t)
+        for (int a = 0; a < 3; ++a) centre[a] += s_.pos[w][a] / 3.0;
+      deviation_[f] = static_cast<float>(surface_.distance(centre));
+    }
+    return deviation_[f];
+  }
+  // The distance a change of these faces (and of `also`) may leave: the tolerance, or their
+  // worst where that is worse already.
+  double allowedFor(const std::vector<std::uint32_t>& changed, const std::uint32_t* also, int n) {
+    double worst = o_.tolerance;
+    for (std::uint32_t f : changed) worst = std::max(worst, deviation(f));
+    for (int i = 0; i < n; ++i) worst = std::max(worst, deviation(also[i]));
+    return worst;
+  }
+  void keepDeviations(const std::vector<std::uint32_t>& changed) {
+    for (std::size_t i = 0; i < changed.size(); ++i) deviation_[changed[i]] = newDeviation_[i];
+  }
+
   // The ring of local vertex l (global g): the vertex after it in each of its faces.
   void ring(std::uint32_t l, std::uint32_t g, std::vector<std::uint32_t>& out) const {
     out.clear();
@@ -392,7 +425,8 @@ class RegionSimplifier {
   // Each free vertex moved to the minimiser of its own and its ring's planes where that is a
   // crease or a corner the collapses left cut off (a vertex that carries only planes of one
   // face cannot find the third plane of a corner by itself), under the collapse's tests.
-  void snapToFeatures(RegionOutput& out) {
+  std::size_t snapToFeatures(RegionOutput& out) {
+    std::size_t moved = 0;
     for (std::uint32_t l = 0; l < gid_.size(); ++l) {
       if (fixed_[l] || removedLocal_[l]) continue;
       const std::uint32_t g = gid_[l];
@@ -400,16 +434,20 @@ class RegionSimplifier {
       ring(l, g, neighboursU_);
       for (std::uint32_t w : neighboursU_) q += s_.quadric[w];
       if (q.count <= 0.0) continue;
-      const Vec3 p = q.minimiser(kPlaneCutoff), here = toVec3(s_.pos[g]);
+      int rank = 0;
+      const Vec3 p = q.minimiser(kPlaneCutoff, &rank), here = toVec3(s_.pos[g]);
+      if (rank < 2) continue;  // a plane: nothing sharp to put back
       const Vec3 d = sub(p, here);
-      // only a move the own planes allow, by less than a cell
-      if (dot(d, d) > o_.cell * o_.cell) continue;
+      // only a move the own planes allow, by less than two cells (a corner the grid cut off
+      // lies up to about a cell from the nearest vertex)
+      if (dot(d, d) > 4.0 * o_.cell * o_.cell) continue;
       const Quadric& own = s_.quadric[g];
       if (own.count > 0.0 && own.error(p) > own.error(here) + o_.tolerance * o_.tolerance)
         continue;
       if (q.error(p) + o_.tolerance * o_.tolerance >= q.error(here)) continue;  // no gain
-      relocate(l, p, out);
+      moved += relocate(l, p, out);
     }
+    return moved;
   }
 
   // Moves local vertex l to p when every test passes; unchanged otherwise.
@@ -427,13 +465,16 @@ class RegionSimplifier {
       worstBefore = std::min(worstBefore, quality(s_.pos[t[0]], s_.pos[t[1]], s_.pos[t[2]]));
       normalsBefore_.push_back(faceNormal(s_.pos, t));
     }
+    const double allowed = allowedFor(changed_, nullptr, 0);
     const Vec3f old = s_.pos[g];
     s_.pos[g] = at;
     vMoves_ = true;
-    if (!acceptable(changed_, worstBefore, g, out)) {
+    featureMove_ = true;
+    if (!acceptable(changed_, worstBefore, g, allowed, out)) {
       s_.pos[g] = old;
       return false;
     }
+    keepDeviations(changed_);
     s_.moved[g] = 1;
     for (std::uint32_t f : changed_) {
       faceBox_[f] = boxOf(faces_[f]);
@@ -503,6 +544,7 @@ class RegionSimplifier {
       worstBefore = std::min(worstBefore, quality(s_.pos[t[0]], s_.pos[t[1]], s_.pos[t[2]]));
     }
 
+    const double allowed = allowedFor(changed_, edgeFaces, 2);
     // apply, test, and undo on failure
     saved_.clear();
     for (std::uint32_t f : changed_) saved_.push_back(faces_[f]);
@@ -511,7 +553,7 @@ class RegionSimplifier {
         if (w == gu) w = gv;
     s_.pos[gv] = at;
     deadFace_[edgeFaces[0]] = deadFace_[edgeFaces[1]] = kGoingUnderTest;
-    const bool ok = acceptable(changed_, worstBefore, gv, out);
+    const bool ok = acceptable(changed_, worstBefore, gv, allowed, out);
     if (!ok) {
       for (std::size_t i = 0; i < changed_.size(); ++i) faces_[changed_[i]] = saved_[i];
       s_.pos[gv] = oldV;
@@ -519,6 +561,7 @@ class RegionSimplifier {
       return false;
     }
     deadFace_[edgeFaces[0]] = deadFace_[edgeFaces[1]] = kGone;
+    keepDeviations(changed_);
     liveFaces_ -= 2;
 
     // commit: u is gone, its faces are v's; the edge's faces leave every list
@@ -554,14 +597,20 @@ class RegionSimplifier {
   }
 
   // The tests on the applied collapse: shape, turn, distance, and no intersection.
+  // `allowed`: how far from F = 0 the changed faces may be (the tolerance, or the worst of
+  // the faces they replace where that was worse already: a crease the grid cut off is put
+  // back one vertex at a time, each step no worse than before).
   bool acceptable(const std::vector<std::uint32_t>& changed, double worstBefore, std::uint32_t gv,
-                  RegionOutput& out) {
-    const double floorQuality = std::min(kQuality, worstBefore);
+                  double allowed, RegionOutput& out) {
+    const double floorQuality = std::min(featureMove_ ? kFeatureQuality : kQuality, worstBefore);
     for (std::size_t i = 0; i < changed.size(); ++i) {
       const Triangle& t = faces_[changed[i]];
       if (quality(s_.pos[t[0]], s_.pos[t[1]], s_.pos[t[2]]) < floorQuality) return false;
+      // (a vertex put on a corner may turn its faces further: the outward test below, against
+      // the field's gradient, is their guard against folding)
       const Vec3 n = faceNormal(s_.pos, t), before = normalsBefore_[i];
-      if (dot(n, before) < kTurn * std::sqrt(dot(n, n) * dot(before, before))) return false;
+      if (!featureMove_ && dot(n, before) < kTurn * std::sqrt(dot(n, n) * dot(before, before)))
+        return false;
       if (o_.maxEdge > 0.0)
         for (int k = 0; k < 3; ++k) {
           const Vec3 d = sub(toVec3(s_.pos[t[k]]), toVec3(s_.pos[t[(k + 1) % 3]]));
@@ -573,8 +622,9 @@ class RegionSimplifier {
     double largest = 0.0;
     if (vMoves_) {
       largest = surface_.distance(toVec3(s_.pos[gv]));
-      if (!(largest <= o_.tolerance)) return false;
+      if (!(largest <= allowed)) return false;
     }
+    newDeviation_.clear();
     // and each changed face faces out: against the gradient at its centre (a small part
     // collapsed into itself, turned inside out, fails here)
     for (std::uint32_t f : changed) {
@@ -586,9 +636,10 @@ class RegionSimplifier {
       Vec3 gradient;
       if (!surface_.plane(centre, &value, &gradient)) return false;
       const double d = std::abs(value);
-      if (!(d <= o_.tolerance)) return false;
+      if (!(d <= allowed)) return false;
       if (!(dot(faceNormal(s_.pos, t), gradient) < 0.0)) return false;
       largest = std::max(largest, d);
+      newDeviation_.push_back(static_cast<float>(d));
     }
     // no changed face meets another face (the changed ones among themselves too: the grid
     // still lists them where they were)
@@ -650,8 +701,11 @@ class RegionSimplifier {
   std::vector<Vec3> normalsBefore_;
   std::vector<EdgeEntry> heap_;
   std::vector<FaceBox> boxes_;    // the changed faces' boxes, during a test
+  std::vector<float> deviation_;     // per face: its centre's distance from F = 0 (NaN: unknown)
+  std::vector<float> newDeviation_;  // the changed faces', during a test
   std::vector<FaceBox> faceBox_;  // every face's box as it stands
   bool vMoves_ = false;           // the collapse under test moves v
+  bool featureMove_ = false;      // ... onto a crease or a corner
 };
 
 void validate(const SimplifyOptions& o) {

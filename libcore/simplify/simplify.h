@@ -7,7 +7,8 @@
 // - no face folds over (its normal turns less than a right angle) or becomes a sliver worse
 //   than those it replaces;
 // - the surface stays within `tolerance` of F = 0 (at the moved vertex and at the centres of
-//   the changed faces, distance estimated as |F| / |grad F|).
+//   the changed faces, distance estimated as |F| / |grad F|), or, where the mesher's faces
+//   were farther already (creases the grid cut off), gets no farther.
 // Merged vertices are placed by the quadric of the field's tangent planes at the vertices
 // they replace (dual contouring's Hermite data), so creases and corners the grid cut off
 // come back; without sharp features a vertex stays where one of the two already was.
@@ -40,7 +41,10 @@ struct SimplifyOptions {
 
 struct SimplifyStats {
   std::size_t trianglesBefore = 0, trianglesAfter = 0, collapses = 0;
-  double largestDistance = 0.0;  // the largest distance estimate a collapse was allowed
+  // The largest distance from F = 0 of a face the simplifier made (estimated at its centre):
+  // at most the tolerance, except where the mesher's faces were farther already (a crease
+  // the grid cut off), which are only ever made better.
+  double largestDistance = 0.0;
   double seconds = 0.0;
 };
 
