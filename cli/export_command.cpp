@@ -185,7 +185,11 @@ int exportModel(const ExportOptions& opt) {
               << "  Hausdorff distance   " << a.hausdorff << " (" << a.hausdorff / cell
               << " cells)\n"
               << "  mesh to surface      " << a.meshToSurface << " largest, "
-              << a.meshToSurfaceMean << " mean\n"
+              << a.meshToSurfaceMean << " mean"
+              << (a.unreached ? " (" + std::to_string(a.unreached) +
+                                    " points measured to the sampled surface)"
+                              : std::string())
+              << "\n"
               << "  surface to mesh      " << a.surfaceToMesh << " largest\n"
               << "  volume               " << a.volume << "\n"
               << "  crease length        " << a.creaseLength << " (edges whose faces turn by over "

@@ -71,6 +71,10 @@ def export_objects(objects, filename, progress=None, cells=None, fmt="", resolut
     """
     solid, (box, cell) = solid_and_box(objects, cells, resolution, bbox)
     name = os.path.basename(filename)
+    # a single Polygonize feature exports as it meshes: with its Tolerance
+    if (tolerance is None and len(objects) == 1
+            and isinstance(getattr(objects[0], "Proxy", None), FRepPolygonize.Polygonize)):
+        tolerance, sharp = FRepPolygonize.simplification(objects[0])
 
     def work(tick):
         try:

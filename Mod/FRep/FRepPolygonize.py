@@ -39,6 +39,11 @@ class Polygonize(StatelessProxy):
         add("App::PropertyInteger", "Cells", "Cells along the longest side of the box when "
             "Resolution is 0. Allowed: 4 to 4096.", FRepMeshing.DEFAULT_EXPORT_CELLS)
         add("App::PropertyEnumeration", "Method", "Polygonisation method.", METHODS)
+        add("App::PropertyLength", "Tolerance", "Simplify the mesh: far fewer triangles, the "
+            "surface kept within this distance of the exact one (0: off). A tenth of the "
+            "cell size is a good start.", 0)
+        add("App::PropertyBool", "SharpFeatures", "With a Tolerance: put vertices on the "
+            "creases and corners the grid cut off.", True)
         if "Triangles" not in obj.PropertiesList:
             obj.addProperty("App::PropertyInteger", "Triangles", GROUP,
                             "Triangles in the mesh (read-only).")
@@ -72,9 +77,17 @@ class Polygonize(StatelessProxy):
         FRepMeshing.set_mesh(obj, FRepMeshing.to_freecad_mesh(mesh))
 
 
+def simplification(obj):
+    """(tolerance or None, sharp features) from a Polygonize feature's settings."""
+    tolerance = obj.Tolerance.Value if "Tolerance" in obj.PropertiesList else 0.0
+    sharp = obj.SharpFeatures if "SharpFeatures" in obj.PropertiesList else True
+    return (tolerance or None), sharp
+
+
 def _mesh_or_cancel(obj, shape, box, cell, progress):
+    tolerance, sharp = simplification(obj)
     try:
-        return shape.node.mesh(box, cell, progress)
+        return shape.node.mesh(box, cell, progress, False, tolerance, sharp)
     except frepcore.Cancelled:
         raise RuntimeError("%s: polygonizing was cancelled; the previous mesh is kept"
                            % obj.Label)

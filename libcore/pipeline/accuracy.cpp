@@ -27,15 +27,44 @@ double dotD(const Vec3d& a, const Vec3d& b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-// |G| / |grad G| for G = min(F, distance to the box): the first-order distance to G = 0.
-double distanceToSurface(const Field& f, const Box3& box, const Vec3d& p) {
-  double toBox = std::numeric_limits<double>::infinity();
-  for (int a = 0; a < 3; ++a) toBox = std::min({toBox, p[a] - box.lo[a], box.hi[a] - p[a]});
+// G = min(F, distance to the box) at p: its value and gradient.
+Dual surfaceField(const Field& f, const Box3& box, const Vec3d& p) {
+  const double d[6] = {p[0] - box.lo[0], box.hi[0] - p[0], p[1] - box.lo[1],
+                       box.hi[1] - p[1], p[2] - box.lo[2], box.hi[2] - p[2]};
+  const int face = static_cast<int>(std::min_element(d, d + 6) - d);
   const Dual g = f.evalGradient(p[0], p[1], p[2]);
-  if (toBox < g.v) return std::abs(toBox);
-  const double len = std::sqrt(g.d[0] * g.d[0] + g.d[1] * g.d[1] + g.d[2] * g.d[2]);
-  if (!(len > 0.0) || !std::isfinite(len)) return std::abs(g.v) > 0 ? HUGE_VAL : 0.0;
-  return std::abs(g.v) / len;
+  if (!(d[face] < g.v)) return g;
+  Dual b(d[face], 0, 0, 0);
+  b.d[face / 2] = face % 2 ? -1.0 : 1.0;
+  return b;
+}
+
+// An upper bound of the distance from p to G = 0 where Newton's steps along the gradient
+// reach the surface within `maxStep` of path: the distance to the point they reach. Where
+// they do not (a vanishing gradient), the first-order estimate |G| / |grad G| at p, flagged
+// by *reached = false.
+double distanceToSurface(const Field& f, const Box3& box, const Vec3d& p, double maxStep,
+                         bool* reached) {
+  Vec3d x = p;
+  double travelled = 0.0, first = -1.0;
+  for (int k = 0; k < 8; ++k) {
+    const Dual g = surfaceField(f, box, x);
+    const double len2 = g.d[0] * g.d[0] + g.d[1] * g.d[1] + g.d[2] * g.d[2];
+    if (!(len2 > 0.0) || !std::isfinite(len2) || !std::isfinite(g.v)) break;
+    const double step = std::abs(g.v) / std::sqrt(len2);
+    if (first < 0) first = step;
+    if (step <= 1e-6 * maxStep) {
+      // the point reached is this far, so the nearest surface point is no farther
+      *reached = true;
+      return std::sqrt(dotD(minus(x, p), minus(x, p))) + step;
+    }
+    if (travelled > maxStep) break;  // wandering (a vanishing gradient): not trusted
+    const double scale = std::min(1.0, maxStep / step) * g.v / len2;
+    for (int a = 0; a < 3; ++a) x[a] -= scale * g.d[a];
+    travelled += std::min(step, maxStep);
+  }
+  *reached = false;
+  return first < 0 ? std::numeric_limits<double>::infinity() : first;
 }
 
 // The distance from p to triangle abc (closest point by regions of the triangle: Ericson,
@@ -138,36 +167,31 @@ AccuracyReport measureAccuracy(const TriangleMesh& mesh, const Field& field,
   r.volume = meshVolume(mesh);
   if (mesh.triangles.empty()) return r;
 
-  // mesh -> surface: vertices, edge midpoints (three per face: each inner edge twice, which
-  // changes the mean a little, not the largest) and face centres
-  const std::size_t nt = mesh.triangles.size();
-  tbb::enumerable_thread_specific<std::pair<double, double>> worst(std::make_pair(0.0, 0.0));  // max, sum
-  tbb::parallel_for(std::size_t(0), nt, [&](std::size_t t) {
-    const Triangle& tr = mesh.triangles[t];
-    const Vec3d a = toD(mesh.positions[tr[0]]), b = toD(mesh.positions[tr[1]]),
-                c = toD(mesh.positions[tr[2]]);
-    const Vec3d points[5] = {a,
-                             {(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2},
-                             {(b[0] + c[0]) / 2, (b[1] + c[1]) / 2, (b[2] + c[2]) / 2},
-                             {(c[0] + a[0]) / 2, (c[1] + a[1]) / 2, (c[2] + a[2]) / 2},
-                             {(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3,
-                              (a[2] + b[2] + c[2]) / 3}};
-    auto& w = worst.local();
-    // each face measures its first corner: every vertex of a closed mesh is some face's first
-    // corner or is measured as another face's (a vertex is in several faces)
-    for (const Vec3d& p : points) {
-      const double d = distanceToSurface(field, o.bbox, p);
-      w.first = std::max(w.first, d);
-      w.second += d;
+  // mesh -> surface: at every vertex and face centre, how far Newton's steps go to reach the
+  // surface (within two cells of path)
+  const std::size_t nt = mesh.triangles.size(), nv = mesh.positions.size();
+  tbb::enumerable_thread_specific<std::pair<double, double>> worst(std::make_pair(0.0, 0.0));
+  tbb::enumerable_thread_specific<std::vector<Vec3d>> unreached;
+  tbb::parallel_for(std::size_t(0), nv + nt, [&](std::size_t i) {
+    Vec3d p;
+    if (i < nv) {
+      p = toD(mesh.positions[i]);
+    } else {
+      const Triangle& tr = mesh.triangles[i - nv];
+      for (int a = 0; a < 3; ++a)
+        p[a] = (double(mesh.positions[tr[0]][a]) + mesh.positions[tr[1]][a] +
+                mesh.positions[tr[2]][a]) / 3.0;
     }
+    bool reached = false;
+    const double d = distanceToSurface(field, o.bbox, p, 2.0 * o.cell, &reached);
+    if (!reached) {  // measured against the sampled surface below
+      unreached.local().push_back(p);
+      return;
+    }
+    auto& w = worst.local();
+    w.first = std::max(w.first, d);
+    w.second += d;
   });
-  double sum = 0.0;
-  for (const auto& w : worst) {
-    r.meshToSurface = std::max(r.meshToSurface, w.first);
-    sum += w.second;
-  }
-  r.samples = 5 * nt;
-  r.meshToSurfaceMean = sum / static_cast<double>(r.samples);
 
   // surface -> mesh: the vertices of a finer mesh of the same field lie on the surface
   MeshingOptions fine;
@@ -175,15 +199,36 @@ AccuracyReport measureAccuracy(const TriangleMesh& mesh, const Field& field,
   fine.resolution = o.cell / o.sampleRefinement;
   fine.normals = false;
   const TriangleMesh samples = polygonize(field, fine);
+  // the points Newton's steps did not take to the surface: to the finer mesh instead
+  std::vector<Vec3d> far;
+  for (const auto& u : unreached) far.insert(far.end(), u.begin(), u.end());
+  r.unreached = far.size();
+  if (!far.empty()) {
+    const TriangleGrid fineGrid(samples, o.cell);
+    tbb::enumerable_thread_specific<std::vector<std::uint32_t>> seen;
+    tbb::parallel_for(std::size_t(0), far.size(), [&](std::size_t i) {
+      const double d = fineGrid.nearest(far[i], 64, seen.local());
+      auto& w = worst.local();
+      w.first = std::max(w.first, d);
+      w.second += d;
+    });
+  }
+  double sum = 0.0;
+  for (const auto& w : worst) {
+    r.meshToSurface = std::max(r.meshToSurface, w.first);
+    sum += w.second;
+  }
+  r.samples = nv + nt;
+  r.meshToSurfaceMean = sum / static_cast<double>(r.samples);
   const TriangleGrid grid(mesh, o.cell);
-  tbb::enumerable_thread_specific<double> far(0.0);
+  tbb::enumerable_thread_specific<double> farthest(0.0);
   tbb::enumerable_thread_specific<std::vector<std::uint32_t>> scratch;
   tbb::parallel_for(std::size_t(0), samples.positions.size(), [&](std::size_t v) {
     const double d = grid.nearest(toD(samples.positions[v]), 64, scratch.local());
-    double& f = far.local();
+    double& f = farthest.local();
     f = std::max(f, d);
   });
-  for (double f : far) r.surfaceToMesh = std::max(r.surfaceToMesh, f);
+  for (double f : farthest) r.surfaceToMesh = std::max(r.surfaceToMesh, f);
   r.samples += samples.positions.size();
   r.hausdorff = std::max(r.meshToSurface, r.surfaceToMesh);
 

@@ -20,9 +20,12 @@ struct AccuracyOptions {
 };
 
 struct AccuracyReport {
-  // the largest and the mean distance from the mesh (its vertices, edge midpoints and face
-  // centres) to the surface, estimated as |F| / |grad F|
+  // the largest and the mean distance from the mesh (its vertices and face centres) to the
+  // surface: how far the point is that Newton's steps along the gradient reach (an upper
+  // bound), or, where they do not reach it within two cells of path (`unreached` such
+  // points: the gradient vanishes near them), the distance to the sampled surface below
   double meshToSurface = 0.0, meshToSurfaceMean = 0.0;
+  std::size_t unreached = 0;
   // the largest distance from a point of the surface (sampled) to the mesh
   double surfaceToMesh = 0.0;
   double hausdorff = 0.0;  // the larger of the two

@@ -445,7 +445,8 @@ PYBIND11_MODULE(_frepcore, m) {
           "report dict plus 'written'; a refused mesh is not written unless force.")
       .def(
           "mesh",
-          [](PyNode& n, py::object bbox, double resolution, py::object progress, bool normals) {
+          [](PyNode& n, py::object bbox, double resolution, py::object progress, bool normals,
+             py::object tolerance, bool sharp) {
             MeshingOptions o;
             o.bbox = toBox(bbox.cast<py::sequence>());
             o.resolution = resolution;
@@ -453,19 +454,34 @@ PYBIND11_MODULE(_frepcore, m) {
             // A preview too large for the memory is refused with the figures, before any
             // allocation (FreeCAD would die with the process).
             o.memoryBudget = availableMemory();
+            SimplifyOptions so;
+            const bool simplify = !tolerance.is_none();
+            if (simplify) {
+              so.bbox = o.bbox;
+              so.cell = resolution;
+              so.tolerance = tolerance.cast<double>();
+              so.sharpFeatures = sharp;
+              o.bytesPerTriangle += kSimplifyBytesPerTriangle;
+            }
             n.compiled();
             std::shared_ptr<const Program> program = n.program;
             return runWithProgress<TriangleMesh>(
-                [program, o](std::function<bool(double)> tick) mutable {
-                  o.progress = tick;
-                  return polygonize(*program, o);
+                [program, o, so, simplify](std::function<bool(double)> tick) mutable {
+                  // with a simplification: meshing the first half of the bar, it the second
+                  o.progress = [tick, simplify](double f) { return tick(simplify ? f / 2 : f); };
+                  TriangleMesh mesh = polygonize(*program, o);
+                  if (!simplify) return mesh;
+                  so.progress = [tick](double f) { return tick(0.5 + f / 2); };
+                  return simplifyMesh(mesh, *program, so);
                 },
                 progress);
           },
           py::arg("bbox"), py::arg("resolution"), py::arg("progress") = py::none(),
-          py::arg("normals") = false,
-          "Polygonises inside bbox with cells of at most `resolution`. progress(fraction) is "
-          "called on this thread; returning False cancels (raises Cancelled).")
+          py::arg("normals") = false, py::arg("tolerance") = py::none(), py::arg("sharp") = true,
+          "Polygonises inside bbox with cells of at most `resolution`; with a tolerance the "
+          "mesh is then simplified within it of the surface (creases placed unless "
+          "sharp=False). progress(fraction) is called on this thread; returning False cancels "
+          "(raises Cancelled).")
       .def(
           "to_json",
           [](const PyNode& n, py::object bbox, py::object resolution,

@@ -135,6 +135,30 @@ def test_polygonize_and_export_checked(doc, tmp_path):
     assert report["volume"] == pytest.approx(reference.mesh(cells=64).volume(), rel=1e-3)
 
 
+def test_polygonize_with_a_tolerance_simplifies_and_exports_alike(doc, tmp_path):
+    part = FRepExamples.build_csg(doc)
+    full = FRepPolygonize.make(part, doc, Cells=48)
+    doc.recompute()
+    simple = FRepPolygonize.make(part, doc, name="Simple", Cells=48)
+    simple.Tolerance = 0.005
+    doc.recompute()
+    assert simple.isValid(), simple.getStatusString()
+    assert 5 * simple.Triangles < full.Triangles
+    assert simple.Triangles == simple.Mesh.CountFacets
+    # the export of the feature is the same simplified mesh, checked
+    out = str(tmp_path / "simple.stl")
+    written = FRepExport.export_objects([simple], out)
+    assert written["printable"] and written["triangles"] == simple.Triangles
+    # sharp features off: still simplified, a different mesh
+    simple.SharpFeatures = False
+    doc.recompute()
+    assert simple.isValid() and 5 * simple.Triangles < full.Triangles
+    # off again: the full mesh
+    simple.Tolerance = 0
+    doc.recompute()
+    assert simple.Triangles == full.Triangles
+
+
 def test_export_filter_is_registered():
     # Registered by the workbench's Init.py for its three extensions.
     modules = FreeCAD.getExportType()

@@ -109,10 +109,13 @@ class Shape:
         return self.node.bounds(search, tolerance)
 
     # -- meshing and export ---------------------------------------------------------------
-    def mesh(self, resolution=None, bbox=None, cells=None, progress=None, normals=False):
-        """Polygonises the solid; bbox and resolution default to automatic_box."""
+    def mesh(self, resolution=None, bbox=None, cells=None, progress=None, normals=False,
+             tolerance=None, sharp=True):
+        """Polygonises the solid; bbox and resolution default to automatic_box. With a
+        tolerance the mesh is simplified, kept within it of the surface (creases and corners
+        placed unless sharp=False)."""
         box, cell = automatic_box(self, resolution=resolution, bbox=bbox, cells=cells)
-        return self.node.mesh(box, cell, progress, normals)
+        return self.node.mesh(box, cell, progress, normals, tolerance, sharp)
 
     def export(self, path, resolution=None, bbox=None, cells=None, format="", check=True,
                progress=None, force=False, tolerance=None, sharp=True):
