@@ -60,16 +60,22 @@ void BM_MeshTwist(benchmark::State& s) { meshModel(s, "twist"); }
 
 // The reference models at N cells across the longest side of their box (the figure the issues
 // quote: "256 cells"), so models of different sizes are compared at the same grid.
-void meshAcross(benchmark::State& state, const std::string& name, bool normals = true) {
+// The model's program and its box at `cells` across the longest side.
+std::pair<frep::Program, frep::MeshingOptions> across(const std::string& name, long cells,
+                                                      bool normals) {
   const frep::Model model =
       frep::loadModel(std::string(FREP_SOURCE_DIR) + "/examples/" + name + ".json");
-  const frep::Program program = frep::compile(model.root);
   frep::MeshingOptions options;
   options.bbox = *model.bbox;
   double longest = 0;
   for (int a = 0; a < 3; ++a) longest = std::max(longest, options.bbox.hi[a] - options.bbox.lo[a]);
-  options.resolution = longest / static_cast<double>(state.range(0));
+  options.resolution = longest / static_cast<double>(cells);
   options.normals = normals;
+  return {frep::compile(model.root), options};
+}
+
+void meshAcross(benchmark::State& state, const std::string& name, bool normals = true) {
+  const auto [program, options] = across(name, state.range(0), normals);
   std::size_t triangles = 0;
   for (auto _ : state) {
     const frep::TriangleMesh mesh = frep::polygonize(program, options);
@@ -81,15 +87,7 @@ void meshAcross(benchmark::State& state, const std::string& name, bool normals =
 // The simplifier on the mesher's mesh at N cells, tolerance a tenth of a cell, sharp features
 // on: the seconds are the simplification's alone (the mesh is made once, outside the loop).
 void simplifyAcross(benchmark::State& state, const std::string& name) {
-  const frep::Model model =
-      frep::loadModel(std::string(FREP_SOURCE_DIR) + "/examples/" + name + ".json");
-  const frep::Program program = frep::compile(model.root);
-  frep::MeshingOptions options;
-  options.bbox = *model.bbox;
-  double longest = 0;
-  for (int a = 0; a < 3; ++a) longest = std::max(longest, options.bbox.hi[a] - options.bbox.lo[a]);
-  options.resolution = longest / static_cast<double>(state.range(0));
-  options.normals = false;
+  const auto [program, options] = across(name, state.range(0), false);
   const frep::TriangleMesh mesh = frep::polygonize(program, options);
   frep::SimplifyOptions so;
   so.bbox = options.bbox;

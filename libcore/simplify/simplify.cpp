@@ -450,6 +450,19 @@ class RegionSimplifier {
     return moved;
   }
 
+  // The faces about to change, as they are: their normals (for the turn test) and the worst
+  // shape among them.
+  double recordBefore(const std::vector<std::uint32_t>& changed) {
+    double worst = 1.0;
+    normalsBefore_.clear();
+    for (std::uint32_t f : changed) {
+      const Triangle& t = faces_[f];
+      worst = std::min(worst, quality(s_.pos[t[0]], s_.pos[t[1]], s_.pos[t[2]]));
+      normalsBefore_.push_back(faceNormal(s_.pos, t));
+    }
+    return worst;
+  }
+
   // Moves local vertex l to p when every test passes; unchanged otherwise.
   bool relocate(std::uint32_t l, const Vec3& p, RegionOutput& out) {
     const std::uint32_t g = gid_[l];
@@ -458,13 +471,7 @@ class RegionSimplifier {
         regions_.of(at) != key_ || at == s_.pos[g])
       return false;
     changed_ = around_[l];
-    double worstBefore = 1.0;
-    normalsBefore_.clear();
-    for (std::uint32_t f : changed_) {
-      const Triangle& t = faces_[f];
-      worstBefore = std::min(worstBefore, quality(s_.pos[t[0]], s_.pos[t[1]], s_.pos[t[2]]));
-      normalsBefore_.push_back(faceNormal(s_.pos, t));
-    }
+    const double worstBefore = recordBefore(changed_);
     const double allowed = allowedFor(changed_, nullptr, 0);
     const Vec3f old = s_.pos[g];
     s_.pos[g] = at;
@@ -532,13 +539,7 @@ class RegionSimplifier {
     if (moves)
       for (std::uint32_t f : around_[v])
         if (f != edgeFaces[0] && f != edgeFaces[1]) changed_.push_back(f);
-    double worstBefore = 1.0;
-    normalsBefore_.clear();
-    for (std::uint32_t f : changed_) {
-      const Triangle& t = faces_[f];
-      worstBefore = std::min(worstBefore, quality(s_.pos[t[0]], s_.pos[t[1]], s_.pos[t[2]]));
-      normalsBefore_.push_back(faceNormal(s_.pos, t));
-    }
+    double worstBefore = recordBefore(changed_);
     for (int e = 0; e < 2; ++e) {
       const Triangle& t = faces_[edgeFaces[e]];
       worstBefore = std::min(worstBefore, quality(s_.pos[t[0]], s_.pos[t[1]], s_.pos[t[2]]));
