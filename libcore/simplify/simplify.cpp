@@ -399,11 +399,13 @@ class RegionSimplifier {
   }
   // The distance a change of these faces (and of `also`) may leave: the tolerance, or their
   // worst where that is worse already.
+  // (At most a cell: the grid's faces are never farther, so a larger estimate is one where
+  // the gradient nearly vanishes and |F| / |grad F| overstates the distance.)
   double allowedFor(const std::vector<std::uint32_t>& changed, const std::uint32_t* also, int n) {
-    double worst = o_.tolerance;
+    double worst = 0.0;
     for (std::uint32_t f : changed) worst = std::max(worst, deviation(f));
     for (int i = 0; i < n; ++i) worst = std::max(worst, deviation(also[i]));
-    return worst;
+    return std::max(o_.tolerance, std::min(worst, o_.cell));
   }
   void keepDeviations(const std::vector<std::uint32_t>& changed) {
     for (std::size_t i = 0; i < changed.size(); ++i) deviation_[changed[i]] = newDeviation_[i];
