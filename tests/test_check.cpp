@@ -309,3 +309,47 @@ TEST(Check, ProgressCoversTheSelfIntersectionPassAndCanStopIt) {
 
 }  // namespace
 }  // namespace frep
+
+namespace frep {
+namespace {
+
+// A pile of coincident triangles makes n(n-1)/2 intersecting pairs: 30,000 of them took CGAL
+// over a minute to count. The count stops at the limit and says "at least"; below the limit
+// it is exact, on both routes (CGAL's for soups, the grid for polygon meshes).
+TEST(Check, SelfIntersectionCountStopsAtItsLimit) {
+  TriangleMesh pile;
+  pile.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  pile.triangles.assign(30000, Triangle{0, 1, 2});
+  const CheckReport r = checkMesh(pile);  // (a second a few hundred ms)
+  EXPECT_EQ(r.selfIntersections, kSelfIntersectionLimit);
+  EXPECT_TRUE(r.selfIntersectionsAtLeast);
+  EXPECT_FALSE(r.printable());
+  EXPECT_NE(reportToText(r, "pile").find("at least 1000000 triangle pairs"), std::string::npos);
+  EXPECT_NE(reportToJson(r, "pile").find("\"self_intersections_at_least\": true"),
+            std::string::npos);
+  pile.triangles.resize(300);  // 44,850 pairs: below the limit, counted exactly
+  const CheckReport small = checkMesh(pile);
+  EXPECT_EQ(small.selfIntersections, 300u * 299u / 2u);
+  EXPECT_FALSE(small.selfIntersectionsAtLeast);
+  EXPECT_EQ(checkMesh(pile, nullptr, 1000).selfIntersections, 1000u);
+  // a polygon mesh (two interpenetrating lattice cubes) through the grid
+  std::vector<Vec3f> points;
+  std::vector<FaceIndices> faces;
+  latticeCube(6, points, faces);
+  const std::size_t half = points.size();
+  std::vector<FaceIndices> second = faces;
+  for (std::size_t i = 0; i < half; ++i)
+    points.push_back({points[i][0] + 2.5f, points[i][1] + 2.5f, points[i][2] + 2.5f});
+  for (FaceIndices f : second) {
+    for (std::uint32_t& v : f) v += static_cast<std::uint32_t>(half);
+    faces.push_back(f);
+  }
+  const std::size_t all = countSelfIntersections(points, faces);
+  ASSERT_GT(all, 20u);
+  EXPECT_EQ(all, countSelfIntersectionsWithCgal(points, faces));
+  EXPECT_EQ(countSelfIntersections(points, faces, nullptr, 20), 20u);
+  EXPECT_EQ(countSelfIntersections(points, faces, nullptr, all + 1), all);
+}
+
+}  // namespace
+}  // namespace frep

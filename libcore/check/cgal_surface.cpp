@@ -7,6 +7,7 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 
+#include <algorithm>
 #include <atomic>
 #include <boost/iterator/function_output_iterator.hpp>
 
@@ -18,6 +19,8 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_3;
 using SurfaceMesh = CGAL::Surface_mesh<Point>;
 namespace PMP = CGAL::Polygon_mesh_processing;
+
+struct Enough {};  // thrown by a count that reached its limit
 
 SurfaceMesh surfaceMesh(const std::vector<Vec3f>& points, const std::vector<FaceIndices>& faces,
                         bool polygonMesh) {
@@ -48,12 +51,24 @@ SurfaceMesh surfaceMesh(const std::vector<Vec3f>& points, const std::vector<Face
 
 std::size_t countSelfIntersectionsWithCgal(const std::vector<Vec3f>& points,
                                            const std::vector<FaceIndices>& faces,
-                                           bool polygonMesh) {
+                                           bool polygonMesh, std::size_t limit) {
   const SurfaceMesh sm = surfaceMesh(points, faces, polygonMesh);
   std::atomic<std::size_t> pairs{0};
-  PMP::self_intersections<CGAL::Parallel_if_available_tag>(
-      sm, boost::make_function_output_iterator([&](const auto&) { ++pairs; }));
-  return pairs;
+  auto counter = boost::make_function_output_iterator([&](const auto&) {
+    if (++pairs >= limit) throw Enough();
+  });
+  // CGAL's search has no stop: the counting output throws at the limit, which ends it. Only
+  // the sequential search reports pairs as it finds them (the parallel one tests every
+  // candidate pair first), so a limited count runs sequentially.
+  try {
+    if (limit == static_cast<std::size_t>(-1))
+      PMP::self_intersections<CGAL::Parallel_if_available_tag>(sm, counter);
+    else
+      PMP::self_intersections<CGAL::Sequential_tag>(sm, counter);
+  } catch (const Enough&) {
+    return limit;
+  }
+  return std::min<std::size_t>(pairs, limit);
 }
 
 bool boundsAVolume(const std::vector<Vec3f>& points, const std::vector<FaceIndices>& faces) {

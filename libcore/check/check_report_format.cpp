@@ -18,7 +18,8 @@ std::string reportToText(const CheckReport& r, const std::string& name) {
      << " vertices\n";
   os << "  orientation          " << (r.outward ? "outward" : "not outward") << " ("
      << r.misorientedEdges << " inconsistent edges)\n";
-  os << "  self-intersections   " << r.selfIntersections << " triangle pairs\n";
+  os << "  self-intersections   " << (r.selfIntersectionsAtLeast ? "at least " : "")
+     << r.selfIntersections << " triangle pairs\n";
   os << "  degenerate triangles " << r.degenerateFaces << "\n";
   os << "  components           " << r.components << "\n";
   os << "  volume               " << r.volume << "\n";
@@ -49,6 +50,7 @@ std::string reportToJson(const CheckReport& r, const std::string& name) {
   j["misoriented_edges"] = r.misorientedEdges;
   j["outward"] = r.outward;
   j["self_intersections"] = r.selfIntersections;
+  j["self_intersections_at_least"] = r.selfIntersectionsAtLeast;
   j["degenerate_triangles"] = r.degenerateFaces;
   j["non_finite_vertices"] = r.nonFiniteVertices;
   j["components"] = r.components;

@@ -47,7 +47,8 @@ std::vector<std::uint32_t> weld(const std::vector<Vec3f>& pos, std::vector<Vec3f
 
 }  // namespace
 
-CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)>& progress) {
+CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)>& progress,
+                      std::size_t selfIntersectionLimit) {
   auto tick = [&](double f) {
     if (progress) progress(f);
   };
@@ -180,8 +181,10 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
     // through CGAL's own routine, once orient_polygon_soup has made it a polygon mesh.
     r.selfIntersections =
         polygonMesh
-            ? countSelfIntersections(pos, indexed, [&](double f) { tick(0.45 + 0.5 * f); })
-            : countSelfIntersectionsWithCgal(pos, indexed, false);
+            ? countSelfIntersections(pos, indexed, [&](double f) { tick(0.45 + 0.5 * f); },
+                                     selfIntersectionLimit)
+            : countSelfIntersectionsWithCgal(pos, indexed, false, selfIntersectionLimit);
+    r.selfIntersectionsAtLeast = r.selfIntersections >= selfIntersectionLimit;
     tick(0.95);
     if (r.closed && polygonMesh && r.selfIntersections == 0)
       r.outward = boundsAVolume(pos, indexed) && r.volume > 0;
@@ -199,7 +202,9 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
   if (r.degenerateFaces)
     r.reasons.push_back(count(r.degenerateFaces, "degenerate triangles (repeated or collinear vertices)"));
   if (r.selfIntersections)
-    r.reasons.push_back(count(r.selfIntersections, "pairs of self-intersecting triangles"));
+    r.reasons.push_back((r.selfIntersectionsAtLeast ? "at least " : "") +
+                        count(r.selfIntersections, "pairs of self-intersecting triangles") +
+                        (r.selfIntersectionsAtLeast ? " (counting stops there)" : ""));
   if (!r.outward && r.closed && r.nonManifoldEdges == 0 && r.misorientedEdges == 0 &&
       r.selfIntersections == 0 && r.nonManifoldVertices == 0)
     r.reasons.push_back("not outward-oriented: the triangles face into the solid");

@@ -23,6 +23,7 @@ struct CheckReport {
   std::size_t misorientedEdges = 0;     // edges whose two triangles run the same way
   std::size_t degenerateFaces = 0;      // repeated or collinear vertices
   std::size_t selfIntersections = 0;    // pairs of intersecting triangles
+  bool selfIntersectionsAtLeast = false;  // counting stopped at kSelfIntersectionLimit
   std::size_t components = 0;
   std::size_t nonFiniteVertices = 0;
   bool closed = false;
@@ -37,8 +38,13 @@ struct CheckReport {
 
 // progress(fraction) is called between the check's phases (welding, topology, CGAL's
 // self-intersection test, orientation); it may throw to stop the check there.
+// Self-intersecting pairs are counted up to this many (then "at least"): 30,000 coincident
+// triangles make 450 million, which took CGAL over a minute to count.
+constexpr std::size_t kSelfIntersectionLimit = 1000000;
+
 CheckReport checkMesh(const TriangleMesh& mesh,
-                      const std::function<void(double)>& progress = nullptr);
+                      const std::function<void(double)>& progress = nullptr,
+                      std::size_t selfIntersectionLimit = kSelfIntersectionLimit);
 
 std::string reportToText(const CheckReport& r, const std::string& name);
 std::string reportToJson(const CheckReport& r, const std::string& name);

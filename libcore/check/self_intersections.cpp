@@ -33,7 +33,8 @@ constexpr double kMaxCellsPerAxis = 2097152.0;  // 2^21: three axes in one 64-bi
 
 std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
                                    const std::vector<FaceIndices>& faces,
-                                   const std::function<void(double)>& progress) {
+                                   const std::function<void(double)>& progress,
+                                   std::size_t limit) {
   const std::vector<Vec3f>& p = points;
 
   // Degenerate faces count as a pair with themselves and take part in nothing else, as in CGAL.
@@ -122,7 +123,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
     runs.push_back(entries.size());
     grid = pairs <= kMaxPairsPerFace * n;
   }
-  if (!grid) return countSelfIntersectionsWithCgal(points, faces);
+  if (!grid) return countSelfIntersectionsWithCgal(points, faces, true, limit);
 
   // Each pair of overlapping boxes is tested once: in the cell holding the lowest corner of
   // the two boxes' intersection (both boxes cover that cell).
@@ -131,6 +132,9 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
   const std::size_t cells = runs.size() - 1, part = std::max<std::size_t>(1, cells / 20);
   for (std::size_t begin = 0; begin < cells; begin += part) {
     if (progress) progress(static_cast<double>(begin) / static_cast<double>(cells));
+    std::size_t sofar = count;
+    for (std::size_t c : found) sofar += c;
+    if (sofar >= limit) return limit;
     const std::size_t end = std::min(cells, begin + part);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 64),
                       [&](const tbb::blocked_range<std::size_t>& range) {
@@ -155,7 +159,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
   }
   if (progress) progress(1.0);
   for (std::size_t c : found) count += c;
-  return count;
+  return std::min(count, limit);
 }
 
 }  // namespace frep

@@ -24,8 +24,10 @@ using FaceIndices = std::array<std::uint32_t, 3>;
 // countSelfIntersectionsWithCgal (cgal_surface.h), the reference the tests compare with.
 // progress(fraction) is called on the calling thread between parts of the work (it may throw
 // to stop there).
+// Counting stops soon after `limit` pairs, and returns `limit` then.
 std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
                                    const std::vector<FaceIndices>& faces,
-                                   const std::function<void(double)>& progress = nullptr);
+                                   const std::function<void(double)>& progress = nullptr,
+                                   std::size_t limit = static_cast<std::size_t>(-1));
 
 }  // namespace frep
