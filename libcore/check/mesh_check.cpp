@@ -1,10 +1,10 @@
 // The only translation unit that includes CGAL (slow to compile: keep it alone).
 #include "check/mesh_check.h"
 #include "check/cgal_surface.h"
+#include "check/face_pair_test.h"
 #include "check/self_intersections.h"
 #include "base/triangle_geometry.h"
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <algorithm>
 #include <cmath>
@@ -15,8 +15,6 @@ namespace frep {
 
 namespace {
 
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Point = Kernel::Point_3;
 
 struct UnionFind {
   std::vector<std::uint32_t> parent;
@@ -69,26 +67,27 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
         return r;
       }
 
+  // Memory: each pass keeps only what the later ones need (the check of a large file must
+  // not cost many times the file): 12 bytes per face for the welded faces, the rest freed
+  // as soon as its pass is done.
   std::vector<Vec3f> pos;
-  const std::vector<std::uint32_t> map = weld(mesh.positions, pos);
-  r.vertices = pos.size();
-  std::vector<Point> points;
-  points.reserve(pos.size());
-  for (const Vec3f& p : pos) points.emplace_back(p[0], p[1], p[2]);
-
-  // Faces, degenerate ones, volume, area, bounding box.
-  std::vector<std::array<std::size_t, 3>> faces;  // faces with three distinct vertices
-  faces.reserve(mesh.triangles.size());
-  for (const Triangle& t : mesh.triangles) {
-    const std::uint32_t a = map[t[0]], b = map[t[1]], c = map[t[2]];
-    if (a == b || b == c || a == c) {
-      ++r.degenerateFaces;
-      continue;
+  std::vector<FaceIndices> faces;  // faces with three distinct vertices
+  {
+    const std::vector<std::uint32_t> map = weld(mesh.positions, pos);
+    r.vertices = pos.size();
+    // Faces, degenerate ones, volume, area, bounding box.
+    faces.reserve(mesh.triangles.size());
+    for (const Triangle& t : mesh.triangles) {
+      const std::uint32_t a = map[t[0]], b = map[t[1]], c = map[t[2]];
+      if (a == b || b == c || a == c) {
+        ++r.degenerateFaces;
+        continue;
+      }
+      if (collinear(pos[a], pos[b], pos[c])) ++r.degenerateFaces;
+      faces.push_back({a, b, c});
+      r.area += triangleArea(pos[a], pos[b], pos[c]);
+      r.volume += signedTetraVolume(pos[a], pos[b], pos[c]);
     }
-    if (CGAL::collinear(points[a], points[b], points[c])) ++r.degenerateFaces;
-    faces.push_back({a, b, c});
-    r.area += triangleArea(pos[a], pos[b], pos[c]);
-    r.volume += signedTetraVolume(pos[a], pos[b], pos[c]);
   }
   if (!pos.empty()) {
     r.bbox.lo = {pos[0][0], pos[0][1], pos[0][2]};
@@ -102,6 +101,7 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
 
   tick(0.1);
   // Edges: border, non-manifold, orientation consistency.
+  {
   std::vector<std::tuple<std::uint32_t, std::uint32_t, bool>> edges;
   edges.reserve(faces.size() * 3);
   for (const auto& f : faces)
@@ -121,10 +121,12 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
     if (n == 2 && forward != 1) ++r.misorientedEdges;
     i = j;
   }
+  }
   r.closed = r.borderEdges == 0 && !faces.empty();
 
   tick(0.2);
   // Non-manifold vertices: the triangles around a vertex must form a single fan.
+  {
   std::vector<std::uint32_t> start(pos.size() + 1, 0), incident(faces.size() * 3);
   for (const auto& f : faces)
     for (std::size_t v : f) ++start[v + 1];
@@ -160,6 +162,7 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
   }
   for (std::uint32_t v = 0; v < pos.size(); ++v)
     if (start[v + 1] > start[v] && parts.find(v) == v) ++r.components;
+  }
 
   tick(0.35);
   // Self-intersections and orientation, CGAL's judgements. Whether the soup is a polygon
@@ -171,11 +174,7 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
   if (!faces.empty()) {
     const bool polygonMesh =
         r.nonManifoldEdges == 0 && r.misorientedEdges == 0 && r.nonManifoldVertices == 0;
-    std::vector<FaceIndices> indexed;
-    indexed.reserve(faces.size());
-    for (const auto& f : faces)
-      indexed.push_back({static_cast<std::uint32_t>(f[0]), static_cast<std::uint32_t>(f[1]),
-                         static_cast<std::uint32_t>(f[2])});
+    const std::vector<FaceIndices>& indexed = faces;
     tick(0.45);
     // A polygon mesh (every export the mesher makes) through the hash grid; any other soup
     // through CGAL's own routine, once orient_polygon_soup has made it a polygon mesh.

@@ -14,8 +14,8 @@ namespace frep {
 
 namespace {
 
-struct Box {
-  double lo[3], hi[3];
+struct Box {  // a face's box: floats, exact (the coordinates are floats)
+  float lo[3], hi[3];
 };
 
 bool overlap(const Box& a, const Box& b) {  // closed boxes, as CGAL's box intersection
@@ -44,7 +44,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
   std::vector<Box> boxes(faces.size());
   std::vector<double> extent;
   extent.reserve(faces.size());
-  Box all{{HUGE_VAL, HUGE_VAL, HUGE_VAL}, {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}};
+  Box all{{HUGE_VALF, HUGE_VALF, HUGE_VALF}, {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF}};
   for (std::uint32_t i = 0; i < faces.size(); ++i) {
     const FaceIndices& f = faces[i];
     if (collinear(p[f[0]], p[f[1]], p[f[2]])) {
@@ -56,7 +56,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
     for (int k = 0; k < 3; ++k) {
       b.lo[k] = std::min({p[f[0]][k], p[f[1]][k], p[f[2]][k]});
       b.hi[k] = std::max({p[f[0]][k], p[f[1]][k], p[f[2]][k]});  // floats: exact in double
-      e = std::max(e, b.hi[k] - b.lo[k]);
+      e = std::max(e, double(b.hi[k]) - b.lo[k]);
       all.lo[k] = std::min(all.lo[k], b.lo[k]);
       all.hi[k] = std::max(all.hi[k], b.hi[k]);
     }
@@ -71,6 +71,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
   std::nth_element(extent.begin(), extent.begin() + static_cast<std::ptrdiff_t>(0.9 * (n - 1)),
                    extent.end());
   const double cell = extent[static_cast<std::size_t>(0.9 * (n - 1))];
+  std::vector<double>().swap(extent);  // (its memory is needed for the grid's entries)
   double dims[3];
   bool grid = cell > 0.0 && std::isfinite(cell);
   for (int k = 0; k < 3 && grid; ++k) {
