@@ -353,3 +353,40 @@ TEST(Check, SelfIntersectionCountStopsAtItsLimit) {
 
 }  // namespace
 }  // namespace frep
+
+namespace frep {
+namespace {
+
+// Orientation: one component is judged by the sign of its volume, several by CGAL's
+// does_bound_a_volume (which knows nesting). A ball with a hollow inside (its inner surface
+// facing into the hollow) is printable; the inner surface facing out is not; two balls apart,
+// both outward, are printable, one of them inside out is not.
+TEST(Check, OrientationOfOneAndOfNestedComponents) {
+  MeshingOptions o;
+  o.bbox = {{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}};
+  o.resolution = 0.1;
+  const TriangleMesh ball = polygonize(compile(makeNode("sphere", {}, {})), o);
+  auto scaled = [](TriangleMesh m, float s, float dx) {
+    for (Vec3f& p : m.positions) p = {p[0] * s + dx, p[1] * s, p[2] * s};
+    return m;
+  };
+  auto flipped = [](TriangleMesh m) {
+    for (Triangle& t : m.triangles) std::swap(t[1], t[2]);
+    return m;
+  };
+  EXPECT_TRUE(checkMesh(ball).printable());
+  const CheckReport inside = checkMesh(flipped(ball));
+  EXPECT_FALSE(inside.outward);
+  EXPECT_FALSE(inside.printable());
+  const TriangleMesh hollow = merged(ball, flipped(scaled(ball, 0.5f, 0)));
+  const CheckReport h = checkMesh(hollow);
+  EXPECT_EQ(h.components, 2u);
+  EXPECT_TRUE(h.printable()) << (h.reasons.empty() ? "" : h.reasons[0]);
+  const CheckReport wrong = checkMesh(merged(ball, scaled(ball, 0.5f, 0)));
+  EXPECT_FALSE(wrong.outward);  // the inner surface faces out: a volume counted twice
+  EXPECT_TRUE(checkMesh(merged(ball, scaled(ball, 1.0f, 3))).printable());
+  EXPECT_FALSE(checkMesh(merged(ball, flipped(scaled(ball, 1.0f, 3)))).outward);
+}
+
+}  // namespace
+}  // namespace frep

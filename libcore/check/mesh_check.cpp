@@ -186,7 +186,11 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
     r.selfIntersectionsAtLeast = r.selfIntersections >= selfIntersectionLimit;
     tick(0.95);
     if (r.closed && polygonMesh && r.selfIntersections == 0)
-      r.outward = boundsAVolume(pos, indexed) && r.volume > 0;
+      // One closed, consistently oriented, self-intersection-free component bounds a volume,
+      // outward exactly when its signed volume is positive: CGAL's does_bound_a_volume (a
+      // Surface_mesh, about 110 bytes a face, 0.5 s for a million) decides only nestings.
+      r.outward = r.components == 1 ? r.volume > 0
+                                    : boundsAVolume(pos, indexed) && r.volume > 0;
   }
 
   tick(1.0);

@@ -27,7 +27,6 @@ bool overlap(const Box& a, const Box& b) {  // closed boxes, as CGAL's box inter
 // Grid limits: beyond them the grid would not pay and CGAL's box tree is used.
 constexpr double kMaxEntriesPerFace = 12.0;     // cells a face's box covers, on average
 constexpr double kMaxPairsPerFace = 64.0;       // candidate pairs, on average
-constexpr double kMaxCellsPerAxis = 2097152.0;  // 2^21: three axes in one 64-bit key
 
 }  // namespace
 
@@ -70,13 +69,21 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
   // cells per axis.
   std::nth_element(extent.begin(), extent.begin() + static_cast<std::ptrdiff_t>(0.9 * (n - 1)),
                    extent.end());
-  const double cell = extent[static_cast<std::size_t>(0.9 * (n - 1))];
+  double cell = extent[static_cast<std::size_t>(0.9 * (n - 1))];
   std::vector<double>().swap(extent);  // (its memory is needed for the grid's entries)
+  // An entry is one 64-bit word, cell above face, so the cells must number under 2^32: a
+  // grid finer than that (over 1,600 cells a side) gets larger cells.
   double dims[3];
   bool grid = cell > 0.0 && std::isfinite(cell);
-  for (int k = 0; k < 3 && grid; ++k) {
-    dims[k] = std::floor((all.hi[k] - all.lo[k]) / cell) + 1.0;
-    grid = dims[k] <= kMaxCellsPerAxis;
+  for (int attempt = 0; grid; ++attempt) {
+    double product = 1.0;
+    for (int k = 0; k < 3; ++k) {
+      dims[k] = std::floor((double(all.hi[k]) - all.lo[k]) / cell) + 1.0;
+      product *= dims[k];
+    }
+    if (product < 4294967296.0) break;
+    cell *= 1.25;
+    grid = attempt < 200;
   }
   auto index = [&](double v, int k) {
     return static_cast<std::uint64_t>(std::floor((v - all.lo[k]) / cell));
@@ -84,8 +91,10 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
   auto key = [&](std::uint64_t i, std::uint64_t j, std::uint64_t k) {
     return (k * static_cast<std::uint64_t>(dims[1]) + j) * static_cast<std::uint64_t>(dims[0]) + i;
   };
-  // (cell, face) for every cell a face's box covers.
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> entries;
+  // (cell << 32 | face) for every cell a face's box covers: sorted, the cells' runs.
+  std::vector<std::uint64_t> entries;
+  auto cellOf = [&](std::size_t e) { return entries[e] >> 32; };
+  auto faceOf = [&](std::size_t e) { return static_cast<std::uint32_t>(entries[e]); };
   if (grid) {
     double total = 0.0;
     for (std::uint32_t f : live) {
@@ -105,7 +114,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
       const std::uint64_t k0 = index(b.lo[2], 2), k1 = index(b.hi[2], 2);
       for (std::uint64_t k = k0; k <= k1; ++k)
         for (std::uint64_t j = j0; j <= j1; ++j)
-          for (std::uint64_t i = i0; i <= i1; ++i) entries.emplace_back(key(i, j, k), f);
+          for (std::uint64_t i = i0; i <= i1; ++i) entries.push_back(key(i, j, k) << 32 | f);
     }
     tbb::parallel_sort(entries.begin(), entries.end());
   }
@@ -115,7 +124,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
     double pairs = 0.0;
     for (std::size_t e = 0; e < entries.size();) {
       std::size_t end = e + 1;
-      while (end < entries.size() && entries[end].first == entries[e].first) ++end;
+      while (end < entries.size() && cellOf(end) == cellOf(e)) ++end;
       runs.push_back(e);
       const double m = static_cast<double>(end - e);
       pairs += m * (m - 1) / 2;
@@ -142,10 +151,10 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
                         std::size_t& local = found.local();
                         for (std::size_t r = range.begin(); r != range.end(); ++r) {
                           const std::size_t from = runs[r], to = runs[r + 1];
-                          const std::uint64_t here = entries[from].first;
+                          const std::uint64_t here = cellOf(from);
                           for (std::size_t a = from; a < to; ++a)
                             for (std::size_t b = a + 1; b < to; ++b) {
-                              const std::uint32_t fa = entries[a].second, fb = entries[b].second;
+                              const std::uint32_t fa = faceOf(a), fb = faceOf(b);
                               const Box &ba = boxes[fa], &bb = boxes[fb];
                               if (!overlap(ba, bb)) continue;
                               const std::uint64_t owner =
