@@ -34,7 +34,8 @@ ALLOWED = {
 LIBRARIES = {
     "CGAL/": {"check/mesh_check.cpp", "check/face_pair_test.cpp", "check/cgal_surface.cpp"},
     "OpenMesh/": {"mesh/openmesh_bridge.h", "mesh/openmesh_bridge.cpp"},
-    "tbb/": {"mesh", "simplify", "check/self_intersections.cpp", "pipeline/accuracy.cpp"},
+    "tbb/": {"mesh", "simplify", "check/self_intersections.cpp", "check/mesh_check.cpp",
+             "pipeline/accuracy.cpp"},
     "nlohmann/": {"frep", "check"},
     "nanoflann": {"frep/instances.cpp"},
     "Eigen/": {"base/affine.cpp", "base/qef.cpp"},

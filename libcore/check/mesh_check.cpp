@@ -6,6 +6,8 @@
 #include "base/triangle_geometry.h"
 
 
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -32,7 +34,7 @@ std::string count(std::size_t n, const char* what) { return std::to_string(n) + 
 std::vector<std::uint32_t> weld(const std::vector<Vec3f>& pos, std::vector<Vec3f>& welded) {
   std::vector<std::uint32_t> order(pos.size());
   std::iota(order.begin(), order.end(), 0u);
-  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+  tbb::parallel_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
     return pos[a] < pos[b] || (pos[a] == pos[b] && a < b);
   });
   std::vector<std::uint32_t> map(pos.size());
@@ -109,7 +111,7 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
       const auto a = static_cast<std::uint32_t>(f[i]), b = static_cast<std::uint32_t>(f[(i + 1) % 3]);
       edges.emplace_back(std::min(a, b), std::max(a, b), a < b);
     }
-  std::sort(edges.begin(), edges.end());
+  tbb::parallel_sort(edges.begin(), edges.end());
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i, forward = 0;
     while (j < edges.size() && std::get<0>(edges[j]) == std::get<0>(edges[i]) &&
@@ -136,13 +138,14 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
     for (std::size_t fi = 0; fi < faces.size(); ++fi)
       for (std::size_t v : faces[fi]) incident[fill[v]++] = static_cast<std::uint32_t>(fi);
   }
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> neighbours;  // other vertex, local face
   for (std::size_t v = 0; v < pos.size(); ++v) {
     const std::uint32_t b = start[v], e = start[v + 1];
     if (e - b < 2) continue;
     UnionFind fans(e - b);
-    std::vector<std::pair<std::size_t, std::uint32_t>> neighbours;  // other vertex, local face
+    neighbours.clear();
     for (std::uint32_t k = b; k < e; ++k)
-      for (std::size_t w : faces[incident[k]])
+      for (std::uint32_t w : faces[incident[k]])
         if (w != v) neighbours.emplace_back(w, k - b);
     std::sort(neighbours.begin(), neighbours.end());
     for (std::size_t i = 1; i < neighbours.size(); ++i)
