@@ -11,6 +11,7 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <queue>
 #include <sstream>
 
@@ -65,10 +66,28 @@ class Surface {
   // G(p) / |grad G| in *value and the unit gradient in *normal; false where the gradient
   // vanishes or is not finite.
   bool plane(const Vec3& p, double* value, Vec3* normal) const {
+    return planeFrom(p, f_.evalGradient(p[0], p[1], p[2]), value, normal);
+  }
+  // plane() at n points in one gradient batch (the field's vector kernels).
+  void planes(const Vec3* p, std::size_t n, double* value, Vec3* normal, std::uint8_t* ok) {
+    x_.resize(n);
+    y_.resize(n);
+    z_.resize(n);
+    g_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      x_[i] = Dual(p[i][0], 1, 0, 0);
+      y_[i] = Dual(p[i][1], 0, 1, 0);
+      z_[i] = Dual(p[i][2], 0, 0, 1);
+    }
+    f_.evalGradientBatch(x_.data(), y_.data(), z_.data(), n, g_.data());
+    for (std::size_t i = 0; i < n; ++i) ok[i] = planeFrom(p[i], g_[i], &value[i], &normal[i]);
+  }
+
+ private:
+  bool planeFrom(const Vec3& p, const Dual& g, double* value, Vec3* normal) const {
     const double d[6] = {p[0] - box_.lo[0], box_.hi[0] - p[0], p[1] - box_.lo[1],
                          box_.hi[1] - p[1], p[2] - box_.lo[2], box_.hi[2] - p[2]};
     const int face = static_cast<int>(std::min_element(d, d + 6) - d);
-    const Dual g = f_.evalGradient(p[0], p[1], p[2]);
     if (d[face] < g.v) {  // the box's cap
       *value = d[face];
       *normal = {0, 0, 0};
@@ -82,9 +101,9 @@ class Surface {
     return true;
   }
 
- private:
   const Field& f_;
   Box3 box_;
+  std::vector<Dual> x_, y_, z_, g_;  // scratch of planes()
 };
 
 // Regions: cubes of `side` from `origin`; a region's key packs its three indices.
@@ -142,9 +161,9 @@ struct RegionOutput {
 // shared positions); the region's vertices and faces have local numbers for the bookkeeping.
 class RegionSimplifier {
  public:
-  RegionSimplifier(State& s, const Surface& surface, const SimplifyOptions& o,
+  RegionSimplifier(State& s, const Field& field, const SimplifyOptions& o,
                    const Regions& regions, const std::vector<Triangle>& faces)
-      : s_(s), surface_(surface), o_(o), regions_(regions), all_(faces) {}
+      : s_(s), field_(field), o_(o), regions_(regions), all_(faces) {}
 
   void run(const RegionInput& in, RegionOutput& out) {
     key_ = in.key;
@@ -290,6 +309,12 @@ class RegionSimplifier {
                              (std::int64_t(1) << 20);
       regionLo_[a] = regions_.origin[a] + static_cast<double>(i) * regions_.side;
     }
+    Box3 box;
+    for (int a = 0; a < 3; ++a) {
+      box.lo[a] = regionLo_[a];
+      box.hi[a] = regionLo_[a] + regions_.side;
+    }
+    region_.emplace(specialiseInto(field_, box, regionField_), o_.bbox);
     visit_.assign(faces_.size(), 0);
     inCell_.assign(faces_.size(), 0);
     visitStamp_ = cellStamp_ = 0;
@@ -393,7 +418,7 @@ class RegionSimplifier {
       Vec3 centre{0, 0, 0};
       for (std::uint32_t w : t)
         for (int a = 0; a < 3; ++a) centre[a] += s_.pos[w][a] / 3.0;
-      deviation_[f] = static_cast<float>(surface_.distance(centre));
+      deviation_[f] = static_cast<float>(region_->distance(centre));
     }
     return deviation_[f];
   }
@@ -624,23 +649,29 @@ class RegionSimplifier {
     // the surface stays near F = 0: at v and at each changed face's centre
     double largest = 0.0;
     if (vMoves_) {
-      largest = surface_.distance(toVec3(s_.pos[gv]));
+      largest = region_->distance(toVec3(s_.pos[gv]));
       if (!(largest <= allowed)) return false;
     }
     newDeviation_.clear();
     // and each changed face faces out: against the gradient at its centre (a small part
-    // collapsed into itself, turned inside out, fails here)
-    for (std::uint32_t f : changed) {
-      const Triangle& t = faces_[f];
-      Vec3 centre{0, 0, 0};
+    // collapsed into itself, turned inside out, fails here); the centres in one batch
+    const std::size_t m = changed.size();
+    centres_.resize(m);
+    values_.resize(m);
+    gradients_.resize(m);
+    planeOk_.resize(m);
+    for (std::size_t i = 0; i < m; ++i) {
+      const Triangle& t = faces_[changed[i]];
+      centres_[i] = {0, 0, 0};
       for (std::uint32_t w : t)
-        for (int a = 0; a < 3; ++a) centre[a] += s_.pos[w][a] / 3.0;
-      double value;
-      Vec3 gradient;
-      if (!surface_.plane(centre, &value, &gradient)) return false;
-      const double d = std::abs(value);
+        for (int a = 0; a < 3; ++a) centres_[i][a] += s_.pos[w][a] / 3.0;
+    }
+    region_->planes(centres_.data(), m, values_.data(), gradients_.data(), planeOk_.data());
+    for (std::size_t i = 0; i < m; ++i) {
+      if (!planeOk_[i]) return false;
+      const double d = std::abs(values_[i]);
       if (!(d <= allowed)) return false;
-      if (!(dot(faceNormal(s_.pos, t), gradient) < 0.0)) return false;
+      if (!(dot(faceNormal(s_.pos, faces_[changed[i]]), gradients_[i]) < 0.0)) return false;
       largest = std::max(largest, d);
       newDeviation_.push_back(static_cast<float>(d));
     }
@@ -676,7 +707,11 @@ class RegionSimplifier {
   }
 
   State& s_;
-  const Surface& surface_;
+  const Field& field_;
+  // The region's surface: the field specialised to the region's box (every point a region
+  // evaluates lies in it), as the mesher specialises it to a brick.
+  std::shared_ptr<const Field> regionField_;
+  std::optional<Surface> region_;  // (its batch scratch is this thread's)
   const SimplifyOptions& o_;
   const Regions& regions_;
   const std::vector<Triangle>& all_;
@@ -706,6 +741,9 @@ class RegionSimplifier {
   std::vector<FaceBox> boxes_;    // the changed faces' boxes, during a test
   std::vector<float> deviation_;     // per face: its centre's distance from F = 0 (NaN: unknown)
   std::vector<float> newDeviation_;  // the changed faces', during a test
+  std::vector<Vec3> centres_, gradients_;  // the changed faces' centres and the field there
+  std::vector<double> values_;
+  std::vector<std::uint8_t> planeOk_;
   std::vector<FaceBox> faceBox_;  // every face's box as it stands
   bool vMoves_ = false;           // the collapse under test moves v
   bool featureMove_ = false;      // ... onto a crease or a corner
@@ -802,7 +840,7 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field,
     tbb::enumerable_thread_specific<std::unique_ptr<RegionSimplifier>> simplifiers;
     tbb::parallel_for(std::size_t(0), work.size(), [&](std::size_t r) {
       std::unique_ptr<RegionSimplifier>& rs = simplifiers.local();
-      if (!rs) rs = std::make_unique<RegionSimplifier>(s, surface, o, regions, faces);
+      if (!rs) rs = std::make_unique<RegionSimplifier>(s, field, o, regions, faces);
       rs->run(work[r], results[r]);
     });
     std::vector<Triangle> next;
