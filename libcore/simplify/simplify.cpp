@@ -17,6 +17,7 @@
 
 #include "base/errors.h"
 #include "base/qef.h"
+#include "base/triangle_geometry.h"
 #include "check/face_pair_test.h"
 
 namespace frep {
@@ -141,6 +142,10 @@ struct State {
   std::vector<Vec3f> pos;
   std::vector<Quadric> quadric;
   std::vector<std::uint8_t> removed, moved;
+  // The mesher's vertices (points on the surface) a vertex stands for: its own, and those of
+  // the vertices merged into it. The mesh must stay within the tolerance of each, so the
+  // surface cannot recede from the mesh either (the other side of the Hausdorff distance).
+  std::vector<std::vector<Vec3f>> samples;
 };
 
 struct RegionInput {
@@ -477,6 +482,35 @@ class RegionSimplifier {
     return moved;
   }
 
+  // Whether each sample of v (and, in a collapse, of u: samplesAlso_) is within the tolerance
+  // of v's star as it stands (the collapse applied).
+  bool samplesCovered(std::uint32_t gv) {
+    const std::uint32_t lv = local(gv);
+    star_.clear();
+    for (std::uint32_t f : around_[lv])
+      if (deadFace_[f] == kLive) star_.push_back(f);
+    if (samplesAlso_)
+      for (std::uint32_t f : around_[local(samplesAlso_[0])])
+        if (deadFace_[f] == kLive) star_.push_back(f);
+    const double limit = o_.tolerance * (1 + 1e-9);
+    auto covered = [&](const Vec3f& q) {
+      const Vec3d p{q[0], q[1], q[2]};
+      for (std::uint32_t f : star_) {
+        const Triangle& t = faces_[f];
+        if (pointTriangleDistance(p, toVec3(s_.pos[t[0]]), toVec3(s_.pos[t[1]]),
+                                  toVec3(s_.pos[t[2]])) <= limit)
+          return true;
+      }
+      return false;
+    };
+    for (const Vec3f& q : s_.samples[gv])
+      if (!covered(q)) return false;
+    if (samplesAlso_)
+      for (const Vec3f& q : s_.samples[samplesAlso_[0]])
+        if (!covered(q)) return false;
+    return true;
+  }
+
   // The faces about to change, as they are: their normals (for the turn test) and the worst
   // shape among them.
   double recordBefore(const std::vector<std::uint32_t>& changed) {
@@ -581,7 +615,9 @@ class RegionSimplifier {
         if (w == gu) w = gv;
     s_.pos[gv] = at;
     deadFace_[edgeFaces[0]] = deadFace_[edgeFaces[1]] = kGoingUnderTest;
+    samplesAlso_ = &gu;
     const bool ok = acceptable(changed_, worstBefore, gv, allowed, out);
+    samplesAlso_ = nullptr;
     if (!ok) {
       for (std::size_t i = 0; i < changed_.size(); ++i) faces_[changed_[i]] = saved_[i];
       s_.pos[gv] = oldV;
@@ -597,6 +633,8 @@ class RegionSimplifier {
     s_.removed[gu] = 1;
     if (moves) s_.moved[gv] = 1;
     s_.quadric[gv] += s_.quadric[gu];
+    s_.samples[gv].insert(s_.samples[gv].end(), s_.samples[gu].begin(), s_.samples[gu].end());
+    std::vector<Vec3f>().swap(s_.samples[gu]);
     auto drop = [&](std::uint32_t l) {
       std::vector<std::uint32_t>& a = around_[l];
       a.erase(std::remove_if(a.begin(), a.end(),
@@ -675,6 +713,9 @@ class RegionSimplifier {
       largest = std::max(largest, d);
       newDeviation_.push_back(static_cast<float>(d));
     }
+    // every surface point v now stands for (u's and v's) stays within the tolerance of v's
+    // faces as they will be
+    if (!samplesCovered(gv)) return false;
     // no changed face meets another face (the changed ones among themselves too: the grid
     // still lists them where they were)
     // (only pairs whose boxes meet can intersect: the check tests no others either)
@@ -746,6 +787,8 @@ class RegionSimplifier {
   std::vector<std::uint8_t> planeOk_;
   std::vector<FaceBox> faceBox_;  // every face's box as it stands
   bool vMoves_ = false;           // the collapse under test moves v
+  const std::uint32_t* samplesAlso_ = nullptr;  // the collapse's u (global), for its samples
+  std::vector<std::uint32_t> star_;
   bool featureMove_ = false;      // ... onto a crease or a corner
 };
 
@@ -772,6 +815,8 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field,
   s.quadric.assign(nv, Quadric());
   s.removed.assign(nv, 0);
   s.moved.assign(nv, 0);
+  s.samples.resize(nv);
+  for (std::size_t v = 0; v < nv; ++v) s.samples[v].assign(1, s.pos[v]);
   // Hermite data: each vertex's tangent plane of the meshed surface
   tbb::parallel_for(std::size_t(0), nv, [&](std::size_t v) {
     const Vec3 p = toVec3(s.pos[v]);
