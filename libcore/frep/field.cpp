@@ -1,5 +1,7 @@
 #include "frep/field.h"
 
+#include <algorithm>
+
 #include <limits>
 
 namespace frep {
@@ -27,6 +29,16 @@ const Field& specialiseInto(const Field& field, const Box3& box,
   if (!s) return field;
   holder = std::move(s);
   return *holder;
+}
+
+Dual cappedByBox(const Dual& f, const Box3& box, const Vec3& p) {
+  const double d[6] = {p[0] - box.lo[0], box.hi[0] - p[0], p[1] - box.lo[1],
+                       box.hi[1] - p[1], p[2] - box.lo[2], box.hi[2] - p[2]};
+  const int face = static_cast<int>(std::min_element(d, d + 6) - d);
+  if (!(d[face] < f.v)) return f;
+  Dual cap(d[face], 0, 0, 0);
+  cap.d[face / 2] = face % 2 ? -1.0 : 1.0;
+  return cap;
 }
 
 }  // namespace frep

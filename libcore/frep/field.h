@@ -62,4 +62,9 @@ class Field {
 const Field& specialiseInto(const Field& field, const Box3& box,
                             std::shared_ptr<const Field>& holder);
 
+// The field the mesher meshes inside `box`, min(F, distance to the box's nearest face) (a
+// solid the box cuts gets a flat cap), at p, from F's value and gradient there: the box
+// face's distance and its inward unit normal where that is smaller.
+Dual cappedByBox(const Dual& f, const Box3& box, const Vec3& p);
+
 }  // namespace frep

@@ -27,18 +27,6 @@ double dotD(const Vec3d& a, const Vec3d& b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-// G = min(F, distance to the box) at p: its value and gradient.
-Dual surfaceField(const Field& f, const Box3& box, const Vec3d& p) {
-  const double d[6] = {p[0] - box.lo[0], box.hi[0] - p[0], p[1] - box.lo[1],
-                       box.hi[1] - p[1], p[2] - box.lo[2], box.hi[2] - p[2]};
-  const int face = static_cast<int>(std::min_element(d, d + 6) - d);
-  const Dual g = f.evalGradient(p[0], p[1], p[2]);
-  if (!(d[face] < g.v)) return g;
-  Dual b(d[face], 0, 0, 0);
-  b.d[face / 2] = face % 2 ? -1.0 : 1.0;
-  return b;
-}
-
 // An upper bound of the distance from p to G = 0 where Newton's steps along the gradient
 // reach the surface within `maxStep` of path: the distance to the point they reach. Where
 // they do not (a vanishing gradient), the first-order estimate |G| / |grad G| at p, flagged
@@ -48,7 +36,7 @@ double distanceToSurface(const Field& f, const Box3& box, const Vec3d& p, double
   Vec3d x = p;
   double travelled = 0.0, first = -1.0;
   for (int k = 0; k < 8; ++k) {
-    const Dual g = surfaceField(f, box, x);
+    const Dual g = cappedByBox(f.evalGradient(x[0], x[1], x[2]), box, x);
     const double len2 = g.d[0] * g.d[0] + g.d[1] * g.d[1] + g.d[2] * g.d[2];
     if (!(len2 > 0.0) || !std::isfinite(len2) || !std::isfinite(g.v)) break;
     const double step = std::abs(g.v) / std::sqrt(len2);

@@ -5,15 +5,11 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <mutex>
 #include <optional>
-#include <queue>
-#include <sstream>
 
 #include "base/errors.h"
 #include "base/qef.h"
@@ -47,9 +43,6 @@ Vec3 sub(const Vec3& a, const Vec3& b) {
 }
 double dot(const Vec3& a, const Vec3& b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-Vec3 crossOf(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 
 // The surface the mesher meshed: min(F, distance to the box), its value and unit gradient.
@@ -85,16 +78,8 @@ class Surface {
   }
 
  private:
-  bool planeFrom(const Vec3& p, const Dual& g, double* value, Vec3* normal) const {
-    const double d[6] = {p[0] - box_.lo[0], box_.hi[0] - p[0], p[1] - box_.lo[1],
-                         box_.hi[1] - p[1], p[2] - box_.lo[2], box_.hi[2] - p[2]};
-    const int face = static_cast<int>(std::min_element(d, d + 6) - d);
-    if (d[face] < g.v) {  // the box's cap
-      *value = d[face];
-      *normal = {0, 0, 0};
-      (*normal)[face / 2] = face % 2 ? -1.0 : 1.0;
-      return true;
-    }
+  bool planeFrom(const Vec3& p, const Dual& f, double* value, Vec3* normal) const {
+    const Dual g = cappedByBox(f, box_, p);
     const double len = std::sqrt(g.d[0] * g.d[0] + g.d[1] * g.d[1] + g.d[2] * g.d[2]);
     if (!(len > 0.0) || !std::isfinite(len) || !std::isfinite(g.v)) return false;
     *value = g.v / len;
@@ -126,14 +111,12 @@ struct Regions {
 
 double quality(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
   const Vec3 pa = toVec3(a), pb = toVec3(b), pc = toVec3(c);
-  const Vec3 n = crossOf(sub(pb, pa), sub(pc, pa));
   const double s = dot(sub(pb, pa), sub(pb, pa)) + dot(sub(pc, pb), sub(pc, pb)) +
                    dot(sub(pa, pc), sub(pa, pc));
-  return s > 0.0 ? 2.0 * std::sqrt(3.0) * std::sqrt(dot(n, n)) / s : 0.0;
+  return s > 0.0 ? 2.0 * std::sqrt(3.0) * norm(triangleCross(a, b, c)) / s : 0.0;
 }
 Vec3 faceNormal(const std::vector<Vec3f>& pos, const Triangle& t) {
-  const Vec3 a = toVec3(pos[t[0]]);
-  return crossOf(sub(toVec3(pos[t[1]]), a), sub(toVec3(pos[t[2]]), a));
+  return triangleCross(pos[t[0]], pos[t[1]], pos[t[2]]);
 }
 
 // The shared state of one simplification: positions (float, as written), quadrics, and which
@@ -175,13 +158,12 @@ class RegionSimplifier {
     setUp(in);
     // Edges, shortest first (the grid's slivers go first); each is tried in both directions,
     // where v goes found when it is tried. An entry is stale once either end has changed.
-    using Entry = EdgeEntry;
     heap_.clear();
     auto push = [&](std::uint32_t a, std::uint32_t b) {
       if (a == kNone || b == kNone || (fixed_[a] && fixed_[b])) return;
       const Vec3 d = sub(toVec3(s_.pos[gid_[a]]), toVec3(s_.pos[gid_[b]]));
       heap_.push_back({dot(d, d), a, b, stamp_[a], stamp_[b]});
-      std::push_heap(heap_.begin(), heap_.end(), std::greater<Entry>());
+      std::push_heap(heap_.begin(), heap_.end(), std::greater<EdgeEntry>());
     };
     for (std::uint32_t f = 0; f < faces_.size(); ++f) {
       if (frozenFace_[f]) continue;
@@ -191,8 +173,8 @@ class RegionSimplifier {
       }
     }
     while (!heap_.empty()) {
-      std::pop_heap(heap_.begin(), heap_.end(), std::greater<Entry>());
-      const Entry e = heap_.back();
+      std::pop_heap(heap_.begin(), heap_.end(), std::greater<EdgeEntry>());
+      const EdgeEntry e = heap_.back();
       heap_.pop_back();
       if (removedLocal_[e.a] || removedLocal_[e.b] || stamp_[e.a] != e.stampA ||
           stamp_[e.b] != e.stampB)
@@ -482,15 +464,15 @@ class RegionSimplifier {
     return moved;
   }
 
-  // Whether each sample of v (and, in a collapse, of u: samplesAlso_) is within the tolerance
-  // of v's star as it stands (the collapse applied).
-  bool samplesCovered(std::uint32_t gv) {
+  // Whether each sample of v (and, in a collapse, of u: gu, else kNone) is within the
+  // tolerance of v's star as it stands (the collapse applied: u's faces are v's).
+  bool samplesCovered(std::uint32_t gv, std::uint32_t gu) {
     const std::uint32_t lv = local(gv);
     star_.clear();
     for (std::uint32_t f : around_[lv])
       if (deadFace_[f] == kLive) star_.push_back(f);
-    if (samplesAlso_)
-      for (std::uint32_t f : around_[local(samplesAlso_[0])])
+    if (gu != kNone)
+      for (std::uint32_t f : around_[local(gu)])
         if (deadFace_[f] == kLive) star_.push_back(f);
     const double limit = o_.tolerance * (1 + 1e-9);
     auto covered = [&](const Vec3f& q) {
@@ -505,8 +487,8 @@ class RegionSimplifier {
     };
     for (const Vec3f& q : s_.samples[gv])
       if (!covered(q)) return false;
-    if (samplesAlso_)
-      for (const Vec3f& q : s_.samples[samplesAlso_[0]])
+    if (gu != kNone)
+      for (const Vec3f& q : s_.samples[gu])
         if (!covered(q)) return false;
     return true;
   }
@@ -538,7 +520,7 @@ class RegionSimplifier {
     s_.pos[g] = at;
     vMoves_ = true;
     featureMove_ = true;
-    if (!acceptable(changed_, worstBefore, g, allowed, out)) {
+    if (!acceptable(changed_, worstBefore, g, kNone, allowed, out)) {
       s_.pos[g] = old;
       return false;
     }
@@ -615,9 +597,7 @@ class RegionSimplifier {
         if (w == gu) w = gv;
     s_.pos[gv] = at;
     deadFace_[edgeFaces[0]] = deadFace_[edgeFaces[1]] = kGoingUnderTest;
-    samplesAlso_ = &gu;
-    const bool ok = acceptable(changed_, worstBefore, gv, allowed, out);
-    samplesAlso_ = nullptr;
+    const bool ok = acceptable(changed_, worstBefore, gv, gu, allowed, out);
     if (!ok) {
       for (std::size_t i = 0; i < changed_.size(); ++i) faces_[changed_[i]] = saved_[i];
       s_.pos[gv] = oldV;
@@ -666,8 +646,9 @@ class RegionSimplifier {
   // `allowed`: how far from F = 0 the changed faces may be (the tolerance, or the worst of
   // the faces they replace where that was worse already: a crease the grid cut off is put
   // back one vertex at a time, each step no worse than before).
+  // gv: the vertex that stays (or moves); gu: the one merged into it, kNone for a move.
   bool acceptable(const std::vector<std::uint32_t>& changed, double worstBefore, std::uint32_t gv,
-                  double allowed, RegionOutput& out) {
+                  std::uint32_t gu, double allowed, RegionOutput& out) {
     const double floorQuality = std::min(featureMove_ ? kFeatureQuality : kQuality, worstBefore);
     for (std::size_t i = 0; i < changed.size(); ++i) {
       const Triangle& t = faces_[changed[i]];
@@ -715,7 +696,7 @@ class RegionSimplifier {
     }
     // every surface point v now stands for (u's and v's) stays within the tolerance of v's
     // faces as they will be
-    if (!samplesCovered(gv)) return false;
+    if (!samplesCovered(gv, gu)) return false;
     // no changed face meets another face (the changed ones among themselves too: the grid
     // still lists them where they were)
     // (only pairs whose boxes meet can intersect: the check tests no others either)
@@ -787,7 +768,6 @@ class RegionSimplifier {
   std::vector<std::uint8_t> planeOk_;
   std::vector<FaceBox> faceBox_;  // every face's box as it stands
   bool vMoves_ = false;           // the collapse under test moves v
-  const std::uint32_t* samplesAlso_ = nullptr;  // the collapse's u (global), for its samples
   std::vector<std::uint32_t> star_;
   bool featureMove_ = false;      // ... onto a crease or a corner
 };
