@@ -149,16 +149,12 @@ Vec3f vertexAt(const Scratch& s, std::size_t e, double t) {
 }
 
 // The unit normal at a vertex from the field's value and gradient there: minus the gradient
-// (the field grows inward), or the box face on a box cap.
+// of the box-capped field (the field grows inward), so the box face on a box cap.
 Vec3f vertexNormal(const Dual& d, const Grid& g, const Vec3f& p) {
+  const Dual c = cappedByBox(d, Box3{g.lo, g.hi}, Vec3{p[0], p[1], p[2]});
   double n[3] = {-d.d[0], -d.d[1], -d.d[2]};
-  if (g.boxField(p[0], p[1], p[2]) < d.v) {
-    const double dist[6] = {p[0] - g.lo[0], g.hi[0] - p[0], p[1] - g.lo[1],
-                            g.hi[1] - p[1], p[2] - g.lo[2], g.hi[2] - p[2]};
-    const int face = static_cast<int>(std::min_element(dist, dist + 6) - dist);
-    n[0] = n[1] = n[2] = 0.0;
-    n[face / 2] = face % 2 ? 1.0 : -1.0;
-  }
+  if (c.v < d.v)  // a cap: the face's outward normal (+0 across it, as files have always had)
+    for (int a = 0; a < 3; ++a) n[a] = c.d[a] != 0.0 ? -c.d[a] : 0.0;
   const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
   return len > 0 && std::isfinite(len)
              ? Vec3f{float(n[0] / len), float(n[1] / len), float(n[2] / len)}
