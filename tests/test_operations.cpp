@@ -462,8 +462,9 @@ TEST(Blobs, SegmentConvolutionIsTheKernelIntegratedAlongTheSkeleton) {
     // the bounds hold the solid, which meshes as one printable part
     const Box3 b = structuralBounds(n);
     for (const Vec3& q : randomPoints(20000, 3))
-      if (eval(p, q) > 0)
+      if (eval(p, q) > 0) {
         for (int a = 0; a < 3; ++a) ASSERT_TRUE(q[a] >= b.lo[a] && q[a] <= b.hi[a]);
+      }
     MeshingOptions o;
     o.bbox = paddedBox(b, 0.05);
     o.resolution = 1.0 / 40;
@@ -556,8 +557,9 @@ TEST(Arrays, BlendedCopiesArePaskosBlendUnionOfTheirNeighbours) {
     const Program p = compile(n);
     const Box3 b = structuralBounds(n);
     for (const Vec3& q : randomPoints(20000, 2.5))
-      if (eval(p, q) >= 0)
+      if (eval(p, q) >= 0) {
         for (int a = 0; a < 3; ++a) ASSERT_TRUE(q[a] >= b.lo[a] && q[a] <= b.hi[a]);
+      }
   }
 }
 

@@ -223,7 +223,8 @@ __attribute__((always_inline)) inline void runPlan(const Step* plan, std::size_t
     const double* k = kbase + in.k;
 #define FREP_KERNEL(expr)                                                          \
   for (std::size_t j = 0; j < n; ++j) {                                            \
-    const V A = Slots::load(a, j), B = Slots::load(b, j), C = Slots::load(c, j); \
+    [[maybe_unused]] const V A = Slots::load(a, j), B = Slots::load(b, j),       \
+                             C = Slots::load(c, j);                              \
     Slots::store(o, j, (expr));                                                    \
   }                                                                                \
   break
