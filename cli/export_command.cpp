@@ -12,6 +12,8 @@
 #include "frep/model_json.h"
 #include "frep/structural_bounds.h"
 #include "pipeline/export_pipeline.h"
+#include "volume/grid_set.h"
+#include "volume/level_sets.h"
 
 namespace frep::cli {
 
@@ -23,7 +25,8 @@ const char* const kExportHelp =
     "through a temporary file: a mesh the check refuses, an error or Ctrl-C leave no file.\n"
     "\n"
     "options (for both kinds of input):\n"
-    "  -o, --output OUT        the mesh file (.stl, .obj, .ply, .bms)\n"
+    "  -o, --output OUT        the mesh file (.stl, .obj, .ply, .bms), or .vdb: an OpenVDB level\n"
+    "                          set of the solid (one voxel per cell, narrow band of 3 voxels)\n"
     "  --resolution R          cell size (default: the model's, else the box's longest side / "
     "128)\n"
     "  --cells N               cells along the longest side of the box, instead of --resolution\n"
@@ -124,12 +127,32 @@ void checkOutput(const ExportOptions& o) {
   }
 }
 
+bool isVdbPath(const std::string& path) {
+  return path.size() > 4 && path.compare(path.size() - 4, 4, ".vdb") == 0;
+}
+
+// The solid as an OpenVDB level set: the box policy as for a mesh, a voxel per cell.
+int exportLevelSet(const ExportOptions& opt, const Program& program, const MeshingBox& box) {
+  if (opt.tolerance || !opt.format.empty() || opt.stats)
+    throw UsageError("--tolerance, --format and --stats apply to meshes, not to a .vdb level set");
+  LevelSetOptions o;
+  o.voxel = box.resolution;
+  installInterruptHandlers();
+  o.progress = [](double) { return !interrupted(); };
+  const GridSet grids = sampleLevelSet(program, box.box, o);
+  writeVdb(grids, opt.output);
+  if (!opt.quiet) std::cout << "wrote " << opt.output << ": " << describeGrid(grids.info(0)) << "\n";
+  return 0;
+}
+
 int exportModel(const ExportOptions& opt) {
   const Model model = loadModel(opt.input);
   const Program program = compile(model.root);
+  const bool vdb = isVdbPath(opt.output);
   // The format first: a bad output name or format is refused before the work.
-  const MeshFormat format =
-      opt.format.empty() ? formatFromPath(opt.output) : parseFormat(opt.format);
+  const MeshFormat format = vdb                  ? MeshFormat::StlBinary
+                            : opt.format.empty() ? formatFromPath(opt.output)
+                                                 : parseFormat(opt.format);
 
   BoxRequest box;
   box.bbox = opt.bbox ? opt.bbox : model.bbox;
@@ -145,8 +168,9 @@ int exportModel(const ExportOptions& opt) {
   request.sharpFeatures = opt.sharp;
   request.stats = opt.stats;
   // The box policy is the pipeline's; the CLI only adds where the user gives a box.
+  MeshingBox chosen;
   try {
-    const MeshingBox chosen = chooseBox(program, request.known, box);
+    chosen = chooseBox(program, request.known, box);
     request.box.bbox = chosen.box;
     request.box.resolution = chosen.resolution;
   } catch (const ModelError& e) {
@@ -155,6 +179,7 @@ int exportModel(const ExportOptions& opt) {
       text += " (frepcad export --bbox x0 y0 z0 x1 y1 z1, or export.bbox in the model)";
     throw ModelError(opt.input + ": " + text);
   }
+  if (vdb) return exportLevelSet(opt, program, chosen);
 
   installInterruptHandlers();
   ExportResult r;

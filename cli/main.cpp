@@ -6,6 +6,7 @@
 #include "cli/commands.h"
 #include "cli/terminal_progress.h"
 #include "base/errors.h"
+#include "volume/field_sources.h"
 
 namespace {
 
@@ -14,6 +15,7 @@ const char* kUsage =
     "  frepcad export MODEL.json|DOC.FCStd -o OUT [--resolution R | --cells N] [--tolerance D]\n"
     "                 [--bbox x0 y0 z0 x1 y1 z1] [--format stl|stl-ascii|obj|ply|bms]\n"
     "                 [--force] [--quiet] [--object NAME] [--set Object.Property=VALUE ...]\n"
+    "                 (OUT.vdb: an OpenVDB level set at the cell size instead of a mesh)\n"
     "  frepcad check MESH [--json]\n"
     "  frepcad info [TYPE] [--json | --markdown]\n"
     "  frepcad COMMAND --help   the options of one command\n"
@@ -38,6 +40,8 @@ int main(int argc, char** argv) {
   using namespace frep::cli;
   // A closed pipe on stdout makes writes fail (reported below), not kill the process.
   std::signal(SIGPIPE, SIG_IGN);
+  // Models may name mesh and OpenVDB files (mesh_sdf, vdb_grid nodes).
+  frep::registerVolumeSources();
   Args args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "-h" || args[0] == "--help" || args[0] == "help") {
     std::cout << kUsage;

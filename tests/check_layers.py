@@ -6,6 +6,8 @@
     base   <- check                 (the CGAL judge knows no fields and no mesher)
     frep, check <- simplify         (guarded collapses: the field for distances, the check's
                                      exact face-pair test for every collapse)
+    frep, io, check <- volume       (OpenVDB grids and mesh distances as fields: io reads the
+                                     meshes, check judges them before they become solids)
     all of them <- pipeline         (the export: box policy, mesh, check, write)
     python: the bindings, above all of them
 
@@ -27,15 +29,18 @@ ALLOWED = {
     "io": {"base", "io"},
     "check": {"base", "check"},
     "simplify": {"base", "frep", "check", "simplify"},
-    "pipeline": {"base", "frep", "mesh", "io", "check", "simplify", "pipeline"},
-    "python": {"base", "frep", "mesh", "io", "check", "simplify", "pipeline"},
+    "volume": {"base", "frep", "io", "check", "volume"},
+    "pipeline": {"base", "frep", "mesh", "io", "check", "simplify", "volume", "pipeline"},
+    "python": {"base", "frep", "mesh", "io", "check", "simplify", "volume", "pipeline"},
 }
 # <header prefix>: the layers (or layer/file) that may include it
 LIBRARIES = {
-    "CGAL/": {"check/mesh_check.cpp", "check/face_pair_test.cpp", "check/cgal_surface.cpp"},
+    "CGAL/": {"check/mesh_check.cpp", "check/face_pair_test.cpp", "check/cgal_surface.cpp",
+              "volume/mesh_distance.cpp"},
+    "openvdb/": {"volume"},
     "OpenMesh/": {"mesh/openmesh_bridge.h", "mesh/openmesh_bridge.cpp"},
     "tbb/": {"mesh", "simplify", "check/self_intersections.cpp", "check/mesh_check.cpp",
-             "pipeline/accuracy.cpp"},
+             "pipeline/accuracy.cpp", "volume/level_sets.cpp"},
     "nlohmann/": {"frep", "check"},
     "nanoflann": {"frep/instances.cpp"},
     "Eigen/": {"base/affine.cpp", "base/qef.cpp"},

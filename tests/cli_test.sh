@@ -123,5 +123,26 @@ for sig in INT TERM; do
   fi
 done
 
+# Volumes: a model as an OpenVDB level set, read back by a model (relative names from the
+# model's folder, wherever frepcad runs), a mesh file as an exact solid, clear refusals.
+expect 0 "wrote .*csg.vdb: grid 'surface' \(float, level set" -- "$frepcad" export "$src/examples/csg.json" -o "$work/csg.vdb" --cells 64
+"$frepcad" export "$src/examples/sphere.json" -o "$work/ball.stl" --cells 48 --quiet
+mkdir -p "$work/sub"
+cat > "$work/vol.json" <<'JSON'
+{"root": {"type": "union", "inputs": [{"type": "vdb_grid", "params": {"path": "csg.vdb"}},
+  {"type": "translate", "params": {"offset": [3, 0, 0]},
+   "inputs": [{"type": "mesh_sdf", "params": {"path": "ball.stl"}}]}]}}
+JSON
+pushd "$work/sub" >/dev/null
+expect 0 "verdict: printable" -- "$frepcad" export ../vol.json -o "$work/vol.stl" --cells 96
+popd >/dev/null
+expect 2 "--tolerance, --format and --stats apply to meshes" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.vdb" --tolerance 0.1
+sed 's/ball.stl/nothing.stl/' "$work/vol.json" > "$work/missing.json"
+expect 2 "nothing.stl: cannot open the mesh file" -- "$frepcad" export "$work/missing.json" -o "$work/m.stl"
+printf 'not a volume' > "$work/bad.vdb"
+sed 's/csg.vdb/bad.vdb/' "$work/vol.json" > "$work/bad.json"
+expect 2 "bad.vdb: not a readable OpenVDB file" -- "$frepcad" export "$work/bad.json" -o "$work/b.stl"
+[ ! -e "$work/m.stl" ] && [ ! -e "$work/b.stl" ] && [ ! -e "$work/x.vdb" ] || { echo "FAIL: a refused export left a file"; failures=$((failures + 1)); }
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

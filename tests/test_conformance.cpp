@@ -12,6 +12,7 @@
 #include "frep/registry.h"
 #include "interval_testing.h"
 #include "random_trees.h"
+#include "volume_samples.h"
 
 namespace frep {
 namespace {
@@ -94,6 +95,10 @@ NodePtr randomInstance(const NodeType& type, RandomTrees& r, bool wide = false,
   for (int attempt = 0;; ++attempt) {
     std::map<std::string, ParamValue> params;
     for (const auto& p : type.params) params[p.name] = randomValue(p, r, wide);
+    // File-backed types read the sample files, with grids fine enough to hold the sample.
+    for (const auto& p : type.params)
+      if (p.filePath) params[p.name] = textValue(testing::sampleFileFor(type.id));
+    if (type.findParam("voxel")) params["voxel"] = realValue(r.integer(0, 1) ? r.uniform(0.05, 0.3) : 0.0);
     std::vector<NodePtr> inputs;
     // Variadic types get one or two more than their least; optional inputs are tried both ways.
     const int most = type.maxInputs == kVariadic ? type.minInputs + 1 : type.maxInputs;

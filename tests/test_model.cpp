@@ -31,6 +31,9 @@ nlohmann::json defaultNode(const NodeType& t) {
   for (int i = 0; i < std::max(t.minInputs, 0); ++i)
     inputs.push_back({{"type", "sphere"}, {"params", {{"radius", 0.5 + 0.1 * i}}}});
   if (!inputs.empty()) j["inputs"] = inputs;
+  // A file has no default: parsing only needs a name (the file is read when compiling).
+  for (const auto& p : t.params)
+    if (p.filePath) j["params"][p.name] = "part.stl";
   return j;
 }
 
@@ -52,7 +55,9 @@ TEST(Registry, EveryTypeIsReachableFromJsonAndInfo) {
     // every parameter set explicitly to its default also parses
     nlohmann::json withParams = defaultNode(t);
     const auto defaults = nlohmann::json::parse(nodeTypeJson(t))["params"];
-    for (const auto& p : defaults) withParams["params"][p["name"].get<std::string>()] = p["default"];
+    for (const auto& p : defaults)
+      if (!t.findParam(p["name"].get<std::string>())->filePath)
+        withParams["params"][p["name"].get<std::string>()] = p["default"];
     EXPECT_NO_THROW(parseModel(nlohmann::json{{"root", withParams}}.dump(), "m.json")) << t.id;
     EXPECT_NE(nodeTypeText(t).find(t.id), std::string::npos);
   }

@@ -141,16 +141,16 @@ class NodeCommand:
         selection = FreeCADGui.Selection.getSelection()
         least, most = self.inputs["min"], self.inputs["max"]
         if len(selection) < least or (most is not None and len(selection) > most):
-            return None, ("%s needs %s input%s selected (FRep features or Part primitives); "
+            return None, ("%s needs %s input%s selected (FRep features, Part primitives, solids "
+                          "or meshes); "
                           "%d %s selected" % (self.title, self.input_rule(),
                                               "" if most == 1 else "s", len(selection),
                                               "is" if len(selection) == 1 else "are"))
         wrong = [o for o in selection if not FRepTree.is_frep_input(o)]
         if wrong:
-            return None, ("%s: %s %s not an FRep feature or a Part primitive (Box, Sphere, "
-                          "Cylinder, Cone, Torus, Ellipsoid)"
+            return None, ("%s: %s %s not an FRep input; accepted: %s"
                           % (self.title, ", ".join(FRepTree.describe(o) for o in wrong),
-                             "is" if len(wrong) == 1 else "are"))
+                             "is" if len(wrong) == 1 else "are", FRepTree.ACCEPTED))
         return selection, None
 
     def Activated(self):

@@ -41,3 +41,57 @@ def build_csg_spreadsheet(doc):
         doc.getObject(name).setExpression("Radius", "Parameters.Hole")
     mesh = FRepPolygonize.make(part, doc, name="PartMesh", Cells=160)
     return mesh
+
+
+def build_bracket(doc, length=40.0, width=24.0, thickness=8.0, hole=3.5, fillet=4.0):
+    """A PartDesign bracket, made as a user would: a sketched plate padded to `thickness`,
+    two holes pocketed through it, its four vertical corner edges filleted. Returns the
+    Body (its Tip is the fillet)."""
+    import Part
+    import Sketcher  # noqa: F401  (registers the sketch type)
+    import FreeCAD
+    body = doc.addObject("PartDesign::Body", "Bracket")
+    plate = body.newObject("Sketcher::SketchObject", "PlateSketch")
+    xy = [f for f in body.Origin.OriginFeatures if f.Role == "XY_Plane"][0]
+    plate.Support = (xy, [""])
+    plate.MapMode = "FlatFace"
+    corners = [FreeCAD.Vector(0, 0, 0), FreeCAD.Vector(length, 0, 0),
+               FreeCAD.Vector(length, width, 0), FreeCAD.Vector(0, width, 0)]
+    for i in range(4):
+        plate.addGeometry(Part.LineSegment(corners[i], corners[(i + 1) % 4]))
+    pad = body.newObject("PartDesign::Pad", "Pad")
+    pad.Profile = plate
+    pad.Length = thickness
+    doc.recompute()
+    holes = body.newObject("Sketcher::SketchObject", "HoleSketch")
+    holes.Support = (xy, [""])
+    holes.MapMode = "FlatFace"
+    for x in (length * 0.25, length * 0.75):
+        holes.addGeometry(Part.Circle(FreeCAD.Vector(x, width / 2, 0), FreeCAD.Vector(0, 0, 1), hole))
+    pocket = body.newObject("PartDesign::Pocket", "Holes")
+    pocket.Profile = holes
+    pocket.Type = 1  # through all,
+    pocket.Midplane = True  # both ways from the sketch (which lies on the plate's bottom)
+    doc.recompute()
+    # The straight vertical edges at the plate's corners (not the holes' seams).
+    edges = []
+    for i, e in enumerate(pocket.Shape.Edges):
+        a, b = e.Vertexes[0].Point, e.Vertexes[-1].Point
+        at_corner = all(min(abs(p.x), abs(p.x - length)) < 1e-6 and
+                        min(abs(p.y), abs(p.y - width)) < 1e-6 for p in (a, b))
+        if len(e.Vertexes) == 2 and abs(a.z - b.z) > 1e-6 and at_corner:
+            edges.append("Edge%d" % (i + 1))
+    rounded = body.newObject("PartDesign::Fillet", "Rounds")
+    rounded.Base = (pocket, edges)
+    rounded.Radius = fillet
+    doc.recompute()
+    return body
+
+
+def build_bracket_infill(doc, wall=1.5, cell=6.0):
+    """The bracket (build_bracket) as a printable lightweight part: a gyroid infill inside a
+    skin of `wall` mm. Returns (body, infill feature)."""
+    body = build_bracket(doc)
+    infill = F.make("infill", doc, name="BracketInfill", inputs=[body], lattice="gyroid",
+                    wall=wall, cell=cell, level=0.4)
+    return body, infill

@@ -46,8 +46,8 @@ def solid_and_box(objects, cells=None, resolution=None, bbox=None):
         elif FRepTree.is_frep_input(obj):
             shape = FRepTree.shape_of(obj)
         else:
-            raise ValueError("%s is not an FRep feature, a Polygonize feature or a Part "
-                             "primitive" % FRepTree.describe(obj))
+            raise ValueError("%s is not an FRep input or a Polygonize feature; accepted: %s"
+                             % (FRepTree.describe(obj), FRepTree.ACCEPTED))
         shapes.append(shape)
     solid = shapes[0] if len(shapes) == 1 else frepcore.union(*shapes)
     if len(objects) == 1 and boxes and cells is None and resolution is None and bbox is None:
@@ -71,6 +71,8 @@ def export_objects(objects, filename, progress=None, cells=None, fmt="", resolut
     """
     solid, (box, cell) = solid_and_box(objects, cells, resolution, bbox)
     name = os.path.basename(filename)
+    if filename.lower().endswith(".vdb"):
+        return _export_level_set(solid, box, cell, filename, progress)
     # a single Polygonize feature exports as it meshes: with its Tolerance
     if (tolerance is None and len(objects) == 1
             and isinstance(getattr(objects[0], "Proxy", None), FRepPolygonize.Polygonize)):
@@ -82,6 +84,22 @@ def export_objects(objects, filename, progress=None, cells=None, fmt="", resolut
                                 force=force, tolerance=tolerance, sharp=sharp)
         except frepcore.Cancelled:
             raise RuntimeError("export of %s cancelled; no file written" % name)
+
+    if progress is not None:
+        return work(progress)
+    return FRepMeshing.run_with_progress("Exporting %s" % name, work)
+
+
+def _export_level_set(solid, box, cell, filename, progress):
+    """The solid as an OpenVDB level set, a voxel per cell; a report dict like a mesh's."""
+    name = os.path.basename(filename)
+
+    def work(tick):
+        try:
+            info = solid.to_vdb(filename, voxel=cell, bbox=box, progress=tick)
+        except frepcore.Cancelled:
+            raise RuntimeError("export of %s cancelled; no file written" % name)
+        return {"text": "wrote %s: %s" % (name, info["text"]), "written": True, "grid": info}
 
     if progress is not None:
         return work(progress)

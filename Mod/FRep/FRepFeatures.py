@@ -146,8 +146,8 @@ class FRepFeature(StatelessProxy):
         prop = input_property(info)
         least = info["inputs"]["min"]
         if prop and len(inputs) < least:
-            raise ValueError("%s: property '%s' needs at least %d input%s (FRep features or "
-                             "Part primitives); it has %d" % (
+            raise ValueError("%s: property '%s' needs at least %d input%s (FRep features, "
+                             "Part primitives, solids or meshes); it has %d" % (
                                  obj.Label, prop, least, "s" if least > 1 else "",
                                  len(inputs)))
         if least > 0 and obj.Bypass:

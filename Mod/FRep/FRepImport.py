@@ -1,5 +1,7 @@
 """Opens FRepCAD JSON models (the format `frepcad export` reads) as FRep features: File > Open
-and File > Import offer "FRep model (*.json)". Each node becomes the feature of its registry
+and File > Import offer "FRep model (*.json)", and "OpenVDB volume (*.vdb)", which adds a
+VdbGrid feature showing the file's first float or double grid (its Grid property picks
+another). Each node becomes the feature of its registry
 type with its parameters, the inputs linked and hidden, so the model can be edited like one
 built from the toolbar. The model's description goes to the document's comment.
 
@@ -15,12 +17,25 @@ import FRepFeatures as F
 from FRepPaths import frepcore
 
 FILTER = "FRep model (*.json)"
+VDB_FILTER = "OpenVDB volume (*.vdb)"
+
+
+def import_vdb(path, doc):
+    """Adds a VdbGrid feature for the first scalar grid of a .vdb file; returns it."""
+    grids = frepcore.vdb_grids(path)
+    scalar = [g for g in grids if g["value_type"] in ("float", "double")]
+    if not scalar:
+        raise ValueError("%s: no float or double grid to show; the file's grids: %s"
+                         % (path, ", ".join(g["text"] for g in grids) or "none"))
+    obj = F.make("vdb_grid", doc, path=os.path.abspath(path), grid=scalar[0]["name"])
+    obj.Label = "%s %s" % (os.path.splitext(os.path.basename(path))[0], scalar[0]["name"])
+    return obj
 
 
 def import_model(path, doc):
     """Adds the model's tree to doc as features; returns the feature of its root."""
     with io.open(path, encoding="utf-8") as f:  # this module's open() is FreeCAD's hook
-        model = frepcore.parse_model(f.read(), path)
+        model = frepcore.parse_model(f.read(), path, os.path.dirname(os.path.abspath(path)))
     made = {}  # a node shared by several parents (the format allows it) becomes one feature
 
     def feature(node):
@@ -47,8 +62,11 @@ def open(filename):  # noqa: A001  (FreeCAD's import-module interface)
 def insert(filename, docname):
     doc = FreeCAD.getDocument(docname)
     try:
-        import_model(filename, doc)
-    except ValueError as e:
+        if filename.lower().endswith(".vdb"):
+            import_vdb(filename, doc)
+        else:
+            import_model(filename, doc)
+    except (ValueError, OSError) as e:
         FreeCAD.Console.PrintError("FRep import: %s\n" % e)
         raise
     doc.recompute()

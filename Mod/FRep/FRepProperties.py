@@ -4,6 +4,8 @@ and reading a value back as the plain number, vector or text frepcore expects.
 Nothing here is per node type: every feature class is generated from the registry.
 """
 
+import os
+
 import FreeCAD
 
 from FRepPaths import frepcore
@@ -44,7 +46,7 @@ def property_type(param):
     if t == "points":
         return "App::PropertyVectorList"
     if t == "text":
-        return "App::PropertyString"
+        return "App::PropertyFile" if param.get("file") else "App::PropertyString"
     raise ValueError("FRep: no FreeCAD property for parameter type '%s'" % t)
 
 
@@ -100,6 +102,10 @@ def get_value(obj, param):
         return tuple(v.A[:12])
     if t == "points":
         return [(p.x, p.y, p.z) for p in v]
+    if t == "text" and param.get("file") and v and not os.path.isabs(v):
+        # A relative file name is read from the document's folder (the model format's rule).
+        folder = os.path.dirname(obj.Document.FileName) if obj.Document.FileName else ""
+        return os.path.join(folder or os.getcwd(), str(v))
     return str(v)
 
 
@@ -126,7 +132,7 @@ def value_text(param, value):
         return "(%s)%s" % (", ".join("%g" % x for x in value), unit)
     if isinstance(value, float):
         return "%g%s" % (value, unit)
-    return str(value)
+    return str(value) if value != "" else '""'
 
 
 def check_value(obj, type_id, param):

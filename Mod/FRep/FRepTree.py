@@ -2,10 +2,12 @@
 
 An FRep feature's shape is its node over its inputs' shapes, moved by its Placement. FreeCAD's
 Part primitives (Box, Sphere, Cylinder, Cone, Torus, Ellipsoid) map to the exact FRep
-primitive with their Placement. Anything else is refused with a message saying what is
-accepted.
+primitive with their Placement. Every other solid (PartDesign Body, Part boolean, imported
+STEP) and every Mesh feature enters as a signed-distance field (FRepSolids). Anything else is
+refused with a message saying what is accepted.
 """
 
+import FRepSolids
 from FRepPaths import frepcore
 
 PART_PRIMITIVES = ("Part::Box", "Part::Sphere", "Part::Cylinder", "Part::Cone", "Part::Torus",
@@ -17,7 +19,12 @@ def is_frep_feature(obj):
 
 
 def is_frep_input(obj):
-    return is_frep_feature(obj) or getattr(obj, "TypeId", "") in PART_PRIMITIVES
+    return (is_frep_feature(obj) or getattr(obj, "TypeId", "") in PART_PRIMITIVES
+            or FRepSolids.is_solid_input(obj))
+
+
+ACCEPTED = ("FRep features, Part primitives, solids (PartDesign bodies, Part features, "
+            "imported STEP) and closed meshes")
 
 
 def describe(obj):
@@ -44,11 +51,12 @@ class Builder:
         try:
             if is_frep_feature(obj):
                 s = placed(obj.Proxy.local_shape(obj, self), obj.Placement)
-            elif obj.TypeId in PART_PRIMITIVES:
+            elif obj.TypeId in PART_PRIMITIVES and _is_full_primitive(obj):
                 s = placed(part_primitive(obj), obj.Placement)
+            elif FRepSolids.is_solid_input(obj):
+                s = FRepSolids.solid_shape(obj)  # already in document coordinates
             else:
-                raise ValueError("%s is not an FRep feature or a Part primitive (Box, Sphere, "
-                                 "Cylinder, Cone, Torus, Ellipsoid)" % describe(obj))
+                raise ValueError("%s is not an FRep input; accepted: %s" % (describe(obj), ACCEPTED))
         finally:
             self.stack.pop()
         self.cache[key] = s
@@ -65,6 +73,16 @@ def placed(shape, placement):
         return shape
     m = placement.toMatrix()
     return frepcore.transform(shape, tuple(m.A[:12]))
+
+
+def _is_full_primitive(obj):
+    """A Part primitive the exact FRep primitive represents (no partial angles); a cut one
+    (a quarter sphere) enters as a solid instead."""
+    try:
+        part_primitive(obj)
+        return True
+    except ValueError:
+        return False
 
 
 def _full_angles(obj, names_and_full):

@@ -3,4 +3,6 @@
 import FreeCAD
 
 FreeCAD.addExportType("FRep mesh (*.stl *.obj *.ply)", "FRepExport")
+FreeCAD.addExportType("FRep level set (*.vdb)", "FRepExport")
 FreeCAD.addImportType("FRep model (*.json)", "FRepImport")
+FreeCAD.addImportType("OpenVDB volume (*.vdb)", "FRepImport")

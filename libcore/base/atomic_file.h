@@ -18,6 +18,9 @@ class AtomicFile {
   void write(const void* data, std::size_t bytes);  // throws FileError
   void print(const char* fmt, ...);                 // printf-style, throws FileError
   void commit();                                    // flush, close, rename; throws FileError
+  // For a library that writes files only by name (OpenVDB): it writes this path, then
+  // commit() renames it over the target as usual.
+  const std::string& temporaryPath() const { return temp_; }
 
  private:
   std::string path_, temp_;

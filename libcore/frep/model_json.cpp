@@ -95,7 +95,8 @@ json paramToJson(const ParamTemplate& t, const ParamValue& v) {
 
 class Parser {
  public:
-  Parser(const json& doc, std::string source) : doc_(doc), source_(std::move(source)) {}
+  Parser(const json& doc, std::string source, std::string baseDirectory)
+      : doc_(doc), source_(std::move(source)), baseDirectory_(std::move(baseDirectory)) {}
 
   NodePtr node(const json& j, const std::string& path) {
     // Nested nodes and chains of refs recurse here; makeNode refuses deep trees too, but
@@ -139,7 +140,11 @@ class Parser {
       for (auto it = j["params"].begin(); it != j["params"].end(); ++it) {
         const ParamTemplate* t = type->findParam(it.key());
         if (!t) throw ModelError(nodeWhere + ": " + type->unknownParamText(it.key()));
-        params[it.key()] = paramFromJson(*t, it.value(), nodeWhere);
+        ParamValue v = paramFromJson(*t, it.value(), nodeWhere);
+        // A relative file path is read from the model file's folder, wherever frepcad runs.
+        if (t->filePath && !baseDirectory_.empty() && !v.text.empty() && v.text[0] != '/')
+          v.text = baseDirectory_ + "/" + v.text;
+        params[it.key()] = std::move(v);
       }
     }
     std::vector<NodePtr> inputs;
@@ -177,6 +182,7 @@ class Parser {
 
   const json& doc_;
   std::string source_;
+  std::string baseDirectory_;
   std::map<std::string, NodePtr> done_;
   std::set<std::string> active_;
   int depth_ = 0;
@@ -223,7 +229,8 @@ std::string jsonErrorText(const std::string& text, std::size_t byte, const std::
 
 }  // namespace
 
-Model parseModel(const std::string& text, const std::string& source) {
+Model parseModel(const std::string& text, const std::string& source,
+                 const std::string& baseDirectory) {
   json doc;
   try {
     doc = json::parse(text);
@@ -255,7 +262,7 @@ Model parseModel(const std::string& text, const std::string& source) {
   if (!doc.contains("root"))
     throw ModelError(source + ": no \"root\" node (the tree to build); see docs/file-formats.md");
   Model m;
-  Parser parser(doc, source);
+  Parser parser(doc, source, baseDirectory);
   m.root = parser.node(doc["root"], "root");
   if (doc.contains("description") && doc["description"].is_string())
     m.description = doc["description"].get<std::string>();
@@ -307,7 +314,9 @@ Model loadModel(const std::string& path) {
   if (!in) throw FileError(displayName(path) + ": cannot open the model file");
   std::stringstream ss;
   ss << in.rdbuf();
-  return parseModel(ss.str(), displayName(path));
+  const std::size_t slash = path.rfind('/');
+  const std::string folder = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+  return parseModel(ss.str(), displayName(path), folder);
 }
 
 std::string modelToJson(const Model& model) {

@@ -24,9 +24,11 @@ struct Model {
   std::string description;
 };
 
-// Parses a model from JSON text; `source` names it in error messages. Throws ModelError.
-Model parseModel(const std::string& text, const std::string& source = "model");
-// Reads and parses a model file. Throws FileError (unreadable) or ModelError.
+// Parses a model from JSON text; `source` names it in error messages. Relative file paths
+// (mesh_sdf, vdb_grid) are taken from `baseDirectory` when it is given. Throws ModelError.
+Model parseModel(const std::string& text, const std::string& source = "model",
+                 const std::string& baseDirectory = "");
+// Reads and parses a model file (relative file paths in it: from its folder). Throws FileError (unreadable) or ModelError.
 Model loadModel(const std::string& path);
 // Serialises a model (shared nodes are written once under "definitions").
 std::string modelToJson(const Model& model);

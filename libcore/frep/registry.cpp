@@ -96,6 +96,12 @@ ParamTemplate textParam(std::string name, std::string def, std::string doc) {
   return p;
 }
 
+ParamTemplate fileParam(std::string name, std::string doc) {
+  ParamTemplate p = base(std::move(name), ParamType::Text, "", std::move(doc));
+  p.filePath = true;
+  return p;
+}
+
 ParamTemplate pointsParam(std::string name, std::vector<Vec3> def, std::size_t minPoints,
                           std::string unit, std::string doc) {
   ParamTemplate p = base(std::move(name), ParamType::Points, std::move(unit), std::move(doc));
@@ -127,7 +133,7 @@ std::string ParamTemplate::rangeText() const {
       for (std::size_t i = 0; i < choices.size(); ++i) s += (i ? ", \"" : " \"") + choices[i] + "\"";
       return s;
     }
-    case ParamType::Text: return "text";
+    case ParamType::Text: return filePath ? "a file path (relative paths: from the model file's folder)" : "text";
     case ParamType::Matrix3x4: return "12 finite numbers (rows of a 3x4 affine matrix, invertible)";
     case ParamType::Points:
       return "a list of at least " + std::to_string(minPoints) + " points [x, y, z] of finite numbers";
@@ -159,7 +165,11 @@ std::string ParamTemplate::check(const ParamValue& v) const {
       if (c == v.text) return "";
     return "\"" + v.text + "\" is not allowed; allowed: " + rangeText();
   }
-  if (type == ParamType::Text) return v.numbers.empty() ? "" : "expects text, got numbers";
+  if (type == ParamType::Text) {
+    if (!v.numbers.empty()) return "expects text, got numbers";
+    if (filePath && v.text.empty()) return "is empty; allowed: " + rangeText();
+    return "";
+  }
   if (type == ParamType::Points) {
     if (v.numbers.size() % 3 != 0 || v.numbers.size() / 3 < minPoints)
       return "expects " + rangeText() + ", got " +
@@ -250,6 +260,7 @@ const Registry& registry() {
     registerArrays(r);
     registerMicrostructures(r);
     registerFormula(r);
+    registerFieldSources(r);
     return r;
   }();
   return instance;

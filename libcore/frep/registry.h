@@ -44,6 +44,8 @@ struct ParamTemplate {
   // rotations follow its positions' source); "" for a list of its own.
   std::string follows;
   std::vector<std::string> choices;
+  bool filePath = false;  // Text: a file's path; a model file's relative paths are read
+                          // relative to the model file's folder
   std::string unit;  // "length", "angle" (degrees) or "" (dimensionless)
   std::string doc;
 
@@ -61,6 +63,8 @@ ParamTemplate vec3Param(std::string name, Vec3 def, std::string unit, std::strin
 ParamTemplate matrixParam(std::string name, std::string doc);
 ParamTemplate choiceParam(std::string name, std::vector<std::string> choices, std::string doc);
 ParamTemplate textParam(std::string name, std::string def, std::string doc);
+// A file's path (Text, not empty).
+ParamTemplate fileParam(std::string name, std::string doc);
 ParamTemplate pointsParam(std::string name, std::vector<Vec3> def, std::size_t minPoints,
                           std::string unit, std::string doc);
 // The points of a Points value.
@@ -128,5 +132,6 @@ void registerDeformations(Registry& r);
 void registerFieldOperations(Registry& r);
 void registerMicrostructures(Registry& r);
 void registerFormula(Registry& r);
+void registerFieldSources(Registry& r);
 
 }  // namespace frep

@@ -49,6 +49,7 @@ nlohmann::json toJson(const NodeType& t) {
     pj["unit"] = p.unit;
     pj["doc"] = p.doc;
     if (!p.choices.empty()) pj["choices"] = p.choices;
+    if (p.type == ParamType::Text) pj["file"] = p.filePath;
     if (p.type == ParamType::Points) {
       pj["path"] = p.path;
       pj["follows"] = p.follows;

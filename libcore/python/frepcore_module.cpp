@@ -25,6 +25,9 @@
 #include "mesh/mesher.h"
 #include "base/triangle_geometry.h"
 #include "pipeline/export_pipeline.h"
+#include "volume/field_sources.h"
+#include "volume/grid_set.h"
+#include "volume/level_sets.h"
 
 namespace py = pybind11;
 
@@ -254,6 +257,19 @@ BoxRequest boxRequest(const py::object& bbox, const py::object& resolution,
   return r;
 }
 
+py::dict gridInfoDict(const GridInfo& g) {
+  py::dict d;
+  d["name"] = g.name;
+  d["value_type"] = g.valueType;
+  d["grid_class"] = g.gridClass;
+  d["voxel_size"] = py::make_tuple(g.voxelSize[0], g.voxelSize[1], g.voxelSize[2]);
+  d["active_voxels"] = g.activeVoxels;
+  d["box"] = g.worldBox.lo[0] > g.worldBox.hi[0] ? py::object(py::none()) : py::object(fromBox(g.worldBox));
+  d["metadata"] = g.metadata;
+  d["text"] = describeGrid(g);
+  return d;
+}
+
 // Registry and check report reach Python through the same JSON the CLI prints
 // (registry_docs.cpp, check_report_format.cpp): one description, two front ends.
 py::object fromJson(const std::string& text) {
@@ -267,6 +283,8 @@ PYBIND11_MODULE(_frepcore, m) {
   using namespace frep;
   m.doc() = "FRepCAD core: FRep trees, evaluation, meshing, checking and mesh files.";
   m.attr("DEFAULT_CELLS") = kDefaultCells;
+  // Models may name mesh and OpenVDB files (mesh_sdf, vdb_grid nodes).
+  registerVolumeSources();
 
   static py::exception<Cancelled> cancelled(m, "Cancelled");
   py::register_exception_translator([](std::exception_ptr p) {
@@ -483,6 +501,31 @@ PYBIND11_MODULE(_frepcore, m) {
           "sharp=False). progress(fraction) is called on this thread; returning False cancels "
           "(raises Cancelled).")
       .def(
+          "to_vdb",
+          [](PyNode& n, const std::string& path, py::object bbox, double voxel,
+             double halfWidth, py::object progress) {
+            LevelSetOptions o;
+            o.voxel = voxel;
+            o.halfWidthVoxels = halfWidth;
+            const Box3 box = toBox(bbox.cast<py::sequence>());
+            n.compiled();
+            std::shared_ptr<const Program> program = n.program;
+            const GridSet grids = runWithProgress<GridSet>(
+                [&](std::function<bool(double)> tick) {
+                  o.progress = tick;
+                  GridSet g = sampleLevelSet(*program, box, o);
+                  writeVdb(g, path);
+                  return g;
+                },
+                progress);
+            return gridInfoDict(grids.info(0));
+          },
+          py::arg("path"), py::arg("bbox"), py::arg("voxel"), py::arg("half_width") = 3.0,
+          py::arg("progress") = py::none(),
+          "Samples the solid inside bbox into an OpenVDB level set (voxel size `voxel`, narrow "
+          "band of half_width voxels each side) and writes it to path atomically; returns the "
+          "grid's description (vdb_grids' dict).")
+      .def(
           "to_json",
           [](const PyNode& n, py::object bbox, py::object resolution,
              const std::string& description) {
@@ -498,8 +541,8 @@ PYBIND11_MODULE(_frepcore, m) {
 
   m.def(
       "parse_model",
-      [](const std::string& text, const std::string& source) {
-        Model model = parseModel(text, source);
+      [](const std::string& text, const std::string& source, const std::string& folder) {
+        Model model = parseModel(text, source, folder);
         py::dict d;
         d["root"] = PyNode{model.root, nullptr};
         d["bbox"] = model.bbox ? py::object(fromBox(*model.bbox)) : py::object(py::none());
@@ -508,9 +551,70 @@ PYBIND11_MODULE(_frepcore, m) {
         d["description"] = model.description;
         return d;
       },
-      py::arg("text"), py::arg("source") = "model");
+      py::arg("text"), py::arg("source") = "model", py::arg("base_directory") = "",
+      "Parses a JSON model: dict(root, bbox, resolution, description). Relative file names "
+      "(mesh_sdf, vdb_grid) are read from base_directory when given.");
+
+  m.def(
+      "mesh_field",
+      [](const TriangleMesh& mesh, const std::string& method, double voxel,
+         const std::string& name) {
+        if (method != "exact" && method != "grid")
+          throw ModelError(name + ": method '" + method + "' is not allowed; allowed: exact, grid");
+        std::shared_ptr<const Field> f;
+        {
+          py::gil_scoped_release release;
+          f = meshField(mesh, method == "grid" ? MeshFieldMethod::Grid : MeshFieldMethod::Exact,
+                        voxel, name);
+        }
+        return PyNode{makeFieldNode(f, name), nullptr};
+      },
+      py::arg("mesh"), py::arg("method") = "exact", py::arg("voxel") = 0.0,
+      py::arg("name") = "mesh",
+      "A closed mesh in memory as a solid (a tree leaf that no model file can hold): its exact "
+      "signed distance, or an OpenVDB level set at `voxel` (0: 1/256 of its largest side). "
+      "Raises OSError naming `name` for an open, non-manifold or (exact) self-intersecting mesh.");
+  m.def(
+      "vdb_grids",
+      [](const std::string& path) {
+        GridSet grids;
+        {
+          py::gil_scoped_release release;
+          grids = readVdb(path);
+        }
+        py::list out;
+        for (std::size_t i = 0; i < grids.size(); ++i) out.append(gridInfoDict(grids.info(i)));
+        return out;
+      },
+      py::arg("path"),
+      "The grids of a .vdb file: dicts of name, value_type, grid_class, voxel_size, "
+      "active_voxels, box (world, of the active voxels), metadata, text.");
+  m.def(
+      "vdb_to_mesh",
+      [](const std::string& path, const std::string& grid, double iso, double adaptivity) {
+        py::gil_scoped_release release;
+        const GridSet grids = readVdb(path);
+        return levelSetToMesh(grids, grids.scalarGrid(grid, path), iso, adaptivity);
+      },
+      py::arg("path"), py::arg("grid") = "", py::arg("iso") = 0.0, py::arg("adaptivity") = 0.0,
+      "OpenVDB's volumeToMesh of a grid of a .vdb file (the first float or double grid when "
+      "`grid` is empty), outward-oriented; judge it with Mesh.check() before printing.");
 
   py::class_<TriangleMesh>(m, "Mesh", "An indexed triangle mesh (float coordinates).")
+      .def(py::init([](const std::vector<Vec3f>& points, const std::vector<Triangle>& triangles) {
+             TriangleMesh t;
+             t.positions = points;
+             t.triangles = triangles;
+             for (const Triangle& f : t.triangles)
+               for (std::uint32_t v : f)
+                 if (v >= t.positions.size())
+                   throw ModelError("Mesh: triangle corner " + std::to_string(v) +
+                                    " refers to no point; allowed: 0 to " +
+                                    std::to_string(t.positions.size()) + " - 1");
+             return t;
+           }),
+           py::arg("points"), py::arg("triangles"),
+           "A mesh from points (x, y, z) and triangles (three point indices each).")
       .def_property_readonly("vertex_count", &TriangleMesh::vertexCount)
       .def_property_readonly("triangle_count", &TriangleMesh::triangleCount)
       .def_property_readonly("points", [](const TriangleMesh& t) { return t.positions; })

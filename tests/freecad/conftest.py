@@ -9,6 +9,9 @@ sys.path.append("/usr/lib/freecad-python3/lib")
 sys.path.append("/usr/lib/freecad/lib")
 # Python workbenches (Draft) and the PySide shim they import, as FreeCAD's own start-up adds
 sys.path += ["/usr/share/freecad/Mod/Draft", "/usr/share/freecad/Ext"]
+# Compiled workbenches with a Python package of their own (PartDesign), last so that they
+# never shadow a module found above.
+sys.path.append("/usr/lib/freecad/Mod")
 
 import FreeCAD  # noqa: E402  (after the path set-up)
 import pytest  # noqa: E402

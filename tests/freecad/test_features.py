@@ -21,11 +21,25 @@ def mesh_signature(mesh):
             tuple(mesh.Topology[1]))
 
 
+def sample_file_params(type_id, folder):
+    """A file for the types that read one (mesh_sdf, vdb_grid): a ball written by frepcore."""
+    ball = frepcore.sphere(1.0)
+    if type_id == "mesh_sdf":
+        path = os.path.join(str(folder), "ball.stl")
+        ball.export(path, cells=24)
+        return {"path": path}
+    if type_id == "vdb_grid":
+        path = os.path.join(str(folder), "ball.vdb")
+        ball.to_vdb(path, cells=24)
+        return {"path": path}
+    return {}
+
+
 @pytest.mark.parametrize("type_id", sorted(F.NODE_TYPES))
-def test_every_registry_type_is_a_feature(doc, type_id):
+def test_every_registry_type_is_a_feature(doc, type_id, tmp_path):
     info = F.NODE_TYPES[type_id]
     inputs = [F.make("sphere", doc, center=(0.3 * i, 0, 0)) for i in range(info["inputs"]["min"])]
-    obj = F.make(type_id, doc, inputs=inputs)
+    obj = F.make(type_id, doc, inputs=inputs, **sample_file_params(type_id, tmp_path))
     doc.recompute()
     assert obj.isValid(), obj.getStatusString()
     assert obj.Proxy.FREP_TYPE == type_id

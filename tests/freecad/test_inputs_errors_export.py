@@ -54,13 +54,17 @@ def test_part_primitive_matches_frep_primitive(doc, type_id, props, angle):
     assert t.isValid(), t.getStatusString()
 
 
-def test_partial_part_primitive_is_refused(doc):
+def test_partial_part_primitive_enters_as_a_solid(doc):
+    # Not the exact FRep sphere (half of it is cut away): its tessellated solid instead.
     s = doc.addObject("Part::Sphere", "Half")
+    s.Radius = 2
     s.Angle3 = 180
-    t = F.make("translate", doc, inputs=[s])
+    t = F.make("translate", doc, inputs=[s], offset=(0, 0, 0))
     doc.recompute()
-    assert not t.isValid()
-    assert "'Half' (Part::Sphere): property 'Angle3' = 180 deg" in t.getStatusString()
+    assert t.isValid(), t.getStatusString()
+    shape = FRepTree.shape_of(t)
+    assert shape(0, 1, 0) == pytest.approx(1.0, abs=0.02)  # inside the kept half (y > 0)
+    assert shape(0, -1, 0) < 0  # the half cut away
 
 
 def error_of(obj):
@@ -83,8 +87,8 @@ def test_bad_parameter_names_feature_property_and_range(doc):
 def test_missing_input_names_property(doc):
     u = F.make("union", doc, name="Join", inputs=[F.make("sphere", doc)])
     doc.recompute()
-    assert error_of(u) == ("Join: property 'Shapes' needs at least 2 inputs (FRep features "
-                           "or Part primitives); it has 1")
+    assert error_of(u) == ("Join: property 'Shapes' needs at least 2 inputs (FRep features, "
+                           "Part primitives, solids or meshes); it has 1")
     t = F.make("translate", doc, name="Move")
     doc.recompute()
     assert "Move: property 'Base' needs at least 1 input" in error_of(t)
@@ -94,7 +98,7 @@ def test_non_frep_input_is_refused(doc):
     sheet = doc.addObject("Spreadsheet::Sheet", "Sheet")
     u = F.make("union", doc, name="Join", inputs=[F.make("sphere", doc), sheet])
     doc.recompute()
-    assert "'Sheet' (Spreadsheet::Sheet) is not an FRep feature or a Part primitive" in \
+    assert "'Sheet' (Spreadsheet::Sheet) is not an FRep input; accepted: FRep features" in \
         error_of(u)
 
 

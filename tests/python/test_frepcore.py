@@ -153,3 +153,60 @@ def test_gallery_shows_every_registry_type():
         assert "### %s\n" % t["type"] in text, \
             "%s missing from docs/gallery.md: run make screenshots" % t["type"]
         assert os.path.exists(os.path.join(docs, "images", "nodes", t["type"] + ".png"))
+
+
+# -- meshes and OpenVDB grids as solids (issue 13) ---------------------------------------------
+
+def test_meshes_become_exact_solids_and_open_ones_are_refused(tmp_path):
+    path = str(tmp_path / "ball.stl")
+    fc.sphere(1.0).mesh(cells=48).write(path)
+    from_file = fc.from_mesh(path)
+    assert from_file.type == "mesh_sdf"
+    assert from_file(0, 0, 0) == pytest.approx(1.0, abs=0.02)
+    assert from_file(2, 0, 0) == pytest.approx(-1.0, abs=0.02)
+    # A model file holds it (the path made absolute), and it loads back from anywhere.
+    model = tmp_path / "m.json"
+    model.write_text(from_file.to_json())
+    again, _ = fc.load(str(model))
+    assert again(0.5, 0, 0) == from_file(0.5, 0, 0)
+    # In memory: a Mesh, or points and triangles.
+    mesh = fc.read_mesh(path)
+    exact = fc.from_mesh(mesh)
+    assert exact(0.3, 0.2, 0.1) == from_file(0.3, 0.2, 0.1)
+    grid = fc.from_mesh((mesh.points, mesh.triangles), method="grid", voxel=0.02)
+    assert grid(0, 0, 0.95) == pytest.approx(from_file(0, 0, 0.95), abs=0.02)
+    with pytest.raises(OSError, match="3 border edges"):
+        fc.from_mesh(([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [(0, 1, 2)]))
+    with pytest.raises(ValueError, match="refers to no point"):
+        fc.Mesh([(0, 0, 0)], [(0, 1, 2)])
+    with pytest.raises(OSError, match="missing.stl"):
+        fc.from_mesh(str(tmp_path / "missing.stl"))(0, 0, 0)
+
+
+def test_level_sets_round_trip_through_vdb_files(tmp_path):
+    part = fc.sphere(1.0) - fc.box((1, 1, 1))
+    path = str(tmp_path / "part.vdb")
+    info = part.to_vdb(path, cells=48)
+    assert info["grid_class"] == "level set" and info["value_type"] == "float"
+    assert info["active_voxels"] > 1000
+    listed = fc.vdb_grids(path)
+    assert [g["name"] for g in listed] == ["surface"]
+    assert "file_voxel_count" in listed[0]["metadata"]
+    back = fc.from_vdb(path)
+    # Distances within the narrow band (3 voxels), the sign beyond it.
+    for p in ((0, 0, -0.95), (-0.9, 0, 0), (0, -1.02, 0)):
+        assert back(*p) == pytest.approx(part(*p), abs=0.02)
+    for p in ((-0.5, -0.5, -0.5), (0.5, 0.5, 0.5), (1.5, 0, 0), (0.2, -0.3, 0.1)):
+        assert (back(*p) > 0) == (part(*p) > 0), p
+    quadratic = fc.from_vdb(path, interpolation="quadratic")
+    assert quadratic(0, 0, -0.9) == pytest.approx(back(0, 0, -0.9), abs=0.02)
+    report = back.export(str(tmp_path / "part.stl"), cells=48)
+    assert report["printable"], report["text"]
+    mesh = fc.vdb_to_mesh(path)
+    assert mesh.check()["printable"]
+    assert mesh.volume() == pytest.approx(report["volume"], rel=0.05)
+    with pytest.raises(ValueError, match="no grid named 'density'"):
+        fc.from_vdb(path, grid="density")(0, 0, 0)
+    (tmp_path / "bad.vdb").write_bytes(b"not a volume")
+    with pytest.raises(OSError, match="bad.vdb"):
+        fc.vdb_grids(str(tmp_path / "bad.vdb"))

@@ -20,10 +20,12 @@ import os
 
 from ._frepcore import Cancelled, Mesh, Node, node_types, parse_model, read_mesh
 from ._frepcore import check_param, node_reference_markdown
+from ._frepcore import mesh_field, vdb_grids, vdb_to_mesh
 from ._frepcore import DEFAULT_CELLS  # cells along the longest side when no resolution is given
 
 __all__ = ["Cancelled", "Mesh", "Node", "Shape", "node_types", "parse_model", "read_mesh",
-           "load", "automatic_box", "NotPrintable"]
+           "load", "automatic_box", "NotPrintable", "from_mesh", "from_vdb", "vdb_grids",
+           "vdb_to_mesh"]
 
 # Positional order of the parameters of the primitive functions, where the registry's order
 # (placement first) would be awkward to call: fc.cylinder(radius, length).
@@ -140,6 +142,39 @@ class Shape:
     def to_json(self, bbox=None, resolution=None, description=""):
         return self.node.to_json(bbox, resolution, description)
 
+    def to_vdb(self, path, voxel=None, bbox=None, cells=None, half_width=3.0, progress=None):
+        """Writes the solid as an OpenVDB level set (one float grid, 'surface'); the box and
+        voxel size follow automatic_box as for a mesh (voxel = the cell size). Returns the
+        grid's description: a dict as vdb_grids() gives."""
+        box, cell = automatic_box(self, resolution=voxel, bbox=bbox, cells=cells)
+        return self.node.to_vdb(path, box, cell, half_width, progress)
+
+
+def from_mesh(source, method="exact", voxel=0.0, name="mesh"):
+    """A closed triangle mesh as a solid (its signed distance, positive inside).
+
+    source: a mesh file's path (.stl, .obj, .ply; the shape is then a `mesh_sdf` node that a
+    model file can hold), a frepcore.Mesh, or (points, triangles). method 'exact' measures
+    the distance to the triangles themselves; 'grid' samples them once into an OpenVDB level
+    set at `voxel` (0: 1/256 of the mesh's largest side), faster to evaluate and tolerant of
+    overlapping shells. Open meshes are refused (OSError) with the count of their holes' edges.
+    """
+    if isinstance(source, (str, os.PathLike)):
+        return Shape(Node("mesh_sdf", {"path": os.path.abspath(source), "method": method,
+                                       "voxel": voxel}, [], name))
+    if not isinstance(source, Mesh):
+        points, triangles = source
+        source = Mesh(points, triangles)
+    return Shape(mesh_field(source, method, voxel, name))
+
+
+def from_vdb(path, grid="", interpolation="linear", iso=0.0):
+    """A float or double grid of an OpenVDB file as a solid (a `vdb_grid` node): a level set
+    is inside below iso, any other grid above it. grid: its name ('' : the first scalar
+    grid); interpolation 'linear' or 'quadratic'."""
+    return Shape(Node("vdb_grid", {"path": os.path.abspath(path), "grid": grid,
+                                   "interpolation": interpolation, "iso": iso}, [], "vdb_grid"))
+
 
 def _node(value):
     if isinstance(value, Shape):
@@ -194,7 +229,7 @@ def _box_pair(bbox):
 def load(path):
     """Reads a .json model: (Shape, export settings dict with bbox and resolution)."""
     with open(path, encoding="utf-8") as f:
-        model = parse_model(f.read(), path)
+        model = parse_model(f.read(), path, os.path.dirname(os.path.abspath(path)))
     return Shape(model["root"]), {"bbox": model["bbox"], "resolution": model["resolution"]}
 
 

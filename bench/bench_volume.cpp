@@ -1,0 +1,146 @@
+// volume/: each FRepCAD route beside the plain OpenVDB way of doing the same.
+//   BM_MeshToField*      a 1.3 M-triangle closed mesh (an icosphere) to a field: the exact
+//                        distance (check + CGAL AABB tree) vs OpenVDB's meshToLevelSet at
+//                        1/256 of its size
+//   BM_FieldToLevelSet*  the csg model to a 256^3 level set: interval-pruned leaves +
+//                        levelSetRebuild vs every voxel evaluated into a tools::Dense grid and
+//                        copied to a sparse one (what OpenVDB offers for a function)
+//   BM_*Eval             points per second: our grid field vs OpenVDB's GridSampler
+//                        (BoxSampler), and the exact mesh distance
+#include <benchmark/benchmark.h>
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/Dense.h>
+#include <openvdb/tools/Interpolation.h>
+#include <openvdb/tools/LevelSetRebuild.h>
+#include <openvdb/tools/MeshToVolume.h>
+
+#include <random>
+
+#include "frep/model_json.h"
+#include "volume/field_sources.h"
+#include "volume/grid_field.h"
+#include "volume/level_sets.h"
+#include "volume/openvdb_grids.h"
+#include "../tests/volume_samples.h"
+
+namespace frep {
+namespace {
+
+const TriangleMesh& bigMesh() {
+  static const TriangleMesh m = testing::icosphere(1.0, 8);  // 1,310,720 triangles
+  return m;
+}
+
+void BM_MeshToFieldExact(benchmark::State& state) {
+  for (auto _ : state) benchmark::DoNotOptimize(meshField(bigMesh(), MeshFieldMethod::Exact, 0, "ico"));
+  state.counters["triangles"] = double(bigMesh().triangles.size());
+}
+
+void BM_MeshToFieldOpenVdb(benchmark::State& state) {
+  initializeOpenVdb();
+  std::vector<openvdb::Vec3s> points;
+  std::vector<openvdb::Vec3I> tris;
+  for (const auto& p : bigMesh().positions) points.emplace_back(p[0], p[1], p[2]);
+  for (const auto& t : bigMesh().triangles) tris.emplace_back(t[0], t[1], t[2]);
+  const auto xform = openvdb::math::Transform::createLinearTransform(2.0 / 256);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*xform, points, tris, 3.0f));
+}
+
+const Program& csg() {
+  static const Program p = compile(loadModel(std::string(FREP_SOURCE_DIR) + "/examples/csg.json").root);
+  return p;
+}
+const Box3 kCsgBox{{-1.4, -1.4, -1.4}, {1.4, 1.4, 1.4}};
+
+void BM_FieldToLevelSetPruned(benchmark::State& state) {
+  LevelSetOptions o;
+  o.voxel = 2.8 / 256;
+  for (auto _ : state) benchmark::DoNotOptimize(sampleLevelSet(csg(), kCsgBox, o));
+}
+
+void BM_FieldToLevelSetDense(benchmark::State& state) {
+  initializeOpenVdb();
+  const double h = 2.8 / 256;
+  const int n = 256;
+  for (auto _ : state) {
+    openvdb::tools::Dense<float> dense(openvdb::CoordBBox(openvdb::Coord(-128), openvdb::Coord(127)));
+    std::vector<double> x(n), y(n), z(n), v(n);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        for (int k = 0; k < n; ++k) {
+          x[k] = (i - 128) * h;
+          y[k] = (j - 128) * h;
+          z[k] = (k - 128) * h;
+        }
+        csg().evalBatch(x.data(), y.data(), z.data(), n, v.data());
+        for (int k = 0; k < n; ++k)
+          dense.setValue(openvdb::Coord(i - 128, j - 128, k - 128),
+                         std::clamp(float(-v[k]), -3.0f * float(h), 3.0f * float(h)));
+      }
+    auto grid = openvdb::FloatGrid::create(3.0f * float(h));
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(h));
+    openvdb::tools::copyFromDense(dense, grid->tree(), 0.0f);
+    grid->setGridClass(openvdb::GRID_LEVEL_SET);
+    benchmark::DoNotOptimize(openvdb::tools::levelSetRebuild(*grid, 0.0f, 3.0f));
+  }
+}
+
+struct Points {
+  std::vector<double> x, y, z;
+  explicit Points(std::size_t n, double r) : x(n), y(n), z(n) {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-r, r);
+    for (std::size_t i = 0; i < n; ++i) x[i] = u(rng), y[i] = u(rng), z[i] = u(rng);
+  }
+};
+
+const GridSet& sphereGrid() {
+  static const GridSet g = [] {
+    LevelSetOptions o;
+    o.voxel = 2.4 / 256;
+    return sampleLevelSet(compile(testing::sphereNode(1.0)), Box3{{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}}, o);
+  }();
+  return g;
+}
+
+void BM_GridFieldEval(benchmark::State& state) {
+  const auto f = gridField(sphereGrid(), 0, GridFieldOptions{}, "sphere");
+  const Points p(1 << 16, 1.1);
+  std::vector<double> out(p.x.size());
+  for (auto _ : state) f->evalBatch(p.x.data(), p.y.data(), p.z.data(), p.x.size(), out.data());
+  state.SetItemsProcessed(state.iterations() * std::int64_t(p.x.size()));
+}
+
+void BM_OpenVdbSamplerEval(benchmark::State& state) {
+  const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(sphereGrid().impl->grids[0]);
+  const Points p(1 << 16, 1.1);
+  std::vector<double> out(p.x.size());
+  for (auto _ : state) {
+    auto acc = grid->getConstAccessor();
+    openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> s(acc, grid->transform());
+    for (std::size_t i = 0; i < p.x.size(); ++i) out[i] = -s.wsSample(openvdb::Vec3d(p.x[i], p.y[i], p.z[i]));
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(state.iterations() * std::int64_t(p.x.size()));
+}
+
+void BM_MeshDistanceEval(benchmark::State& state) {
+  static const auto f = meshField(testing::icosphere(1.0, int(state.range(0))), MeshFieldMethod::Exact, 0, "ico");
+  const Points p(1 << 12, 1.5);
+  std::vector<double> out(p.x.size());
+  for (auto _ : state) f->evalBatch(p.x.data(), p.y.data(), p.z.data(), p.x.size(), out.data());
+  state.SetItemsProcessed(state.iterations() * std::int64_t(p.x.size()));
+  state.counters["triangles"] = 20.0 * std::pow(4.0, double(state.range(0)));
+}
+
+BENCHMARK(BM_MeshToFieldExact)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BM_MeshToFieldOpenVdb)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BM_FieldToLevelSetPruned)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_FieldToLevelSetDense)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BM_GridFieldEval)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_OpenVdbSamplerEval)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_MeshDistanceEval)->Arg(8)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+}  // namespace frep

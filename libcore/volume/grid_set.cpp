@@ -1,0 +1,153 @@
+// .vdb files through openvdb::io::File (read) and io::Stream (write into memory, then an
+// atomic file), with every OpenVDB error turned into a FileError that names the file.
+#include <openvdb/io/File.h>
+
+#include <mutex>
+#include <sstream>
+
+#include "base/atomic_file.h"
+#include "base/errors.h"
+#include "base/file_names.h"
+#include "volume/openvdb_grids.h"
+
+namespace frep {
+
+void initializeOpenVdb() {
+  static std::once_flag once;
+  std::call_once(once, [] { openvdb::initialize(); });
+}
+
+GridSet::GridSet() : impl(std::make_shared<Impl>()) {}
+
+GridSet gridSetOf(openvdb::GridPtrVec grids) {
+  GridSet s;
+  s.impl->grids = std::move(grids);
+  return s;
+}
+
+std::size_t GridSet::size() const { return impl->grids.size(); }
+
+namespace {
+
+std::string className(openvdb::GridClass c) {
+  switch (c) {
+    case openvdb::GRID_LEVEL_SET: return "level set";
+    case openvdb::GRID_FOG_VOLUME: return "fog volume";
+    case openvdb::GRID_STAGGERED: return "staggered";
+    default: return "unknown";
+  }
+}
+
+bool isScalar(const openvdb::GridBase& g) {
+  return g.isType<openvdb::FloatGrid>() || g.isType<openvdb::DoubleGrid>();
+}
+
+std::string withThousands(std::uint64_t n) {
+  std::string s = std::to_string(n);
+  for (int i = static_cast<int>(s.size()) - 3; i > 0; i -= 3) s.insert(static_cast<std::size_t>(i), ",");
+  return s;
+}
+
+}  // namespace
+
+GridInfo GridSet::info(std::size_t i) const {
+  const openvdb::GridBase& g = *impl->grids.at(i);
+  GridInfo out;
+  out.name = g.getName();
+  out.valueType = g.valueType();
+  out.gridClass = className(g.getGridClass());
+  const openvdb::Vec3d v = g.voxelSize();
+  out.voxelSize = {v[0], v[1], v[2]};
+  out.activeVoxels = g.activeVoxelCount();
+  const openvdb::CoordBBox ib = g.evalActiveVoxelBoundingBox();
+  if (ib.empty()) {
+    out.worldBox = Box3{{1, 1, 1}, {0, 0, 0}};
+  } else {
+    // The box of the active voxels' centres' cells, through the grid's transform.
+    const openvdb::BBoxd wb = g.transform().indexToWorld(
+        openvdb::BBoxd(ib.min().asVec3d() - 0.5, ib.max().asVec3d() + 0.5));
+    out.worldBox = Box3{{wb.min()[0], wb.min()[1], wb.min()[2]}, {wb.max()[0], wb.max()[1], wb.max()[2]}};
+  }
+  for (auto it = g.beginMeta(); it != g.endMeta(); ++it)
+    out.metadata[it->first] = it->second ? it->second->str() : "";
+  return out;
+}
+
+std::size_t GridSet::scalarGrid(const std::string& name, const std::string& where) const {
+  std::string listing;
+  for (std::size_t i = 0; i < size(); ++i) {
+    const openvdb::GridBase& g = *impl->grids[i];
+    if ((name.empty() || g.getName() == name) && isScalar(g)) return i;
+    if (!name.empty() && g.getName() == name)
+      throw ModelError(where + ": grid '" + name + "' holds " + g.valueType() +
+                       " values; a solid needs a float or double grid");
+    listing += (listing.empty() ? "" : ", ") + ("'" + g.getName() + "' (" + g.valueType() + ")");
+  }
+  if (listing.empty()) listing = "none";
+  if (name.empty())
+    throw ModelError(where + ": no float or double grid; the file's grids: " + listing);
+  throw ModelError(where + ": no grid named '" + name + "'; the file's grids: " + listing);
+}
+
+std::string describeGrid(const GridInfo& g) {
+  std::ostringstream s;
+  s << "grid '" << g.name << "' (" << g.valueType << ", " << g.gridClass << ", "
+    << withThousands(g.activeVoxels) << " active voxels, voxel " << g.voxelSize[0];
+  if (g.voxelSize[1] != g.voxelSize[0] || g.voxelSize[2] != g.voxelSize[0])
+    s << " x " << g.voxelSize[1] << " x " << g.voxelSize[2];
+  s << ")";
+  return s.str();
+}
+
+GridSet readVdb(const std::string& path) {
+  initializeOpenVdb();
+  requireRegularFile(path, "the OpenVDB file");
+  const std::string name = displayName(path);
+  GridSet set;
+  try {
+    openvdb::io::File file(path);
+    file.open(/*delayLoad=*/false);
+    // The sizes the file declares come first: refuse grids that would not fit before any is
+    // read (the stats metadata OpenVDB writes with every grid; writeVdb adds it too).
+    openvdb::GridPtrVecPtr heads = file.readAllGridMetadata();
+    std::uint64_t declared = 0;
+    for (const auto& g : *heads) {
+      if (auto m = g->getMetadata<openvdb::Int64Metadata>(openvdb::GridBase::META_FILE_MEM_BYTES))
+        declared += static_cast<std::uint64_t>(std::max<openvdb::Int64>(0, m->value()));
+    }
+    if (declared > kMaxVdbGridBytes)
+      throw FileError(name + ": its grids declare " + withThousands(declared) +
+                      " bytes in memory; at most " + withThousands(kMaxVdbGridBytes) +
+                      " are read");
+    openvdb::GridPtrVecPtr grids = file.getGrids();
+    if (openvdb::MetaMap::Ptr meta = file.getMetadata()) set.impl->fileMetadata = *meta;
+    file.close();
+    set.impl->grids = std::move(*grids);
+  } catch (const FileError&) {
+    throw;
+  } catch (const openvdb::Exception& e) {
+    throw FileError(name + ": not a readable OpenVDB file (" + e.what() + ")");
+  } catch (const std::bad_alloc&) {
+    throw FileError(name + ": its grids do not fit in memory");
+  } catch (const std::exception& e) {
+    throw FileError(name + ": not a readable OpenVDB file (" + e.what() + ")");
+  }
+  return set;
+}
+
+void writeVdb(const GridSet& grids, const std::string& path) {
+  initializeOpenVdb();
+  AtomicFile out(path);
+  try {
+    // The stats metadata (voxel count, memory, bounding box) is what readVdb checks first.
+    for (const auto& g : grids.impl->grids) g->addStatsMetadata();
+    openvdb::io::File file(out.temporaryPath());
+    file.write(grids.impl->grids, grids.impl->fileMetadata);
+    file.close();
+  } catch (const openvdb::Exception& e) {
+    throw FileError(displayName(path) + ": cannot write the grids (" + e.what() + ")");
+  }
+  out.commit();
+}
+
+}  // namespace frep

@@ -1,0 +1,46 @@
+// Conversions between fields, meshes and OpenVDB level sets (narrow-band signed distances,
+// negative inside, as OpenVDB's tools expect), all through OpenVDB's tools/.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "base/triangle_mesh.h"
+#include "base/vec.h"
+#include "frep/field.h"
+#include "volume/grid_set.h"
+
+namespace frep {
+
+struct LevelSetOptions {
+  double voxel = 0.0;             // voxel size (> 0)
+  double halfWidthVoxels = 3.0;   // narrow band on either side of the surface, in voxels
+  std::string name = "surface";   // the grid's name
+  // Re-distance the sampled values (tools::levelSetRebuild): an FRep field is a distance only
+  // near most primitives' surfaces, a level set must be one everywhere in its band.
+  bool rebuild = true;
+  // Called with the fraction done, possibly from worker threads (one call at a time); return
+  // false to cancel (sampleLevelSet throws Cancelled, nothing is kept).
+  std::function<bool(double)> progress;
+};
+
+// Samples `field` over `box` into a level set of one float grid (-F in the band, then
+// re-distanced). Blocks of 8^3 voxels whose interval, widened by a voxel, cannot hold the
+// surface cost one interval evaluation and no memory; the others are evaluated in parallel
+// (TBB), a batch per block. Throws ModelError for a bad voxel size or a box too large for
+// the grid's coordinates.
+GridSet sampleLevelSet(const Field& field, const Box3& box, const LevelSetOptions& options);
+
+// A closed triangle mesh as a level set (tools::meshToLevelSet, which takes the sign from a
+// flood fill, so self-intersections and the winding do not matter). An open or non-manifold
+// mesh is refused with FileError naming `where` and the count of its bad edges.
+GridSet meshToLevelSet(const TriangleMesh& mesh, const LevelSetOptions& options,
+                       const std::string& where);
+
+// The isosurface of a scalar grid as triangles (tools::volumeToMesh; its quads split along
+// the shorter diagonal), oriented outward. `adaptivity` in [0, 1] merges flat regions.
+// The caller judges the result with the check, as every export does.
+TriangleMesh levelSetToMesh(const GridSet& grids, std::size_t index, double iso = 0.0,
+                            double adaptivity = 0.0);
+
+}  // namespace frep

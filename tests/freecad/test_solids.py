@@ -1,0 +1,124 @@
+"""Any FreeCAD solid or mesh as an FRep input: a PartDesign part infilled and exported
+printable, recomputed when the part changes, meshes and partial primitives as inputs, and
+refusals that say what is accepted."""
+
+import FreeCAD
+import Mesh
+import Part
+import pytest
+
+import FRepExamples
+import FRepFeatures as F
+import FRepSolids
+import FRepTree
+from FRepPaths import frepcore
+
+
+def export_volume(shape, path, cells=96):
+    report = shape.export(path, cells=cells)
+    assert report["printable"], report["text"]
+    return report["volume"]
+
+
+def test_partdesign_part_infilled_exports_printable_and_follows_the_part(doc, tmp_path):
+    body, infill = FRepExamples.build_bracket_infill(doc, wall=1.5, cell=6.0)
+    doc.recompute()
+    assert body.isValid() and infill.isValid(), infill.getStatusString()
+    solid = body.Shape.Volume
+    part = FRepTree.shape_of(infill)
+    infilled = export_volume(part, str(tmp_path / "infill.stl"))
+    skin = export_volume(frepcore.shell(FRepTree.shape_of(body), thickness=1.5),
+                         str(tmp_path / "skin.stl"))
+    # The skin alone < skin plus lattice < the solid part (every figure from a checked mesh).
+    assert skin < infilled < solid, (skin, infilled, solid)
+    assert infilled > skin * 1.1  # the lattice adds material, not only the skin
+    # The holes stay holes: the bracket's field is the PartDesign shape, not its box.
+    assert part(10, 12, 4) < 0
+
+    # Changing the Body's pad recomputes the infill through the dependency graph.
+    builds = len(FRepSolids.BUILDS)
+    pad = doc.getObject("Pad")
+    pad.Length = 12
+    doc.recompute()
+    assert infill.isValid(), infill.getStatusString()
+    assert len(FRepSolids.BUILDS) == builds + 1  # the changed part tessellated again
+    top = FRepTree.shape_of(infill).bounds()["box"][1][2]
+    assert top == pytest.approx(12, abs=0.1)
+
+    # An FRep-only change reuses the part's field (no new tessellation).
+    infill.Cell = 5
+    doc.recompute()
+    assert infill.isValid(), infill.getStatusString()
+    assert len(FRepSolids.BUILDS) == builds + 1
+
+
+def test_mesh_feature_and_part_solid_are_inputs(doc, tmp_path):
+    path = str(tmp_path / "ball.stl")
+    frepcore.sphere(1.0).mesh(cells=32).write(path)
+    feature = doc.addObject("Mesh::Feature", "Ball")
+    feature.Mesh = Mesh.Mesh(path)
+    feature.Placement.Base = FreeCAD.Vector(3, 0, 0)
+    solid = doc.addObject("Part::Feature", "Block")
+    solid.Shape = Part.makeBox(1, 1, 1, FreeCAD.Vector(-0.5, -0.5, -0.5))
+    u = F.make("union", doc, inputs=[feature, solid])
+    doc.recompute()
+    assert u.isValid(), u.getStatusString()
+    s = FRepTree.shape_of(u)
+    assert s(3, 0, 0) == pytest.approx(1.0, abs=0.05)  # the mesh, placed
+    assert s(0, 0, 0) == pytest.approx(0.5, abs=1e-3)  # the box: its exact distance
+    assert s(1.5, 0, 0) < 0
+    assert FRepTree.is_frep_input(feature) and FRepTree.is_frep_input(solid)
+
+
+def test_objects_without_a_solid_are_refused_naming_what_is_accepted(doc):
+    face = doc.addObject("Part::Feature", "Flat")
+    face.Shape = Part.makePlane(1, 1)
+    u = F.make("union", doc, name="Join", inputs=[F.make("sphere", doc), face])
+    doc.recompute()
+    assert not u.isValid()
+    assert "'Flat' (Part::Feature) is not an FRep input; accepted:" in u.getStatusString()
+    assert "solids" in u.getStatusString()
+
+
+def test_solid_tolerance_is_a_document_setting(doc):
+    cyl = doc.addObject("Part::Feature", "Rod")
+    cyl.Shape = Part.makeCylinder(2, 5)
+    t = F.make("translate", doc, inputs=[cyl])
+    doc.recompute()
+    assert t.isValid(), t.getStatusString()
+    coarse = FRepSolids.solid_tolerance(doc, cyl.Shape)
+    assert coarse == pytest.approx(1e-3 * cyl.Shape.BoundBox.DiagonalLength)
+    FRepSolids.set_solid_tolerance(doc, 0.5)
+    doc.recompute()
+    assert FRepSolids.solid_tolerance(doc) == 0.5
+    # A coarse tessellation: the polygon's flats come inside the circle.
+    flat = FRepTree.shape_of(t)(0, 0, 2.5)
+    assert 1.5 < flat < 2.0
+    with pytest.raises(ValueError):
+        FRepSolids.set_solid_tolerance(doc, -1)
+    FRepSolids.set_solid_tolerance(doc, None)
+    assert FRepSolids.solid_tolerance(doc, cyl.Shape) == pytest.approx(coarse)
+
+
+def test_vdb_files_import_as_a_feature_and_solids_export_as_level_sets(doc, tmp_path):
+    import FRepExport
+    import FRepImport
+    ball = F.make("sphere", doc, name="Ball", radius=2)
+    doc.recompute()
+    path = str(tmp_path / "ball.vdb")
+    report = FRepExport.export_objects([ball], path, progress=lambda f: True, cells=40)
+    assert report["written"] and "level set" in report["text"]
+    grid = FRepImport.import_vdb(path, doc)
+    doc.recompute()
+    assert grid.isValid(), grid.getStatusString()
+    assert grid.Proxy.FREP_TYPE == "vdb_grid" and grid.Grid == "surface"
+    assert grid.Mesh.CountFacets > 0  # its surface is shown
+    assert FRepTree.shape_of(grid)(0, 0, 1.9) == pytest.approx(0.1, abs=0.05)
+    # A relative Path is read from the document's folder.
+    doc.saveAs(str(tmp_path / "volume.FCStd"))
+    grid.Path = "ball.vdb"
+    doc.recompute()
+    assert grid.isValid(), grid.getStatusString()
+    grid.Path = "nothing.vdb"
+    doc.recompute()
+    assert not grid.isValid() and "nothing.vdb" in grid.getStatusString()
