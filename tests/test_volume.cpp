@@ -229,8 +229,15 @@ class CountingField final : public Field {
     return f_.evalInterval(x, y, z);
   }
   Dual evalGradient(const Dual& x, const Dual& y, const Dual& z) const override {
+    ++points;
     return f_.evalGradient(x, y, z);
   }
+  void evalGradientBatch(const Dual* x, const Dual* y, const Dual* z, std::size_t n,
+                         Dual* out) const override {
+    points += n;
+    f_.evalGradientBatch(x, y, z, n, out);
+  }
+  using Field::evalGradient;
   mutable std::atomic<std::size_t> points{0};
 
  private:

@@ -43,8 +43,8 @@ def build_csg_spreadsheet(doc):
     return mesh
 
 
-def build_bracket(doc, length=40.0, width=24.0, thickness=8.0, hole=3.5, fillet=4.0):
-    """A PartDesign bracket, made as a user would: a sketched plate padded to `thickness`,
+def build_bracket(doc, length=40.0, width=24.0, thickness=10.0, hole=3.5, fillet=4.0):
+    """A PartDesign bracket, made as a user would: a sketched plate padded to `thickness` mm,
     two holes pocketed through it, its four vertical corner edges filleted. Returns the
     Body (its Tip is the fillet)."""
     import Part
@@ -88,10 +88,10 @@ def build_bracket(doc, length=40.0, width=24.0, thickness=8.0, hole=3.5, fillet=
     return body
 
 
-def build_bracket_infill(doc, wall=1.5, cell=6.0):
+def build_bracket_infill(doc, wall=1.5, cell=5.0):
     """The bracket (build_bracket) as a printable lightweight part: a gyroid infill inside a
     skin of `wall` mm. Returns (body, infill feature)."""
     body = build_bracket(doc)
     infill = F.make("infill", doc, name="BracketInfill", inputs=[body], lattice="gyroid",
-                    wall=wall, cell=cell, level=0.4)
+                    wall=wall, cell=cell, level=0.25)
     return body, infill

@@ -62,8 +62,9 @@ void registerFieldSources(Registry& r) {
            "(CGAL AABB tree, ray-cast inside test), so the solid is the mesh at any resolution; "
            "method 'grid' samples it once into an OpenVDB level set (meshToLevelSet) at the "
            "voxel size and interpolates, which is faster to evaluate and also accepts "
-           "self-intersecting meshes. Open or non-manifold meshes are refused with the count of "
-           "their border or non-manifold edges.",
+           "self-intersecting meshes (its distances fill the whole inside, and reach 3 voxels "
+           "outside). Open or non-manifold meshes are refused with the count of their border "
+           "or non-manifold edges.",
            "F = +distance to the mesh inside, -distance outside",
            0,
            0,
@@ -85,7 +86,9 @@ void registerFieldSources(Registry& r) {
            "other grid (a fog volume) is inside where its value is above `iso`. Values between "
            "voxels are interpolated as OpenVDB's BoxSampler (trilinear) or QuadraticSampler "
            "(triquadratic) do; interval bounds come from the grid's tree (the minimum and "
-           "maximum of every node), so empty space is pruned.",
+           "maximum of every node), so empty space is pruned. Beyond a level set's narrow band "
+           "the value is its background (constant): a shell or offset deeper than the band "
+           "needs a grid with a wider one.",
            "F = iso - v (level set) or v - iso (other grids), v interpolated",
            0,
            0,

@@ -6,6 +6,7 @@
 
 #include <sys/stat.h>
 
+#include <limits>
 #include <list>
 #include <map>
 #include <mutex>
@@ -109,6 +110,9 @@ std::shared_ptr<const Field> meshField(const TriangleMesh& mesh, MeshFieldMethod
   if (method == MeshFieldMethod::Exact) return meshDistanceField(mesh, where);
   LevelSetOptions o;
   o.voxel = voxel;
+  // Distances all through the inside: a shell or an infill of the solid reaches deeper than
+  // a narrow band (whose constant beyond would make the shell solid).
+  o.interiorWidthVoxels = std::numeric_limits<double>::infinity();
   if (o.voxel <= 0.0) {
     double side = 0.0;
     if (!mesh.positions.empty()) {

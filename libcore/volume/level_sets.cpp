@@ -2,6 +2,7 @@
 #include "volume/level_sets.h"
 
 #include <openvdb/tools/LevelSetRebuild.h>
+#include <openvdb/tools/LevelSetTracker.h>
 #include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/SignedFloodFill.h>
 #include <openvdb/tools/VolumeToMesh.h>
@@ -9,6 +10,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <mutex>
 
 #include "base/errors.h"
@@ -59,30 +61,36 @@ GridSet sampleLevelSet(const Field& field, const Box3& box, const LevelSetOption
   std::atomic<std::int64_t> done{0};
   std::atomic<bool> cancelled{false};
   tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, blocks, 64), [&](const auto& range) {
-    std::vector<double> x(512), y(512), z(512), v(512);
+    std::vector<Dual> x(512), y(512), z(512), g(512);
     std::vector<LeafT*> mine;
     for (std::int64_t b = range.begin(); b != range.end() && !cancelled; ++b) {
       const std::int64_t bi = b / (nb[1] * nb[2]), bj = (b / nb[2]) % nb[1], bk = b % nb[2];
       const openvdb::Coord origin(int(lo[0] + 8 * bi), int(lo[1] + 8 * bj), int(lo[2] + 8 * bk));
-      // The block's voxel centres, widened by one voxel: a crossing between a voxel here and
-      // one in the next block shows in both blocks' intervals.
+      // The block's voxel centres widened by the band (and a voxel): a voxel within the band
+      // of the surface lies in a block whose widened box holds a surface point.
+      const double reach = o.halfWidthVoxels + 1.0;
       Interval iv[3];
-      for (int a = 0; a < 3; ++a) iv[a] = Interval((origin[a] - 1) * h, (origin[a] + 8) * h);
+      for (int a = 0; a < 3; ++a)
+        iv[a] = Interval((origin[a] - reach) * h, (origin[a] + 7 + reach) * h);
       const Interval f = field.evalInterval(iv[0], iv[1], iv[2]);
       if (!f.nan && (f.lo > 0.0 || f.hi < 0.0)) continue;
       int n = 0;
       for (int i = 0; i < 8; ++i)
         for (int j = 0; j < 8; ++j)
           for (int k = 0; k < 8; ++k, ++n) {
-            x[n] = (origin[0] + i) * h;
-            y[n] = (origin[1] + j) * h;
-            z[n] = (origin[2] + k) * h;
+            x[n] = Dual((origin[0] + i) * h, 1, 0, 0);
+            y[n] = Dual((origin[1] + j) * h, 0, 1, 0);
+            z[n] = Dual((origin[2] + k) * h, 0, 0, 1);
           }
-      field.evalBatch(x.data(), y.data(), z.data(), 512, v.data());
+      field.evalGradientBatch(x.data(), y.data(), z.data(), 512, g.data());
       auto* leaf = new LeafT(origin, background, false);
       // OpenVDB's leaf order is x-major like the loop above.
       for (openvdb::Index i = 0; i < 512; ++i) {
-        const double s = v[i] == v[i] ? -v[i] : double(background);
+        // The first-order distance F / |grad F|: a level set's values are distances, an FRep
+        // field's only near most primitives (a gyroid's gradient is far from unit length).
+        const double len = std::sqrt(g[i].d[0] * g[i].d[0] + g[i].d[1] * g[i].d[1] + g[i].d[2] * g[i].d[2]);
+        const double v = len > 1e-12 ? g[i].v / len : g[i].v;
+        const double s = v == v ? -v : double(background);
         const float c = static_cast<float>(std::clamp(s, -double(background), double(background)));
         leaf->setValueOnly(i, c);
         if (std::abs(c) < background) leaf->setValueOn(i);
@@ -108,8 +116,14 @@ GridSet sampleLevelSet(const Field& field, const Box3& box, const LevelSetOption
   for (LeafT* l : leaves) grid->tree().addLeaf(l);  // the tree owns them now
   // Inside and outside of the blocks that were not sampled, from the signs of those that were.
   openvdb::tools::signedFloodFill(grid->tree());
-  if (o.rebuild && !grid->tree().empty())
-    grid = openvdb::tools::levelSetRebuild(*grid, 0.0f, float(o.halfWidthVoxels));
+  if (!grid->tree().empty()) {
+    if (o.redistance == Redistance::Rebuild) {
+      grid = openvdb::tools::levelSetRebuild(*grid, 0.0f, float(o.halfWidthVoxels));
+    } else if (o.redistance == Redistance::Normalize) {
+      openvdb::tools::LevelSetTracker<openvdb::FloatGrid> tracker(*grid);
+      tracker.normalize();
+    }
+  }
   grid->setGridClass(openvdb::GRID_LEVEL_SET);
   grid->setName(o.name);
   if (o.progress && !o.progress(1.0)) throw Cancelled();
@@ -136,8 +150,12 @@ GridSet meshToLevelSet(const TriangleMesh& mesh, const LevelSetOptions& o,
     triangles[i] = openvdb::Vec3I(mesh.triangles[i][0], mesh.triangles[i][1], mesh.triangles[i][2]);
   const openvdb::math::Transform::Ptr xform =
       openvdb::math::Transform::createLinearTransform(o.voxel);
-  openvdb::FloatGrid::Ptr grid = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(
-      *xform, points, triangles, float(o.halfWidthVoxels));
+  const float inside = std::isfinite(o.interiorWidthVoxels)
+                           ? float(o.interiorWidthVoxels)
+                           : std::numeric_limits<float>::max();
+  openvdb::FloatGrid::Ptr grid = openvdb::tools::meshToSignedDistanceField<openvdb::FloatGrid>(
+      *xform, points, triangles, {}, float(o.halfWidthVoxels), inside);
+  grid->setGridClass(openvdb::GRID_LEVEL_SET);
   grid->setName(o.name);
   return gridSetOf({grid});
 }

@@ -12,22 +12,33 @@
 
 namespace frep {
 
+// How the sampled first-order distances F / |grad F| are made a level set's distances.
+// Measured on the csg, twist and gyroid models at 256 voxels (docs/performance.md): as
+// sampled is the fastest and puts the zero level closest to the exact surface (0.24 voxel
+// on csg, against 0.31 normalized and 0.49 rebuilt, which re-meshes it), so it is the default.
+enum class Redistance {
+  None,       // as sampled: -F / |grad F| (the default)
+  Normalize,  // then OpenVDB's LevelSetTracker::normalize (a few Eikonal iterations)
+  Rebuild,    // then tools::levelSetRebuild (the isosurface meshed and converted again)
+};
+
 struct LevelSetOptions {
   double voxel = 0.0;             // voxel size (> 0)
   double halfWidthVoxels = 3.0;   // narrow band on either side of the surface, in voxels
+  // meshToLevelSet only: the band inside the surface, in voxels; infinity fills the whole
+  // inside with distances, which shells, offsets and infills deeper than the band need.
+  double interiorWidthVoxels = 3.0;
   std::string name = "surface";   // the grid's name
-  // Re-distance the sampled values (tools::levelSetRebuild): an FRep field is a distance only
-  // near most primitives' surfaces, a level set must be one everywhere in its band.
-  bool rebuild = true;
+  Redistance redistance = Redistance::None;
   // Called with the fraction done, possibly from worker threads (one call at a time); return
   // false to cancel (sampleLevelSet throws Cancelled, nothing is kept).
   std::function<bool(double)> progress;
 };
 
-// Samples `field` over `box` into a level set of one float grid (-F in the band, then
-// re-distanced). Blocks of 8^3 voxels whose interval, widened by a voxel, cannot hold the
-// surface cost one interval evaluation and no memory; the others are evaluated in parallel
-// (TBB), a batch per block. Throws ModelError for a bad voxel size or a box too large for
+// Samples `field` over `box` into a level set of one float grid (-F / |grad F| in the band,
+// then re-distanced). Blocks of 8^3 voxels whose interval, widened by the band, cannot hold
+// the surface cost one interval evaluation and no memory; the others are evaluated in
+// parallel (TBB), a gradient batch per block. Throws ModelError for a bad voxel size or a box too large for
 // the grid's coordinates.
 GridSet sampleLevelSet(const Field& field, const Box3& box, const LevelSetOptions& options);
 

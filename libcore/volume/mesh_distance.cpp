@@ -4,7 +4,7 @@
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
 
 #include <algorithm>
@@ -20,7 +20,7 @@ namespace frep {
 
 namespace {
 
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Kernel = CGAL::Simple_cartesian<double>;
 using Point = Kernel::Point_3;
 using SurfaceMesh = CGAL::Surface_mesh<Point>;
 using Primitive = CGAL::AABB_face_graph_triangle_primitive<SurfaceMesh>;
@@ -86,6 +86,10 @@ class MeshDistanceField final : public Field {
     }
     tree_.insert(faces(sm_).first, faces(sm_).second, sm_);
     tree_.build();
+    // CGAL's first guess of each closest-point query: the nearest of its k-d tree of the
+    // primitives' reference points (a nanoflann tree of the vertices instead measured no
+    // faster: random queries on a 1.3 M-triangle mesh are bound by cache misses, 100 us a
+    // point, coherent ones as a mesher makes them 28 us either way).
     tree_.accelerate_distance_queries();
     for (int a = 0; a < 3; ++a) {
       bounds_.lo[a] = std::numeric_limits<double>::infinity();

@@ -21,7 +21,7 @@ def export_volume(shape, path, cells=96):
 
 
 def test_partdesign_part_infilled_exports_printable_and_follows_the_part(doc, tmp_path):
-    body, infill = FRepExamples.build_bracket_infill(doc, wall=1.5, cell=6.0)
+    body, infill = FRepExamples.build_bracket_infill(doc, wall=1.5, cell=5.0)
     doc.recompute()
     assert body.isValid() and infill.isValid(), infill.getStatusString()
     solid = body.Shape.Volume
@@ -33,17 +33,17 @@ def test_partdesign_part_infilled_exports_printable_and_follows_the_part(doc, tm
     assert skin < infilled < solid, (skin, infilled, solid)
     assert infilled > skin * 1.1  # the lattice adds material, not only the skin
     # The holes stay holes: the bracket's field is the PartDesign shape, not its box.
-    assert part(10, 12, 4) < 0
+    assert part(10, 12, 5) < 0
 
     # Changing the Body's pad recomputes the infill through the dependency graph.
     builds = len(FRepSolids.BUILDS)
     pad = doc.getObject("Pad")
-    pad.Length = 12
+    pad.Length = 14
     doc.recompute()
     assert infill.isValid(), infill.getStatusString()
     assert len(FRepSolids.BUILDS) == builds + 1  # the changed part tessellated again
     top = FRepTree.shape_of(infill).bounds()["box"][1][2]
-    assert top == pytest.approx(12, abs=0.1)
+    assert top == pytest.approx(14, abs=0.1)
 
     # An FRep-only change reuses the part's field (no new tessellation).
     infill.Cell = 5
