@@ -23,6 +23,7 @@ struct ExportOptions {
   std::optional<double> tolerance;  // --tolerance D: simplify within D of the surface
   bool sharp = true;                // --no-sharp: merged vertices stay where a vertex was
   bool stats = false;               // --stats: the accuracy report
+  bool fog = false;                 // --fog: a .vdb fog volume instead of a level set
   std::vector<std::string> sets;  // --set Object.Property=VALUE (documents only)
   bool force = false, quiet = false, help = false;
 };

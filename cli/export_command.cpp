@@ -37,6 +37,8 @@ const char* const kExportHelp =
     "                          is a good start)\n"
     "  --no-sharp              with --tolerance: keep merged vertices where vertices were,\n"
     "                          instead of placing them on the creases and corners\n"
+    "  --fog                   with OUT.vdb: a fog volume (0 outside, 1 inside, a ramp across\n"
+    "                          the band inside the surface) instead of a level set\n"
     "  --stats                 measure the mesh against the exact surface: the Hausdorff\n"
     "                          distance (sampled), the volume and the crease length\n"
     "  --force                 write the mesh even when the check refuses it (exit status 1)\n"
@@ -83,6 +85,7 @@ ExportOptions parseExportOptions(const Args& args) {
                          "'");
     } else if (a == "--no-sharp") o.sharp = false;
     else if (a == "--stats") o.stats = true;
+    else if (a == "--fog") o.fog = true;
     else if (a == "--format") o.format = value("a format");
     else if (a == "--force") o.force = true;
     else if (a == "--quiet") o.quiet = true;
@@ -107,6 +110,8 @@ ExportOptions parseExportOptions(const Args& args) {
   if (o.output.empty()) throw UsageError("export needs -o OUT");
   if (o.resolution && o.cells) throw UsageError("give --resolution or --cells, not both");
   if (!o.sharp && !o.tolerance) throw UsageError("--no-sharp applies with --tolerance only");
+  if (o.fog && (o.output.size() < 4 || o.output.compare(o.output.size() - 4, 4, ".vdb") != 0))
+    throw UsageError("--fog applies to a .vdb output only");
   return o;
 }
 
@@ -137,6 +142,7 @@ int exportLevelSet(const ExportOptions& opt, const Program& program, const Meshi
     throw UsageError("--tolerance, --format and --stats apply to meshes, not to a .vdb level set");
   LevelSetOptions o;
   o.voxel = box.resolution;
+  o.fog = opt.fog;
   installInterruptHandlers();
   o.progress = [](double) { return !interrupted(); };
   const GridSet grids = sampleLevelSet(program, box.box, o);

@@ -136,6 +136,8 @@ JSON
 pushd "$work/sub" >/dev/null
 expect 0 "verdict: printable" -- "$frepcad" export ../vol.json -o "$work/vol.stl" --cells 96
 popd >/dev/null
+expect 0 "fog volume" -- "$frepcad" export "$src/examples/csg.json" -o "$work/fog.vdb" --cells 32 --fog
+expect 2 "--fog applies to a .vdb output only" -- "$frepcad" export "$src/examples/csg.json" -o "$work/fog.stl" --fog
 expect 2 "--tolerance, --format and --stats apply to meshes" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.vdb" --tolerance 0.1
 sed 's/ball.stl/nothing.stl/' "$work/vol.json" > "$work/missing.json"
 expect 2 "nothing.stl: cannot open the mesh file" -- "$frepcad" export "$work/missing.json" -o "$work/m.stl"

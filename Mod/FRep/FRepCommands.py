@@ -34,7 +34,7 @@ TOOLBARS = (
     ("FRep transforms", ("transform", "deformation", "array")),
     ("FRep microstructures", ("microstructure",)),
 )
-MESH_COMMANDS = ["FRep_Polygonize", "FRep_Export", "FRep_PreviewQuality"]
+MESH_COMMANDS = ["FRep_Polygonize", "FRep_Export", "FRep_PreviewQuality", "FRep_SolidTolerance"]
 
 
 def command_name(type_id):
@@ -268,6 +268,33 @@ class PreviewQualityCommand:
             FRepMeshing.set_preview_cells(doc, cells)
 
 
+class SolidToleranceCommand:
+    def GetResources(self):
+        return {"Pixmap": FRepPaths.icon("solid-tolerance", "field source"),
+                "MenuText": QT_TRANSLATE_NOOP("FRep_SolidTolerance", "Solid input tolerance..."),
+                "ToolTip": translate(
+                    "FRep_SolidTolerance",
+                    "How closely solids used as FRep inputs (PartDesign bodies, Part features, "
+                    "imported STEP) are tessellated: the largest distance between the facets "
+                    "and the exact surface, in mm. 0: automatic (0.1 % of each solid's size).")}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None
+
+    def Activated(self):
+        from PySide import QtGui
+        import FRepSolids
+        doc = FreeCAD.ActiveDocument
+        current = float(doc.Meta.get(FRepSolids.TOLERANCE_KEY) or 0.0)
+        mm, ok = QtGui.QInputDialog.getDouble(
+            FreeCADGui.getMainWindow(), "FRep solid input tolerance",
+            "Largest distance between a solid and its facets, mm (0: automatic):",
+            current, 0.0, 100.0, 4)
+        if ok:
+            FRepSolids.set_solid_tolerance(doc, mm if mm > 0 else None)
+            doc.recompute()
+
+
 def register():
     """Adds every command to FreeCAD; returns the toolbars as (title, command names)."""
     for type_id in FRepFeatures.NODE_TYPES:
@@ -275,4 +302,5 @@ def register():
     FreeCADGui.addCommand("FRep_Polygonize", PolygonizeCommand())
     FreeCADGui.addCommand("FRep_Export", ExportCommand())
     FreeCADGui.addCommand("FRep_PreviewQuality", PreviewQualityCommand())
+    FreeCADGui.addCommand("FRep_SolidTolerance", SolidToleranceCommand())
     return toolbars()

@@ -32,6 +32,14 @@ inline Dual operator/(const Dual& a, const Dual& b) {
   const double q = a.v * inv;
   return {q, (a.d[0] - q * b.d[0]) * inv, (a.d[1] - q * b.d[1]) * inv, (a.d[2] - q * b.d[2]) * inv};
 }
+// A field's value v and gradient g (with respect to the point x.v, y.v, z.v) composed with the
+// derivatives the coordinates carry: the chain rule under the caller's transforms. (Fields
+// that compute their own gradient, such as grids and mesh distances, end with this.)
+inline Dual composed(double v, const double g[3], const Dual& x, const Dual& y, const Dual& z) {
+  Dual out(v);
+  for (int k = 0; k < 3; ++k) out.d[k] = g[0] * x.d[k] + g[1] * y.d[k] + g[2] * z.d[k];
+  return out;
+}
 inline Dual chain(const Dual& a, double value, double slope) {
   return {value, a.d[0] * slope, a.d[1] * slope, a.d[2] * slope};
 }

@@ -503,10 +503,11 @@ PYBIND11_MODULE(_frepcore, m) {
       .def(
           "to_vdb",
           [](PyNode& n, const std::string& path, py::object bbox, double voxel,
-             double halfWidth, py::object progress) {
+             double halfWidth, py::object progress, bool fog) {
             LevelSetOptions o;
             o.voxel = voxel;
             o.halfWidthVoxels = halfWidth;
+            o.fog = fog;
             const Box3 box = toBox(bbox.cast<py::sequence>());
             n.compiled();
             std::shared_ptr<const Program> program = n.program;
@@ -521,10 +522,11 @@ PYBIND11_MODULE(_frepcore, m) {
             return gridInfoDict(grids.info(0));
           },
           py::arg("path"), py::arg("bbox"), py::arg("voxel"), py::arg("half_width") = 3.0,
-          py::arg("progress") = py::none(),
+          py::arg("progress") = py::none(), py::arg("fog") = false,
           "Samples the solid inside bbox into an OpenVDB level set (voxel size `voxel`, narrow "
           "band of half_width voxels each side) and writes it to path atomically; returns the "
-          "grid's description (vdb_grids' dict).")
+          "grid's description (vdb_grids' dict). fog=True: a fog volume instead (0 outside, 1 "
+          "inside, a ramp across the band inside).")
       .def(
           "to_json",
           [](const PyNode& n, py::object bbox, py::object resolution,

@@ -121,9 +121,7 @@ class GridField final : public Field {
     Accessor acc(grid_->tree());
     double g[3];
     const double v = quadratic_ ? sample<3>(acc, x.v, y.v, z.v, g) : sample<2>(acc, x.v, y.v, z.v, g);
-    Dual out(v);
-    for (int k = 0; k < 3; ++k) out.d[k] = g[0] * x.d[k] + g[1] * y.d[k] + g[2] * z.d[k];
-    return out;
+    return composed(v, g, x, y, z);
   }
   using Field::evalGradient;
 

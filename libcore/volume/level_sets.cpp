@@ -3,6 +3,7 @@
 
 #include <openvdb/tools/LevelSetRebuild.h>
 #include <openvdb/tools/LevelSetTracker.h>
+#include <openvdb/tools/LevelSetUtil.h>
 #include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/SignedFloodFill.h>
 #include <openvdb/tools/VolumeToMesh.h>
@@ -126,6 +127,7 @@ GridSet sampleLevelSet(const Field& field, const Box3& box, const LevelSetOption
   }
   grid->setGridClass(openvdb::GRID_LEVEL_SET);
   grid->setName(o.name);
+  if (o.fog) openvdb::tools::sdfToFogVolume(*grid);
   if (o.progress && !o.progress(1.0)) throw Cancelled();
   return gridSetOf({grid});
 }

@@ -30,6 +30,9 @@ struct LevelSetOptions {
   double interiorWidthVoxels = 3.0;
   std::string name = "surface";   // the grid's name
   Redistance redistance = Redistance::None;
+  // A fog volume instead (OpenVDB's sdfToFogVolume): 0 outside, 1 inside, a linear ramp across
+  // the band inside the surface; its grid class is fog volume (sampleLevelSet only).
+  bool fog = false;
   // Called with the fraction done, possibly from worker threads (one call at a time); return
   // false to cancel (sampleLevelSet throws Cancelled, nothing is kept).
   std::function<bool(double)> progress;

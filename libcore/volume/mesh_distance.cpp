@@ -107,9 +107,7 @@ class MeshDistanceField final : public Field {
   Dual evalGradient(const Dual& x, const Dual& y, const Dual& z) const override {
     double g[3];
     const double v = signedDistance(x.v, y.v, z.v, g);
-    Dual out(v);
-    for (int k = 0; k < 3; ++k) out.d[k] = g[0] * x.d[k] + g[1] * y.d[k] + g[2] * z.d[k];
-    return out;
+    return composed(v, g, x, y, z);
   }
   using Field::evalGradient;
 

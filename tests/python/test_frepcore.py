@@ -207,6 +207,12 @@ def test_level_sets_round_trip_through_vdb_files(tmp_path):
     assert mesh.volume() == pytest.approx(report["volume"], rel=0.05)
     with pytest.raises(ValueError, match="no grid named 'density'"):
         fc.from_vdb(path, grid="density")(0, 0, 0)
+    # A fog volume: 0 outside, 1 inside; as a solid above iso 0.5 it is the same part.
+    fog = str(tmp_path / "fog.vdb")
+    assert part.to_vdb(fog, cells=48, fog=True)["grid_class"] == "fog volume"
+    density = fc.from_vdb(fog, iso=0.5)
+    for p in ((-0.5, -0.5, -0.5), (0.5, 0.5, 0.5), (1.5, 0, 0), (0, 0, -0.9)):
+        assert (density(*p) > 0) == (part(*p) > 0), p
     (tmp_path / "bad.vdb").write_bytes(b"not a volume")
     with pytest.raises(OSError, match="bad.vdb"):
         fc.vdb_grids(str(tmp_path / "bad.vdb"))

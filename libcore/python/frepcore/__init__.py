@@ -142,12 +142,14 @@ class Shape:
     def to_json(self, bbox=None, resolution=None, description=""):
         return self.node.to_json(bbox, resolution, description)
 
-    def to_vdb(self, path, voxel=None, bbox=None, cells=None, half_width=3.0, progress=None):
-        """Writes the solid as an OpenVDB level set (one float grid, 'surface'); the box and
-        voxel size follow automatic_box as for a mesh (voxel = the cell size). Returns the
-        grid's description: a dict as vdb_grids() gives."""
+    def to_vdb(self, path, voxel=None, bbox=None, cells=None, half_width=3.0, progress=None,
+               fog=False):
+        """Writes the solid as an OpenVDB level set (one float grid, 'surface'), or with
+        fog=True a fog volume (0 outside, 1 inside); the box and voxel size follow
+        automatic_box as for a mesh (voxel = the cell size). Returns the grid's description:
+        a dict as vdb_grids() gives."""
         box, cell = automatic_box(self, resolution=voxel, bbox=bbox, cells=cells)
-        return self.node.to_vdb(path, box, cell, half_width, progress)
+        return self.node.to_vdb(path, box, cell, half_width, progress, fog)
 
 
 def from_mesh(source, method="exact", voxel=0.0, name="mesh"):
