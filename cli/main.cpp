@@ -17,7 +17,7 @@ const char* kUsage =
     "                 [--force] [--quiet] [--object NAME] [--set Object.Property=VALUE ...]\n"
     "                 (OUT.vdb: an OpenVDB level set at the cell size instead of a mesh)\n"
     "  frepcad check MESH [--json]\n"
-    "  frepcad info [TYPE] [--json | --markdown]\n"
+    "  frepcad info [TYPE | FILE.vdb] [--json | --markdown]\n"
     "  frepcad COMMAND --help   the options of one command\n"
     "exit status: 0 ok, 1 mesh not printable, 2 bad input, 3 internal error,\n"
     "130 cancelled (Ctrl-C)\n";

@@ -136,6 +136,8 @@ JSON
 pushd "$work/sub" >/dev/null
 expect 0 "verdict: printable" -- "$frepcad" export ../vol.json -o "$work/vol.stl" --cells 96
 popd >/dev/null
+expect 0 "grid 'surface' \(float, level set, [0-9,]+ active voxels" -- "$frepcad" info "$work/csg.vdb"
+expect 0 '"grid_class": "level set"' -- "$frepcad" info "$work/csg.vdb" --json
 expect 0 "fog volume" -- "$frepcad" export "$src/examples/csg.json" -o "$work/fog.vdb" --cells 32 --fog
 expect 2 "--fog applies to a .vdb output only" -- "$frepcad" export "$src/examples/csg.json" -o "$work/fog.stl" --fog
 expect 2 "--tolerance, --format and --stats apply to meshes" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.vdb" --tolerance 0.1
@@ -144,6 +146,7 @@ expect 2 "nothing.stl: cannot open the mesh file" -- "$frepcad" export "$work/mi
 printf 'not a volume' > "$work/bad.vdb"
 sed 's/csg.vdb/bad.vdb/' "$work/vol.json" > "$work/bad.json"
 expect 2 "bad.vdb: not a readable OpenVDB file" -- "$frepcad" export "$work/bad.json" -o "$work/b.stl"
+expect 2 "bad.vdb: not a readable OpenVDB file" -- "$frepcad" info "$work/bad.vdb"
 [ ! -e "$work/m.stl" ] && [ ! -e "$work/b.stl" ] && [ ! -e "$work/x.vdb" ] || { echo "FAIL: a refused export left a file"; failures=$((failures + 1)); }
 
 echo "$passes passed, $failures failed"
