@@ -2,11 +2,12 @@
 //   BM_MeshToField*      a 1.3 M-triangle closed mesh (an icosphere) to a field: the exact
 //                        distance (check + CGAL AABB tree) vs OpenVDB's meshToLevelSet at
 //                        1/256 of its size
-//   BM_FieldToLevelSet*  the csg model to a 256^3 level set: interval-pruned leaves (and,
-//                        /1, OpenVDB's LevelSetTracker::normalize after) vs every voxel
+//   BM_FieldToLevelSet*  the csg and helix models to 256^3 level sets: interval-pruned leaves
+//                        (and, x/1, OpenVDB's LevelSetTracker::normalize after) vs every voxel
 //                        evaluated into a tools::Dense grid and copied to a sparse one (what
 //                        OpenVDB offers for a function)
-//   BM_*Eval             points per second: our grid field vs OpenVDB's GridSampler
+//   BM_*Eval             points per second within a tenth of the radius of a sphere's surface
+//                        (where a mesher asks): our grid field vs OpenVDB's GridSampler
 //                        (BoxSampler), and the exact mesh distance
 #include <benchmark/benchmark.h>
 #include <openvdb/openvdb.h>
@@ -20,6 +21,8 @@
 #include <random>
 
 #include "frep/model_json.h"
+#include "frep/structural_bounds.h"
+#include "pipeline/export_pipeline.h"
 #include "volume/field_sources.h"
 #include "volume/grid_field.h"
 #include "volume/level_sets.h"
@@ -50,37 +53,66 @@ void BM_MeshToFieldOpenVdb(benchmark::State& state) {
     benchmark::DoNotOptimize(openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*xform, points, tris, 3.0f));
 }
 
-const Program& csg() {
-  static const Program p = compile(loadModel(std::string(FREP_SOURCE_DIR) + "/examples/csg.json").root);
-  return p;
+// The reference models with their boxes (the helix's automatic, as an export chooses it).
+struct ModelCase {
+  Program program;
+  Box3 box;
+};
+const ModelCase& model(int which) {
+  static const ModelCase cases[2] = {
+      [] {
+        const Model m = loadModel(std::string(FREP_SOURCE_DIR) + "/examples/csg.json");
+        return ModelCase{compile(m.root), *m.bbox};
+      }(),
+      [] {
+        const Model m = loadModel(std::string(FREP_SOURCE_DIR) + "/examples/helix.json");
+        Program p = compile(m.root);
+        BoxRequest r;
+        r.cells = 256;
+        const Box3 box = chooseBox(p, structuralBounds(m.root), r).box;
+        return ModelCase{std::move(p), box};
+      }()};
+  return cases[which];
 }
-const Box3 kCsgBox{{-1.4, -1.4, -1.4}, {1.4, 1.4, 1.4}};
 
+double voxelOf(const Box3& b) {
+  return std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]}) / 256;
+}
+
+// range(0): the model (0 csg, 1 helix); range(1): 0 first-order distances (the default), 1
+// the same normalized after (LevelSetTracker), 2 values only (-F, like the dense route).
 void BM_FieldToLevelSetPruned(benchmark::State& state) {
+  const ModelCase& m = model(int(state.range(0)));
   LevelSetOptions o;
-  o.voxel = 2.8 / 256;
-  o.redistance = state.range(0) ? Redistance::Normalize : Redistance::None;
-  for (auto _ : state) benchmark::DoNotOptimize(sampleLevelSet(csg(), kCsgBox, o));
+  o.voxel = voxelOf(m.box);
+  o.redistance = state.range(1) == 1 ? Redistance::Normalize : Redistance::None;
+  o.firstOrder = state.range(1) != 2;
+  for (auto _ : state) benchmark::DoNotOptimize(sampleLevelSet(m.program, m.box, o));
 }
 
 void BM_FieldToLevelSetDense(benchmark::State& state) {
   initializeOpenVdb();
-  const double h = 2.8 / 256;
-  const int n = 256;
+  const ModelCase& m = model(int(state.range(0)));
+  const double h = voxelOf(m.box);
+  const openvdb::Coord lo(int(std::floor(m.box.lo[0] / h)), int(std::floor(m.box.lo[1] / h)),
+                          int(std::floor(m.box.lo[2] / h)));
+  const openvdb::Coord hi(int(std::ceil(m.box.hi[0] / h)), int(std::ceil(m.box.hi[1] / h)),
+                          int(std::ceil(m.box.hi[2] / h)));
   for (auto _ : state) {
-    openvdb::tools::Dense<float> dense(openvdb::CoordBBox(openvdb::Coord(-128), openvdb::Coord(127)));
+    openvdb::tools::Dense<float> dense(openvdb::CoordBBox(lo, hi));
     // In parallel over x slabs, as our sampler is (TBB).
-    tbb::parallel_for(0, n, [&](int i) {
+    tbb::parallel_for(lo[0], hi[0] + 1, [&](int i) {
+      const int n = hi[2] - lo[2] + 1;
       std::vector<double> x(n), y(n), z(n), v(n);
-      for (int j = 0; j < n; ++j) {
+      for (int j = lo[1]; j <= hi[1]; ++j) {
         for (int k = 0; k < n; ++k) {
-          x[k] = (i - 128) * h;
-          y[k] = (j - 128) * h;
-          z[k] = (k - 128) * h;
+          x[k] = i * h;
+          y[k] = j * h;
+          z[k] = (lo[2] + k) * h;
         }
-        csg().evalBatch(x.data(), y.data(), z.data(), n, v.data());
+        m.program.evalBatch(x.data(), y.data(), z.data(), n, v.data());
         for (int k = 0; k < n; ++k)
-          dense.setValue(openvdb::Coord(i - 128, j - 128, k - 128),
+          dense.setValue(openvdb::Coord(i, j, lo[2] + k),
                          std::clamp(float(-v[k]), -3.0f * float(h), 3.0f * float(h)));
       }
     });
@@ -102,36 +134,6 @@ struct Points {
   }
 };
 
-const GridSet& sphereGrid() {
-  static const GridSet g = [] {
-    LevelSetOptions o;
-    o.voxel = 2.4 / 256;
-    return sampleLevelSet(compile(testing::sphereNode(1.0)), Box3{{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}}, o);
-  }();
-  return g;
-}
-
-void BM_GridFieldEval(benchmark::State& state) {
-  const auto f = gridField(sphereGrid(), 0, GridFieldOptions{}, "sphere");
-  const Points p(1 << 16, 1.1);
-  std::vector<double> out(p.x.size());
-  for (auto _ : state) f->evalBatch(p.x.data(), p.y.data(), p.z.data(), p.x.size(), out.data());
-  state.SetItemsProcessed(state.iterations() * std::int64_t(p.x.size()));
-}
-
-void BM_OpenVdbSamplerEval(benchmark::State& state) {
-  const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(sphereGrid().impl->grids[0]);
-  const Points p(1 << 16, 1.1);
-  std::vector<double> out(p.x.size());
-  for (auto _ : state) {
-    auto acc = grid->getConstAccessor();
-    openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> s(acc, grid->transform());
-    for (std::size_t i = 0; i < p.x.size(); ++i) out[i] = -s.wsSample(openvdb::Vec3d(p.x[i], p.y[i], p.z[i]));
-    benchmark::DoNotOptimize(out.data());
-  }
-  state.SetItemsProcessed(state.iterations() * std::int64_t(p.x.size()));
-}
-
 // Points where a mesher asks: within a tenth of the radius of the surface (deep inside a
 // sphere every triangle is nearly as far as the nearest, the AABB tree's worst case).
 struct NearSurface : Points {
@@ -145,6 +147,36 @@ struct NearSurface : Points {
   }
 };
 
+const GridSet& sphereGrid() {
+  static const GridSet g = [] {
+    LevelSetOptions o;
+    o.voxel = 2.4 / 256;
+    return sampleLevelSet(compile(testing::sphereNode(1.0)), Box3{{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}}, o);
+  }();
+  return g;
+}
+
+void BM_GridFieldEval(benchmark::State& state) {
+  const auto f = gridField(sphereGrid(), 0, GridFieldOptions{}, "sphere");
+  const NearSurface p(1 << 16);
+  std::vector<double> out(p.x.size());
+  for (auto _ : state) f->evalBatch(p.x.data(), p.y.data(), p.z.data(), p.x.size(), out.data());
+  state.SetItemsProcessed(state.iterations() * std::int64_t(p.x.size()));
+}
+
+void BM_OpenVdbSamplerEval(benchmark::State& state) {
+  const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(sphereGrid().impl->grids[0]);
+  const NearSurface p(1 << 16);
+  std::vector<double> out(p.x.size());
+  for (auto _ : state) {
+    auto acc = grid->getConstAccessor();
+    openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> s(acc, grid->transform());
+    for (std::size_t i = 0; i < p.x.size(); ++i) out[i] = -s.wsSample(openvdb::Vec3d(p.x[i], p.y[i], p.z[i]));
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(state.iterations() * std::int64_t(p.x.size()));
+}
+
 void BM_MeshDistanceEval(benchmark::State& state) {
   static const auto f = meshField(testing::icosphere(1.0, int(state.range(0))), MeshFieldMethod::Exact, 0, "ico");
   const NearSurface p(1 << 14);
@@ -157,8 +189,9 @@ void BM_MeshDistanceEval(benchmark::State& state) {
 
 BENCHMARK(BM_MeshToFieldExact)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 BENCHMARK(BM_MeshToFieldOpenVdb)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
-BENCHMARK(BM_FieldToLevelSetPruned)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_FieldToLevelSetDense)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BM_FieldToLevelSetPruned)->Args({0, 0})->Args({0, 1})->Args({0, 2})->Args({1, 0})->Args({1, 2})
+    ->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_FieldToLevelSetDense)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 BENCHMARK(BM_GridFieldEval)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_OpenVdbSamplerEval)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_MeshDistanceEval)->Arg(8)->Unit(benchmark::kMillisecond)->UseRealTime();

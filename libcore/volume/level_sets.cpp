@@ -34,6 +34,20 @@ void requireVoxel(double voxel) {
 // Index coordinates must stay well inside OpenVDB's 32-bit range.
 constexpr double kMaxIndex = 1 << 29;
 
+// |grad F| at voxel i of a block's 8^3 values (x-major), by central differences inside the
+// block and one-sided ones on its faces.
+double differenceSlope(const std::vector<double>& v, int i, double h) {
+  const int c[3] = {i >> 6, (i >> 3) & 7, i & 7};
+  const int stride[3] = {64, 8, 1};
+  double g2 = 0;
+  for (int a = 0; a < 3; ++a) {
+    const int lo = c[a] > 0 ? i - stride[a] : i, hi = c[a] < 7 ? i + stride[a] : i;
+    const double d = (v[hi] - v[lo]) / (double(hi - lo) / stride[a] * h);
+    g2 += d * d;
+  }
+  return std::sqrt(g2);
+}
+
 }  // namespace
 
 GridSet sampleLevelSet(const Field& field, const Box3& box, const LevelSetOptions& o) {
@@ -54,56 +68,101 @@ GridSet sampleLevelSet(const Field& field, const Box3& box, const LevelSetOption
   }
   const std::int64_t nb[3] = {(hi[0] - lo[0] + 1) / 8, (hi[1] - lo[1] + 1) / 8,
                               (hi[2] - lo[2] + 1) / 8};
-  const std::int64_t blocks = nb[0] * nb[1] * nb[2];
+  // Regions of kRegion^3 blocks: one interval test and one specialisation of the field per
+  // region (region specialisation, as the mesher's bricks), then one test per block inside.
+  constexpr std::int64_t kRegion = 4;
+  const std::int64_t nr[3] = {(nb[0] + kRegion - 1) / kRegion, (nb[1] + kRegion - 1) / kRegion,
+                              (nb[2] + kRegion - 1) / kRegion};
+  const std::int64_t regions = nr[0] * nr[1] * nr[2];
   const float background = static_cast<float>(o.halfWidthVoxels * h);
+  // A voxel within the band of the surface lies in a block whose box, widened by the band
+  // (and a voxel), holds a surface point: the test on the widened box keeps every such block.
+  const double reach = o.halfWidthVoxels + 1.0;
+  auto widened = [&](const std::int64_t from[3], std::int64_t voxels, Interval iv[3]) {
+    for (int a = 0; a < 3; ++a)
+      iv[a] = Interval((double(from[a]) - reach) * h, (double(from[a] + voxels - 1) + reach) * h);
+  };
+  auto mayCross = [](const Interval& f) { return f.nan || (f.lo <= 0.0 && f.hi >= 0.0); };
 
   std::vector<LeafT*> leaves;
   std::mutex leavesMutex;
   std::atomic<std::int64_t> done{0};
   std::atomic<bool> cancelled{false};
-  tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, blocks, 64), [&](const auto& range) {
+  tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, regions, 1), [&](const auto& range) {
     std::vector<Dual> x(512), y(512), z(512), g(512);
+    std::vector<double> vx(512), vy(512), vz(512), v(512);
+    std::vector<int> near(512);
     std::vector<LeafT*> mine;
-    for (std::int64_t b = range.begin(); b != range.end() && !cancelled; ++b) {
-      const std::int64_t bi = b / (nb[1] * nb[2]), bj = (b / nb[2]) % nb[1], bk = b % nb[2];
-      const openvdb::Coord origin(int(lo[0] + 8 * bi), int(lo[1] + 8 * bj), int(lo[2] + 8 * bk));
-      // The block's voxel centres widened by the band (and a voxel): a voxel within the band
-      // of the surface lies in a block whose widened box holds a surface point.
-      const double reach = o.halfWidthVoxels + 1.0;
-      Interval iv[3];
-      for (int a = 0; a < 3; ++a)
-        iv[a] = Interval((origin[a] - reach) * h, (origin[a] + 7 + reach) * h);
-      const Interval f = field.evalInterval(iv[0], iv[1], iv[2]);
-      if (!f.nan && (f.lo > 0.0 || f.hi < 0.0)) continue;
-      int n = 0;
-      for (int i = 0; i < 8; ++i)
-        for (int j = 0; j < 8; ++j)
-          for (int k = 0; k < 8; ++k, ++n) {
-            x[n] = Dual((origin[0] + i) * h, 1, 0, 0);
-            y[n] = Dual((origin[1] + j) * h, 0, 1, 0);
-            z[n] = Dual((origin[2] + k) * h, 0, 0, 1);
+    for (std::int64_t r = range.begin(); r != range.end() && !cancelled; ++r) {
+      const std::int64_t ri = r / (nr[1] * nr[2]), rj = (r / nr[2]) % nr[1], rk = r % nr[2];
+      const std::int64_t rorigin[3] = {lo[0] + 8 * kRegion * ri, lo[1] + 8 * kRegion * rj,
+                                       lo[2] + 8 * kRegion * rk};
+      Interval riv[3];
+      widened(rorigin, 8 * kRegion, riv);
+      if (!mayCross(field.evalInterval(riv[0], riv[1], riv[2]))) continue;
+      std::shared_ptr<const Field> holder;
+      const Field& f = specialiseInto(
+          field, Box3{{riv[0].lo, riv[1].lo, riv[2].lo}, {riv[0].hi, riv[1].hi, riv[2].hi}}, holder);
+      for (std::int64_t bi = kRegion * ri; bi < std::min(nb[0], kRegion * (ri + 1)); ++bi)
+        for (std::int64_t bj = kRegion * rj; bj < std::min(nb[1], kRegion * (rj + 1)); ++bj)
+          for (std::int64_t bk = kRegion * rk; bk < std::min(nb[2], kRegion * (rk + 1)); ++bk) {
+            const std::int64_t borigin[3] = {lo[0] + 8 * bi, lo[1] + 8 * bj, lo[2] + 8 * bk};
+            Interval iv[3];
+            widened(borigin, 8, iv);
+            if (!mayCross(f.evalInterval(iv[0], iv[1], iv[2]))) continue;
+            const openvdb::Coord origin{static_cast<int>(borigin[0]), static_cast<int>(borigin[1]),
+                                        static_cast<int>(borigin[2])};
+            int n = 0;
+            for (int i = 0; i < 8; ++i)
+              for (int j = 0; j < 8; ++j)
+                for (int k = 0; k < 8; ++k, ++n) {
+                  vx[n] = (origin[0] + i) * h;
+                  vy[n] = (origin[1] + j) * h;
+                  vz[n] = (origin[2] + k) * h;
+                }
+            f.evalBatch(vx.data(), vy.data(), vz.data(), 512, v.data());
+            if (o.firstOrder) {
+              // The first-order distance F / |grad F| where |F| is within the band (a level
+              // set's values are distances, an FRep field's only near most primitives: a
+              // gyroid's gradient is far from unit length); beyond it the value clamps anyway,
+              // and its gradient is not computed.
+              // Which voxels: those whose distance, estimated with the finite-difference
+              // gradient of the block's own values, may lie within twice the band (a steep
+              // field's values exceed the band's width right next to its surface).
+              int m = 0;
+              for (int i = 0; i < 512; ++i)
+                if (std::abs(v[i]) < background || std::abs(v[i]) < 2.0 * background * differenceSlope(v, i, h)) {
+                  near[m] = i;
+                  x[m] = Dual(vx[i], 1, 0, 0);
+                  y[m] = Dual(vy[i], 0, 1, 0);
+                  z[m] = Dual(vz[i], 0, 0, 1);
+                  ++m;
+                }
+              f.evalGradientBatch(x.data(), y.data(), z.data(), std::size_t(m), g.data());
+              for (int q = 0; q < m; ++q) {
+                const double len = std::sqrt(g[q].d[0] * g[q].d[0] + g[q].d[1] * g[q].d[1] +
+                                             g[q].d[2] * g[q].d[2]);
+                if (len > 1e-12) v[near[q]] = g[q].v / len;
+              }
+            }
+            auto* leaf = new LeafT(origin, background, false);
+            // OpenVDB's leaf order is x-major like the loop above.
+            for (openvdb::Index i = 0; i < 512; ++i) {
+              const double sv = v[i] == v[i] ? -v[i] : double(background);
+              const float c = static_cast<float>(std::clamp(sv, -double(background), double(background)));
+              leaf->setValueOnly(i, c);
+              if (std::abs(c) < background) leaf->setValueOn(i);
+            }
+            mine.push_back(leaf);
           }
-      field.evalGradientBatch(x.data(), y.data(), z.data(), 512, g.data());
-      auto* leaf = new LeafT(origin, background, false);
-      // OpenVDB's leaf order is x-major like the loop above.
-      for (openvdb::Index i = 0; i < 512; ++i) {
-        // The first-order distance F / |grad F|: a level set's values are distances, an FRep
-        // field's only near most primitives (a gyroid's gradient is far from unit length).
-        const double len = std::sqrt(g[i].d[0] * g[i].d[0] + g[i].d[1] * g[i].d[1] + g[i].d[2] * g[i].d[2]);
-        const double v = len > 1e-12 ? g[i].v / len : g[i].v;
-        const double s = v == v ? -v : double(background);
-        const float c = static_cast<float>(std::clamp(s, -double(background), double(background)));
-        leaf->setValueOnly(i, c);
-        if (std::abs(c) < background) leaf->setValueOn(i);
-      }
-      mine.push_back(leaf);
     }
     const std::int64_t d = done += std::int64_t(range.size());
     std::lock_guard<std::mutex> lock(leavesMutex);
     leaves.insert(leaves.end(), mine.begin(), mine.end());
+    mine.clear();
     // Sampling is the first 60 % of the work; the callback is called one call at a time (as
     // the mesher's), from whichever thread finished a piece.
-    if (o.progress && !cancelled && !o.progress(0.6 * double(d) / double(blocks))) cancelled = true;
+    if (o.progress && !cancelled && !o.progress(0.6 * double(d) / double(regions))) cancelled = true;
   });
   if (cancelled) {
     for (LeafT* l : leaves) delete l;

@@ -15,7 +15,7 @@ namespace frep {
 // How the sampled first-order distances F / |grad F| are made a level set's distances.
 // Measured on the csg, twist and gyroid models at 256 voxels (docs/performance.md): as
 // sampled is the fastest and puts the zero level closest to the exact surface (0.24 voxel
-// on csg, against 0.31 normalized and 0.49 rebuilt, which re-meshes it), so it is the default.
+// on csg, against 0.31 normalized and 0.49 rebuilt, which meshes it again): the default.
 enum class Redistance {
   None,       // as sampled: -F / |grad F| (the default)
   Normalize,  // then OpenVDB's LevelSetTracker::normalize (a few Eikonal iterations)
@@ -30,6 +30,10 @@ struct LevelSetOptions {
   double interiorWidthVoxels = 3.0;
   std::string name = "surface";   // the grid's name
   Redistance redistance = Redistance::None;
+  // Each voxel's value within the band: the first-order distance -F / |grad F| (a gradient
+  // batch of the voxels with |F| below the band's width), or -F itself (a value batch only:
+  // faster, and the same near distance-like fields).
+  bool firstOrder = true;
   // A fog volume instead (OpenVDB's sdfToFogVolume): 0 outside, 1 inside, a linear ramp across
   // the band inside the surface; its grid class is fog volume (sampleLevelSet only).
   bool fog = false;
@@ -39,9 +43,10 @@ struct LevelSetOptions {
 };
 
 // Samples `field` over `box` into a level set of one float grid (-F / |grad F| in the band,
-// then re-distanced). Blocks of 8^3 voxels whose interval, widened by the band, cannot hold
-// the surface cost one interval evaluation and no memory; the others are evaluated in
-// parallel (TBB), a gradient batch per block. Throws ModelError for a bad voxel size or a box too large for
+// optionally re-distanced). Regions of 32^3 voxels and blocks of 8^3 whose interval, widened
+// by the band, cannot hold the surface cost one interval evaluation and no memory; the field
+// is specialised to each region, and the blocks are evaluated in parallel (TBB), a value
+// batch each and a gradient batch for the voxels that may lie in the band. Throws ModelError for a bad voxel size or a box too large for
 // the grid's coordinates.
 GridSet sampleLevelSet(const Field& field, const Box3& box, const LevelSetOptions& options);
 
