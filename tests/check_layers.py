@@ -8,6 +8,7 @@
                                      exact face-pair test for every collapse)
     frep, io, check <- volume       (OpenVDB grids and mesh distances as fields: io reads the
                                      meshes, check judges them before they become solids)
+    base   <- lattice               (FFD lattices: forward and inverse maps, folds)
     all of them <- pipeline         (the export: box policy, mesh, check, write)
     python: the bindings, above all of them
 
@@ -30,8 +31,11 @@ ALLOWED = {
     "check": {"base", "check"},
     "simplify": {"base", "frep", "check", "simplify"},
     "volume": {"base", "frep", "io", "check", "volume"},
-    "pipeline": {"base", "frep", "mesh", "io", "check", "simplify", "volume", "pipeline"},
-    "python": {"base", "frep", "mesh", "io", "check", "simplify", "volume", "pipeline"},
+    "lattice": {"base", "lattice"},
+    "pipeline": {"base", "frep", "mesh", "io", "check", "simplify", "volume", "lattice",
+                 "pipeline"},
+    "python": {"base", "frep", "mesh", "io", "check", "simplify", "volume", "lattice",
+               "pipeline"},
 }
 # <header prefix>: the layers (or layer/file) that may include it
 LIBRARIES = {

@@ -1,0 +1,219 @@
+// FfdLattice: Bernstein evaluation by the triangular (de Casteljau style) scheme, stable at 64
+// divisions where binomial coefficients and powers lose precision.
+#include "lattice/ffd_lattice.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "base/errors.h"
+
+namespace frep {
+
+namespace {
+
+// Bernstein basis of degree d at t and its derivative: b[i] = C(d,i) t^i (1-t)^(d-i).
+void bernstein(int d, double t, double* b, double* db) {
+  // Degree d-1 first (for the derivative), then one more step.
+  std::fill(b, b + d + 1, 0.0);
+  b[0] = 1.0;
+  const double s = 1.0 - t;
+  for (int deg = 1; deg < d; ++deg) {
+    for (int i = deg; i > 0; --i) b[i] = s * b[i] + t * b[i - 1];
+    b[0] *= s;
+  }
+  // b holds degree d-1 now: the derivative is d (B_{i-1}^{d-1} - B_i^{d-1}).
+  for (int i = 0; i <= d; ++i) {
+    const double left = i > 0 ? b[i - 1] : 0.0, right = i < d ? b[i] : 0.0;
+    db[i] = d * (left - right);
+  }
+  for (int i = d; i > 0; --i) b[i] = s * b[i] + t * b[i - 1];
+  b[0] *= s;
+}
+
+Vec3 solve(const Mat3& a, const Vec3& r, bool* ok) {
+  const double det = determinant(a);
+  *ok = std::isfinite(det) && std::abs(det) > 1e-300;
+  if (!*ok) return {0, 0, 0};
+  Vec3 x;
+  for (int c = 0; c < 3; ++c) {
+    Mat3 m = a;
+    for (int row = 0; row < 3; ++row) m[row][c] = r[row];
+    x[c] = determinant(m) / det;
+  }
+  return x;
+}
+
+double norm(const Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+}  // namespace
+
+double determinant(const Mat3& m) {
+  return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+         m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+         m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+}
+
+FfdLattice::FfdLattice(const Box3& rest, int l, int m, int n) : rest_(rest), d_{l, m, n} {
+  const char* names[3] = {"divisions x", "divisions y", "divisions z"};
+  for (int a = 0; a < 3; ++a) {
+    if (d_[a] < 1 || d_[a] > kMaxLatticeDivisions)
+      throw ModelError("lattice: " + std::string(names[a]) + " = " + std::to_string(d_[a]) +
+                       " is out of range; allowed: 1 to " + std::to_string(kMaxLatticeDivisions));
+    if (!(rest.hi[a] > rest.lo[a]) || !std::isfinite(rest.lo[a]) || !std::isfinite(rest.hi[a]))
+      throw ModelError("lattice: the rest box must be finite with min < max on every axis");
+  }
+  p_.resize(std::size_t(l + 1) * (m + 1) * (n + 1));
+  for (int i = 0; i <= l; ++i)
+    for (int j = 0; j <= m; ++j)
+      for (int k = 0; k <= n; ++k)
+        p_[index(i, j, k)] = restPoint({double(i) / l, double(j) / m, double(k) / n});
+}
+
+void FfdLattice::setPoint(int i, int j, int k, const Vec3& p) {
+  if (i < 0 || j < 0 || k < 0 || i > d_[0] || j > d_[1] || k > d_[2])
+    throw ModelError("lattice: control point (" + std::to_string(i) + ", " + std::to_string(j) +
+                     ", " + std::to_string(k) + ") does not exist; allowed: (0..." +
+                     std::to_string(d_[0]) + ", 0..." + std::to_string(d_[1]) + ", 0..." +
+                     std::to_string(d_[2]) + ")");
+  if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+    throw ModelError("lattice: control point coordinates must be finite");
+  p_[index(i, j, k)] = p;
+}
+
+Vec3 FfdLattice::local(const Vec3& x) const {
+  Vec3 s;
+  for (int a = 0; a < 3; ++a) s[a] = (x[a] - rest_.lo[a]) / (rest_.hi[a] - rest_.lo[a]);
+  return s;
+}
+
+Vec3 FfdLattice::restPoint(const Vec3& stu) const {
+  Vec3 x;
+  for (int a = 0; a < 3; ++a) x[a] = rest_.lo[a] + stu[a] * (rest_.hi[a] - rest_.lo[a]);
+  return x;
+}
+
+Vec3 FfdLattice::forward(const Vec3& stu) const { return forward(stu, nullptr); }
+
+Vec3 FfdLattice::forward(const Vec3& stu, Mat3* jacobian) const {
+  double b[3][kMaxLatticeDivisions + 1], db[3][kMaxLatticeDivisions + 1];
+  for (int a = 0; a < 3; ++a) bernstein(d_[a], stu[a], b[a], db[a]);
+  Vec3 x{0, 0, 0};
+  Mat3 jac{};
+  for (int i = 0; i <= d_[0]; ++i)
+    for (int j = 0; j <= d_[1]; ++j) {
+      const double bij = b[0][i] * b[1][j];
+      for (int k = 0; k <= d_[2]; ++k) {
+        const Vec3& p = p_[index(i, j, k)];
+        const double w = bij * b[2][k];
+        for (int r = 0; r < 3; ++r) x[r] += w * p[r];
+        if (jacobian) {
+          const double ws = db[0][i] * b[1][j] * b[2][k], wt = b[0][i] * db[1][j] * b[2][k],
+                       wu = bij * db[2][k];
+          for (int r = 0; r < 3; ++r) {
+            jac[r][0] += ws * p[r];
+            jac[r][1] += wt * p[r];
+            jac[r][2] += wu * p[r];
+          }
+        }
+      }
+    }
+  if (jacobian) *jacobian = jac;
+  return x;
+}
+
+Vec3 FfdLattice::deform(const Vec3& x) const {
+  const Vec3 s = local(x);
+  for (int a = 0; a < 3; ++a)
+    if (s[a] < 0.0 || s[a] > 1.0) return x;
+  return forward(s);
+}
+
+std::optional<Vec3> FfdLattice::inverse(const Vec3& y) const {
+  double scale = 0.0;
+  for (int a = 0; a < 3; ++a) scale = std::max(scale, rest_.hi[a] - rest_.lo[a]);
+  const double tol = 1e-13 * scale;
+  // Damped Newton from a start: each step halves until the residual shrinks.
+  auto newton = [&](Vec3 s) -> std::optional<Vec3> {
+    Mat3 j;
+    Vec3 x = forward(s, &j);
+    double res = norm({x[0] - y[0], x[1] - y[1], x[2] - y[2]});
+    for (int it = 0; it < 60 && res > tol; ++it) {
+      bool ok = false;
+      const Vec3 step = solve(j, {y[0] - x[0], y[1] - x[1], y[2] - x[2]}, &ok);
+      if (!ok) return std::nullopt;
+      double f = 1.0;
+      bool better = false;
+      for (int h = 0; h < 30; ++h, f *= 0.5) {
+        const Vec3 t{s[0] + f * step[0], s[1] + f * step[1], s[2] + f * step[2]};
+        Mat3 jt;
+        const Vec3 xt = forward(t, &jt);
+        const double rt = norm({xt[0] - y[0], xt[1] - y[1], xt[2] - y[2]});
+        if (rt < res) {
+          s = t, x = xt, j = jt, res = rt;
+          better = true;
+          break;
+        }
+      }
+      if (!better) break;
+    }
+    if (res > 1e-10 * scale) return std::nullopt;
+    return s;
+  };
+  auto inside = [](const Vec3& s) {
+    constexpr double eps = 1e-9;
+    return s[0] >= -eps && s[0] <= 1 + eps && s[1] >= -eps && s[1] <= 1 + eps &&
+           s[2] >= -eps && s[2] <= 1 + eps;
+  };
+  // First guess: the rest-space local coordinates of y (exact for the identity), then the
+  // centre; last, a bracketing search over a grid of starts, nearest image first.
+  std::vector<Vec3> starts = {local(y), {0.5, 0.5, 0.5}};
+  for (const Vec3& s0 : starts) {
+    Vec3 c{std::clamp(s0[0], 0.0, 1.0), std::clamp(s0[1], 0.0, 1.0), std::clamp(s0[2], 0.0, 1.0)};
+    if (auto s = newton(c); s && inside(*s)) return s;
+  }
+  constexpr int kGrid = 6;
+  std::vector<std::pair<double, Vec3>> grid;
+  for (int i = 0; i <= kGrid; ++i)
+    for (int j = 0; j <= kGrid; ++j)
+      for (int k = 0; k <= kGrid; ++k) {
+        const Vec3 s{double(i) / kGrid, double(j) / kGrid, double(k) / kGrid};
+        const Vec3 x = forward(s);
+        grid.push_back({norm({x[0] - y[0], x[1] - y[1], x[2] - y[2]}), s});
+      }
+  std::sort(grid.begin(), grid.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (std::size_t g = 0; g < std::min<std::size_t>(grid.size(), 12); ++g)
+    if (auto s = newton(grid[g].second); s && inside(*s)) return s;
+  return std::nullopt;
+}
+
+std::string FfdLattice::Fold::text() const {
+  std::ostringstream o;
+  o << "the lattice folds over itself in cell (" << cell[0] << ", " << cell[1] << ", " << cell[2]
+    << ") near (s, t, u) = (" << stu[0] << ", " << stu[1] << ", " << stu[2]
+    << "): move its control points apart";
+  return o.str();
+}
+
+std::optional<FfdLattice::Fold> FfdLattice::findFold(int samples) const {
+  samples = std::max(samples, 1);
+  int sign = 0;
+  for (int ci = 0; ci < d_[0]; ++ci)
+    for (int cj = 0; cj < d_[1]; ++cj)
+      for (int ck = 0; ck < d_[2]; ++ck)
+        for (int a = 0; a < samples; ++a)
+          for (int b = 0; b < samples; ++b)
+            for (int c = 0; c < samples; ++c) {
+              const Vec3 s{(ci + (a + 0.5) / samples) / d_[0], (cj + (b + 0.5) / samples) / d_[1],
+                           (ck + (c + 0.5) / samples) / d_[2]};
+              Mat3 j;
+              forward(s, &j);
+              const double det = determinant(j);
+              const int sg = det > 0 ? 1 : det < 0 ? -1 : 0;
+              if (sign == 0) sign = sg;
+              if (sg == 0 || sg != sign) return Fold{{ci, cj, ck}, s};
+            }
+  return std::nullopt;
+}
+
+}  // namespace frep
