@@ -110,7 +110,7 @@ ExportOptions parseExportOptions(const Args& args) {
   if (o.output.empty()) throw UsageError("export needs -o OUT");
   if (o.resolution && o.cells) throw UsageError("give --resolution or --cells, not both");
   if (!o.sharp && !o.tolerance) throw UsageError("--no-sharp applies with --tolerance only");
-  if (o.fog && (o.output.size() < 4 || o.output.compare(o.output.size() - 4, 4, ".vdb") != 0))
+  if (o.fog && !isVdbPath(o.output))
     throw UsageError("--fog applies to a .vdb output only");
   return o;
 }
@@ -130,10 +130,6 @@ void checkOutput(const ExportOptions& o) {
     if (fs::equivalent(out, fs::path(o.input), ec))
       throw FileError(o.output + ": is the input itself; give another output name");
   }
-}
-
-bool isVdbPath(const std::string& path) {
-  return path.size() > 4 && path.compare(path.size() - 4, 4, ".vdb") == 0;
 }
 
 // The solid as an OpenVDB level set: the box policy as for a mesh, a voxel per cell.

@@ -39,8 +39,6 @@ int vdbInfo(const std::string& path, bool json) {
   return 0;
 }
 
-bool isVdb(const std::string& s) { return s.size() > 4 && s.compare(s.size() - 4, 4, ".vdb") == 0; }
-
 }  // namespace
 
 int infoCommand(const Args& args) {
@@ -60,7 +58,7 @@ int infoCommand(const Args& args) {
     else if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + a + "' for info");
     else type = a;
   }
-  if (isVdb(type)) {
+  if (isVdbPath(type)) {
     if (markdown) throw UsageError("--markdown lists node types, not a .vdb file's grids");
     return vdbInfo(type, json);
   }

@@ -142,6 +142,3 @@ def solid_shape(obj):
     _CACHE[key] = (fingerprint, field)
     return field
 
-
-def cache_size():
-    return len(_CACHE)

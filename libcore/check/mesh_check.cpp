@@ -30,8 +30,9 @@ struct UnionFind {
 
 std::string count(std::size_t n, const char* what) { return std::to_string(n) + " " + what; }
 
-// Welds vertices with identical coordinates; returns old -> new index.
-std::vector<std::uint32_t> weld(const std::vector<Vec3f>& pos, std::vector<Vec3f>& welded) {
+}  // namespace
+
+std::vector<std::uint32_t> weldIdenticalVertices(const std::vector<Vec3f>& pos, std::vector<Vec3f>& welded) {
   std::vector<std::uint32_t> order(pos.size());
   std::iota(order.begin(), order.end(), 0u);
   tbb::parallel_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
@@ -44,8 +45,6 @@ std::vector<std::uint32_t> weld(const std::vector<Vec3f>& pos, std::vector<Vec3f
   }
   return map;
 }
-
-}  // namespace
 
 CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)>& progress,
                       std::size_t selfIntersectionLimit) {
@@ -75,7 +74,7 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
   std::vector<Vec3f> pos;
   std::vector<FaceIndices> faces;  // faces with three distinct vertices
   {
-    const std::vector<std::uint32_t> map = weld(mesh.positions, pos);
+    const std::vector<std::uint32_t> map = weldIdenticalVertices(mesh.positions, pos);
     r.vertices = pos.size();
     // Faces, degenerate ones, volume, area, bounding box.
     faces.reserve(mesh.triangles.size());

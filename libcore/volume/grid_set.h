@@ -41,6 +41,9 @@ class GridSet {
   std::shared_ptr<Impl> impl;
 };
 
+// Whether a file name is an OpenVDB file's (ends in ".vdb").
+bool isVdbPath(const std::string& path);
+
 // Reads every grid of a .vdb file. Throws FileError naming the file and what is wrong (not an
 // OpenVDB file, truncated, unknown value type, grids too large).
 GridSet readVdb(const std::string& path);

@@ -11,8 +11,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <numeric>
 
+#include "base/affine.h"
 #include "base/errors.h"
 #include "check/mesh_check.h"
 
@@ -29,25 +29,18 @@ using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 class MeshDistanceField final : public Field {
  public:
   MeshDistanceField(const TriangleMesh& mesh, bool inward) {
-    // Identical coordinates welded (STL shares no vertices), faces flipped outward.
-    std::vector<std::uint32_t> order(mesh.positions.size());
-    std::iota(order.begin(), order.end(), 0u);
-    const auto& p = mesh.positions;
-    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return p[a] < p[b]; });
-    std::vector<SurfaceMesh::Vertex_index> vertexOf(p.size());
-    for (std::size_t i = 0; i < order.size(); ++i) {
-      if (i == 0 || p[order[i]] != p[order[i - 1]])
-        sm_.add_vertex(Point(p[order[i]][0], p[order[i]][1], p[order[i]][2]));
-      vertexOf[order[i]] = SurfaceMesh::Vertex_index(static_cast<std::uint32_t>(sm_.number_of_vertices() - 1));
-    }
+    // Identical coordinates welded as the check welds them, faces flipped outward.
+    std::vector<Vec3f> welded;
+    const std::vector<std::uint32_t> map = weldIdenticalVertices(mesh.positions, welded);
+    for (const Vec3f& q : welded) sm_.add_vertex(Point(q[0], q[1], q[2]));
     for (const Triangle& t : mesh.triangles) {
-      auto a = vertexOf[t[0]], b = vertexOf[t[1]], c = vertexOf[t[2]];
+      SurfaceMesh::Vertex_index a(map[t[0]]), b(map[t[1]]), c(map[t[2]]);
       if (a == b || b == c || a == c) continue;
       if (inward) std::swap(b, c);
       const auto f = sm_.add_face(a, b, c);
       if (f == SurfaceMesh::null_face()) throw FileError("the mesh's faces do not form a surface");
       const Vec3 pa = pos(a), pb = pos(b), pc = pos(c);
-      Vec3 n = cross(sub(pb, pa), sub(pc, pa));
+      Vec3 n = frep::cross(sub(pb, pa), sub(pc, pa));
       const double len = std::sqrt(dot(n, n));
       for (double& x : n) x = len > 0 ? x / len : 0.0;
       faces_.push_back({pa, pb, pc, n, {}, {a.idx(), b.idx(), c.idx()}});
@@ -136,9 +129,6 @@ class MeshDistanceField final : public Field {
   };
   static Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
   static double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-  static Vec3 cross(const Vec3& a, const Vec3& b) {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-  }
   Vec3 pos(SurfaceMesh::Vertex_index v) const {
     const Point& q = sm_.point(v);
     return {q.x(), q.y(), q.z()};
