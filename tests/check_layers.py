@@ -1,14 +1,16 @@
 #!/usr/bin/env python3
 """Layering of libcore: each folder is a layer and may include only the layers below it.
 
-    base   <- frep <- mesh          (mesh meshes any Field: it knows frep's field seam)
+    base   <- lattice               (FFD lattices: forward and inverse maps, folds)
+    lattice <- frep <- mesh         (mesh meshes any Field: it knows frep's field seam; frep's
+                                     ffd node pulls fields back through a lattice, mesh FFD
+                                     pushes vertices forward)
     base   <- io                    (readers and writers know no fields)
     base   <- check                 (the CGAL judge knows no fields and no mesher)
     frep, check <- simplify         (guarded collapses: the field for distances, the check's
                                      exact face-pair test for every collapse)
     frep, io, check <- volume       (OpenVDB grids and mesh distances as fields: io reads the
                                      meshes, check judges them before they become solids)
-    base   <- lattice               (FFD lattices: forward and inverse maps, folds)
     all of them <- pipeline         (the export: box policy, mesh, check, write)
     python: the bindings, above all of them
 
@@ -25,12 +27,12 @@ import tempfile
 
 ALLOWED = {
     "base": {"base"},
-    "frep": {"base", "frep"},
-    "mesh": {"base", "frep", "mesh"},
+    "frep": {"base", "lattice", "frep"},
+    "mesh": {"base", "lattice", "frep", "mesh"},
     "io": {"base", "io"},
     "check": {"base", "check"},
     "simplify": {"base", "frep", "check", "simplify"},
-    "volume": {"base", "frep", "io", "check", "volume"},
+    "volume": {"base", "lattice", "frep", "io", "check", "volume"},
     "lattice": {"base", "lattice"},
     "pipeline": {"base", "frep", "mesh", "io", "check", "simplify", "volume", "lattice",
                  "pipeline"},

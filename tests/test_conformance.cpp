@@ -11,6 +11,7 @@
 #include "base/errors.h"
 #include "frep/registry.h"
 #include "interval_testing.h"
+#include "lattice_samples.h"
 #include "random_trees.h"
 #include "volume_samples.h"
 
@@ -98,6 +99,16 @@ NodePtr randomInstance(const NodeType& type, RandomTrees& r, bool wide = false,
     // File-backed types read the sample files, with grids fine enough to hold the sample.
     for (const auto& p : type.params)
       if (p.filePath) params[p.name] = textValue(testing::sampleFileFor(type.id));
+    // A lattice's points must match its divisions and must not fold: a random lattice,
+    // twisted and shaken, mild to strong.
+    if (type.id == "ffd") {
+      const Vec3 lo{r.uniform(-1.5, -0.3), r.uniform(-1.5, -0.3), r.uniform(-1.5, -0.3)};
+      const Box3 rest{lo, {lo[0] + r.uniform(1, 2.5), lo[1] + r.uniform(1, 2.5), lo[2] + r.uniform(1, 2.5)}};
+      const auto lattice = testing::twistedLattice(r.integer(1, 3), r.integer(1, 3), r.integer(1, 4),
+                                                   r.uniform(0, 1.5), r.uniform(0, 0.25),
+                                                   unsigned(r.integer(0, 1000)), rest);
+      for (auto& kv : testing::ffdParams(lattice)) params[kv.first] = kv.second;
+    }
     if (type.findParam("voxel")) params["voxel"] = realValue(r.integer(0, 1) ? r.uniform(0.05, 0.3) : 0.0);
     std::vector<NodePtr> inputs;
     // Variadic types get one or two more than their least; optional inputs are tried both ways.

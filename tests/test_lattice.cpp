@@ -6,6 +6,7 @@
 
 #include "base/errors.h"
 #include "lattice/ffd_lattice.h"
+#include "lattice_samples.h"
 
 namespace frep {
 namespace {
@@ -40,23 +41,8 @@ TEST(Lattice, TheUndeformedLatticeIsTheIdentityUpTo64Divisions) {
   }
 }
 
-// Twists the lattice about its z axis by up to `turns` (radians at the top) and shakes every
-// control point by up to `jitter` of a cell.
 FfdLattice deformed(int l, int m, int n, double turns, double jitter, unsigned seed) {
-  FfdLattice lattice(kRest, l, m, n);
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const double cell[3] = {2.0 / l, 1.0 / m, 2.0 / n};
-  for (int i = 0; i <= l; ++i)
-    for (int j = 0; j <= m; ++j)
-      for (int k = 0; k <= n; ++k) {
-        const Vec3 p = lattice.point(i, j, k);
-        const double a = turns * p[2] / 2.0, c = std::cos(a), s = std::sin(a);
-        Vec3 q{c * p[0] - s * p[1], s * p[0] + c * p[1], p[2]};
-        for (int d = 0; d < 3; ++d) q[d] += jitter * cell[d] * u(rng);
-        lattice.setPoint(i, j, k, q);
-      }
-  return lattice;
+  return testing::twistedLattice(l, m, n, turns, jitter, seed, kRest);
 }
 
 TEST(Lattice, InverseOfForwardIsTheIdentityInMildAndStrongDeformations) {

@@ -257,6 +257,7 @@ const Registry& registry() {
     registerBoundedBlend(r);
     registerFieldOperations(r);
     registerDeformations(r);
+    registerLattices(r);
     registerArrays(r);
     registerMicrostructures(r);
     registerFormula(r);

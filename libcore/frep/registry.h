@@ -133,5 +133,6 @@ void registerFieldOperations(Registry& r);
 void registerMicrostructures(Registry& r);
 void registerFormula(Registry& r);
 void registerFieldSources(Registry& r);
+void registerLattices(Registry& r);
 
 }  // namespace frep

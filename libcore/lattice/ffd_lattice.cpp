@@ -46,12 +46,27 @@ Vec3 solve(const Mat3& a, const Vec3& r, bool* ok) {
 
 double norm(const Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
+// newton() accepts a residual up to this fraction of the lattice's scale.
+constexpr double kInverseTolerance = 1e-10;
+
 }  // namespace
 
 double determinant(const Mat3& m) {
   return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
          m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
          m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+}
+
+bool invert(const Mat3& m, Mat3* inv) {
+  const double det = determinant(m);
+  if (!std::isfinite(det) || std::abs(det) < 1e-300) return false;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) {
+      // cofactor of (c, r), the transposed position
+      const int r1 = (c + 1) % 3, r2 = (c + 2) % 3, c1 = (r + 1) % 3, c2 = (r + 2) % 3;
+      (*inv)[r][c] = (m[r1][c1] * m[r2][c2] - m[r1][c2] * m[r2][c1]) / det;
+    }
+  return true;
 }
 
 FfdLattice::FfdLattice(const Box3& rest, int l, int m, int n) : rest_(rest), d_{l, m, n} {
@@ -79,6 +94,15 @@ void FfdLattice::setPoint(int i, int j, int k, const Vec3& p) {
   if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
     throw ModelError("lattice: control point coordinates must be finite");
   p_[index(i, j, k)] = p;
+}
+
+bool FfdLattice::isUndeformed() const {
+  for (int i = 0; i <= d_[0]; ++i)
+    for (int j = 0; j <= d_[1]; ++j)
+      for (int k = 0; k <= d_[2]; ++k)
+        if (p_[index(i, j, k)] != restPoint({double(i) / d_[0], double(j) / d_[1], double(k) / d_[2]}))
+          return false;
+  return true;
 }
 
 Vec3 FfdLattice::local(const Vec3& x) const {
@@ -129,48 +153,55 @@ Vec3 FfdLattice::deform(const Vec3& x) const {
   return forward(s);
 }
 
-std::optional<Vec3> FfdLattice::inverse(const Vec3& y) const {
+double FfdLattice::scale() const {
   double scale = 0.0;
   for (int a = 0; a < 3; ++a) scale = std::max(scale, rest_.hi[a] - rest_.lo[a]);
-  const double tol = 1e-13 * scale;
-  // Damped Newton from a start: each step halves until the residual shrinks.
-  auto newton = [&](Vec3 s) -> std::optional<Vec3> {
-    Mat3 j;
-    Vec3 x = forward(s, &j);
-    double res = norm({x[0] - y[0], x[1] - y[1], x[2] - y[2]});
-    for (int it = 0; it < 60 && res > tol; ++it) {
-      bool ok = false;
-      const Vec3 step = solve(j, {y[0] - x[0], y[1] - x[1], y[2] - x[2]}, &ok);
-      if (!ok) return std::nullopt;
-      double f = 1.0;
-      bool better = false;
-      for (int h = 0; h < 30; ++h, f *= 0.5) {
-        const Vec3 t{s[0] + f * step[0], s[1] + f * step[1], s[2] + f * step[2]};
-        Mat3 jt;
-        const Vec3 xt = forward(t, &jt);
-        const double rt = norm({xt[0] - y[0], xt[1] - y[1], xt[2] - y[2]});
-        if (rt < res) {
-          s = t, x = xt, j = jt, res = rt;
-          better = true;
-          break;
-        }
+  return scale;
+}
+
+std::optional<Vec3> FfdLattice::newton(const Vec3& y, const Vec3& start) const {
+  const double tol = 1e-13 * scale();
+  Vec3 s = start;
+  Mat3 j;
+  Vec3 x = forward(s, &j);
+  double res = norm({x[0] - y[0], x[1] - y[1], x[2] - y[2]});
+  // Each step halves until the residual shrinks (damping).
+  for (int it = 0; it < 60 && res > tol; ++it) {
+    bool ok = false;
+    const Vec3 step = solve(j, {y[0] - x[0], y[1] - x[1], y[2] - x[2]}, &ok);
+    if (!ok) return std::nullopt;
+    double f = 1.0;
+    bool better = false;
+    for (int h = 0; h < 30; ++h, f *= 0.5) {
+      const Vec3 t{s[0] + f * step[0], s[1] + f * step[1], s[2] + f * step[2]};
+      Mat3 jt;
+      const Vec3 xt = forward(t, &jt);
+      const double rt = norm({xt[0] - y[0], xt[1] - y[1], xt[2] - y[2]});
+      if (rt < res) {
+        s = t, x = xt, j = jt, res = rt;
+        better = true;
+        break;
       }
-      if (!better) break;
     }
-    if (res > 1e-10 * scale) return std::nullopt;
-    return s;
-  };
-  auto inside = [](const Vec3& s) {
-    constexpr double eps = 1e-9;
-    return s[0] >= -eps && s[0] <= 1 + eps && s[1] >= -eps && s[1] <= 1 + eps &&
-           s[2] >= -eps && s[2] <= 1 + eps;
-  };
+    if (!better) break;
+  }
+  if (!(res <= kInverseTolerance * scale())) return std::nullopt;
+  return s;
+}
+
+bool insideUnitCube(const Vec3& s) {
+  constexpr double eps = 1e-9;
+  return s[0] >= -eps && s[0] <= 1 + eps && s[1] >= -eps && s[1] <= 1 + eps && s[2] >= -eps &&
+         s[2] <= 1 + eps;
+}
+
+std::optional<Vec3> FfdLattice::inverse(const Vec3& y) const {
   // First guess: the rest-space local coordinates of y (exact for the identity), then the
   // centre; last, a bracketing search over a grid of starts, nearest image first.
   std::vector<Vec3> starts = {local(y), {0.5, 0.5, 0.5}};
   for (const Vec3& s0 : starts) {
     Vec3 c{std::clamp(s0[0], 0.0, 1.0), std::clamp(s0[1], 0.0, 1.0), std::clamp(s0[2], 0.0, 1.0)};
-    if (auto s = newton(c); s && inside(*s)) return s;
+    if (auto s = newton(y, c); s && insideUnitCube(*s)) return s;
   }
   constexpr int kGrid = 6;
   std::vector<std::pair<double, Vec3>> grid;
@@ -181,10 +212,80 @@ std::optional<Vec3> FfdLattice::inverse(const Vec3& y) const {
         const Vec3 x = forward(s);
         grid.push_back({norm({x[0] - y[0], x[1] - y[1], x[2] - y[2]}), s});
       }
-  std::sort(grid.begin(), grid.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::stable_sort(grid.begin(), grid.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
   for (std::size_t g = 0; g < std::min<std::size_t>(grid.size(), 12); ++g)
-    if (auto s = newton(grid[g].second); s && inside(*s)) return s;
+    if (auto s = newton(y, grid[g].second); s && insideUnitCube(*s)) return s;
   return std::nullopt;
+}
+
+namespace {
+// The control values of the Bezier curve c (degree d, d + 1 values, stride `stride`)
+// restricted to [lo, hi] within [0, 1], in place: split at hi keeping the left part, then
+// at lo / hi keeping the right part (de Casteljau).
+void restrictCurve(Vec3* c, int d, std::size_t stride, double lo, double hi) {
+  if (d < 1 || d > kMaxLatticeDivisions) return;
+  Vec3 w[kMaxLatticeDivisions + 1], out[kMaxLatticeDivisions + 1];
+  for (int i = 0; i <= d; ++i) w[i] = c[i * stride];
+  if (hi <= 0.0) {
+    for (int i = 0; i <= d; ++i) c[i * stride] = w[0];
+    return;
+  }
+  auto lerp = [](const Vec3& a, const Vec3& b, double t) {
+    return Vec3{a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])};
+  };
+  if (hi < 1.0) {  // left part of the split at hi: the first value of every level
+    out[0] = w[0];
+    for (int r = 1; r <= d; ++r) {
+      for (int i = 0; i <= d - r; ++i) w[i] = lerp(w[i], w[i + 1], hi);
+      out[r] = w[0];
+    }
+    for (int i = 0; i <= d; ++i) w[i] = out[i];
+  }
+  const double t = lo / hi;
+  if (t > 0.0) {  // right part of the split at t: the last value of every level
+    out[d] = w[d];
+    for (int r = 1; r <= d; ++r) {
+      for (int i = 0; i <= d - r; ++i) w[i] = lerp(w[i], w[i + 1], t);
+      out[d - r] = w[d - r];
+    }
+    for (int i = 0; i <= d; ++i) w[i] = out[i];
+  }
+  for (int i = 0; i <= d; ++i) c[i * stride] = w[i];
+}
+}  // namespace
+
+std::vector<Vec3> FfdLattice::restrictedPoints(const Box3& stu) const {
+  std::vector<Vec3> q = p_;
+  const std::size_t strides[3] = {std::size_t(d_[1] + 1) * (d_[2] + 1), std::size_t(d_[2] + 1),
+                                  1};
+  for (int a = 0; a < 3; ++a) {
+    const double lo = std::clamp(stu.lo[a], 0.0, 1.0), hi = std::clamp(stu.hi[a], lo, 1.0);
+    if (lo == 0.0 && hi == 1.0) continue;
+    // every fiber along axis a: the index with its a-th coordinate 0
+    for (int i = 0; i <= (a == 0 ? 0 : d_[0]); ++i)
+      for (int j = 0; j <= (a == 1 ? 0 : d_[1]); ++j)
+        for (int k = 0; k <= (a == 2 ? 0 : d_[2]); ++k)
+          restrictCurve(&q[index(i, j, k)], d_[a], strides[a], lo, hi);
+  }
+  return q;
+}
+
+Box3 FfdLattice::imageBounds(const Box3& stu) const {
+  const std::vector<Vec3> q = restrictedPoints(stu);
+  Box3 b{q[0], q[0]};
+  double reach = scale();
+  for (const Vec3& v : q)
+    for (int a = 0; a < 3; ++a) {
+      b.lo[a] = std::min(b.lo[a], v[a]);
+      b.hi[a] = std::max(b.hi[a], v[a]);
+      reach = std::max(reach, std::abs(v[a]));
+    }
+  // Rounding in the subdivision and in forward() stays far below this; it also covers the
+  // residual newton() accepts, so a point inverse() finds lies in its parameter box's bounds.
+  const double pad = 1e-9 * reach;
+  for (int a = 0; a < 3; ++a) b.lo[a] -= pad, b.hi[a] += pad;
+  return b;
 }
 
 std::string FfdLattice::Fold::text() const {

@@ -34,6 +34,8 @@ class FfdLattice {
   const Vec3& point(int i, int j, int k) const { return p_[index(i, j, k)]; }
   void setPoint(int i, int j, int k, const Vec3& p);
   std::size_t pointCount() const { return p_.size(); }
+  // Every control point exactly at its rest position (the map is then the identity).
+  bool isUndeformed() const;
 
   // rest space <-> local coordinates (affine).
   Vec3 local(const Vec3& x) const;
@@ -46,6 +48,19 @@ class FfdLattice {
   // The local coordinates whose image is y, or nullopt when y is not the image of a point of
   // [0, 1]^3 (outside the deformed lattice) or the map is folded there.
   std::optional<Vec3> inverse(const Vec3& y) const;
+  // Damped Newton steps from `start` towards X(s) = y: the local coordinates once the residual
+  // is below 1e-10 of the rest box's largest side (they may lie outside [0, 1]^3), else
+  // nullopt. The building block of inverse() and FfdMap::inverse().
+  std::optional<Vec3> newton(const Vec3& y, const Vec3& start) const;
+  // The largest side of the rest box (the scale of tolerances).
+  double scale() const;
+
+  // A box holding X(S) for the parameter box S (within [0, 1]^3; a side may be flat): the box
+  // of the control points of the Bezier volume restricted to S (de Casteljau subdivision on
+  // each axis), which hold its image in their convex hull, padded for rounding.
+  Box3 imageBounds(const Box3& stu) const;
+  // The control points of the Bezier volume restricted to S, in point() order.
+  std::vector<Vec3> restrictedPoints(const Box3& stu) const;
 
   // Where the Jacobian's determinant changes sign (the lattice folds over itself), sampled
   // at `samples` points an axis in each lattice cell: the cell and a point there.
@@ -66,5 +81,9 @@ class FfdLattice {
 };
 
 double determinant(const Mat3& m);
+// The inverse of m by cofactors; false when m is singular (or not finite).
+bool invert(const Mat3& m, Mat3* inverse);
+// s lies in [0, 1]^3, give or take 1e-9 (what inverse() accepts as inside the lattice).
+bool insideUnitCube(const Vec3& s);
 
 }  // namespace frep

@@ -1,0 +1,130 @@
+// The ffd node: a Sederberg-Parry lattice deforming its input, evaluated by pulling back
+// through the lattice's inverse map (frep/ffd_field.h), so the deformed solid has no gaps at
+// any resolution.
+#include <mutex>
+
+#include "base/errors.h"
+#include "frep/ffd_field.h"
+#include "frep/node_helpers.h"
+#include "frep/program.h"
+#include "frep/registry.h"
+#include "frep/tree.h"
+#include "lattice/ffd_map.h"
+
+namespace frep {
+
+namespace {
+
+int divisionsOf(const Node& n, int axis) {
+  static const char* names[3] = {"divisions_x", "divisions_y", "divisions_z"};
+  return static_cast<int>(n.real(names[axis]));
+}
+
+std::size_t controlPointCount(const Node& n) {
+  return std::size_t(divisionsOf(n, 0) + 1) * (divisionsOf(n, 1) + 1) * (divisionsOf(n, 2) + 1);
+}
+
+FfdLattice latticeOf(const Node& n) {
+  FfdLattice lattice({n.vec3("rest_min"), n.vec3("rest_max")}, divisionsOf(n, 0),
+                     divisionsOf(n, 1), divisionsOf(n, 2));
+  const std::vector<Vec3> points = pointsOf(n.param("points"));
+  if (!points.empty()) {
+    std::size_t at = 0;
+    for (int i = 0; i <= lattice.divisions(0); ++i)
+      for (int j = 0; j <= lattice.divisions(1); ++j)
+        for (int k = 0; k <= lattice.divisions(2); ++k) lattice.setPoint(i, j, k, points[at++]);
+  }
+  return lattice;
+}
+
+bool isUndeformed(const Node& n) {
+  return n.param("points").numbers.empty() || latticeOf(n).isUndeformed();
+}
+
+// The map of the last lattice asked for: the bounds rule and the compiler both need it, and
+// its leaf bounds cost more than the rest of a compile.
+std::shared_ptr<const FfdMap> mapOf(const Node& n) {
+  static std::mutex mutex;
+  static std::vector<double> lastKey;
+  static std::shared_ptr<const FfdMap> last;
+  std::vector<double> key;
+  for (const char* name : {"rest_min", "rest_max", "divisions_x", "divisions_y", "divisions_z",
+                           "points"}) {
+    const auto& v = n.param(name).numbers;
+    key.push_back(double(v.size()));
+    key.insert(key.end(), v.begin(), v.end());
+  }
+  std::lock_guard<std::mutex> lock(mutex);
+  if (!last || key != lastKey) {
+    last = std::make_shared<const FfdMap>(latticeOf(n));
+    lastKey = std::move(key);
+  }
+  return last;
+}
+
+std::string checkFfd(const Node& n) {
+  const Vec3 lo = n.vec3("rest_min"), hi = n.vec3("rest_max");
+  for (int a = 0; a < 3; ++a)
+    if (!(lo[a] < hi[a]))
+      return "parameter 'rest_max' must exceed 'rest_min' on every axis (the rest box is "
+             "empty along " + std::string(1, "xyz"[a]) + ")";
+  const std::size_t given = pointsOf(n.param("points")).size(), needed = controlPointCount(n);
+  if (given != 0 && given != needed)
+    return "parameter 'points' has " + std::to_string(given) + " points; a " +
+           std::to_string(divisionsOf(n, 0)) + " x " + std::to_string(divisionsOf(n, 1)) + " x " +
+           std::to_string(divisionsOf(n, 2)) + " lattice has " + std::to_string(needed) +
+           " control points (i slowest, k fastest), or give none for the undeformed lattice";
+  if (given != 0 && !isUndeformed(n))
+    if (auto fold = mapOf(n)->lattice().findFold()) return fold->text();
+  return "";
+}
+
+}  // namespace
+
+void registerLattices(Registry& r) {
+  std::vector<ParamTemplate> params;
+  params.push_back(vec3Param("rest_min", {-1, -1, -1}, "length",
+                             "The rest box's lowest corner: the undeformed lattice spans the "
+                             "box from rest_min to rest_max."));
+  params.push_back(vec3Param("rest_max", {1, 1, 1}, "length", "The rest box's highest corner."));
+  for (const char* axis : {"x", "y", "z"}) {
+    ParamTemplate d = intParam(std::string("divisions_") + axis, 2,
+                               std::string("Lattice cells along ") + axis +
+                                   " (control points: one more).");
+    range(d, 1, kMaxLatticeDivisions);
+    params.push_back(d);
+  }
+  params.push_back(pointsParam(
+      "points", {}, 0, "length",
+      "The deformed control points, (divisions_x + 1)(divisions_y + 1)(divisions_z + 1) of "
+      "them, index i (along x) slowest and k (along z) fastest; none for the undeformed "
+      "lattice."));
+  r.add({"ffd",
+         "deformation",
+         "Free-form deformation by a Sederberg-Parry lattice (as Houdini's, Blender's or "
+         "Maya's lattice): the rest box is divided into cells, and moving the control points "
+         "bends the space inside it, and the input with it. Every point is pulled back "
+         "through the lattice's inverse map (Newton's method), so the deformed solid is "
+         "exact at any resolution and has no gaps, however far the lattice stretches. "
+         "Outside the deformed lattice the input is untouched, except inside the rest box, "
+         "where the lattice carried the solid away: keep the solid inside the rest box. A "
+         "lattice that folds over itself is refused, naming the cell.",
+         "F(p) = f(R(s)) where X(s) = p, X(s) = sum B_i(s) B_j(t) B_k(u) P_ijk (Bernstein), "
+         "R(s) = rest_min + s (rest_max - rest_min); outside the deformed lattice f(p), or "
+         "min(f(p), -eps) inside the rest box",
+         1,
+         1,
+         params,
+         [](CompileContext& c) {
+           if (isUndeformed(c.node())) return c.input(0);
+           auto input = std::make_shared<const Program>(compile(c.node().inputs.at(0)));
+           auto field = std::make_shared<const FfdField>(std::move(input), mapOf(c.node()));
+           return c.b.external(std::move(field), c.p.x, c.p.y, c.p.z);
+         },
+         [](const Node& n, const std::vector<Box3>& in) {
+           return isUndeformed(n) ? in[0] : deformedBounds(*mapOf(n), in[0]);
+         },
+         checkFfd});
+}
+
+}  // namespace frep
