@@ -18,11 +18,15 @@
 #include "frep/tree.h"
 #include "mesh/mesher.h"
 #include "volume/field_sources.h"
+#include "volume/grid_ffd.h"
 #include "volume/grid_field.h"
 #include "volume/level_sets.h"
 #include "volume/mesh_distance.h"
 #include "volume/openvdb_grids.h"
 #include "volume_samples.h"
+#include "lattice/ffd_map.h"
+#include "lattice_samples.h"
+#include <openvdb/tools/Interpolation.h>
 
 namespace frep {
 namespace {
@@ -470,6 +474,236 @@ TEST(VdbGrid, AModelNodeReadsAGridByNameAndMeshesPrintable) {
   } catch (const ModelError& e) {
     EXPECT_NE(std::string(e.what()).find("no grid named 'big'"), std::string::npos) << e.what();
   }
+}
+
+}  // namespace
+}  // namespace frep
+
+namespace frep {
+namespace {
+
+// The active voxels of two grids: the same set, with bit-identical values.
+template <class GridT>
+bool sameActiveVoxels(const openvdb::GridBase& x, const openvdb::GridBase& y) {
+  const auto& a = static_cast<const GridT&>(x);
+  const auto& b = static_cast<const GridT&>(y);
+  if (a.activeVoxelCount() != b.activeVoxelCount()) return false;
+  auto acc = b.getConstAccessor();
+  for (auto it = a.tree().cbeginValueOn(); it; ++it) {
+    if (!acc.isValueOn(it.getCoord())) return false;
+    const auto v = acc.getValue(it.getCoord());
+    if (std::memcmp(&v, &*it, sizeof v) != 0) return false;
+  }
+  return true;
+}
+
+// A grid of one value type holding `value` over a box of voxels (all active).
+template <class GridT>
+typename GridT::Ptr blockGrid(const std::string& name, typename GridT::ValueType value, double voxel,
+                              const openvdb::CoordBBox& box) {
+  auto g = GridT::create(typename GridT::ValueType());
+  g->setName(name);
+  g->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
+  g->denseFill(box, value, true);
+  g->tree().voxelizeActiveTiles();
+  return g;
+}
+
+FfdLattice stretchedAlongX(const Box3& rest, double factor) {
+  FfdLattice lattice(rest, 1, 1, 1);
+  for (int j = 0; j <= 1; ++j)
+    for (int k = 0; k <= 1; ++k) {
+      Vec3 p = lattice.point(1, j, k);
+      p[0] = rest.lo[0] + factor * (rest.hi[0] - rest.lo[0]);
+      lattice.setPoint(1, j, k, p);
+    }
+  return lattice;
+}
+
+TEST(GridFfd, TheUndeformedLatticeGivesEveryGridBackBitForBit) {
+  initializeOpenVdb();
+  openvdb::GridPtrVec grids;
+  grids.push_back(sampledSphere(0.1).impl->grids[0]);
+  grids.push_back(filledGrid<openvdb::DoubleGrid>("temperature", 1e-300, 3.14159265358979));
+  grids.push_back(filledGrid<openvdb::Int32Grid>("label", 7, -123456));
+  grids.push_back(filledGrid<openvdb::BoolGrid>("mask", false, true));
+  grids.push_back(filledGrid<openvdb::Vec3SGrid>("velocity", openvdb::Vec3s(1, 2, 3), openvdb::Vec3s(-0.5f, 0, 1e-7f)));
+  const GridSet set = gridSetOf(grids);
+  // A rest box holding part of each grid: inside it the map is the identity, outside it
+  // nothing moves.
+  const GridSet back = deformGrids(set, FfdLattice({{-1.5, -1.0, -1.2}, {1.3, 4.0, 1.0}}, 3, 2, 4));
+  ASSERT_EQ(back.size(), set.size());
+  for (std::size_t i = 0; i < set.size(); ++i) {
+    const openvdb::GridBase& x = *set.impl->grids[i];
+    const openvdb::GridBase& y = *back.impl->grids[i];
+    EXPECT_EQ(set.info(i).name, back.info(i).name);
+    EXPECT_EQ(set.info(i).gridClass, back.info(i).gridClass);
+    bool same = false;
+    if (x.isType<openvdb::FloatGrid>()) same = sameActiveVoxels<openvdb::FloatGrid>(x, y);
+    if (x.isType<openvdb::DoubleGrid>()) same = sameActiveVoxels<openvdb::DoubleGrid>(x, y);
+    if (x.isType<openvdb::Int32Grid>()) same = sameActiveVoxels<openvdb::Int32Grid>(x, y);
+    if (x.isType<openvdb::BoolGrid>()) same = sameActiveVoxels<openvdb::BoolGrid>(x, y);
+    if (x.isType<openvdb::Vec3SGrid>()) same = sameActiveVoxels<openvdb::Vec3SGrid>(x, y);
+    EXPECT_TRUE(same) << set.info(i).name << " changed under the undeformed lattice";
+  }
+  // The level set's inside is still inside (flood-filled).
+  const auto& ls = static_cast<const openvdb::FloatGrid&>(*back.impl->grids[0]);
+  EXPECT_LT(ls.tree().getValue(openvdb::Coord(0, 0, 0)), 0.0f);
+}
+
+// The acceptance point: a level set stretched 2.5 times along x. Pulled back through the
+// inverse, its mesh is printable; seed 002's forward splat leaves gaps, and its mesh is not.
+TEST(GridFfd, AStretchedLevelSetHasNoHolesWhereForwardSplattingLeavesGaps) {
+  const GridSet sphere = sampledSphere(0.08);
+  const FfdLattice lattice = stretchedAlongX({{-1.3, -1.3, -1.3}, {1.3, 1.3, 1.3}}, 2.5);
+  const GridSet pulled = deformGrids(sphere, lattice);
+  const TriangleMesh good = levelSetToMesh(pulled, 0);
+  const CheckReport report = checkMesh(good);
+  EXPECT_TRUE(report.printable());
+  // The stretched sphere: an ellipsoid with semi-axes 2.5, 1, 1 (centre moved by the stretch).
+  double worst = 0;
+  for (const Vec3f& p : good.positions) {
+    const double x = (p[0] - (-1.3 + 2.5 * 1.3)) / 2.5;
+    worst = std::max(worst, std::abs(norm3(x, p[1], p[2]) - 1.0));
+  }
+  EXPECT_LT(worst, 0.08);  // within a voxel of the ellipsoid (in the unstretched measure)
+
+  GridFfdOptions splat;
+  splat.method = GridFfdOptions::Method::ForwardSplat;
+  const GridSet splatted = deformGrids(sphere, lattice, splat);
+  // Gaps: voxels of the stretched narrow band that no source voxel landed on.
+  const auto& a = static_cast<const openvdb::FloatGrid&>(*pulled.impl->grids[0]);
+  const auto& b = static_cast<const openvdb::FloatGrid&>(*splatted.impl->grids[0]);
+  auto bacc = b.getConstAccessor();
+  std::size_t band = 0, gaps = 0;
+  for (auto it = a.tree().cbeginValueOn(); it; ++it)
+    if (std::abs(*it) < 0.08f) {
+      ++band;
+      gaps += !bacc.isValueOn(it.getCoord());
+    }
+  EXPECT_GT(gaps, band / 4) << gaps << " of " << band;
+  EXPECT_FALSE(checkMesh(levelSetToMesh(splatted, 0)).printable());
+}
+
+TEST(GridFfd, VectorsTransformByTheJacobianAsTheirVectorTypeSays) {
+  initializeOpenVdb();
+  // A shear x' = x + 0.5 z over the rest box: dy/dx = [[1, 0, 0.5], [0, 1, 0], [0, 0, 1]].
+  const Box3 rest{{-2, -2, -2}, {2, 2, 2}};
+  FfdLattice lattice(rest, 1, 1, 1);
+  for (int i = 0; i <= 1; ++i)
+    for (int j = 0; j <= 1; ++j)
+      for (int k = 0; k <= 1; ++k) {
+        Vec3 p = lattice.point(i, j, k);
+        p[0] += 0.5 * p[2];
+        lattice.setPoint(i, j, k, p);
+      }
+  const openvdb::CoordBBox block(openvdb::Coord(-5), openvdb::Coord(5));
+  openvdb::GridPtrVec grids;
+  auto rel = blockGrid<openvdb::Vec3SGrid>("velocity", openvdb::Vec3s(0, 0, 1), 0.1, block);
+  rel->setVectorType(openvdb::VEC_CONTRAVARIANT_RELATIVE);
+  auto normal = blockGrid<openvdb::Vec3DGrid>("normal", openvdb::Vec3d(1, 0, 0), 0.1, block);
+  normal->setVectorType(openvdb::VEC_COVARIANT);
+  auto unit = blockGrid<openvdb::Vec3SGrid>("unit", openvdb::Vec3s(1, 0, 0), 0.1, block);
+  unit->setVectorType(openvdb::VEC_COVARIANT_NORMALIZE);
+  auto untagged = blockGrid<openvdb::Vec3SGrid>("untagged", openvdb::Vec3s(0, 0, 1), 0.1, block);
+  grids = {rel, normal, unit, untagged};
+  const GridSet out = deformGrids(gridSetOf(grids), lattice);
+  auto at = [&](std::size_t g) {
+    // a voxel well inside the moved block: (x, z) = (0.25, 0.2) came from (0.15, 0.2)
+    const openvdb::Coord c(2, 0, 2);
+    if (auto s = openvdb::gridPtrCast<openvdb::Vec3SGrid>(out.impl->grids[g])) {
+      EXPECT_TRUE(s->tree().isValueOn(c));
+      const auto v = s->tree().getValue(c);
+      return Vec3{v[0], v[1], v[2]};
+    }
+    const auto d = openvdb::gridPtrCast<openvdb::Vec3DGrid>(out.impl->grids[g]);
+    EXPECT_TRUE(d->tree().isValueOn(c));
+    const auto v = d->tree().getValue(c);
+    return Vec3{v[0], v[1], v[2]};
+  };
+  const Vec3 v = at(0), n = at(1), u = at(2), w = at(3);
+  EXPECT_NEAR(v[0], 0.5, 1e-6);  // J (0, 0, 1) = (0.5, 0, 1)
+  EXPECT_NEAR(v[2], 1.0, 1e-6);
+  EXPECT_NEAR(n[0], 1.0, 1e-9);  // J^-T (1, 0, 0) = (1, 0, -0.5)
+  EXPECT_NEAR(n[2], -0.5, 1e-9);
+  EXPECT_NEAR(u[0], 1 / std::sqrt(1.25), 1e-6);  // the same, normalised
+  EXPECT_NEAR(u[2], -0.5 / std::sqrt(1.25), 1e-6);
+  EXPECT_NEAR(w[0], 0.5, 1e-6);  // untagged: a direction, like velocity
+  GridFfdOptions keep;
+  keep.keepVectors = true;
+  const GridSet kept = deformGrids(gridSetOf(grids), lattice, keep);
+  EXPECT_EQ(openvdb::gridPtrCast<openvdb::Vec3SGrid>(kept.impl->grids[0])->tree().getValue(openvdb::Coord(2, 0, 2)),
+            openvdb::Vec3s(0, 0, 1));
+}
+
+TEST(GridFfd, AVdbWithThreeGridsOfDifferentTypesRoundTripsDeformed) {
+  initializeOpenVdb();
+  const openvdb::CoordBBox block(openvdb::Coord(-8, -4, -4), openvdb::Coord(8, 4, 4));
+  openvdb::GridPtrVec grids;
+  auto density = blockGrid<openvdb::FloatGrid>("density", 0.5f, 0.1, block);
+  density->setGridClass(openvdb::GRID_FOG_VOLUME);
+  auto acc = density->getAccessor();
+  for (auto it = density->beginValueOn(); it; ++it) it.setValue(0.01f * float(it.getCoord().x() + 10));
+  grids.push_back(density);
+  grids.push_back(blockGrid<openvdb::Int32Grid>("label", 42, 0.1, block));
+  grids.push_back(blockGrid<openvdb::Vec3SGrid>("velocity", openvdb::Vec3s(1, 0, 0), 0.1, block));
+  const FfdLattice lattice = testing::twistedLattice(2, 2, 2, 0.8, 0.1, 3, Box3{{-1, -0.6, -0.6}, {1, 0.6, 0.6}});
+  const GridSet out = deformGrids(gridSetOf(grids), lattice);
+  const std::string path = sampleFolder() + "/deformed.vdb";
+  writeVdb(out, path);
+  const GridSet back = readVdb(path);
+  ASSERT_EQ(back.size(), 3u);
+  const FfdMap map(lattice);
+  for (std::size_t i = 0; i < 3; ++i) {
+    std::size_t j = 0;
+    while (j < back.size() && back.info(j).name != out.info(i).name) ++j;
+    ASSERT_LT(j, back.size());
+    EXPECT_EQ(back.info(j).valueType, out.info(i).valueType);
+    EXPECT_EQ(back.info(j).activeVoxels, out.info(i).activeVoxels);
+    EXPECT_GT(out.info(i).activeVoxels, 1000u);
+  }
+  // Every deformed density voxel holds the source's value where the lattice came from.
+  const auto& d = static_cast<const openvdb::FloatGrid&>(*out.impl->grids[0]);
+  openvdb::tools::GridSampler<openvdb::FloatTree, openvdb::tools::BoxSampler> sampler(density->tree(), density->transform());
+  std::size_t checked = 0;
+  for (auto it = d.tree().cbeginValueOn(); it; ++it) {
+    const openvdb::Vec3d p = d.transform().indexToWorld(it.getCoord());
+    const auto s = map.inverse({p[0], p[1], p[2]});
+    if (!s) continue;
+    const Vec3 q = lattice.restPoint(*s);
+    EXPECT_NEAR(*it, sampler.wsSample(openvdb::Vec3d(q[0], q[1], q[2])), 1e-5);
+    ++checked;
+  }
+  EXPECT_GT(checked, 1000u);
+  EXPECT_TRUE(sameActiveVoxels<openvdb::Int32Grid>(*out.impl->grids[1], *back.impl->grids[1]) ||
+              sameActiveVoxels<openvdb::Int32Grid>(*out.impl->grids[1], *back.impl->grids[0]) ||
+              sameActiveVoxels<openvdb::Int32Grid>(*out.impl->grids[1], *back.impl->grids[2]));
+}
+
+TEST(GridFfd, BadInputsAreRefusedWithTheReasonAndCancelStops) {
+  initializeOpenVdb();
+  const openvdb::CoordBBox block(openvdb::Coord(-4), openvdb::Coord(4));
+  auto wide = blockGrid<openvdb::Int64Grid>("ids", 5, 0.1, block);
+  try {
+    deformGrids(gridSetOf({wide}), stretchedAlongX({{-1, -1, -1}, {1, 1, 1}}, 2));
+    FAIL();
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("grid 'ids' holds int64 values; allowed: float"), std::string::npos) << e.what();
+  }
+  auto f = blockGrid<openvdb::FloatGrid>("density", 1.0f, 0.01, openvdb::CoordBBox(openvdb::Coord(-40), openvdb::Coord(40)));
+  GridFfdOptions small;
+  small.maxVoxels = 100000;
+  try {
+    deformGrids(gridSetOf({f}), stretchedAlongX({{-1, -1, -1}, {1, 1, 1}}, 30), small);
+    FAIL();
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("would need more than 100000 voxels"), std::string::npos) << e.what();
+  }
+  GridFfdOptions cancel;
+  int calls = 0;
+  cancel.progress = [&](double) { return ++calls < 1; };
+  EXPECT_THROW(deformGrids(gridSetOf({f}), stretchedAlongX({{-1, -1, -1}, {1, 1, 1}}, 1.5), cancel), Cancelled);
+  EXPECT_EQ(calls, 1);
 }
 
 }  // namespace

@@ -205,6 +205,8 @@ typename GridT::Ptr backward(const GridT& src, const FfdMap& map, const GridFfdO
   const std::vector<Coord> origins = destinationLeaves(src, lattice, o);
   const VectorRule rule = vectorRule(src, o);
   const Box3& rest = lattice.rest();
+  // The undeformed map's Jacobian is the identity but for rounding: vectors are left alone.
+  const bool transforms = !lattice.isUndeformed();
   typename GridT::Ptr out = src.copyWithNewTree();
   std::vector<LeafT*> leaves(origins.size(), nullptr);
   constexpr std::size_t kChunk = 1024;
@@ -234,7 +236,7 @@ typename GridT::Ptr backward(const GridT& src, const FfdMap& map, const GridFfdO
           }
           ValueT value;
           if (!sampleAt(acc, xf, q, o.interpolation, &value)) continue;
-          if (moved) value = transformed(value, a, rule, lattice);
+          if (moved && transforms) value = transformed(value, a, rule, lattice);
           v.setValue(value);
           v.setValueOn(true);
         }
@@ -273,7 +275,7 @@ openvdb::GridBase::Ptr deformTyped(const GridT& src, const FfdMap& map, const Gr
                                 : forwardSplat(src, map.lattice(), share);
   if constexpr (std::is_floating_point<typename GridT::ValueType>::value) {
     if (src.getGridClass() == openvdb::GRID_LEVEL_SET) {
-      if (!map.lattice().isUndeformed()) openvdb::tools::signedFloodFill(out->tree());
+      openvdb::tools::signedFloodFill(out->tree());
       if (o.rebuildLevelSets && o.method == GridFfdOptions::Method::Backward &&
           !map.lattice().isUndeformed()) {
         const double voxel = src.voxelSize()[0];
