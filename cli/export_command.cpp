@@ -115,23 +115,6 @@ ExportOptions parseExportOptions(const Args& args) {
   return o;
 }
 
-// The output must be a regular file name (or not exist yet), and not the input itself.
-void checkOutput(const ExportOptions& o) {
-  std::error_code ec;
-  const fs::path out = o.output;
-  const fs::file_status st = fs::symlink_status(out, ec);
-  if (fs::exists(st)) {
-    if (fs::is_symlink(st))
-      throw FileError(o.output + ": is a symbolic link; give the name of a regular file (the "
-                                 "export replaces the file, not the link's target)");
-    if (fs::is_directory(st)) throw FileError(o.output + ": is a folder; give a file name");
-    if (!fs::is_regular_file(st))
-      throw FileError(o.output + ": is a device, FIFO or socket; give a regular file name");
-    if (fs::equivalent(out, fs::path(o.input), ec))
-      throw FileError(o.output + ": is the input itself; give another output name");
-  }
-}
-
 // The solid as an OpenVDB level set: the box policy as for a mesh, a voxel per cell.
 int exportLevelSet(const ExportOptions& opt, const Program& program, const MeshingBox& box) {
   if (opt.tolerance || !opt.format.empty() || opt.stats)
@@ -233,13 +216,30 @@ int exportModel(const ExportOptions& opt) {
 
 }  // namespace
 
+// The output must be a regular file name (or not exist yet), and not the input itself.
+void checkOutputPath(const std::string& output, const std::string& input) {
+  std::error_code ec;
+  const fs::path out = output;
+  const fs::file_status st = fs::symlink_status(out, ec);
+  if (fs::exists(st)) {
+    if (fs::is_symlink(st))
+      throw FileError(output + ": is a symbolic link; give the name of a regular file (the "
+                               "output replaces the file, not the link's target)");
+    if (fs::is_directory(st)) throw FileError(output + ": is a folder; give a file name");
+    if (!fs::is_regular_file(st))
+      throw FileError(output + ": is a device, FIFO or socket; give a regular file name");
+    if (fs::equivalent(out, fs::path(input), ec))
+      throw FileError(output + ": is the input itself; give another output name");
+  }
+}
+
 int exportCommand(const Args& args) {
   const ExportOptions opt = parseExportOptions(args);
   if (opt.help) {
     std::cout << kExportHelp;
     return 0;
   }
-  checkOutput(opt);
+  checkOutputPath(opt.output, opt.input);
   if (isDocumentPath(opt.input)) return exportDocument(opt);
   if (!opt.object.empty() || !opt.sets.empty())
     throw UsageError("--object and --set apply to FreeCAD documents (.FCStd) only");

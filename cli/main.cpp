@@ -16,6 +16,7 @@ const char* kUsage =
     "                 [--bbox x0 y0 z0 x1 y1 z1] [--format stl|stl-ascii|obj|ply|bms]\n"
     "                 [--force] [--quiet] [--object NAME] [--set Object.Property=VALUE ...]\n"
     "                 (OUT.vdb: an OpenVDB level set at the cell size instead of a mesh)\n"
+    "  frepcad deform IN.stl|IN.vdb --lattice LATTICE.json -o OUT [--force] [--quiet]\n"
     "  frepcad check MESH [--json]\n"
     "  frepcad info [TYPE | FILE.vdb] [--json | --markdown]\n"
     "  frepcad COMMAND --help   the options of one command\n"
@@ -63,11 +64,12 @@ int main(int argc, char** argv) {
     if (command == "export") return finish(exportCommand(args));
     if (command == "check") return finish(checkCommand(args));
     if (command == "info") return finish(infoCommand(args));
+    if (command == "deform") return finish(deformCommand(args));
     if (command == "--version") {
       std::cout << "frepcad 0.1.0\n";
       return 0;
     }
-    throw UsageError("unknown command '" + command + "'; commands: export, check, info");
+    throw UsageError("unknown command '" + command + "'; commands: export, deform, check, info");
   } catch (const UsageError& e) {
     std::cerr << "frepcad: " << e.what() << "\n" << kUsage;
   } catch (const frep::ModelError& e) {

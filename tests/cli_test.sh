@@ -149,5 +149,32 @@ expect 2 "bad.vdb: not a readable OpenVDB file" -- "$frepcad" export "$work/bad.
 expect 2 "bad.vdb: not a readable OpenVDB file" -- "$frepcad" info "$work/bad.vdb"
 [ ! -e "$work/m.stl" ] && [ ! -e "$work/b.stl" ] && [ ! -e "$work/x.vdb" ] || { echo "FAIL: a refused export left a file"; failures=$((failures + 1)); }
 
+# deform: a lattice file applied to a mesh (checked) and to a .vdb (every grid); the ffd node
+expect 0 "verdict: printable" -- "$frepcad" export "$src/examples/bent_bar.json" -o "$work/bent.stl" --resolution 0.05
+printf '{"root": {"type": "box", "params": {"corner": [-1.2, -0.25, -0.25], "size": [2.4, 0.5, 0.5]}}}' > "$work/bar.json"
+"$frepcad" export "$work/bar.json" -o "$work/bar.stl" --cells 48 --quiet
+"$frepcad" export "$work/bar.json" -o "$work/bar.vdb" --cells 48 --quiet
+expect 0 "verdict: printable" -- "$frepcad" deform "$work/bar.stl" --lattice "$src/examples/lattices/bend.json" -o "$work/bent-mesh.obj"
+expect 0 "grid 'surface' \(float, level set" -- "$frepcad" deform "$work/bar.vdb" --lattice "$src/examples/lattices/bend.json" -o "$work/bent.vdb"
+printf '{"root": {"type": "vdb_grid", "params": {"path": "bent.vdb"}}}' > "$work/vdb-bent.json"
+expect 0 "verdict: printable" -- "$frepcad" export "$work/vdb-bent.json" -o "$work/vb.stl" --cells 64
+expect 2 "a mesh deforms into a mesh" -- "$frepcad" deform "$work/bar.stl" --lattice "$src/examples/lattices/bend.json" -o "$work/x.vdb"
+expect 2 "--interpolation, --keep-vectors, --no-rebuild and --splat apply to .vdb files" -- "$frepcad" deform "$work/bar.stl" --lattice "$src/examples/lattices/bend.json" -o "$work/x.stl" --splat
+expect 2 "deform needs --lattice" -- "$frepcad" deform "$work/bar.stl" -o "$work/x.stl"
+expect 2 '"format" must be "frepcad-lattice"' -- "$frepcad" deform "$work/bar.stl" --lattice "$work/bar.json" -o "$work/x.stl"
+python3 -c 'import json, sys; l = json.load(open(sys.argv[1])); l["divisions"][0] = 0; json.dump(l, open(sys.argv[2], "w"))' "$src/examples/lattices/bend.json" "$work/zero.json"
+expect 2 '"divisions" must be three integers from 1 to 64' -- "$frepcad" deform "$work/bar.stl" --lattice "$work/zero.json" -o "$work/x.stl"
+python3 -c 'import sys; print("[" * 100000 + "]" * 100000)' > "$work/deep.json"
+expect 2 "nested deeper than a lattice file can be" -- "$frepcad" deform "$work/bar.stl" --lattice "$work/deep.json" -o "$work/x.stl"
+python3 - "$src/examples/lattices/bend.json" "$work/folded.json" <<'PY'
+import json, sys
+lat = json.load(open(sys.argv[1]))
+for p in lat["points"][4:8]:
+    p[0] += 3.0  # the second plane far past the third: the map turns inside out
+json.dump(lat, open(sys.argv[2], "w"))
+PY
+expect 2 "folds over itself in cell \(" -- "$frepcad" deform "$work/bar.stl" --lattice "$work/folded.json" -o "$work/x.stl"
+[ ! -e "$work/x.stl" ] && [ ! -e "$work/x.vdb" ] || { echo "FAIL: a refused deform left a file"; failures=$((failures + 1)); }
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]
