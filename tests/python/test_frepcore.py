@@ -216,3 +216,45 @@ def test_level_sets_round_trip_through_vdb_files(tmp_path):
     (tmp_path / "bad.vdb").write_bytes(b"not a volume")
     with pytest.raises(OSError, match="bad.vdb"):
         fc.vdb_grids(str(tmp_path / "bad.vdb"))
+
+
+def bending_lattice():
+    """A 3 x 1 x 1 lattice around a bar whose two middle planes of points are lifted."""
+    lattice = fc.Lattice((-1.3, -0.4, -0.4), (1.3, 0.4, 0.4), (3, 1, 1))
+    for i in (1, 2):
+        for j in (0, 1):
+            for k in (0, 1):
+                p = lattice.points[(i * 2 + j) * 2 + k]
+                lattice.set_point(i, j, k, (p[0], p[1], p[2] + 0.9))
+    return lattice
+
+
+def test_lattices_bend_solids_meshes_and_volumes_alike(tmp_path):
+    lattice = bending_lattice()
+    assert lattice.find_fold() is None
+    assert lattice.divisions == [3, 1, 1] and len(lattice.points) == 16
+    # the inverse undoes the map
+    moved = lattice.deform((0.3, 0.1, 0.05))
+    assert moved[2] > 0.3
+    assert max(abs(a - b) for a, b in zip(lattice.inverse(moved), (0.3, 0.1, 0.05))) < 1e-9
+    # a lattice file round-trips
+    path = str(tmp_path / "bend.json")
+    lattice.write(path)
+    assert fc.read_lattice(path).points == lattice.points
+    # the bar as a function and as a mesh, bent alike: both printable, the same volume
+    bar = fc.box((2.4, 0.5, 0.5), corner=(-1.2, -0.25, -0.25))
+    pulled = bar.deform(lattice).mesh(cells=80)
+    pushed = fc.deform_mesh(bar.mesh(cells=80), lattice)
+    assert pulled.check()["printable"] and pushed.check()["printable"]
+    assert abs(pulled.volume() - pushed.volume()) < 0.03 * pushed.volume()
+    # the same bar as a level set: deformed without gaps, every grid written
+    vdb = str(tmp_path / "bar.vdb")
+    bar.to_vdb(vdb, cells=48)
+    out = str(tmp_path / "bent.vdb")
+    grids = fc.deform_vdb(vdb, out, lattice)
+    assert grids[0]["grid_class"] == "level set"
+    assert fc.vdb_to_mesh(out).check()["printable"]
+    with pytest.raises(Exception, match="interpolation 'cubic' is not allowed"):
+        fc.deform_vdb(vdb, out, lattice, interpolation="cubic")
+    with pytest.raises(Exception, match="lattice has 16"):
+        fc.Lattice((-1, -1, -1), (1, 1, 1), (3, 1, 1), points=[(0, 0, 0)])

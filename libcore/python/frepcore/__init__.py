@@ -21,11 +21,13 @@ import os
 from ._frepcore import Cancelled, Mesh, Node, node_types, parse_model, read_mesh
 from ._frepcore import check_param, node_reference_markdown
 from ._frepcore import mesh_field, vdb_grids, vdb_to_mesh
+from ._frepcore import Lattice, deform_mesh, deform_vdb, read_lattice, parse_lattice
 from ._frepcore import DEFAULT_CELLS  # cells along the longest side when no resolution is given
 
 __all__ = ["Cancelled", "Mesh", "Node", "Shape", "node_types", "parse_model", "read_mesh",
            "load", "automatic_box", "NotPrintable", "from_mesh", "from_vdb", "vdb_grids",
-           "vdb_to_mesh"]
+           "vdb_to_mesh", "Lattice", "deform_mesh", "deform_vdb", "read_lattice",
+           "parse_lattice"]
 
 # Positional order of the parameters of the primitive functions, where the registry's order
 # (placement first) would be awkward to call: fc.cylinder(radius, length).
@@ -138,6 +140,14 @@ class Shape:
             raise NotPrintable("%s: not written, the mesh is not printable: %s"
                                % (path, "; ".join(report["reasons"])), report)
         return report if check else None
+
+    def deform(self, lattice):
+        """This solid bent by a Lattice: the ffd node with the lattice's box, divisions and
+        points (pulled back through the lattice's inverse, so it has no gaps)."""
+        d = lattice.divisions
+        return Shape(Node("ffd", {"rest_min": lattice.rest_min, "rest_max": lattice.rest_max,
+                                  "divisions_x": d[0], "divisions_y": d[1], "divisions_z": d[2],
+                                  "points": lattice.points}, [self.node]))
 
     def to_json(self, bbox=None, resolution=None, description=""):
         return self.node.to_json(bbox, resolution, description)
