@@ -34,6 +34,7 @@ TOOLBARS = (
     ("FRep transforms", ("transform", "deformation", "array")),
     ("FRep microstructures", ("microstructure",)),
 )
+LATTICE_COMMANDS = ["FRep_Lattice", "FRep_Deform"]
 MESH_COMMANDS = ["FRep_Polygonize", "FRep_Export", "FRep_PreviewQuality", "FRep_SolidTolerance"]
 
 
@@ -62,6 +63,7 @@ def toolbars():
     for category, names in groups.items():
         if category not in placed:
             bars.append(("FRep " + category, names))
+    bars.append(("FRep lattice", LATTICE_COMMANDS))
     bars.append(("FRep mesh", MESH_COMMANDS))
     return bars
 
@@ -295,6 +297,86 @@ class SolidToleranceCommand:
             doc.recompute()
 
 
+def _deformable(obj):
+    import FRepLattice
+    return not FRepLattice.is_lattice(obj) and (
+        FRepTree.is_frep_input(obj) or obj.isDerivedFrom("Mesh::Feature"))
+
+
+class LatticeCommand:
+    """A lattice fitted to the selected object (FRep feature, solid or mesh)."""
+
+    def GetResources(self):
+        return {"Pixmap": FRepPaths.icon("lattice", "deformation"),
+                "MenuText": QT_TRANSLATE_NOOP("FRep_Lattice", "Lattice"),
+                "ToolTip": translate(
+                    "FRep_Lattice",
+                    "A free-form deformation lattice (Sederberg-Parry, as in Houdini or "
+                    "Blender) fitted around the selected object: 2 x 2 x 2 cells to start "
+                    "with. Double-click it to drag its control points; apply it with Deform.")}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None and \
+            len(FreeCADGui.Selection.getSelection()) == 1
+
+    def Activated(self):
+        import FRepLattice
+        doc = FreeCAD.ActiveDocument
+        target = FreeCADGui.Selection.getSelection()[0]
+        if not _deformable(target):
+            report("FRep Lattice", "Lattice: %s cannot be deformed; select an FRep feature, a "
+                   "solid or a mesh" % FRepTree.describe(target))
+            return
+        try:
+            with Transaction(doc, "Create Lattice"):
+                obj = FRepLattice.make_lattice(doc, target=target)
+                add_to_active_container(obj)
+                doc.recompute()
+        except ValueError as e:
+            report("FRep Lattice", str(e))
+
+
+class DeformCommand:
+    """The selected object deformed by the selected lattice (or by a new one fitted to it)."""
+
+    def GetResources(self):
+        return {"Pixmap": FRepPaths.icon("ffd", "deformation"),
+                "MenuText": QT_TRANSLATE_NOOP("FRep_Deform", "Deform"),
+                "ToolTip": translate(
+                    "FRep_Deform",
+                    "Deforms the selected object by the selected lattice: FRep features, "
+                    "solids and volumes exactly (through the lattice's inverse, no gaps), "
+                    "meshes vertex by vertex. Select the object, then its lattice; without a "
+                    "lattice one is fitted to the object.")}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None and \
+            1 <= len(FreeCADGui.Selection.getSelection()) <= 2
+
+    def Activated(self):
+        import FRepLattice
+        doc = FreeCAD.ActiveDocument
+        selection = FreeCADGui.Selection.getSelection()
+        lattices = [o for o in selection if FRepLattice.is_lattice(o)]
+        bases = [o for o in selection if not FRepLattice.is_lattice(o)]
+        if len(bases) != 1 or len(lattices) > 1 or not _deformable(bases[0]):
+            report("FRep Deform", "Deform needs one FRep feature, solid or mesh selected, and "
+                   "optionally one Lattice; the selection is %s"
+                   % (", ".join(FRepTree.describe(o) for o in selection) or "empty"))
+            return
+        try:
+            with Transaction(doc, "Create Deform"):
+                lattice = lattices[0] if lattices else FRepLattice.make_lattice(doc, target=bases[0])
+                obj = FRepLattice.make_deform(doc, bases[0], lattice)
+                add_to_active_container(obj)
+                doc.recompute()
+        except ValueError as e:
+            report("FRep Deform", str(e))
+            return
+        FreeCADGui.Selection.clearSelection()
+        FreeCADGui.Selection.addSelection(obj)
+
+
 def register():
     """Adds every command to FreeCAD; returns the toolbars as (title, command names)."""
     for type_id in FRepFeatures.NODE_TYPES:
@@ -303,4 +385,6 @@ def register():
     FreeCADGui.addCommand("FRep_Export", ExportCommand())
     FreeCADGui.addCommand("FRep_PreviewQuality", PreviewQualityCommand())
     FreeCADGui.addCommand("FRep_SolidTolerance", SolidToleranceCommand())
+    FreeCADGui.addCommand("FRep_Lattice", LatticeCommand())
+    FreeCADGui.addCommand("FRep_Deform", DeformCommand())
     return toolbars()

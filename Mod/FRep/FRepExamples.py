@@ -95,3 +95,32 @@ def build_bracket_infill(doc, wall=1.5, cell=5.0):
     infill = F.make("infill", doc, name="BracketInfill", inputs=[body], lattice="gyroid",
                     wall=wall, cell=cell, level=0.25)
     return body, infill
+
+
+def build_lattice_bend(doc, lift=12.0):
+    """Seed 002's lattice, on an FRep part and on a mesh: a bar with three holes (FRep) and a
+    FreeCAD mesh block beside it, each bent by lifting the two middle planes of control points
+    of a 3 x 1 x 1 lattice fitted around it. Returns (part deform, mesh deform, lattices)."""
+    import FRepLattice
+    bar = F.make("box", doc, name="Bar", corner=(-30, -5, -4), size=(60, 10, 8))
+    holes = [F.make("cylinder", doc, name="Hole%d" % n, center=(x, 0, 0), axis=(0, 0, 1),
+                    radius=2.5, length=0) for n, x in enumerate((-15, 0, 15))]
+    part = F.make("difference", doc, name="HoledBar", inputs=[bar] + holes)
+    # The mesh: a block as fine triangles (a box of twelve would bend as twelve flat facets).
+    import FRepMeshing
+    from FRepPaths import frepcore
+    block = doc.addObject("Mesh::Feature", "Block")
+    block.Mesh = FRepMeshing.to_freecad_mesh(
+        frepcore.box((60, 10, 8), corner=(-30, 25, -4)).mesh(cells=60))
+    deforms, lattices = [], []
+    for base in (part, block):
+        lattice = FRepLattice.make_lattice(doc, target=base, divisions=(3, 1, 1), margin=0.05,
+                                           name="Lattice" + base.Name)
+        for i in (1, 2):
+            for j in (0, 1):
+                for k in (0, 1):
+                    FRepLattice.move_point(lattice, (i, j, k), (0, 0, lift))
+        deforms.append(FRepLattice.make_deform(doc, base, lattice, name="Bent" + base.Name))
+        lattices.append(lattice)
+    return deforms[0], deforms[1], lattices
+

@@ -81,7 +81,7 @@ def _mesh_fingerprint(mesh):
             round(mesh.Area, 9), b.XMin, b.YMin, b.ZMin, b.XMax, b.YMax, b.ZMax)
 
 
-def _as_frepcore_mesh(freecad_mesh):
+def as_frepcore_mesh(freecad_mesh):
     """A FreeCAD mesh into frepcore through a binary STL (the fast hand-over)."""
     fd, path = tempfile.mkstemp(suffix=".stl", prefix="frep-solid-")
     os.close(fd)
@@ -126,13 +126,13 @@ def solid_shape(obj):
     if cached is not None and cached[0] == fingerprint:
         return cached[1]
     if tolerance is None:
-        source = _as_frepcore_mesh(mesh)
+        source = as_frepcore_mesh(mesh)
         voxel = max(mesh.BoundBox.DiagonalLength / 400.0, MIN_TOLERANCE)
     else:
         import MeshPart
         tessellated = MeshPart.meshFromShape(Shape=shape, LinearDeflection=tolerance,
                                              AngularDeflection=ANGULAR_DEFLECTION, Relative=False)
-        source = _as_frepcore_mesh(tessellated)
+        source = as_frepcore_mesh(tessellated)
         voxel = max(2 * tolerance, shape.BoundBox.DiagonalLength / 400.0)
     field = _distance_field(obj, source, voxel)
     BUILDS.append(key)

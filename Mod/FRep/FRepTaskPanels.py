@@ -148,3 +148,31 @@ class ParametersPanel:
         self.doc.recompute()
         FreeCADGui.ActiveDocument.resetEdit()
         return True
+
+
+class LatticeEditPanel:
+    """While a lattice is edited: what to do, and Close to leave edit mode (each drag is
+    already its own undo step)."""
+
+    def __init__(self, obj):
+        from PySide import QtGui
+        self.obj = obj
+        self.form = QtGui.QWidget()
+        self.form.setObjectName("FRepLatticeEditPanel")
+        self.form.setWindowTitle(translate("FRep", "Edit %s") % obj.Label)
+        layout = QtGui.QVBoxLayout(self.form)
+        text = QtGui.QLabel(translate(
+            "FRep", "Drag a control point's handle to move it: the cube moves it freely, the "
+                    "arrows along an axis. Every drag is one undo step. Offsets in the "
+                    "property view hold the exact values; Amount scales them all."))
+        text.setWordWrap(True)
+        layout.addWidget(text)
+
+    def getStandardButtons(self):
+        from PySide import QtGui
+        return int(QtGui.QDialogButtonBox.Close)
+
+    def reject(self):
+        import FreeCADGui
+        FreeCADGui.ActiveDocument.resetEdit()
+        return True

@@ -1,0 +1,142 @@
+"""Lattice deformation in FreeCAD: a Lattice fitted to an FRep part and to a mesh, Deform
+features bending both printable, offsets that save, reopen and undo, Amount driven by an
+expression, folds and wrong inputs refused with the reason, and only dependents
+recomputed."""
+
+import FreeCAD
+import pytest
+
+import FRepExamples
+import FRepFeatures as F
+import FRepLattice
+import FRepTree
+from FRepPaths import frepcore
+
+
+def test_a_lattice_bends_an_frep_part_and_a_mesh_printable(doc, tmp_path):
+    part, mesh, lattices = FRepExamples.build_lattice_bend(doc, lift=12.0)
+    doc.recompute()
+    for o in (part, mesh) + tuple(lattices):
+        assert o.isValid(), "%s: %s" % (o.Label, o.getStatusString())
+    # The FRep part is exact: its bounds rose with the lattice, its holes are still holes.
+    shape = FRepTree.shape_of(part)
+    box = shape.bounds()["box"]
+    assert box[1][2] > 4 + 0.5 * 12  # the middle lifted by most of the control points' lift
+    assert shape(0, 0, 0) < shape(0, 0, 6.9) or shape(0, 0, 0) < 0
+    report = shape.export(str(tmp_path / "bent-part.stl"), cells=96)
+    assert report["printable"], report["text"]
+    # The mesh, deformed vertex by vertex, is printable and rose alike.
+    assert mesh.Mesh.CountFacets > 1000
+    assert mesh.Mesh.BoundBox.ZMax > 4 + 0.5 * 12
+    fc_mesh = frepcore.read_mesh(_written(mesh.Mesh, tmp_path / "bent-mesh.stl"))
+    assert fc_mesh.check()["printable"]
+    # Both bent alike: their tops agree within a few percent of the lift.
+    part_top = max(p[2] for p in frepcore.read_mesh(str(tmp_path / "bent-part.stl")).points)
+    assert abs(mesh.Mesh.BoundBox.ZMax - part_top) < 0.05 * 12
+
+
+def _written(freecad_mesh, path):
+    freecad_mesh.write(str(path))
+    return str(path)
+
+
+def test_offsets_save_reopen_and_undo(doc, tmp_path):
+    bar = F.make("box", doc, corner=(-10, -2, -2), size=(20, 4, 4))
+    lattice = FRepLattice.make_lattice(doc, target=bar, divisions=(2, 1, 1))
+    bent = FRepLattice.make_deform(doc, bar, lattice)
+    doc.recompute()
+    rest_top = FRepTree.shape_of(bent).bounds()["box"][1][2]
+    doc.UndoMode = 1
+    doc.openTransaction("lift")
+    FRepLattice.move_point(lattice, (1, 0, 1), (0, 0, 5))
+    FRepLattice.move_point(lattice, (1, 1, 1), (0, 0, 5))
+    doc.commitTransaction()
+    doc.recompute()
+    lifted_top = FRepTree.shape_of(bent).bounds()["box"][1][2]
+    assert lifted_top > rest_top + 1
+    path = str(tmp_path / "lattice.FCStd")
+    bent_name, lattice_name = bent.Name, lattice.Name
+    doc.saveAs(path)
+    name = doc.Name
+    FreeCAD.closeDocument(name)
+    again = FreeCAD.openDocument(path)
+    try:
+        again.recompute()
+        b = again.getObject(bent_name)
+        assert b.isValid(), b.getStatusString()
+        assert FRepTree.shape_of(b).bounds()["box"][1][2] == pytest.approx(lifted_top, abs=1e-6)
+        assert len(again.getObject(lattice_name).Offsets) == 12
+    finally:
+        FreeCAD.closeDocument(again.Name)
+
+
+def test_undo_restores_the_lattice(doc):
+    bar = F.make("box", doc, corner=(-10, -2, -2), size=(20, 4, 4))
+    lattice = FRepLattice.make_lattice(doc, target=bar, divisions=(2, 1, 1))
+    bent = FRepLattice.make_deform(doc, bar, lattice)
+    doc.recompute()
+    doc.UndoMode = 1
+    top = FRepTree.shape_of(bent).bounds()["box"][1][2]
+    doc.openTransaction("lift")
+    FRepLattice.move_point(lattice, (1, 1, 1), (0, 0, 5))
+    doc.commitTransaction()
+    doc.recompute()
+    assert FRepTree.shape_of(bent).bounds()["box"][1][2] > top + 0.5
+    doc.undo()
+    doc.recompute()
+    assert list(lattice.Offsets) == []
+    assert FRepTree.shape_of(bent).bounds()["box"][1][2] == pytest.approx(top, abs=1e-6)
+
+
+def test_amount_is_driven_by_an_expression_and_only_dependents_recompute(doc):
+    bar = F.make("box", doc, corner=(-10, -2, -2), size=(20, 4, 4))
+    other = F.make("sphere", doc, radius=1, center=(40, 0, 0))
+    lattice = FRepLattice.make_lattice(doc, target=bar, divisions=(2, 1, 1))
+    for j in (0, 1):
+        for k in (0, 1):
+            FRepLattice.move_point(lattice, (1, j, k), (0, 0, 6))
+    bent = FRepLattice.make_deform(doc, bar, lattice)
+    doc.recompute()
+    full = FRepTree.shape_of(bent).bounds()["box"][1][2]
+    sheet = doc.addObject("Spreadsheet::Sheet", "Controls")
+    sheet.set("A1", "0.5")
+    sheet.setAlias("A1", "bend")
+    lattice.setExpression("Amount", "Controls.bend")
+    del F.EXECUTIONS[:]
+    doc.recompute()
+    half = FRepTree.shape_of(bent).bounds()["box"][1][2]
+    assert lattice.Amount == pytest.approx(0.5)
+    assert 2 < half < full - 1  # halfway up
+    names = {n for _, n in F.EXECUTIONS}
+    assert bent.Name in names and other.Name not in names
+
+
+def test_folds_and_wrong_inputs_are_refused_with_the_reason(doc):
+    bar = F.make("box", doc, corner=(-10, -2, -2), size=(20, 4, 4))
+    lattice = FRepLattice.make_lattice(doc, target=bar, divisions=(4, 1, 1))
+    for j in (0, 1):
+        for k in (0, 1):
+            FRepLattice.move_point(lattice, (2, j, k), (40, 0, 0))  # past its neighbours
+    bent = FRepLattice.make_deform(doc, bar, lattice)
+    doc.recompute()
+    assert "Invalid" in lattice.State
+    assert "folds over itself in cell (" in lattice.getStatusString() or \
+        "folds over itself" in bent.getStatusString()
+    lattice.Offsets = []
+    doc.recompute()
+    assert lattice.isValid() and bent.isValid()
+    # Offsets of the wrong length, then a Deform without a lattice.
+    lattice.Offsets = [FreeCAD.Vector()] * 3
+    doc.recompute()
+    assert "has 3 vectors; a 4 x 1 x 1 lattice has 20" in lattice.getStatusString()
+    lattice.Offsets = []
+    bent.Lattice = None
+    doc.recompute()
+    assert "must link a Lattice feature" in bent.getStatusString()
+    # Changing the divisions resets offsets that no longer match.
+    bent.Lattice = lattice
+    FRepLattice.move_point(lattice, (1, 0, 0), (0, 0, 1))
+    lattice.DivisionsX = 3
+    assert list(lattice.Offsets) == []
+    with pytest.raises(ValueError, match="does not exist"):
+        FRepLattice.move_point(lattice, (9, 0, 0), (0, 0, 1))
