@@ -122,28 +122,38 @@ Vec3 FfdLattice::forward(const Vec3& stu) const { return forward(stu, nullptr); 
 Vec3 FfdLattice::forward(const Vec3& stu, Mat3* jacobian) const {
   double b[3][kMaxLatticeDivisions + 1], db[3][kMaxLatticeDivisions + 1];
   for (int a = 0; a < 3; ++a) bernstein(d_[a], stu[a], b[a], db[a]);
-  Vec3 x{0, 0, 0};
-  Mat3 jac{};
+  // Summed along k first for each (i, j): the value's and the u-derivative's partial sums,
+  // then weighted by the i and j factors (a third of the products of the plain triple sum).
+  double x0 = 0, x1 = 0, x2 = 0;
+  double j00 = 0, j10 = 0, j20 = 0, j01 = 0, j11 = 0, j21 = 0, j02 = 0, j12 = 0, j22 = 0;
+  const std::size_t nk = std::size_t(d_[2]) + 1;
   for (int i = 0; i <= d_[0]; ++i)
     for (int j = 0; j <= d_[1]; ++j) {
-      const double bij = b[0][i] * b[1][j];
-      for (int k = 0; k <= d_[2]; ++k) {
-        const Vec3& p = p_[index(i, j, k)];
-        const double w = bij * b[2][k];
-        for (int r = 0; r < 3; ++r) x[r] += w * p[r];
-        if (jacobian) {
-          const double ws = db[0][i] * b[1][j] * b[2][k], wt = b[0][i] * db[1][j] * b[2][k],
-                       wu = bij * db[2][k];
-          for (int r = 0; r < 3; ++r) {
-            jac[r][0] += ws * p[r];
-            jac[r][1] += wt * p[r];
-            jac[r][2] += wu * p[r];
-          }
+      const Vec3* p = &p_[index(i, j, 0)];
+      double s0 = 0, s1 = 0, s2 = 0, u0 = 0, u1 = 0, u2 = 0;
+      if (jacobian) {
+        for (std::size_t k = 0; k < nk; ++k) {
+          const double w = b[2][k], dw = db[2][k];
+          s0 += w * p[k][0], s1 += w * p[k][1], s2 += w * p[k][2];
+          u0 += dw * p[k][0], u1 += dw * p[k][1], u2 += dw * p[k][2];
+        }
+      } else {
+        for (std::size_t k = 0; k < nk; ++k) {
+          const double w = b[2][k];
+          s0 += w * p[k][0], s1 += w * p[k][1], s2 += w * p[k][2];
         }
       }
+      const double bij = b[0][i] * b[1][j];
+      x0 += bij * s0, x1 += bij * s1, x2 += bij * s2;
+      if (jacobian) {
+        const double ws = db[0][i] * b[1][j], wt = b[0][i] * db[1][j];
+        j00 += ws * s0, j10 += ws * s1, j20 += ws * s2;
+        j01 += wt * s0, j11 += wt * s1, j21 += wt * s2;
+        j02 += bij * u0, j12 += bij * u1, j22 += bij * u2;
+      }
     }
-  if (jacobian) *jacobian = jac;
-  return x;
+  if (jacobian) *jacobian = Mat3{{{j00, j01, j02}, {j10, j11, j12}, {j20, j21, j22}}};
+  return {x0, x1, x2};
 }
 
 Vec3 FfdLattice::deform(const Vec3& x) const {

@@ -58,7 +58,7 @@ Vec3 trilinear(const std::array<Vec3, 8>& q, const Vec3& w, Mat3* jac) {
 // cell. Only a first guess, so no convergence test.
 Vec3 trilinearInverse(const std::array<Vec3, 8>& q, const Vec3& y) {
   Vec3 w{0.5, 0.5, 0.5};
-  for (int it = 0; it < 6; ++it) {
+  for (int it = 0; it < 3; ++it) {
     Mat3 j;
     const Vec3 x = trilinear(q, w, &j);
     const double det = determinant(j);
@@ -117,13 +117,67 @@ FfdMap::FfdMap(FfdLattice lattice) : lattice_(std::move(lattice)) {
         image_ = leaves_.empty() ? leaf.image : hull(image_, leaf.image);
         leaves_.push_back(std::move(leaf));
       }
+  index_.assign(std::size_t(kIndexCells) * kIndexCells * kIndexCells, {});
+  for (std::size_t id = 0; id < leaves_.size(); ++id) {
+    const Box3& b = leaves_[id].image;
+    for (int x = indexCell(b.lo[0], 0); x <= indexCell(b.hi[0], 0); ++x)
+      for (int y = indexCell(b.lo[1], 1); y <= indexCell(b.hi[1], 1); ++y)
+        for (int z = indexCell(b.lo[2], 2); z <= indexCell(b.hi[2], 2); ++z)
+          index_[(std::size_t(x) * kIndexCells + y) * kIndexCells + z].push_back(int(id));
+  }
+}
+
+int FfdMap::indexCell(double v, int axis) const {
+  const double t = (v - image_.lo[axis]) / (image_.hi[axis] - image_.lo[axis]);
+  return std::clamp(int(std::floor(t * kIndexCells)), 0, kIndexCells - 1);
+}
+
+// Calls visit(id) once for each leaf, in increasing order, that the caller's list holds (all
+// leaves when none) and whose image box may meet `box`: from the index where the box spans
+// few of its cells, else by scanning the list.
+template <class Visit>
+void FfdMap::forLeavesNear(const Box3& box, const std::vector<int>* leaves, Visit visit) const {
+  if (!meets(image_, box)) return;
+  int lo[3], hi[3], cells = 1;
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = indexCell(box.lo[a], a);
+    hi[a] = indexCell(box.hi[a], a);
+    cells *= hi[a] - lo[a] + 1;
+  }
+  const std::size_t listed = leaves ? leaves->size() : leaves_.size();
+  auto listedHere = [&](int id) {
+    return !leaves || std::binary_search(leaves->begin(), leaves->end(), id);
+  };
+  if (cells == 1) {  // a cell's list is in increasing order already
+    for (int id : index_[(std::size_t(lo[0]) * kIndexCells + lo[1]) * kIndexCells + lo[2]])
+      if (listedHere(id)) visit(id);
+    return;
+  }
+  if (std::size_t(cells) * 4 < listed) {
+    std::vector<int> found;
+    for (int x = lo[0]; x <= hi[0]; ++x)
+      for (int y = lo[1]; y <= hi[1]; ++y)
+        for (int z = lo[2]; z <= hi[2]; ++z) {
+          const auto& list = index_[(std::size_t(x) * kIndexCells + y) * kIndexCells + z];
+          found.insert(found.end(), list.begin(), list.end());
+        }
+    std::sort(found.begin(), found.end());
+    found.erase(std::unique(found.begin(), found.end()), found.end());
+    for (int id : found)
+      if (listedHere(id)) visit(id);
+    return;
+  }
+  if (leaves)
+    for (int id : *leaves) visit(id);
+  else
+    for (std::size_t i = 0; i < leaves_.size(); ++i) visit(int(i));
 }
 
 std::vector<int> FfdMap::leavesMeeting(const Box3& box) const {
   std::vector<int> out;
-  if (!meets(image_, box)) return out;
-  for (std::size_t i = 0; i < leaves_.size(); ++i)
-    if (meets(leaves_[i].image, box)) out.push_back(int(i));
+  forLeavesNear(box, nullptr, [&](int id) {
+    if (meets(leaves_[std::size_t(id)].image, box)) out.push_back(id);
+  });
   return out;
 }
 
@@ -134,16 +188,12 @@ std::optional<Vec3> FfdMap::inverse(const Vec3& y, const std::vector<int>* leave
   int found[512];
   double dist[512];
   int n = 0;
-  auto consider = [&](int id) {
+  forLeavesNear(Box3{y, y}, leaves, [&](int id) {
     const Leaf& leaf = leaves_[std::size_t(id)];
-    if (!holds(leaf.image, y)) return;
+    if (!holds(leaf.image, y) || n == 512) return;
     found[n] = id;
     dist[n++] = distance2(leaf.centre, y);
-  };
-  if (leaves)
-    for (int id : *leaves) consider(id);
-  else
-    for (std::size_t i = 0; i < leaves_.size(); ++i) consider(int(i));
+  });
   if (n == 0) return std::nullopt;
   int order[512];
   std::iota(order, order + n, 0);
@@ -155,10 +205,15 @@ std::optional<Vec3> FfdMap::inverse(const Vec3& y, const std::vector<int>* leave
     const Vec3 w = trilinearInverse(leaf.corners, y);
     Vec3 guess;
     for (int k = 0; k < 3; ++k) guess[k] = leaf.stu.lo[k] + w[k] * (leaf.stu.hi[k] - leaf.stu.lo[k]);
-    if (auto s = lattice_.newton(y, guess); s && insideUnitCube(*s)) return clampToCube(*s);
+    const auto s = lattice_.newton(y, guess);
+    if (!s) continue;
+    if (insideUnitCube(*s)) return clampToCube(*s);
+    // A preimage just outside the cube: the map, continued past the lattice, takes a point
+    // there to y, so (for a lattice that does not fold) nothing inside does.
+    bool near = true;
+    for (int k = 0; k < 3; ++k) near = near && (*s)[k] > -0.25 && (*s)[k] < 1.25;
+    if (near) return std::nullopt;
   }
-  // The bracketing search of the lattice itself, should every leaf's guess have failed.
-  if (auto s = lattice_.inverse(y)) return clampToCube(*s);
   return std::nullopt;
 }
 
@@ -175,11 +230,7 @@ FfdMap::BoxCover FfdMap::cover(const Box3& box, const std::vector<int>* leaves) 
     for (const Box3& f : leaf.faces)
       if (meets(f, box)) boundary = true;
   };
-  if (!meets(image_, box)) return out;
-  if (leaves)
-    for (int id : *leaves) consider(id);
-  else
-    for (std::size_t i = 0; i < leaves_.size(); ++i) consider(int(i));
+  forLeavesNear(box, leaves, consider);
   if (!any) return out;
   if (boundary) {
     out.cover = Cover::Partly;

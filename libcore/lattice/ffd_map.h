@@ -62,10 +62,17 @@ class FfdMap {
     Vec3 centre;                  // X at the centre
     std::vector<Box3> faces;      // boxes holding the images of its faces on the cube's boundary
   };
+  // The leaves whose image box may hold a point of cell c of a uniform index grid over the
+  // image (kIndexCells per axis), so a point looks at a few leaves, not all of them.
+  static constexpr int kIndexCells = 16;
+  int indexCell(double v, int axis) const;
+  template <class Visit>
+  void forLeavesNear(const Box3& box, const std::vector<int>* leaves, Visit visit) const;
   FfdLattice lattice_;
   int g_ = 1;
   std::vector<Leaf> leaves_;
   Box3 image_;
+  std::vector<std::vector<int>> index_;
 };
 
 }  // namespace frep
