@@ -7,6 +7,9 @@
     examples/twist.FCStd, helix.FCStd, gyroid.FCStd
                                     the reference models of the same names, imported from
                                     their .json files (File > Open does the same)
+    examples/lattice.FCStd          lattices bending an FRep bar with holes and a mesh block
+
+FREP_EXAMPLES=lattice,csg (names, comma-separated) writes only those documents.
 
 Run with `make examples` (after `make`). It starts the FreeCAD GUI under Xvfb and runs itself
 there: a document saved headless has no GuiDocument.xml, and FreeCAD then opens it with
@@ -69,34 +72,55 @@ def new_document(name, comment, preview_cells=PREVIEW_CELLS):
     return doc
 
 
+def wanted(name):
+    only = os.environ.get("FREP_EXAMPLES", "")
+    return not only or name in only.split(",")
+
+
 def build():
     """Inside the FreeCAD GUI."""
     import FreeCAD
     import FRepExamples
 
-    doc = new_document("csg", "Reference model csg (examples/csg.json): cube [-1,1]^3 "
-                       "intersected with a sphere of radius 1.3, minus three infinite "
-                       "cylinders of radius 0.5 along x, y and z.")
-    FRepExamples.build_csg(doc)
-    doc.recompute()
-    save(doc, "csg")
+    if wanted("lattice"):
+        doc = new_document("lattice", "Seed 002's lattice deformation: a 3 x 1 x 1 lattice "
+                           "lifts the middle of an FRep bar with three holes (pulled back "
+                           "through the lattice's inverse: exact), another bends a mesh block "
+                           "(vertices moved). Double-click a lattice to drag its points.")
+        FRepExamples.build_lattice_bend(doc)
+        doc.recompute()
+        save(doc, "lattice")
 
-    doc = new_document("csg_spreadsheet", "The csg part driven by the spreadsheet "
-                       "'Parameters' (aliases Size, Ball, Hole). Try: frepcad export "
-                       "examples/csg_spreadsheet.FCStd --set Parameters.Hole=0.3 -o part.stl")
-    mesh = FRepExamples.build_csg_spreadsheet(doc)
-    mesh.Cells = POLYGONIZE_CELLS
-    doc.recompute()
-    save(doc, "csg_spreadsheet")
+    if wanted("csg"):
+        doc = new_document("csg", "Reference model csg (examples/csg.json): cube [-1,1]^3 "
+                           "intersected with a sphere of radius 1.3, minus three infinite "
+                           "cylinders of radius 0.5 along x, y and z.")
+        FRepExamples.build_csg(doc)
+        doc.recompute()
+        save(doc, "csg")
+
+    if wanted("csg_spreadsheet"):
+        doc = new_document("csg_spreadsheet", "The csg part driven by the spreadsheet "
+                           "'Parameters' (aliases Size, Ball, Hole). Try: frepcad export "
+                           "examples/csg_spreadsheet.FCStd --set Parameters.Hole=0.3 -o "
+                           "part.stl")
+        mesh = FRepExamples.build_csg_spreadsheet(doc)
+        mesh.Cells = POLYGONIZE_CELLS
+        doc.recompute()
+        save(doc, "csg_spreadsheet")
 
     import FRepImport
     for name in ("twist", "helix", "gyroid"):
+        if not wanted(name):
+            continue
         doc = new_document(name, "")
         FRepImport.import_model(os.path.join(HERE, name + ".json"), doc)
         doc.recompute()
         save(doc, name)
 
     # Seed 000's showcase shapes side by side, one feature tree each (examples/showcase).
+    if not wanted("showcase"):
+        return
     doc = new_document("showcase", "Seed 000's showcase shapes (figures 4.9 to 4.17), from "
                        "examples/showcase/*.json; each exports as a printable STL.",
                        preview_cells=32)  # twelve previews: coarser, to keep the file small

@@ -7,7 +7,10 @@ view) and a Deform feature that applies it to an FRep solid, a FreeCAD solid or 
   Offsets, one displacement per control point from its rest position (index i along x slowest,
   k along z fastest), so it follows the target when the target changes size; Amount scales
   every offset (0: the rest lattice, 1: as edited) and is what expressions and spreadsheets
-  drive to animate a bend. Double-click it to drag control points (each drag one undo step).
+  drive to animate a bend. A control point can also get a property of its own
+  (expose_point: `Point_i_j_k`, a vector offset in the group "Control points") so that an
+  expression or a spreadsheet drives it, e.g. `Point_1_0_1.z = Controls.lift`. Double-click the
+  lattice to drag control points (each drag one undo step).
 - Deform: the `ffd` node over its Base with the rest box, divisions and points taken from its
   Lattice, so FRep solids, Part solids and volumes are pulled back through the lattice's
   inverse (exact, no gaps). A plain Mesh feature as Base is deformed vertex by vertex instead
@@ -56,6 +59,29 @@ def _target_box(obj):
         return t.Shape.BoundBox
     raise ValueError("%s: its target '%s' (%s) has no shape or mesh to fit the lattice to"
                      % (obj.Label, t.Label, t.TypeId))
+
+
+POINT_GROUP = "Control points"
+
+
+def point_property(i, j, k):
+    """The name of control point (i, j, k)'s own offset property (expose_point)."""
+    return "Point_%d_%d_%d" % (i, j, k)
+
+
+def exposed_points(obj):
+    """{(i, j, k): property name} of the control points with a property of their own."""
+    out = {}
+    d = divisions(obj)
+    for name in obj.PropertiesList:
+        if name.startswith("Point_") and obj.getGroupOfProperty(name) == POINT_GROUP:
+            try:
+                ijk = tuple(int(v) for v in name[6:].split("_"))
+            except ValueError:
+                continue
+            if len(ijk) == 3 and all(0 <= ijk[a] <= d[a] for a in range(3)):
+                out[ijk] = name
+    return out
 
 
 def divisions(obj):
@@ -150,13 +176,18 @@ class LatticeFeature(StatelessProxy):
         lo, hi = self.rest_box(obj)
         rest = frepcore.Lattice(lo, hi, divisions(obj))
         offsets = list(obj.Offsets)
-        if not offsets:
+        exposed = exposed_points(obj)
+        if not offsets and not exposed:
             return rest
+        if not offsets:
+            offsets = [FreeCAD.Vector()] * point_count(obj)
         if len(offsets) != point_count(obj):
             raise ValueError("%s: property 'Offsets' has %d vectors; a %d x %d x %d lattice has %d "
                              "control points (or leave it empty)" % (
                                  obj.Label, len(offsets), obj.DivisionsX, obj.DivisionsY,
                                  obj.DivisionsZ, point_count(obj)))
+        for ijk, name in exposed.items():  # a point's own property wins over Offsets
+            offsets[point_index(obj, *ijk)] = getattr(obj, name)
         a = obj.Amount
         points = [(p[0] + a * o.x, p[1] + a * o.y, p[2] + a * o.z)
                   for p, o in zip(rest.rest_points(), offsets)]
@@ -203,13 +234,38 @@ def make_lattice(doc, target=None, divisions=(2, 2, 2), margin=0.05, rest=None, 
     return obj
 
 
-def move_point(lattice_obj, index, offset):
-    """Sets control point (i, j, k)'s offset from its rest position (one property change)."""
+def _require_point(lattice_obj, index):
     i, j, k = index
     d = divisions(lattice_obj)
     if not (0 <= i <= d[0] and 0 <= j <= d[1] and 0 <= k <= d[2]):
         raise ValueError("%s: control point (%d, %d, %d) does not exist; allowed: (0...%d, "
                          "0...%d, 0...%d)" % (lattice_obj.Label, i, j, k, d[0], d[1], d[2]))
+
+
+def expose_point(lattice_obj, index):
+    """Gives control point (i, j, k) a vector property of its own (its offset, starting from
+    the current one) that expressions and spreadsheets can drive; returns its name."""
+    _require_point(lattice_obj, index)
+    name = point_property(*index)
+    if name not in lattice_obj.PropertiesList:
+        current = list(lattice_obj.Offsets)
+        start = current[point_index(lattice_obj, *index)] if current else FreeCAD.Vector()
+        lattice_obj.addProperty("App::PropertyVector", name, POINT_GROUP,
+                                "Control point (%d, %d, %d)'s offset from its rest position; "
+                                "it takes the place of its entry in Offsets" % tuple(index))
+        setattr(lattice_obj, name, start)
+    return name
+
+
+def move_point(lattice_obj, index, offset):
+    """Sets control point (i, j, k)'s offset from its rest position (one property change):
+    its own property when it has one (expose_point), else its entry in Offsets."""
+    i, j, k = index
+    _require_point(lattice_obj, index)
+    name = point_property(i, j, k)
+    if name in exposed_points(lattice_obj).values():
+        setattr(lattice_obj, name, FreeCAD.Vector(*offset))
+        return
     offsets = list(lattice_obj.Offsets) or [FreeCAD.Vector()] * point_count(lattice_obj)
     offsets[point_index(lattice_obj, i, j, k)] = FreeCAD.Vector(*offset)
     lattice_obj.Offsets = offsets

@@ -140,3 +140,48 @@ def test_folds_and_wrong_inputs_are_refused_with_the_reason(doc):
     assert list(lattice.Offsets) == []
     with pytest.raises(ValueError, match="does not exist"):
         FRepLattice.move_point(lattice, (9, 0, 0), (0, 0, 1))
+
+
+def test_a_volume_feature_is_deformed_through_the_lattice(doc, tmp_path):
+    """An imported .vdb (a VdbGrid feature) bent like any FRep solid: no gaps, printable."""
+    import FRepImport
+    path = str(tmp_path / "bar.vdb")
+    frepcore.box((4, 1, 1), corner=(-2, -0.5, -0.5)).to_vdb(path, cells=48)
+    volume = FRepImport.import_vdb(path, doc)
+    lattice = FRepLattice.make_lattice(doc, target=volume, divisions=(2, 1, 1))
+    for j in (0, 1):
+        for k in (0, 1):
+            FRepLattice.move_point(lattice, (1, j, k), (0, 0, 1.0))
+    bent = FRepLattice.make_deform(doc, volume, lattice)
+    doc.recompute()
+    assert bent.isValid(), bent.getStatusString()
+    shape = FRepTree.shape_of(bent)
+    assert shape(0, 0, 0.45) > 0 > shape(0, 0, -0.45)  # the middle rose by about half of 1
+    report = shape.export(str(tmp_path / "bent.stl"), cells=64)
+    assert report["printable"], report["text"]
+
+
+def test_an_exposed_control_point_is_driven_by_an_expression(doc):
+    bar = F.make("box", doc, corner=(-10, -2, -2), size=(20, 4, 4))
+    lattice = FRepLattice.make_lattice(doc, target=bar, divisions=(2, 1, 1))
+    bent = FRepLattice.make_deform(doc, bar, lattice)
+    doc.recompute()
+    top = FRepTree.shape_of(bent).bounds()["box"][1][2]
+    names = [FRepLattice.expose_point(lattice, (1, j, 1)) for j in (0, 1)]
+    assert names == ["Point_1_0_1", "Point_1_1_1"]
+    sheet = doc.addObject("Spreadsheet::Sheet", "Controls")
+    sheet.set("A1", "6")
+    sheet.setAlias("A1", "lift")
+    for name in names:
+        lattice.setExpression(name + ".z", "Controls.lift")
+    doc.recompute()
+    assert lattice.Point_1_0_1.z == pytest.approx(6)
+    lifted = FRepTree.shape_of(bent).bounds()["box"][1][2]
+    assert lifted > top + 1
+    sheet.set("A1", "0")
+    doc.recompute()
+    assert FRepTree.shape_of(bent).bounds()["box"][1][2] == pytest.approx(top, abs=1e-6)
+    # move_point on an exposed point sets its property
+    lattice.setExpression("Point_1_0_1.z", None)
+    FRepLattice.move_point(lattice, (1, 0, 1), (0, 0, 2))
+    assert lattice.Point_1_0_1.z == 2
