@@ -118,8 +118,24 @@ def test_showcase_document_holds_every_showcase_model():
         FreeCAD.closeDocument(doc.Name)
 
 
+def test_lattice_document_bends_a_part_and_a_mesh_printable(tmp_path):
+    doc = FreeCAD.openDocument(os.path.join(EXAMPLES, "lattice.FCStd"))
+    try:
+        recompute_all(doc)
+        part, mesh = doc.getObject("BentHoledBar"), doc.getObject("BentBlock")
+        report = FRepTree.shape_of(part).export(str(tmp_path / "part.stl"), cells=96)
+        assert report["printable"], report["text"]
+        assert report["box"][1][2] > 8  # lifted by the lattice (the bar is 8 mm thick)
+        path = str(tmp_path / "block.stl")
+        mesh.Mesh.write(path)
+        assert frepcore.read_mesh(path).check()["printable"]
+        assert mesh.Mesh.BoundBox.ZMax > 8
+    finally:
+        FreeCAD.closeDocument(doc.Name)
+
+
 @pytest.mark.parametrize("name", ["csg", "csg_spreadsheet", "twist", "helix", "gyroid",
-                                  "showcase"])
+                                  "showcase", "lattice"])
 def test_examples_were_saved_from_the_gui(name):
     """Without GuiDocument.xml FreeCAD opens a document with every object shown, consumed
     inputs included; make_documents.py saves from the GUI so the inputs stay hidden."""
