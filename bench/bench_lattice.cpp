@@ -10,6 +10,8 @@
 
 #include <random>
 
+#include "../tests/lattice_samples.h"
+#include "../tests/volume_samples.h"
 #include "frep/model_json.h"
 #include "frep/structural_bounds.h"
 #include "lattice/ffd_lattice.h"
@@ -17,8 +19,6 @@
 #include "mesh/mesher.h"
 #include "volume/grid_ffd.h"
 #include "volume/level_sets.h"
-#include "../tests/lattice_samples.h"
-#include "../tests/volume_samples.h"
 
 namespace frep {
 namespace {
@@ -61,7 +61,8 @@ void BM_DeformMesh(benchmark::State& state) {
 
 // The gyroid reference model, alone (0) or in a twisted lattice around its box (1).
 const NodePtr& gyroid(int deformed) {
-  static const NodePtr plain = loadModel(std::string(FREP_SOURCE_DIR) + "/examples/gyroid.json").root;
+  static const NodePtr plain =
+      loadModel(std::string(FREP_SOURCE_DIR) + "/examples/gyroid.json").root;
   static const NodePtr bent = makeNode("ffd", testing::ffdParams(twisted(3)), {plain}, "bench");
   return deformed ? bent : plain;
 }
@@ -74,7 +75,8 @@ void BM_GyroidEval(benchmark::State& state) {
   std::vector<double> x(n), y(n), z(n), out(n);
   for (std::size_t i = 0; i < n; ++i) x[i] = u(rng), y[i] = u(rng), z[i] = u(rng);
   for (auto _ : state) p.evalBatch(x.data(), y.data(), z.data(), n, out.data());
-  state.counters["points/s"] = benchmark::Counter(double(n), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["points/s"] =
+      benchmark::Counter(double(n), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 void BM_GyroidMesh(benchmark::State& state) {
@@ -90,10 +92,21 @@ void BM_GyroidMesh(benchmark::State& state) {
   state.counters["triangles"] = double(triangles);
 }
 
-BENCHMARK(BM_DeformLevelSet)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BM_DeformLevelSet)
+    ->Arg(0)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
 BENCHMARK(BM_DeformMesh)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 BENCHMARK(BM_GyroidEval)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_GyroidMesh)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BM_GyroidMesh)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
 
 }  // namespace
 }  // namespace frep

@@ -56,39 +56,56 @@ int deformCommand(const Args& args) {
     if (a == "-h" || a == "--help") {
       std::cout << kDeformHelp;
       return 0;
-    } else if (a == "-o" || a == "--output") output = value();
-    else if (a == "--lattice") latticePath = value();
-    else if (a == "--format") format = value(), meshOnly = true;
-    else if (a == "--force") force = true, meshOnly = true;
-    else if (a == "--quiet") quiet = true;
-    else if (a == "--keep-vectors") gridOptions.keepVectors = true, gridOnly = true;
-    else if (a == "--no-rebuild") gridOptions.rebuildLevelSets = false, gridOnly = true;
-    else if (a == "--splat") gridOptions.method = GridFfdOptions::Method::ForwardSplat, gridOnly = true;
+    } else if (a == "-o" || a == "--output")
+      output = value();
+    else if (a == "--lattice")
+      latticePath = value();
+    else if (a == "--format")
+      format = value(), meshOnly = true;
+    else if (a == "--force")
+      force = true, meshOnly = true;
+    else if (a == "--quiet")
+      quiet = true;
+    else if (a == "--keep-vectors")
+      gridOptions.keepVectors = true, gridOnly = true;
+    else if (a == "--no-rebuild")
+      gridOptions.rebuildLevelSets = false, gridOnly = true;
+    else if (a == "--splat")
+      gridOptions.method = GridFfdOptions::Method::ForwardSplat, gridOnly = true;
     else if (a == "--interpolation") {
       const std::string& m = value();
       gridOnly = true;
-      if (m == "nearest") gridOptions.interpolation = 0;
-      else if (m == "linear") gridOptions.interpolation = 1;
-      else if (m == "quadratic") gridOptions.interpolation = 2;
-      else throw UsageError("--interpolation expects nearest, linear or quadratic, got '" + m + "'");
+      if (m == "nearest")
+        gridOptions.interpolation = 0;
+      else if (m == "linear")
+        gridOptions.interpolation = 1;
+      else if (m == "quadratic")
+        gridOptions.interpolation = 2;
+      else
+        throw UsageError("--interpolation expects nearest, linear or quadratic, got '" + m + "'");
     } else if (!a.empty() && a[0] == '-' && a.size() > 1)
       throw UsageError("unknown option '" + a + "' for deform (see frepcad deform --help)");
-    else if (input.empty()) input = a;
-    else throw UsageError("deform takes one input file, got a second: '" + a + "'");
+    else if (input.empty())
+      input = a;
+    else
+      throw UsageError("deform takes one input file, got a second: '" + a + "'");
   }
   if (input.empty()) throw UsageError("deform needs an input file (a mesh or a .vdb)");
   if (output.empty()) throw UsageError("deform needs -o OUT");
   if (latticePath.empty()) throw UsageError("deform needs --lattice LATTICE.json");
   const bool vdb = isVdbPath(input);
   if (vdb != isVdbPath(output))
-    throw UsageError(vdb ? "a .vdb input deforms into a .vdb output" : "a mesh deforms into a mesh, not a .vdb");
+    throw UsageError(vdb ? "a .vdb input deforms into a .vdb output"
+                         : "a mesh deforms into a mesh, not a .vdb");
   if (vdb && meshOnly) throw UsageError("--format and --force apply to meshes, not to .vdb files");
   if (!vdb && gridOnly)
-    throw UsageError("--interpolation, --keep-vectors, --no-rebuild and --splat apply to .vdb files");
+    throw UsageError(
+        "--interpolation, --keep-vectors, --no-rebuild and --splat apply to .vdb files");
   checkOutputPath(output, input);
   // Everything that can be refused is refused before the work: the format, the lattice.
-  const MeshFormat meshFormat = vdb ? MeshFormat::StlBinary
-                                    : format.empty() ? formatFromPath(output) : parseFormat(format);
+  const MeshFormat meshFormat = vdb              ? MeshFormat::StlBinary
+                                : format.empty() ? formatFromPath(output)
+                                                 : parseFormat(format);
   const FfdLattice lattice = readLatticeFile(latticePath);
   if (auto fold = lattice.findFold()) throw ModelError(latticePath + ": " + fold->text());
 
@@ -103,7 +120,8 @@ int deformCommand(const Args& args) {
     if (!quiet) {
       std::cout << "deformed " << input << " by " << latticePath << " (" << lattice.divisions(0)
                 << " x " << lattice.divisions(1) << " x " << lattice.divisions(2) << ")\n";
-      for (std::size_t g = 0; g < out.size(); ++g) std::cout << "  " << describeGrid(out.info(g)) << "\n";
+      for (std::size_t g = 0; g < out.size(); ++g)
+        std::cout << "  " << describeGrid(out.info(g)) << "\n";
       std::cout << "wrote " << output << "\n";
     }
     return 0;
@@ -115,8 +133,9 @@ int deformCommand(const Args& args) {
   const CheckReport report = checkMesh(out);
   if (!quiet || !report.printable()) std::cout << reportToText(report, output);
   if (!report.printable() && !force) {
-    std::cerr << "frepcad: refusing to write " << output
-              << ": the deformed mesh is not printable (see reasons above; --force writes it anyway)\n";
+    std::cerr
+        << "frepcad: refusing to write " << output
+        << ": the deformed mesh is not printable (see reasons above; --force writes it anyway)\n";
     return 1;
   }
   writeMesh(out, output, meshFormat);

@@ -19,7 +19,8 @@ inline FfdLattice twistedLattice(int l, int m, int n, double turns, double jitte
   FfdLattice lattice(rest, l, m, n);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const double size[3] = {rest.hi[0] - rest.lo[0], rest.hi[1] - rest.lo[1], rest.hi[2] - rest.lo[2]};
+  const double size[3] = {rest.hi[0] - rest.lo[0], rest.hi[1] - rest.lo[1],
+                          rest.hi[2] - rest.lo[2]};
   const double cx = 0.5 * (rest.lo[0] + rest.hi[0]), cy = 0.5 * (rest.lo[1] + rest.hi[1]);
   const double cell[3] = {size[0] / l, size[1] / m, size[2] / n};
   for (int i = 0; i <= l; ++i)
@@ -27,7 +28,8 @@ inline FfdLattice twistedLattice(int l, int m, int n, double turns, double jitte
       for (int k = 0; k <= n; ++k) {
         const Vec3 p = lattice.point(i, j, k);
         const double a = turns * (p[2] - rest.lo[2]) / size[2], c = std::cos(a), s = std::sin(a);
-        Vec3 q{cx + c * (p[0] - cx) - s * (p[1] - cy), cy + s * (p[0] - cx) + c * (p[1] - cy), p[2]};
+        Vec3 q{cx + c * (p[0] - cx) - s * (p[1] - cy), cy + s * (p[0] - cx) + c * (p[1] - cy),
+               p[2]};
         for (int d = 0; d < 3; ++d) q[d] += jitter * cell[d] * u(rng);
         lattice.setPoint(i, j, k, q);
       }
@@ -37,8 +39,10 @@ inline FfdLattice twistedLattice(int l, int m, int n, double turns, double jitte
 // The ffd node's parameters for a lattice.
 inline std::map<std::string, ParamValue> ffdParams(const FfdLattice& lattice) {
   std::map<std::string, ParamValue> p;
-  p["rest_min"] = ParamValue{{lattice.rest().lo[0], lattice.rest().lo[1], lattice.rest().lo[2]}, ""};
-  p["rest_max"] = ParamValue{{lattice.rest().hi[0], lattice.rest().hi[1], lattice.rest().hi[2]}, ""};
+  p["rest_min"] =
+      ParamValue{{lattice.rest().lo[0], lattice.rest().lo[1], lattice.rest().lo[2]}, ""};
+  p["rest_max"] =
+      ParamValue{{lattice.rest().hi[0], lattice.rest().hi[1], lattice.rest().hi[2]}, ""};
   p["divisions_x"] = ParamValue{{double(lattice.divisions(0))}, ""};
   p["divisions_y"] = ParamValue{{double(lattice.divisions(1))}, ""};
   p["divisions_z"] = ParamValue{{double(lattice.divisions(2))}, ""};

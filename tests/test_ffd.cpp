@@ -8,17 +8,17 @@
 #include <random>
 
 #include "base/errors.h"
+#include "check/mesh_check.h"
 #include "frep/bounds.h"
 #include "frep/ffd_field.h"
 #include "frep/program.h"
 #include "frep/structural_bounds.h"
 #include "frep/tree.h"
 #include "lattice/ffd_map.h"
+#include "lattice_samples.h"
 #include "mesh/mesh_ffd.h"
 #include "mesh/mesher.h"
-#include "check/mesh_check.h"
 #include "volume/field_sources.h"
-#include "lattice_samples.h"
 
 namespace frep {
 namespace {
@@ -44,7 +44,9 @@ Vec3 inside(const Box3& b, std::mt19937& rng) {
   return p;
 }
 
-bool same(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool same(double a, double b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
 
 struct Case {
   int l, m, n;
@@ -58,7 +60,8 @@ TEST(FfdMap, LeafBoundsHoldTheImageOfEveryParameterBox) {
     const FfdLattice lattice = twistedLattice(c.l, c.m, c.n, c.turns, c.jitter, 5);
     for (int b = 0; b < 40; ++b) {
       Box3 stu{inside({{0, 0, 0}, {1, 1, 1}}, rng), {}};
-      for (int k = 0; k < 3; ++k) stu.hi[k] = stu.lo[k] + (1 - stu.lo[k]) * std::pow(double(rng() % 1000) / 1000, 2);
+      for (int k = 0; k < 3; ++k)
+        stu.hi[k] = stu.lo[k] + (1 - stu.lo[k]) * std::pow(double(rng() % 1000) / 1000, 2);
       if (b % 4 == 0) stu.hi[b % 3] = stu.lo[b % 3];  // a flat box: a face's image
       const Box3 image = lattice.imageBounds(stu);
       for (int n = 0; n < 50; ++n) {
@@ -81,8 +84,8 @@ TEST(FfdMap, TheFastInverseFindsEveryPointAndNothingOutside) {
       ASSERT_TRUE(back.has_value());
       worst = std::max(worst, distance(*back, s));
       // Any leaf list holding the leaves around y gives the same answer, bit for bit.
-      const std::vector<int> near = map.leavesMeeting({{y[0] - 0.01, y[1] - 0.01, y[2] - 0.01},
-                                                        {y[0] + 0.01, y[1] + 0.01, y[2] + 0.01}});
+      const std::vector<int> near = map.leavesMeeting(
+          {{y[0] - 0.01, y[1] - 0.01, y[2] - 0.01}, {y[0] + 0.01, y[1] + 0.01, y[2] + 0.01}});
       const auto again = map.inverse(y, &near);
       ASSERT_TRUE(again.has_value());
       for (int k = 0; k < 3; ++k) ASSERT_TRUE(same((*again)[k], (*back)[k]));
@@ -159,9 +162,9 @@ TEST(FfdNode, TheUndeformedLatticeIsTheIdentity) {
   const Program plain = compile(input);
   const FfdLattice rest(kLatticeRest, 3, 2, 4);
   // The node: the input itself, bit for bit (with no points, or the rest points given).
-  const Program none = compile(makeNode("ffd", {{"rest_min", vec3Value(rest.rest().lo)},
-                                                {"rest_max", vec3Value(rest.rest().hi)}},
-                                        {input}, "ffd"));
+  const Program none = compile(makeNode(
+      "ffd", {{"rest_min", vec3Value(rest.rest().lo)}, {"rest_max", vec3Value(rest.rest().hi)}},
+      {input}, "ffd"));
   const Program given = compile(ffd(rest, input));
   // The pull-back itself through the undeformed map: the identity to rounding.
   const FfdField field(std::make_shared<Program>(compile(input)), std::make_shared<FfdMap>(rest));
@@ -195,8 +198,8 @@ TEST(FfdNode, TheValueIsTheInputsWhereTheLatticeCameFrom) {
 TEST(FfdNode, NoGhostIsLeftWhereTheLatticeMovedAway) {
   // A bar filling most of the rest box; the lattice is pushed 1.5 along +x, so the rest
   // box's left part is left empty: the bar must not appear there.
-  const NodePtr bar = makeNode("box", {{"corner", vec3Value({-0.9, -0.4, 0.1})},
-                                       {"size", vec3Value({1.8, 0.8, 1.8})}}, {});
+  const NodePtr bar = makeNode(
+      "box", {{"corner", vec3Value({-0.9, -0.4, 0.1})}, {"size", vec3Value({1.8, 0.8, 1.8})}}, {});
   FfdLattice lattice(kLatticeRest, 2, 2, 2);
   for (int i = 0; i <= 2; ++i)
     for (int j = 0; j <= 2; ++j)
@@ -223,7 +226,8 @@ TEST(FfdNode, AFoldedLatticeOrAWrongPointCountIsRefusedWithTheReason) {
     ffd(lattice, ball({0, 0, 1}, 0.3));
     FAIL() << "a folded lattice was accepted";
   } catch (const ModelError& e) {
-    EXPECT_NE(std::string(e.what()).find("folds over itself in cell ("), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("folds over itself in cell ("), std::string::npos)
+        << e.what();
   }
   auto params = testing::ffdParams(FfdLattice(kLatticeRest, 2, 2, 2));
   params["points"].numbers.resize(3 * 26);
@@ -232,7 +236,8 @@ TEST(FfdNode, AFoldedLatticeOrAWrongPointCountIsRefusedWithTheReason) {
     FAIL() << "26 points for 27 were accepted";
   } catch (const ModelError& e) {
     EXPECT_NE(std::string(e.what()).find("'points' has 26 points; a 2 x 2 x 2 lattice has 27"),
-              std::string::npos) << e.what();
+              std::string::npos)
+        << e.what();
   }
   params = testing::ffdParams(FfdLattice(kLatticeRest, 2, 2, 2));
   params["rest_max"] = vec3Value({1, -0.5, 2});

@@ -28,12 +28,15 @@ bool within(const Box3& inner, const Box3& outer) {
 
 Box3 hull(const Box3& a, const Box3& b) {
   Box3 h;
-  for (int k = 0; k < 3; ++k) h.lo[k] = std::min(a.lo[k], b.lo[k]), h.hi[k] = std::max(a.hi[k], b.hi[k]);
+  for (int k = 0; k < 3; ++k)
+    h.lo[k] = std::min(a.lo[k], b.lo[k]), h.hi[k] = std::max(a.hi[k], b.hi[k]);
   return h;
 }
 
 // min(f, -eps), as eval computes it (f < -eps ? f : -eps; NaN gives -eps).
-double vacated(double f, double eps) { return f < -eps ? f : -eps; }
+double vacated(double f, double eps) {
+  return f < -eps ? f : -eps;
+}
 Interval vacated(const Interval& f, double eps) {
   return {std::min(f.lo, -eps), f.nan ? -eps : std::min(f.hi, -eps), false};
 }
@@ -42,7 +45,9 @@ Interval vacated(const Interval& f, double eps) {
 
 FfdField::FfdField(std::shared_ptr<const Field> input, std::shared_ptr<const FfdMap> map,
                    std::shared_ptr<const std::vector<int>> leaves)
-    : input_(std::move(input)), map_(std::move(map)), leaves_(std::move(leaves)),
+    : input_(std::move(input)),
+      map_(std::move(map)),
+      leaves_(std::move(leaves)),
       eps_(1e-9 * map_->lattice().scale()) {}
 
 bool FfdField::inRestBox(double x, double y, double z) const {
@@ -68,7 +73,8 @@ Interval FfdField::evalInterval(const Interval& x, const Interval& y, const Inte
   if (c.cover != FfdMap::Cover::Outside) {
     // restPoint is monotone in each coordinate, rounding included: the rest points of the
     // preimage box's corners bound those of its points.
-    const Vec3 lo = map_->lattice().restPoint(c.preimage.lo), hi = map_->lattice().restPoint(c.preimage.hi);
+    const Vec3 lo = map_->lattice().restPoint(c.preimage.lo),
+               hi = map_->lattice().restPoint(c.preimage.hi);
     out = input_->evalInterval({lo[0], hi[0]}, {lo[1], hi[1]}, {lo[2], hi[2]});
     any = true;
   }
@@ -132,13 +138,15 @@ std::shared_ptr<const Field> FfdField::specialise(const Box3& box) const {
     inputBox = hull(inputBox, Box3{lattice.restPoint(stu.lo), lattice.restPoint(stu.hi)});
   }
   std::shared_ptr<const Field> input = input_->specialise(inputBox);
-  const bool sameLeaves = leaves_ ? leaves->size() == leaves_->size()
-                                  : leaves->size() == map_->leafCount();
+  const bool sameLeaves =
+      leaves_ ? leaves->size() == leaves_->size() : leaves->size() == map_->leafCount();
   if (!input && sameLeaves) return nullptr;
   return std::make_shared<FfdField>(input ? input : input_, map_, std::move(leaves));
 }
 
-Box3 FfdField::bounds() const { return deformedBounds(*map_, input_->bounds()); }
+Box3 FfdField::bounds() const {
+  return deformedBounds(*map_, input_->bounds());
+}
 
 Box3 deformedBounds(const FfdMap& map, const Box3& in) {
   const Box3& rest = map.lattice().rest();

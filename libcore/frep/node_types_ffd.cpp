@@ -25,8 +25,8 @@ std::size_t controlPointCount(const Node& n) {
 }
 
 FfdLattice latticeOf(const Node& n) {
-  FfdLattice lattice({n.vec3("rest_min"), n.vec3("rest_max")}, divisionsOf(n, 0),
-                     divisionsOf(n, 1), divisionsOf(n, 2));
+  FfdLattice lattice({n.vec3("rest_min"), n.vec3("rest_max")}, divisionsOf(n, 0), divisionsOf(n, 1),
+                     divisionsOf(n, 2));
   const std::vector<Vec3> points = pointsOf(n.param("points"));
   if (!points.empty()) {
     std::size_t at = 0;
@@ -48,8 +48,8 @@ std::shared_ptr<const FfdMap> mapOf(const Node& n) {
   static std::vector<double> lastKey;
   static std::shared_ptr<const FfdMap> last;
   std::vector<double> key;
-  for (const char* name : {"rest_min", "rest_max", "divisions_x", "divisions_y", "divisions_z",
-                           "points"}) {
+  for (const char* name :
+       {"rest_min", "rest_max", "divisions_x", "divisions_y", "divisions_z", "points"}) {
     const auto& v = n.param(name).numbers;
     key.push_back(double(v.size()));
     key.insert(key.end(), v.begin(), v.end());
@@ -67,7 +67,8 @@ std::string checkFfd(const Node& n) {
   for (int a = 0; a < 3; ++a)
     if (!(lo[a] < hi[a]))
       return "parameter 'rest_max' must exceed 'rest_min' on every axis (the rest box is "
-             "empty along " + std::string(1, "xyz"[a]) + ")";
+             "empty along " +
+             std::string(1, "xyz"[a]) + ")";
   const std::size_t given = pointsOf(n.param("points")).size(), needed = controlPointCount(n);
   if (given != 0 && given != needed)
     return "parameter 'points' has " + std::to_string(given) + " points; a " +
@@ -88,9 +89,9 @@ void registerLattices(Registry& r) {
                              "box from rest_min to rest_max."));
   params.push_back(vec3Param("rest_max", {1, 1, 1}, "length", "The rest box's highest corner."));
   for (const char* axis : {"x", "y", "z"}) {
-    ParamTemplate d = intParam(std::string("divisions_") + axis, 2,
-                               std::string("Lattice cells along ") + axis +
-                                   " (control points: one more).");
+    ParamTemplate d =
+        intParam(std::string("divisions_") + axis, 2,
+                 std::string("Lattice cells along ") + axis + " (control points: one more).");
     range(d, 1, kMaxLatticeDivisions);
     params.push_back(d);
   }
@@ -99,8 +100,7 @@ void registerLattices(Registry& r) {
       "The deformed control points, (divisions_x + 1)(divisions_y + 1)(divisions_z + 1) of "
       "them, index i (along x) slowest and k (along z) fastest; none for the undeformed "
       "lattice."));
-  r.add({"ffd",
-         "deformation",
+  r.add({"ffd", "deformation",
          "Free-form deformation by a Sederberg-Parry lattice (as Houdini's, Blender's or "
          "Maya's lattice): the rest box is divided into cells, and moving the control points "
          "bends the space inside it, and the input with it. Every point is pulled back "
@@ -112,9 +112,7 @@ void registerLattices(Registry& r) {
          "F(p) = f(R(s)) where X(s) = p, X(s) = sum B_i(s) B_j(t) B_k(u) P_ijk (Bernstein), "
          "R(s) = rest_min + s (rest_max - rest_min); outside the deformed lattice f(p), or "
          "min(f(p), -eps) inside the rest box",
-         1,
-         1,
-         params,
+         1, 1, params,
          [](CompileContext& c) {
            if (isUndeformed(c.node())) return c.input(0);
            auto input = std::make_shared<const Program>(compile(c.node().inputs.at(0)));

@@ -44,7 +44,9 @@ Vec3 solve(const Mat3& a, const Vec3& r, bool* ok) {
   return x;
 }
 
-double norm(const Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+double norm(const Vec3& v) {
+  return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
 
 // newton() accepts a residual up to this fraction of the lattice's scale.
 constexpr double kInverseTolerance = 1e-10;
@@ -100,7 +102,8 @@ bool FfdLattice::isUndeformed() const {
   for (int i = 0; i <= d_[0]; ++i)
     for (int j = 0; j <= d_[1]; ++j)
       for (int k = 0; k <= d_[2]; ++k)
-        if (p_[index(i, j, k)] != restPoint({double(i) / d_[0], double(j) / d_[1], double(k) / d_[2]}))
+        if (p_[index(i, j, k)] !=
+            restPoint({double(i) / d_[0], double(j) / d_[1], double(k) / d_[2]}))
           return false;
   return true;
 }
@@ -117,7 +120,9 @@ Vec3 FfdLattice::restPoint(const Vec3& stu) const {
   return x;
 }
 
-Vec3 FfdLattice::forward(const Vec3& stu) const { return forward(stu, nullptr); }
+Vec3 FfdLattice::forward(const Vec3& stu) const {
+  return forward(stu, nullptr);
+}
 
 Vec3 FfdLattice::forward(const Vec3& stu, Mat3* jacobian) const {
   double b[3][kMaxLatticeDivisions + 1], db[3][kMaxLatticeDivisions + 1];
@@ -267,8 +272,7 @@ void restrictCurve(Vec3* c, int d, std::size_t stride, double lo, double hi) {
 
 std::vector<Vec3> FfdLattice::restrictedPoints(const Box3& stu) const {
   std::vector<Vec3> q = p_;
-  const std::size_t strides[3] = {std::size_t(d_[1] + 1) * (d_[2] + 1), std::size_t(d_[2] + 1),
-                                  1};
+  const std::size_t strides[3] = {std::size_t(d_[1] + 1) * (d_[2] + 1), std::size_t(d_[2] + 1), 1};
   for (int a = 0; a < 3; ++a) {
     const double lo = std::clamp(stu.lo[a], 0.0, 1.0), hi = std::clamp(stu.hi[a], lo, 1.0);
     if (lo == 0.0 && hi == 1.0) continue;

@@ -23,7 +23,8 @@ bool holds(const Box3& b, const Vec3& p) {
 
 Box3 hull(const Box3& a, const Box3& b) {
   Box3 h;
-  for (int k = 0; k < 3; ++k) h.lo[k] = std::min(a.lo[k], b.lo[k]), h.hi[k] = std::max(a.hi[k], b.hi[k]);
+  for (int k = 0; k < 3; ++k)
+    h.lo[k] = std::min(a.lo[k], b.lo[k]), h.hi[k] = std::max(a.hi[k], b.hi[k]);
   return h;
 }
 
@@ -204,7 +205,8 @@ std::optional<Vec3> FfdMap::inverse(const Vec3& y, const std::vector<int>* leave
     const Leaf& leaf = leaves_[std::size_t(found[order[o]])];
     const Vec3 w = trilinearInverse(leaf.corners, y);
     Vec3 guess;
-    for (int k = 0; k < 3; ++k) guess[k] = leaf.stu.lo[k] + w[k] * (leaf.stu.hi[k] - leaf.stu.lo[k]);
+    for (int k = 0; k < 3; ++k)
+      guess[k] = leaf.stu.lo[k] + w[k] * (leaf.stu.hi[k] - leaf.stu.lo[k]);
     const auto s = lattice_.newton(y, guess);
     if (!s) continue;
     if (insideUnitCube(*s)) return clampToCube(*s);

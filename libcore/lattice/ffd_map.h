@@ -56,8 +56,8 @@ class FfdMap {
 
  private:
   struct Leaf {
-    Box3 stu;    // its part of the parameter cube
-    Box3 image;  // holds X(stu)
+    Box3 stu;                     // its part of the parameter cube
+    Box3 image;                   // holds X(stu)
     std::array<Vec3, 8> corners;  // X at the corners, bit 0: s, bit 1: t, bit 2: u
     Vec3 centre;                  // X at the centre
     std::vector<Box3> faces;      // boxes holding the images of its faces on the cube's boundary

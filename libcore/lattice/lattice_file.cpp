@@ -23,8 +23,7 @@ Vec3 vec3Field(const json& j, const char* name, const std::string& source) {
   if (!j.contains(name))
     throw ModelError(source + ": \"" + name + "\" is missing (an array of three numbers)");
   const json& v = j[name];
-  if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() ||
-      !v[2].is_number())
+  if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
     throw ModelError(source + ": \"" + name + "\" must be an array of three numbers");
   return {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
 }
@@ -60,7 +59,8 @@ FfdLattice parseLattice(const std::string& text, const std::string& source) {
   int d[3];
   for (int a = 0; a < 3; ++a) {
     const json& v = j["divisions"][a];
-    if (!v.is_number_integer() || v.get<long long>() < 1 || v.get<long long>() > kMaxLatticeDivisions)
+    if (!v.is_number_integer() || v.get<long long>() < 1 ||
+        v.get<long long>() > kMaxLatticeDivisions)
       throw ModelError(source + ": \"divisions\" must be three integers from 1 to " +
                        std::to_string(kMaxLatticeDivisions) + ", got " + v.dump());
     d[a] = v.get<int>();
@@ -89,7 +89,8 @@ FfdLattice parseLattice(const std::string& text, const std::string& source) {
             throw ModelError(source + ": point " + std::to_string(at) +
                              " must be an array of three numbers");
           try {
-            lattice.setPoint(i, jj, k, {q[0].get<double>(), q[1].get<double>(), q[2].get<double>()});
+            lattice.setPoint(i, jj, k,
+                             {q[0].get<double>(), q[1].get<double>(), q[2].get<double>()});
           } catch (const ModelError& e) {
             throw ModelError(source + ": point " + std::to_string(at) + ": " + e.what());
           }

@@ -1,11 +1,11 @@
 // deformMesh: the forward map per vertex, in chunks so progress and cancel are prompt.
 #include "mesh/mesh_ffd.h"
 
-#include <atomic>
-#include <cmath>
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <cmath>
 
 #include "base/errors.h"
 
@@ -29,8 +29,8 @@ TriangleMesh deformMesh(const TriangleMesh& mesh, const FfdLattice& lattice,
         const Vec3f& p = mesh.positions[v];
         const Vec3 x{p[0], p[1], p[2]};
         const Vec3 s = lattice.local(x);
-        const bool moved = s[0] >= 0 && s[0] <= 1 && s[1] >= 0 && s[1] <= 1 && s[2] >= 0 &&
-                           s[2] <= 1;
+        const bool moved =
+            s[0] >= 0 && s[0] <= 1 && s[1] >= 0 && s[1] <= 1 && s[2] >= 0 && s[2] <= 1;
         if (!moved) {
           out.positions[v] = p;
           if (normals) out.normals[v] = mesh.normals[v];
@@ -56,8 +56,8 @@ TriangleMesh deformMesh(const TriangleMesh& mesh, const FfdLattice& lattice,
         }
         const double det = determinant(a);
         const double len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]) * (det < 0 ? -1 : 1);
-        out.normals[v] = len != 0 ? Vec3f{float(q[0] / len), float(q[1] / len), float(q[2] / len)}
-                                  : m;
+        out.normals[v] =
+            len != 0 ? Vec3f{float(q[0] / len), float(q[1] / len), float(q[2] / len)} : m;
       }
     });
     if (options.progress && !options.progress(double(end) / double(n))) cancelled = true;

@@ -23,8 +23,12 @@ using openvdb::Coord;
 using openvdb::CoordBBox;
 using openvdb::Vec3d;
 
-Vec3 toVec(const Vec3d& v) { return {v[0], v[1], v[2]}; }
-Vec3d toVdb(const Vec3& v) { return {v[0], v[1], v[2]}; }
+Vec3 toVec(const Vec3d& v) {
+  return {v[0], v[1], v[2]};
+}
+Vec3d toVdb(const Vec3& v) {
+  return {v[0], v[1], v[2]};
+}
 
 // Fractions of the whole job: grid g of n covers [g / n, (g + 1) / n).
 struct ProgressShare {
@@ -43,7 +47,8 @@ Box3 worldBox(const openvdb::math::Transform& xf, const CoordBBox& b) {
                     c & 2 ? b.max().y() + 0.5 : b.min().y() - 0.5,
                     c & 4 ? b.max().z() + 0.5 : b.min().z() - 0.5);
     const Vec3d w = xf.indexToWorld(ijk);
-    for (int k = 0; k < 3; ++k) out.lo[k] = std::min(out.lo[k], w[k]), out.hi[k] = std::max(out.hi[k], w[k]);
+    for (int k = 0; k < 3; ++k)
+      out.lo[k] = std::min(out.lo[k], w[k]), out.hi[k] = std::max(out.hi[k], w[k]);
   }
   return out;
 }
@@ -56,7 +61,8 @@ CoordBBox indexBox(const openvdb::math::Transform& xf, const Box3& b) {
     const Vec3d i = xf.worldToIndex(w);
     for (int k = 0; k < 3; ++k) {
       // clamp before converting: a runaway lattice must not overflow the coordinates
-      const double l = std::clamp(std::floor(i[k]) - 1, -1e9, 1e9), h = std::clamp(std::ceil(i[k]) + 1, -1e9, 1e9);
+      const double l = std::clamp(std::floor(i[k]) - 1, -1e9, 1e9),
+                   h = std::clamp(std::ceil(i[k]) + 1, -1e9, 1e9);
       lo[k] = std::min(lo[k], int(l));
       hi[k] = std::max(hi[k], int(h));
     }
@@ -77,10 +83,14 @@ std::vector<Coord> destinationLeaves(const GridT& src, const FfdLattice& lattice
   std::vector<Coord> out;
   std::size_t unique = 0;
   auto addBox = [&](const CoordBBox& b) {
-    const std::uint64_t count = std::uint64_t((b.max().x() >> LeafT::TOTAL) - (b.min().x() >> LeafT::TOTAL) + 1) *
-                                std::uint64_t((b.max().y() >> LeafT::TOTAL) - (b.min().y() >> LeafT::TOTAL) + 1) *
-                                std::uint64_t((b.max().z() >> LeafT::TOTAL) - (b.min().z() >> LeafT::TOTAL) + 1);
-    if (count > maxLeaves) throw ModelError("deform: the deformed grid '" + src.getName() + "' would need more than " + std::to_string(o.maxVoxels) + " voxels; the lattice stretches it too far for its voxel size");
+    const std::uint64_t count =
+        std::uint64_t((b.max().x() >> LeafT::TOTAL) - (b.min().x() >> LeafT::TOTAL) + 1) *
+        std::uint64_t((b.max().y() >> LeafT::TOTAL) - (b.min().y() >> LeafT::TOTAL) + 1) *
+        std::uint64_t((b.max().z() >> LeafT::TOTAL) - (b.min().z() >> LeafT::TOTAL) + 1);
+    if (count > maxLeaves)
+      throw ModelError("deform: the deformed grid '" + src.getName() + "' would need more than " +
+                       std::to_string(o.maxVoxels) +
+                       " voxels; the lattice stretches it too far for its voxel size");
     for (int x = b.min().x() & ~int(LeafT::DIM - 1); x <= b.max().x(); x += LeafT::DIM)
       for (int y = b.min().y() & ~int(LeafT::DIM - 1); y <= b.max().y(); y += LeafT::DIM)
         for (int z = b.min().z() & ~int(LeafT::DIM - 1); z <= b.max().z(); z += LeafT::DIM)
@@ -89,7 +99,10 @@ std::vector<Coord> destinationLeaves(const GridT& src, const FfdLattice& lattice
       std::sort(out.begin(), out.end());
       out.erase(std::unique(out.begin(), out.end()), out.end());
       unique = out.size();
-      if (unique > maxLeaves) throw ModelError("deform: the deformed grid '" + src.getName() + "' would need more than " + std::to_string(o.maxVoxels) + " voxels; the lattice stretches it too far for its voxel size");
+      if (unique > maxLeaves)
+        throw ModelError("deform: the deformed grid '" + src.getName() + "' would need more than " +
+                         std::to_string(o.maxVoxels) +
+                         " voxels; the lattice stretches it too far for its voxel size");
     }
   };
   auto addSource = [&](const CoordBBox& b) {
@@ -123,10 +136,14 @@ enum class VectorRule { Keep, Jacobian, InverseTranspose, InverseTransposeNormal
 VectorRule vectorRule(const openvdb::GridBase& g, const GridFfdOptions& o) {
   if (o.keepVectors) return VectorRule::Keep;
   switch (g.getVectorType()) {
-    case openvdb::VEC_COVARIANT: return VectorRule::InverseTranspose;
-    case openvdb::VEC_COVARIANT_NORMALIZE: return VectorRule::InverseTransposeNormalized;
-    case openvdb::VEC_CONTRAVARIANT_ABSOLUTE: return VectorRule::Position;
-    default: return VectorRule::Jacobian;  // relative, or invariant: OpenVDB's "never said"
+    case openvdb::VEC_COVARIANT:
+      return VectorRule::InverseTranspose;
+    case openvdb::VEC_COVARIANT_NORMALIZE:
+      return VectorRule::InverseTransposeNormalized;
+    case openvdb::VEC_CONTRAVARIANT_ABSOLUTE:
+      return VectorRule::Position;
+    default:
+      return VectorRule::Jacobian;  // relative, or invariant: OpenVDB's "never said"
   }
 }
 
@@ -141,8 +158,11 @@ V transformVector(const V& v, const Mat3& a, VectorRule rule, const FfdLattice& 
   const Vec3 x{double(v[0]), double(v[1]), double(v[2])};
   Vec3 y = x;
   switch (rule) {
-    case VectorRule::Keep: return v;
-    case VectorRule::Position: y = lattice.deform(x); break;
+    case VectorRule::Keep:
+      return v;
+    case VectorRule::Position:
+      y = lattice.deform(x);
+      break;
     case VectorRule::Jacobian:
       for (int r = 0; r < 3; ++r) y[r] = a[r][0] * x[0] + a[r][1] * x[1] + a[r][2] * x[2];
       break;
@@ -161,33 +181,43 @@ V transformVector(const V& v, const Mat3& a, VectorRule rule, const FfdLattice& 
   return V(S(y[0]), S(y[1]), S(y[2]));
 }
 template <>
-openvdb::Vec3s transformed(const openvdb::Vec3s& v, const Mat3& a, VectorRule rule, const FfdLattice& l) {
+openvdb::Vec3s transformed(const openvdb::Vec3s& v, const Mat3& a, VectorRule rule,
+                           const FfdLattice& l) {
   return transformVector(v, a, rule, l);
 }
 template <>
-openvdb::Vec3d transformed(const openvdb::Vec3d& v, const Mat3& a, VectorRule rule, const FfdLattice& l) {
+openvdb::Vec3d transformed(const openvdb::Vec3d& v, const Mat3& a, VectorRule rule,
+                           const FfdLattice& l) {
   return transformVector(v, a, rule, l);
 }
 
-template <class T> constexpr bool kIsVector = false;
-template <> constexpr bool kIsVector<openvdb::Vec3s> = true;
-template <> constexpr bool kIsVector<openvdb::Vec3d> = true;
-template <class T> constexpr bool kInterpolates = std::is_floating_point<T>::value || kIsVector<T>;
+template <class T>
+constexpr bool kIsVector = false;
+template <>
+constexpr bool kIsVector<openvdb::Vec3s> = true;
+template <>
+constexpr bool kIsVector<openvdb::Vec3d> = true;
+template <class T>
+constexpr bool kInterpolates = std::is_floating_point<T>::value || kIsVector<T>;
 
 // The source's value and active state at a world point: the voxel's own where the point is
 // (to 1e-6 voxel) a voxel centre, else interpolated; active where the nearest voxel is.
 template <class AccT, class T>
-bool sampleAt(const AccT& acc, const openvdb::math::Transform& xf, const Vec3& q, int order, T* value) {
+bool sampleAt(const AccT& acc, const openvdb::math::Transform& xf, const Vec3& q, int order,
+              T* value) {
   const Vec3d i = xf.worldToIndex(toVdb(q));
   const Coord c(int(std::lround(i[0])), int(std::lround(i[1])), int(std::lround(i[2])));
   const bool active = acc.isValueOn(c);
   if (!active) return false;
-  const bool centre = std::abs(i[0] - c[0]) < 1e-6 && std::abs(i[1] - c[1]) < 1e-6 && std::abs(i[2] - c[2]) < 1e-6;
+  const bool centre =
+      std::abs(i[0] - c[0]) < 1e-6 && std::abs(i[1] - c[1]) < 1e-6 && std::abs(i[2] - c[2]) < 1e-6;
   if (centre || order == 0 || !kInterpolates<T>) {
     *value = acc.getValue(c);
   } else if constexpr (std::is_floating_point<T>::value) {
-    if (order == 2) openvdb::tools::QuadraticSampler::sample(acc, i, *value);
-    else openvdb::tools::BoxSampler::sample(acc, i, *value);
+    if (order == 2)
+      openvdb::tools::QuadraticSampler::sample(acc, i, *value);
+    else
+      openvdb::tools::BoxSampler::sample(acc, i, *value);
   } else if constexpr (kIsVector<T>) {
     openvdb::tools::BoxSampler::sample(acc, i, *value);
   }
@@ -253,7 +283,8 @@ typename GridT::Ptr backward(const GridT& src, const FfdMap& map, const GridFfdO
 // Seed 002's forward map: each active voxel written at the voxel nearest its image (the last
 // one written wins). Stretched, some destinations receive no voxel: the gaps.
 template <class GridT>
-typename GridT::Ptr forwardSplat(const GridT& src, const FfdLattice& lattice, const ProgressShare& share) {
+typename GridT::Ptr forwardSplat(const GridT& src, const FfdLattice& lattice,
+                                 const ProgressShare& share) {
   typename GridT::Ptr out = src.copyWithNewTree();
   auto acc = out->getAccessor();
   const openvdb::math::Transform& xf = src.transform();
@@ -261,7 +292,8 @@ typename GridT::Ptr forwardSplat(const GridT& src, const FfdLattice& lattice, co
     if (!v.isVoxelValue()) continue;
     const Vec3 y = lattice.deform(toVec(xf.indexToWorld(v.getCoord())));
     const Vec3d i = xf.worldToIndex(toVdb(y));
-    acc.setValueOn(Coord(int(std::lround(i[0])), int(std::lround(i[1])), int(std::lround(i[2]))), *v);
+    acc.setValueOn(Coord(int(std::lround(i[0])), int(std::lround(i[1])), int(std::lround(i[2]))),
+                   *v);
   }
   share.report(0.9);
   return out;
@@ -306,12 +338,18 @@ GridSet deformGrids(const GridSet& grids, const FfdLattice& lattice, const GridF
     const openvdb::GridBase& base = *grids.impl->grids[g];
     const ProgressShare share{o, double(g) / double(n), 1.0 / double(n)};
     openvdb::GridBase::Ptr d;
-    if (auto f = dynamic_cast<const openvdb::FloatGrid*>(&base)) d = deformTyped(*f, map, o, share);
-    else if (auto dd = dynamic_cast<const openvdb::DoubleGrid*>(&base)) d = deformTyped(*dd, map, o, share);
-    else if (auto i = dynamic_cast<const openvdb::Int32Grid*>(&base)) d = deformTyped(*i, map, o, share);
-    else if (auto b = dynamic_cast<const openvdb::BoolGrid*>(&base)) d = deformTyped(*b, map, o, share);
-    else if (auto vs = dynamic_cast<const openvdb::Vec3SGrid*>(&base)) d = deformTyped(*vs, map, o, share);
-    else if (auto vd = dynamic_cast<const openvdb::Vec3DGrid*>(&base)) d = deformTyped(*vd, map, o, share);
+    if (auto f = dynamic_cast<const openvdb::FloatGrid*>(&base))
+      d = deformTyped(*f, map, o, share);
+    else if (auto dd = dynamic_cast<const openvdb::DoubleGrid*>(&base))
+      d = deformTyped(*dd, map, o, share);
+    else if (auto i = dynamic_cast<const openvdb::Int32Grid*>(&base))
+      d = deformTyped(*i, map, o, share);
+    else if (auto b = dynamic_cast<const openvdb::BoolGrid*>(&base))
+      d = deformTyped(*b, map, o, share);
+    else if (auto vs = dynamic_cast<const openvdb::Vec3SGrid*>(&base))
+      d = deformTyped(*vs, map, o, share);
+    else if (auto vd = dynamic_cast<const openvdb::Vec3DGrid*>(&base))
+      d = deformTyped(*vd, map, o, share);
     else
       throw ModelError("deform: grid '" + base.getName() + "' holds " + base.valueType() +
                        " values; allowed: float, double, int32, bool, vec3s, vec3d");

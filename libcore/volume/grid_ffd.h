@@ -27,8 +27,8 @@ namespace frep {
 struct GridFfdOptions {
   enum class Method { Backward, ForwardSplat };
   Method method = Method::Backward;
-  int interpolation = 1;       // 0 nearest, 1 trilinear, 2 triquadratic
-  bool keepVectors = false;    // true: vectors are copied, not transformed
+  int interpolation = 1;     // 0 nearest, 1 trilinear, 2 triquadratic
+  bool keepVectors = false;  // true: vectors are copied, not transformed
   bool rebuildLevelSets = true;
   // A deformed grid needing more voxels than this is refused before it is built.
   std::uint64_t maxVoxels = std::uint64_t(1) << 31;
