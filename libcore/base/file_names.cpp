@@ -5,6 +5,8 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <sstream>
 
 #include "base/errors.h"
 
@@ -48,6 +50,23 @@ void requireRegularFile(const std::string& path, const std::string& what) {
   if (!S_ISREG(st.st_mode))
     throw FileError(displayName(path) + ": is not a regular file (a FIFO, socket or device), not " +
                     what);
+}
+
+std::string readSmallFile(const std::string& path, const std::string& kind, std::uint64_t maxBytes) {
+  // A folder, a FIFO (which would block) or a device is refused before it is opened, and so
+  // is a file too large to be what it should be.
+  requireRegularFile(path, "the " + kind);
+  struct stat st {};
+  ::stat(path.c_str(), &st);
+  if (static_cast<std::uint64_t>(st.st_size) > maxBytes)
+    throw FileError(displayName(path) + ": " + std::to_string(st.st_size) +
+                    " bytes is too large for a " + kind + "; at most " + std::to_string(maxBytes) +
+                    " are read");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw FileError(displayName(path) + ": cannot open the " + kind);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
 }
 
 }  // namespace frep

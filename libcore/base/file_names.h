@@ -2,6 +2,7 @@
 // reports that carry them) show invalid bytes as \xNN so they stay valid UTF-8.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 namespace frep {
@@ -12,5 +13,10 @@ std::string displayName(const std::string& path);
 // FIFO (which would block the reader), socket or device. Throws FileError naming the path
 // and what it is; `what` names the expected file ("the model file", "the mesh file").
 void requireRegularFile(const std::string& path, const std::string& what);
+
+// The whole of a small text file (a model, a lattice), refused with a FileError naming it when
+// it is not a regular file, larger than maxBytes (before anything is read) or unreadable.
+// `kind` names it in messages: "model file" gives "the model file", "a model file".
+std::string readSmallFile(const std::string& path, const std::string& kind, std::uint64_t maxBytes);
 
 }  // namespace frep

@@ -1,6 +1,7 @@
 // Minimal fixed-size vector and box types shared across libcore's public interfaces.
 #pragma once
 
+#include <algorithm>
 #include <array>
 
 namespace frep {
@@ -13,5 +14,36 @@ struct Box3 {
   Vec3 hi{0, 0, 0};
   bool valid() const { return lo[0] < hi[0] && lo[1] < hi[1] && lo[2] < hi[2]; }
 };
+
+// The smallest box holding both.
+inline Box3 boxHull(const Box3& a, const Box3& b) {
+  Box3 r;
+  for (int i = 0; i < 3; ++i) r.lo[i] = std::min(a.lo[i], b.lo[i]), r.hi[i] = std::max(a.hi[i], b.hi[i]);
+  return r;
+}
+// Their common part (lo > hi on some axis where they do not meet).
+inline Box3 boxIntersection(const Box3& a, const Box3& b) {
+  Box3 r;
+  for (int i = 0; i < 3; ++i) r.lo[i] = std::max(a.lo[i], b.lo[i]), r.hi[i] = std::min(a.hi[i], b.hi[i]);
+  return r;
+}
+// Whether two closed boxes share a point.
+inline bool boxesMeet(const Box3& a, const Box3& b) {
+  for (int i = 0; i < 3; ++i)
+    if (a.hi[i] < b.lo[i] || b.hi[i] < a.lo[i]) return false;
+  return true;
+}
+// Whether the closed box holds p (false for a NaN coordinate).
+inline bool boxHolds(const Box3& b, const Vec3& p) {
+  for (int i = 0; i < 3; ++i)
+    if (!(p[i] >= b.lo[i] && p[i] <= b.hi[i])) return false;
+  return true;
+}
+// Whether `inner` lies within `outer`.
+inline bool boxWithin(const Box3& inner, const Box3& outer) {
+  for (int i = 0; i < 3; ++i)
+    if (inner.lo[i] < outer.lo[i] || inner.hi[i] > outer.hi[i]) return false;
+  return true;
+}
 
 }  // namespace frep

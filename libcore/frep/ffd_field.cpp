@@ -14,25 +14,6 @@ Box3 boxOf(const Interval& x, const Interval& y, const Interval& z) {
   return {{x.lo, y.lo, z.lo}, {x.hi, y.hi, z.hi}};
 }
 
-bool meets(const Box3& a, const Box3& b) {
-  for (int k = 0; k < 3; ++k)
-    if (a.hi[k] < b.lo[k] || b.hi[k] < a.lo[k]) return false;
-  return true;
-}
-
-bool within(const Box3& inner, const Box3& outer) {
-  for (int k = 0; k < 3; ++k)
-    if (inner.lo[k] < outer.lo[k] || inner.hi[k] > outer.hi[k]) return false;
-  return true;
-}
-
-Box3 hull(const Box3& a, const Box3& b) {
-  Box3 h;
-  for (int k = 0; k < 3; ++k)
-    h.lo[k] = std::min(a.lo[k], b.lo[k]), h.hi[k] = std::max(a.hi[k], b.hi[k]);
-  return h;
-}
-
 // min(f, -eps), as eval computes it (f < -eps ? f : -eps; NaN gives -eps).
 double vacated(double f, double eps) {
   return f < -eps ? f : -eps;
@@ -82,9 +63,9 @@ Interval FfdField::evalInterval(const Interval& x, const Interval& y, const Inte
     const Box3& rest = map_->lattice().rest();
     const Interval f = input_->evalInterval(x, y, z);
     Interval outside;
-    if (!meets(box, rest))
+    if (!boxesMeet(box, rest))
       outside = f;
-    else if (within(box, rest))
+    else if (boxWithin(box, rest))
       outside = vacated(f, eps_);
     else
       outside = hull(f, vacated(f, eps_));
@@ -133,9 +114,9 @@ std::shared_ptr<const Field> FfdField::specialise(const Box3& box) const {
   Box3 inputBox = box;
   if (!leaves->empty()) {
     Box3 stu = map_->leafParameters((*leaves)[0]);
-    for (int id : *leaves) stu = hull(stu, map_->leafParameters(id));
+    for (int id : *leaves) stu = boxHull(stu, map_->leafParameters(id));
     const FfdLattice& lattice = map_->lattice();
-    inputBox = hull(inputBox, Box3{lattice.restPoint(stu.lo), lattice.restPoint(stu.hi)});
+    inputBox = boxHull(inputBox, Box3{lattice.restPoint(stu.lo), lattice.restPoint(stu.hi)});
   }
   std::shared_ptr<const Field> input = input_->specialise(inputBox);
   const bool sameLeaves =
@@ -152,8 +133,8 @@ Box3 deformedBounds(const FfdMap& map, const Box3& in) {
   const Box3& rest = map.lattice().rest();
   const Box3 image = map.imageOf(in);
   const bool imaged = image.lo[0] <= image.hi[0];
-  if (within(in, rest)) return imaged ? image : in;
-  return imaged ? hull(image, in) : in;
+  if (boxWithin(in, rest)) return imaged ? image : in;
+  return imaged ? boxHull(image, in) : in;
 }
 
 }  // namespace frep

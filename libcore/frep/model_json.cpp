@@ -1,14 +1,11 @@
 #include "frep/model_json.h"
 
-#include <sys/stat.h>
 
 #include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
-#include <sstream>
 
 #include "base/errors.h"
 #include "base/file_names.h"
@@ -301,22 +298,10 @@ Model parseModel(const std::string& text, const std::string& source,
 }
 
 Model loadModel(const std::string& path) {
-  // A folder, a FIFO (which would block) or a device is refused before it is opened, and so
-  // is a file too large to be a model.
-  requireRegularFile(path, "the model file");
-  struct stat st {};
-  ::stat(path.c_str(), &st);
-  if (static_cast<std::uint64_t>(st.st_size) > kMaxModelBytes)
-    throw FileError(displayName(path) + ": " + std::to_string(st.st_size) +
-                    " bytes is too large for a model file; at most " +
-                    std::to_string(kMaxModelBytes) + " are read");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError(displayName(path) + ": cannot open the model file");
-  std::stringstream ss;
-  ss << in.rdbuf();
+  const std::string text = readSmallFile(path, "model file", kMaxModelBytes);
   const std::size_t slash = path.rfind('/');
   const std::string folder = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
-  return parseModel(ss.str(), displayName(path), folder);
+  return parseModel(text, displayName(path), folder);
 }
 
 std::string modelToJson(const Model& model) {

@@ -52,24 +52,6 @@ Box3 pointsBounds(const std::vector<Vec3>& points, double pad) {
   return b;
 }
 
-Box3 boxHull(const Box3& a, const Box3& b) {
-  Box3 r;
-  for (int i = 0; i < 3; ++i) {
-    r.lo[i] = std::min(a.lo[i], b.lo[i]);
-    r.hi[i] = std::max(a.hi[i], b.hi[i]);
-  }
-  return r;
-}
-
-Box3 boxIntersection(const Box3& a, const Box3& b) {
-  Box3 r;
-  for (int i = 0; i < 3; ++i) {
-    r.lo[i] = std::max(a.lo[i], b.lo[i]);
-    r.hi[i] = std::min(a.hi[i], b.hi[i]);
-  }
-  return r;
-}
-
 Box3 affineImage(const Mat34& m, const Box3& b) {
   Box3 r;
   for (int row = 0; row < 3; ++row) {

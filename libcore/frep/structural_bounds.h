@@ -17,8 +17,6 @@ Box3 structuralBounds(const NodePtr& root);
 
 // Helpers for the node types' bounds rules.
 Box3 unknownBounds();
-Box3 boxHull(const Box3& a, const Box3& b);
-Box3 boxIntersection(const Box3& a, const Box3& b);
 bool isFinite(const Box3& b);
 // center +- half (per axis).
 Box3 boxAround(const Vec3& center, const Vec3& half);

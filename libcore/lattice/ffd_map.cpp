@@ -9,25 +9,6 @@ namespace frep {
 
 namespace {
 
-bool meets(const Box3& a, const Box3& b) {
-  for (int k = 0; k < 3; ++k)
-    if (a.hi[k] < b.lo[k] || b.hi[k] < a.lo[k]) return false;
-  return true;
-}
-
-bool holds(const Box3& b, const Vec3& p) {
-  for (int k = 0; k < 3; ++k)
-    if (!(p[k] >= b.lo[k] && p[k] <= b.hi[k])) return false;
-  return true;
-}
-
-Box3 hull(const Box3& a, const Box3& b) {
-  Box3 h;
-  for (int k = 0; k < 3; ++k)
-    h.lo[k] = std::min(a.lo[k], b.lo[k]), h.hi[k] = std::max(a.hi[k], b.hi[k]);
-  return h;
-}
-
 double distance2(const Vec3& a, const Vec3& b) {
   const double x = a[0] - b[0], y = a[1] - b[1], z = a[2] - b[2];
   return x * x + y * y + z * z;
@@ -115,7 +96,7 @@ FfdMap::FfdMap(FfdLattice lattice) : lattice_(std::move(lattice)) {
             face.lo[a] = face.hi[a] = side ? 1.0 : 0.0;
             leaf.faces.push_back(lattice_.imageBounds(face));
           }
-        image_ = leaves_.empty() ? leaf.image : hull(image_, leaf.image);
+        image_ = leaves_.empty() ? leaf.image : boxHull(image_, leaf.image);
         leaves_.push_back(std::move(leaf));
       }
   index_.assign(std::size_t(kIndexCells) * kIndexCells * kIndexCells, {});
@@ -138,7 +119,7 @@ int FfdMap::indexCell(double v, int axis) const {
 // few of its cells, else by scanning the list.
 template <class Visit>
 void FfdMap::forLeavesNear(const Box3& box, const std::vector<int>* leaves, Visit visit) const {
-  if (!meets(image_, box)) return;
+  if (!boxesMeet(image_, box)) return;
   int lo[3], hi[3], cells = 1;
   for (int a = 0; a < 3; ++a) {
     lo[a] = indexCell(box.lo[a], a);
@@ -177,13 +158,13 @@ void FfdMap::forLeavesNear(const Box3& box, const std::vector<int>* leaves, Visi
 std::vector<int> FfdMap::leavesMeeting(const Box3& box) const {
   std::vector<int> out;
   forLeavesNear(box, nullptr, [&](int id) {
-    if (meets(leaves_[std::size_t(id)].image, box)) out.push_back(id);
+    if (boxesMeet(leaves_[std::size_t(id)].image, box)) out.push_back(id);
   });
   return out;
 }
 
 std::optional<Vec3> FfdMap::inverse(const Vec3& y, const std::vector<int>* leaves) const {
-  if (!holds(image_, y)) return std::nullopt;
+  if (!boxHolds(image_, y)) return std::nullopt;
   // The candidates, nearest centre first (ties by index: the same order whatever list the
   // caller passed, so the answer is too).
   int found[512];
@@ -191,7 +172,7 @@ std::optional<Vec3> FfdMap::inverse(const Vec3& y, const std::vector<int>* leave
   int n = 0;
   forLeavesNear(Box3{y, y}, leaves, [&](int id) {
     const Leaf& leaf = leaves_[std::size_t(id)];
-    if (!holds(leaf.image, y) || n == 512) return;
+    if (!boxHolds(leaf.image, y) || n == 512) return;
     found[n] = id;
     dist[n++] = distance2(leaf.centre, y);
   });
@@ -225,12 +206,12 @@ FfdMap::BoxCover FfdMap::cover(const Box3& box, const std::vector<int>* leaves) 
   std::vector<int> meeting;
   auto consider = [&](int id) {
     const Leaf& leaf = leaves_[std::size_t(id)];
-    if (!meets(leaf.image, box)) return;
-    out.preimage = any ? hull(out.preimage, leaf.stu) : leaf.stu;
+    if (!boxesMeet(leaf.image, box)) return;
+    out.preimage = any ? boxHull(out.preimage, leaf.stu) : leaf.stu;
     any = true;
     meeting.push_back(id);
     for (const Box3& f : leaf.faces)
-      if (meets(f, box)) boundary = true;
+      if (boxesMeet(f, box)) boundary = true;
   };
   forLeavesNear(box, leaves, consider);
   if (!any) return out;
@@ -257,8 +238,8 @@ Box3 FfdMap::imageOf(const Box3& restBox) const {
   Box3 out{{1, 1, 1}, {0, 0, 0}};
   bool any = false;
   for (const Leaf& leaf : leaves_)
-    if (meets(leaf.stu, stu)) {
-      out = any ? hull(out, leaf.image) : leaf.image;
+    if (boxesMeet(leaf.stu, stu)) {
+      out = any ? boxHull(out, leaf.image) : leaf.image;
       any = true;
     }
   return out;

@@ -1,9 +1,7 @@
 // Lattice files: nlohmann::json with a depth guard, every field checked with its name.
 #include "lattice/lattice_file.h"
 
-#include <sys/stat.h>
 
-#include <fstream>
 #include <iomanip>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -100,18 +98,7 @@ FfdLattice parseLattice(const std::string& text, const std::string& source) {
 }
 
 FfdLattice readLatticeFile(const std::string& path) {
-  requireRegularFile(path, "the lattice file");
-  struct stat st {};
-  ::stat(path.c_str(), &st);
-  if (static_cast<std::uint64_t>(st.st_size) > kMaxLatticeFileBytes)
-    throw FileError(displayName(path) + ": " + std::to_string(st.st_size) +
-                    " bytes is too large for a lattice file; at most " +
-                    std::to_string(kMaxLatticeFileBytes) + " are read");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError(displayName(path) + ": cannot open the lattice file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parseLattice(ss.str(), displayName(path));
+  return parseLattice(readSmallFile(path, "lattice file", kMaxLatticeFileBytes), displayName(path));
 }
 
 std::string latticeToJson(const FfdLattice& lattice) {
