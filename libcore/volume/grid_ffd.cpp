@@ -248,17 +248,31 @@ typename GridT::Ptr backward(const GridT& src, const FfdMap& map, const GridFfdO
         auto leaf = std::make_unique<LeafT>(origins[l], src.background(), false);
         const std::vector<int> near = map.leavesMeeting(
             worldBox(xf, CoordBBox(origins[l], origins[l].offsetBy(LeafT::DIM - 1))));
+        std::optional<Vec3> last;
         for (auto v = leaf->beginValueAll(); v; ++v) {
           const Vec3 p = toVec(xf.indexToWorld(v.getCoord()));
           Vec3 q = p;
-          Mat3 a{};
           bool moved = false;
-          if (auto s = map.inverse(p, &near)) {
-            Mat3 j;
+          // Neighbouring voxels come from neighbouring points: Newton from the last
+          // voxel's solution converges in a step or two; the full search only where it
+          // does not (a solution just outside the cube means outside, as FfdMap says).
+          std::optional<Vec3> s;
+          bool outside = false;
+          if (last) {
+            if (auto t = lattice.newton(p, *last)) {
+              if (insideUnitCube(*t)) {
+                s = Vec3{std::clamp((*t)[0], 0.0, 1.0), std::clamp((*t)[1], 0.0, 1.0),
+                         std::clamp((*t)[2], 0.0, 1.0)};
+              } else {
+                outside = (*t)[0] > -0.25 && (*t)[0] < 1.25 && (*t)[1] > -0.25 &&
+                          (*t)[1] < 1.25 && (*t)[2] > -0.25 && (*t)[2] < 1.25;
+              }
+            }
+          }
+          if (!s && !outside) s = map.inverse(p, &near);
+          if (s) {
+            last = s;
             q = lattice.restPoint(*s);
-            lattice.forward(*s, &j);
-            for (int r = 0; r < 3; ++r)
-              for (int c = 0; c < 3; ++c) a[r][c] = j[r][c] / (rest.hi[c] - rest.lo[c]);
             moved = true;
           } else if (p[0] >= rest.lo[0] && p[0] <= rest.hi[0] && p[1] >= rest.lo[1] &&
                      p[1] <= rest.hi[1] && p[2] >= rest.lo[2] && p[2] <= rest.hi[2]) {
@@ -266,7 +280,15 @@ typename GridT::Ptr backward(const GridT& src, const FfdMap& map, const GridFfdO
           }
           ValueT value;
           if (!sampleAt(acc, xf, q, o.interpolation, &value)) continue;
-          if (moved && transforms) value = transformed(value, a, rule, lattice);
+          if constexpr (kIsVector<ValueT>) {
+            if (moved && transforms) {
+              Mat3 j, a;  // dy/dx = J diag(1 / rest size)
+              lattice.forward(*s, &j);
+              for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 3; ++c) a[r][c] = j[r][c] / (rest.hi[c] - rest.lo[c]);
+              value = transformed(value, a, rule, lattice);
+            }
+          }
           v.setValue(value);
           v.setValueOn(true);
         }
