@@ -167,6 +167,42 @@ class LatticeEditPanel:
                     "property view hold the exact values; Amount scales them all."))
         text.setWordWrap(True)
         layout.addWidget(text)
+        # A point of its own: a vector property that expressions and spreadsheets can drive.
+        row = QtGui.QHBoxLayout()
+        self.index = []
+        for axis, name in enumerate(("DivisionsX", "DivisionsY", "DivisionsZ")):
+            box = QtGui.QSpinBox()
+            box.setRange(0, getattr(obj, name))
+            box.setObjectName("PointIndex" + "ijk"[axis])
+            box.setToolTip(translate("FRep", "Control point index %s (0 to %d)")
+                           % ("ijk"[axis], getattr(obj, name)))
+            row.addWidget(box)
+            self.index.append(box)
+        expose = QtGui.QPushButton(translate("FRep", "Own property"))
+        expose.setObjectName("ExposePoint")
+        expose.setToolTip(translate(
+            "FRep", "Gives control point (i, j, k) a vector property of its own, "
+                    "Point_i_j_k, that expressions and spreadsheets can drive"))
+        expose.clicked.connect(self.expose)
+        row.addWidget(expose)
+        layout.addLayout(row)
+        self.status = QtGui.QLabel("")
+        self.status.setWordWrap(True)
+        layout.addWidget(self.status)
+
+    def expose(self):
+        """One undo step: the chosen point's own property, starting at its current offset."""
+        ijk = tuple(b.value() for b in self.index)
+        doc = self.obj.Document
+        doc.openTransaction(translate("FRep", "Expose lattice point"))
+        try:
+            name = self.obj.Proxy.expose_point(self.obj, ijk)
+            doc.commitTransaction()
+            self.status.setText(translate("FRep", "%s added (group Control points): bind its "
+                                                  "x, y or z to an expression") % name)
+        except ValueError as e:
+            doc.abortTransaction()
+            self.status.setText(str(e))
 
     def getStandardButtons(self):
         from PySide import QtGui
