@@ -193,9 +193,13 @@ class LatticeFeature(StatelessProxy):
                   for p, o in zip(rest.rest_points(), offsets)]
         return frepcore.Lattice(lo, hi, divisions(obj), points)
 
+    # For the edit panel and the draggers, which do not import this module.
     def expose_point(self, obj, index):
-        """For the edit panel (which does not import this module): see expose_point."""
         return expose_point(obj, index)
+
+    def nudge_point(self, obj, index, delta):
+        """Moves control point (i, j, k) by delta (an offset change, one property change)."""
+        move_point(obj, index, point_offset(obj, index) + FreeCAD.Vector(delta))
 
     def execute(self, obj):
         import Part
@@ -259,6 +263,16 @@ def expose_point(lattice_obj, index):
                                 "it takes the place of its entry in Offsets" % tuple(index))
         setattr(lattice_obj, name, start)
     return name
+
+
+def point_offset(lattice_obj, index):
+    """Control point (i, j, k)'s offset from its rest position, before Amount scales it."""
+    _require_point(lattice_obj, index)
+    name = point_property(*index)
+    if name in exposed_points(lattice_obj).values():
+        return FreeCAD.Vector(getattr(lattice_obj, name))
+    offsets = list(lattice_obj.Offsets)
+    return FreeCAD.Vector(offsets[point_index(lattice_obj, *index)]) if offsets else FreeCAD.Vector()
 
 
 def move_point(lattice_obj, index, offset):

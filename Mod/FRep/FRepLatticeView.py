@@ -113,16 +113,7 @@ class ViewProviderLattice(StatelessProxy):
         delta = FreeCAD.Vector(t[0] * size, t[1] * size, t[2] * size)
         amount = obj.Amount if abs(obj.Amount) > 1e-12 else 1.0
         try:
-            own = "Point_%d_%d_%d" % ijk  # a point with its own property (expose_point)
-            if own in obj.PropertiesList and obj.getGroupOfProperty(own) == "Control points":
-                setattr(obj, own, getattr(obj, own) + delta * (1.0 / amount))
-            else:
-                d = (obj.DivisionsX, obj.DivisionsY, obj.DivisionsZ)
-                count = (d[0] + 1) * (d[1] + 1) * (d[2] + 1)
-                offsets = list(obj.Offsets) or [FreeCAD.Vector()] * count
-                at = (ijk[0] * (d[1] + 1) + ijk[1]) * (d[2] + 1) + ijk[2]
-                offsets[at] = offsets[at] + delta * (1.0 / amount)
-                obj.Offsets = offsets
+            obj.Proxy.nudge_point(obj, ijk, delta * (1.0 / amount))
             doc.recompute()
             doc.commitTransaction()
         except Exception as e:  # a refused move leaves the document as it was

@@ -31,19 +31,13 @@ FfdField::FfdField(std::shared_ptr<const Field> input, std::shared_ptr<const Ffd
       leaves_(std::move(leaves)),
       eps_(1e-9 * map_->lattice().scale()) {}
 
-bool FfdField::inRestBox(double x, double y, double z) const {
-  const Box3& r = map_->lattice().rest();
-  return x >= r.lo[0] && x <= r.hi[0] && y >= r.lo[1] && y <= r.hi[1] && z >= r.lo[2] &&
-         z <= r.hi[2];
-}
-
 double FfdField::eval(double x, double y, double z) const {
   if (auto s = map_->inverse({x, y, z}, leaves_.get())) {
     const Vec3 q = map_->lattice().restPoint(*s);
     return input_->eval(q[0], q[1], q[2]);
   }
   const double f = input_->eval(x, y, z);
-  return inRestBox(x, y, z) ? vacated(f, eps_) : f;
+  return boxHolds(map_->lattice().rest(), {x, y, z}) ? vacated(f, eps_) : f;
 }
 
 Interval FfdField::evalInterval(const Interval& x, const Interval& y, const Interval& z) const {
@@ -96,7 +90,7 @@ Dual FfdField::evalGradient(const Dual& x, const Dual& y, const Dual& z) const {
     return input_->evalGradient(qd[0], qd[1], qd[2]);
   }
   const Dual f = input_->evalGradient(x, y, z);
-  if (!inRestBox(x.v, y.v, z.v)) return f;
+  if (!boxHolds(map_->lattice().rest(), {x.v, y.v, z.v})) return f;
   return f.v < -eps_ ? f : Dual(-eps_);
 }
 

@@ -41,7 +41,6 @@ class FfdField final : public Field {
   double vacatedValue() const { return -eps_; }
 
  private:
-  bool inRestBox(double x, double y, double z) const;
   std::shared_ptr<const Field> input_;
   std::shared_ptr<const FfdMap> map_;
   std::shared_ptr<const std::vector<int>> leaves_;

@@ -28,12 +28,7 @@ FfdLattice latticeOf(const Node& n) {
   FfdLattice lattice({n.vec3("rest_min"), n.vec3("rest_max")}, divisionsOf(n, 0), divisionsOf(n, 1),
                      divisionsOf(n, 2));
   const std::vector<Vec3> points = pointsOf(n.param("points"));
-  if (!points.empty()) {
-    std::size_t at = 0;
-    for (int i = 0; i <= lattice.divisions(0); ++i)
-      for (int j = 0; j <= lattice.divisions(1); ++j)
-        for (int k = 0; k <= lattice.divisions(2); ++k) lattice.setPoint(i, j, k, points[at++]);
-  }
+  if (!points.empty()) lattice.setPoints(points);
   return lattice;
 }
 

@@ -98,6 +98,20 @@ void FfdLattice::setPoint(int i, int j, int k, const Vec3& p) {
   p_[index(i, j, k)] = p;
 }
 
+void FfdLattice::setPoints(const std::vector<Vec3>& points) {
+  if (points.size() != p_.size())
+    throw ModelError("lattice: " + std::to_string(points.size()) + " points given; a " +
+                     std::to_string(d_[0]) + " x " + std::to_string(d_[1]) + " x " +
+                     std::to_string(d_[2]) + " lattice has " + std::to_string(p_.size()) +
+                     " control points (i slowest, k fastest)");
+  for (std::size_t n = 0; n < points.size(); ++n)
+    if (!std::isfinite(points[n][0]) || !std::isfinite(points[n][1]) ||
+        !std::isfinite(points[n][2]))
+      throw ModelError("lattice: control point " + std::to_string(n) +
+                       ": coordinates must be finite");
+  p_ = points;
+}
+
 bool FfdLattice::isUndeformed() const {
   for (int i = 0; i <= d_[0]; ++i)
     for (int j = 0; j <= d_[1]; ++j)
@@ -208,6 +222,11 @@ bool insideUnitCube(const Vec3& s) {
   constexpr double eps = 1e-9;
   return s[0] >= -eps && s[0] <= 1 + eps && s[1] >= -eps && s[1] <= 1 + eps && s[2] >= -eps &&
          s[2] <= 1 + eps;
+}
+
+bool nearUnitCube(const Vec3& s) {
+  return s[0] > -0.25 && s[0] < 1.25 && s[1] > -0.25 && s[1] < 1.25 && s[2] > -0.25 &&
+         s[2] < 1.25;
 }
 
 std::optional<Vec3> FfdLattice::inverse(const Vec3& y) const {

@@ -33,6 +33,11 @@ class FfdLattice {
   // Control point (i, j, k), 0 <= i <= l, ...
   const Vec3& point(int i, int j, int k) const { return p_[index(i, j, k)]; }
   void setPoint(int i, int j, int k, const Vec3& p);
+  // Every control point in point()'s order: index i slowest, k fastest.
+  const std::vector<Vec3>& points() const { return p_; }
+  // All of them at once, in that order; throws ModelError for a wrong count or a point that
+  // is not finite, naming it.
+  void setPoints(const std::vector<Vec3>& points);
   std::size_t pointCount() const { return p_.size(); }
   // Every control point exactly at its rest position (the map is then the identity).
   bool isUndeformed() const;
@@ -85,5 +90,9 @@ double determinant(const Mat3& m);
 bool invert(const Mat3& m, Mat3* inverse);
 // s lies in [0, 1]^3, give or take 1e-9 (what inverse() accepts as inside the lattice).
 bool insideUnitCube(const Vec3& s);
+// s lies within a quarter of the cube's side of [0, 1]^3: where a Newton solution outside the
+// cube still says that its point is outside the deformed lattice (the map continued past the
+// lattice takes a point there to it, so for a lattice that does not fold nothing inside does).
+bool nearUnitCube(const Vec3& s);
 
 }  // namespace frep

@@ -191,11 +191,7 @@ std::optional<Vec3> FfdMap::inverse(const Vec3& y, const std::vector<int>* leave
     const auto s = lattice_.newton(y, guess);
     if (!s) continue;
     if (insideUnitCube(*s)) return clampToCube(*s);
-    // A preimage just outside the cube: the map, continued past the lattice, takes a point
-    // there to y, so (for a lattice that does not fold) nothing inside does.
-    bool near = true;
-    for (int k = 0; k < 3; ++k) near = near && (*s)[k] > -0.25 && (*s)[k] < 1.25;
-    if (near) return std::nullopt;
+    if (nearUnitCube(*s)) return std::nullopt;  // outside the deformed lattice
   }
   return std::nullopt;
 }

@@ -77,22 +77,21 @@ FfdLattice parseLattice(const std::string& text, const std::string& source) {
                        " points for a " + std::to_string(d[0]) + " x " + std::to_string(d[1]) +
                        " x " + std::to_string(d[2]) + " lattice (i slowest, k fastest), got " +
                        (p.is_array() ? std::to_string(p.size()) : std::string("no array")));
-    std::size_t at = 0;
-    for (int i = 0; i <= d[0]; ++i)
-      for (int jj = 0; jj <= d[1]; ++jj)
-        for (int k = 0; k <= d[2]; ++k, ++at) {
-          const json& q = p[at];
-          if (!q.is_array() || q.size() != 3 || !q[0].is_number() || !q[1].is_number() ||
-              !q[2].is_number())
-            throw ModelError(source + ": point " + std::to_string(at) +
-                             " must be an array of three numbers");
-          try {
-            lattice.setPoint(i, jj, k,
-                             {q[0].get<double>(), q[1].get<double>(), q[2].get<double>()});
-          } catch (const ModelError& e) {
-            throw ModelError(source + ": point " + std::to_string(at) + ": " + e.what());
-          }
-        }
+    std::vector<Vec3> points;
+    points.reserve(p.size());
+    for (std::size_t at = 0; at < p.size(); ++at) {
+      const json& q = p[at];
+      if (!q.is_array() || q.size() != 3 || !q[0].is_number() || !q[1].is_number() ||
+          !q[2].is_number())
+        throw ModelError(source + ": point " + std::to_string(at) +
+                         " must be an array of three numbers");
+      points.push_back({q[0].get<double>(), q[1].get<double>(), q[2].get<double>()});
+    }
+    try {
+      lattice.setPoints(points);
+    } catch (const ModelError& e) {
+      throw ModelError(source + ": " + e.what());
+    }
   }
   return lattice;
 }
@@ -112,13 +111,11 @@ std::string latticeToJson(const FfdLattice& lattice) {
   o << ",\n  \"divisions\": [" << lattice.divisions(0) << ", " << lattice.divisions(1) << ", "
     << lattice.divisions(2) << "],\n  \"points\": [";
   bool first = true;
-  for (int i = 0; i <= lattice.divisions(0); ++i)
-    for (int j = 0; j <= lattice.divisions(1); ++j)
-      for (int k = 0; k <= lattice.divisions(2); ++k) {
-        o << (first ? "\n    " : ",\n    ");
-        first = false;
-        vec(lattice.point(i, j, k));
-      }
+  for (const Vec3& p : lattice.points()) {
+    o << (first ? "\n    " : ",\n    ");
+    first = false;
+    vec(p);
+  }
   o << "\n  ]\n}\n";
   return o.str();
 }

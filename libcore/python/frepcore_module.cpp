@@ -659,18 +659,7 @@ PYBIND11_MODULE(_frepcore, m) {
       .def(py::init([](const Vec3& lo, const Vec3& hi, const std::array<int, 3>& d,
                        const py::object& points) {
              FfdLattice l({lo, hi}, d[0], d[1], d[2]);
-             if (!points.is_none()) {
-               const auto p = points.cast<std::vector<Vec3>>();
-               if (p.size() != l.pointCount())
-                 throw ModelError("Lattice: points has " + std::to_string(p.size()) +
-                                  " points; a " + std::to_string(d[0]) + " x " +
-                                  std::to_string(d[1]) + " x " + std::to_string(d[2]) +
-                                  " lattice has " + std::to_string(l.pointCount()));
-               std::size_t at = 0;
-               for (int i = 0; i <= d[0]; ++i)
-                 for (int j = 0; j <= d[1]; ++j)
-                   for (int k = 0; k <= d[2]; ++k) l.setPoint(i, j, k, p[at++]);
-             }
+             if (!points.is_none()) l.setPoints(points.cast<std::vector<Vec3>>());
              return l;
            }),
            py::arg("rest_min"), py::arg("rest_max"), py::arg("divisions"),
@@ -680,20 +669,9 @@ PYBIND11_MODULE(_frepcore, m) {
       .def_property_readonly("divisions", [](const FfdLattice& l) {
         return std::array<int, 3>{l.divisions(0), l.divisions(1), l.divisions(2)};
       })
-      .def_property_readonly("points", [](const FfdLattice& l) {
-        std::vector<Vec3> out;
-        for (int i = 0; i <= l.divisions(0); ++i)
-          for (int j = 0; j <= l.divisions(1); ++j)
-            for (int k = 0; k <= l.divisions(2); ++k) out.push_back(l.point(i, j, k));
-        return out;
-      })
+      .def_property_readonly("points", &FfdLattice::points)
       .def("rest_points", [](const FfdLattice& l) {
-        const FfdLattice r(l.rest(), l.divisions(0), l.divisions(1), l.divisions(2));
-        std::vector<Vec3> out;
-        for (int i = 0; i <= l.divisions(0); ++i)
-          for (int j = 0; j <= l.divisions(1); ++j)
-            for (int k = 0; k <= l.divisions(2); ++k) out.push_back(r.point(i, j, k));
-        return out;
+        return FfdLattice(l.rest(), l.divisions(0), l.divisions(1), l.divisions(2)).points();
       }, "The undeformed control points.")
       .def("set_point", &FfdLattice::setPoint, py::arg("i"), py::arg("j"), py::arg("k"),
            py::arg("point"))

@@ -264,8 +264,7 @@ typename GridT::Ptr backward(const GridT& src, const FfdMap& map, const GridFfdO
                 s = Vec3{std::clamp((*t)[0], 0.0, 1.0), std::clamp((*t)[1], 0.0, 1.0),
                          std::clamp((*t)[2], 0.0, 1.0)};
               } else {
-                outside = (*t)[0] > -0.25 && (*t)[0] < 1.25 && (*t)[1] > -0.25 &&
-                          (*t)[1] < 1.25 && (*t)[2] > -0.25 && (*t)[2] < 1.25;
+                outside = nearUnitCube(*t);
               }
             }
           }
@@ -274,8 +273,7 @@ typename GridT::Ptr backward(const GridT& src, const FfdMap& map, const GridFfdO
             last = s;
             q = lattice.restPoint(*s);
             moved = true;
-          } else if (p[0] >= rest.lo[0] && p[0] <= rest.hi[0] && p[1] >= rest.lo[1] &&
-                     p[1] <= rest.hi[1] && p[2] >= rest.lo[2] && p[2] <= rest.hi[2]) {
+          } else if (boxHolds(rest, p)) {
             continue;  // space the lattice moved away from: nothing there now
           }
           ValueT value;
