@@ -1,30 +1,106 @@
+#include <cmath>
 #include <iostream>
+#include <sstream>
 
+#include "base/errors.h"
 #include "check/mesh_check.h"
+#include "check/printability.h"
 #include "cli/commands.h"
 #include "io/mesh_io.h"
 
 namespace frep::cli {
 
+namespace {
+
+const char* const kCheckHelp =
+    "usage: frepcad check MESH [--json] [--print [--min-wall MM] [--material NAME |\n"
+    "                     --density G_CM3] [--up x|y|z|-x|-y|-z] [--overhang DEG]]\n\n"
+    "Judges a mesh file (STL, OBJ, PLY, 3MF) with CGAL: closed, manifold, outward,\n"
+    "free of self-intersections and degenerate triangles.\n"
+    "  --print            also what a printer makes of it: the thinnest wall (rays cast\n"
+    "                     into the solid from every triangle), the overhang area for the\n"
+    "                     build direction, height, volume, area and mass\n"
+    "  --min-wall MM      count the triangles where the wall is thinner than MM; the\n"
+    "                     mesh is then not printable when any is\n"
+    "  --material NAME    the density for the mass: pla, petg, abs, asa, nylon, tpu,\n"
+    "                     resin, 316l, ti64, alsi10mg\n"
+    "  --density D        the density in g/cm3 (units taken as mm)\n"
+    "  --up AXIS          the build direction (default z)\n"
+    "  --overhang DEG     a downward face steeper than DEG from vertical needs support\n"
+    "                     (default 45)\n"
+    "exit status: 0 printable, 1 not printable, 2 bad input\n";
+
+Vec3 parseAxis(const std::string& s) {
+  static const struct {
+    const char* name;
+    Vec3 v;
+  } axes[] = {{"x", {1, 0, 0}},  {"y", {0, 1, 0}},  {"z", {0, 0, 1}},
+              {"-x", {-1, 0, 0}}, {"-y", {0, -1, 0}}, {"-z", {0, 0, -1}}};
+  for (const auto& a : axes)
+    if (s == a.name) return a.v;
+  throw UsageError("--up must be one of x, y, z, -x, -y, -z, got '" + s + "'");
+}
+
+}  // namespace
+
 int checkCommand(const Args& args) {
   std::string path;
-  bool json = false;
-  for (const auto& a : args) {
+  bool json = false, print = false, printOption = false;
+  PrintabilityOptions po;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&]() -> const std::string& {
+      if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
+      printOption = true;
+      return args[++i];
+    };
     if (a == "-h" || a == "--help") {
-      std::cout << "usage: frepcad check MESH [--json]\n\n"
-                   "Judges a mesh file (STL, OBJ, PLY) with CGAL: closed, manifold, outward,\n"
-                   "free of self-intersections and degenerate triangles.\n"
-                   "exit status: 0 printable, 1 not printable, 2 bad input\n";
+      std::cout << kCheckHelp;
       return 0;
     }
     if (a == "--json") json = true;
-    else if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + a + "' for check");
+    else if (a == "--print") print = true;
+    else if (a == "--min-wall") {
+      po.minWall = parseNumber(value(), a);
+      if (!(*po.minWall > 0) || !std::isfinite(*po.minWall))
+        throw UsageError("--min-wall must be a thickness > 0 (mm), got '" + args[i] + "'");
+    } else if (a == "--material") {
+      try {
+        po.density = materialDensity(value());
+      } catch (const ModelError& e) {
+        throw UsageError(std::string("--material: ") + e.what());
+      }
+    } else if (a == "--density") {
+      po.density = parseNumber(value(), a);
+      if (!(po.density > 0) || !std::isfinite(po.density))
+        throw UsageError("--density must be > 0 (g/cm3), got '" + args[i] + "'");
+    } else if (a == "--up") po.up = parseAxis(value());
+    else if (a == "--overhang") {
+      po.overhangDeg = parseNumber(value(), a);
+      if (!(po.overhangDeg >= 0 && po.overhangDeg <= 90))
+        throw UsageError("--overhang must be an angle from 0 to 90 degrees, got '" + args[i] + "'");
+    } else if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + a + "' for check");
     else if (path.empty()) path = a;
     else throw UsageError("check takes one mesh file, got a second: '" + a + "'");
   }
-  if (path.empty()) throw UsageError("check needs a mesh file (.stl, .obj or .ply)");
-  const CheckReport report = checkMesh(readMesh(path));
-  std::cout << (json ? reportToJson(report, path) : reportToText(report, path));
+  if (path.empty()) throw UsageError("check needs a mesh file (.stl, .obj, .ply or .3mf)");
+  if (printOption && !print)
+    throw UsageError("--min-wall, --material, --density, --up and --overhang apply with --print");
+  const TriangleMesh mesh = readMesh(path);
+  CheckReport report = checkMesh(mesh);
+  if (!print) {
+    std::cout << (json ? reportToJson(report, path) : reportToText(report, path));
+    return report.printable() ? 0 : 1;
+  }
+  const PrintabilityReport p = measurePrintability(mesh, po);
+  if (po.minWall && p.thinTriangles) {
+    std::ostringstream why;
+    why << p.thinTriangles << " triangles where the wall is thinner than " << *po.minWall
+        << " (thinnest " << p.minWall << ")";
+    report.reasons.push_back(why.str());
+  }
+  if (json) std::cout << printabilityToJson(report, p, po, path);
+  else std::cout << reportToText(report, path) << printabilityToText(p, po);
   return report.printable() ? 0 : 1;
 }
 

@@ -33,6 +33,8 @@ int exportCommand(const Args& args);
 int checkCommand(const Args& args);
 int infoCommand(const Args& args);
 int deformCommand(const Args& args);
+int repairCommand(const Args& args);
+int compareCommand(const Args& args);
 // Refuses an output that is a link, a folder, a device or the input itself (FileError).
 void checkOutputPath(const std::string& output, const std::string& input);
 // `export DOC.FCStd ...`: runs the export inside FreeCAD, headless (document_export.cpp).

@@ -13,11 +13,14 @@ namespace {
 const char* kUsage =
     "usage:\n"
     "  frepcad export MODEL.json|DOC.FCStd -o OUT [--resolution R | --cells N] [--tolerance D]\n"
-    "                 [--bbox x0 y0 z0 x1 y1 z1] [--format stl|stl-ascii|obj|ply|bms]\n"
+    "                 [--bbox x0 y0 z0 x1 y1 z1] [--format stl|stl-ascii|obj|ply|bms|3mf]\n"
     "                 [--force] [--quiet] [--object NAME] [--set Object.Property=VALUE ...]\n"
     "                 (OUT.vdb: an OpenVDB level set at the cell size instead of a mesh)\n"
     "  frepcad deform IN.stl|IN.vdb --lattice LATTICE.json -o OUT [--force] [--quiet]\n"
-    "  frepcad check MESH [--json]\n"
+    "  frepcad check MESH [--json] [--print [--min-wall MM] [--material NAME | --density D]\n"
+    "                 [--up x|y|z|-x|-y|-z] [--overhang DEG]]\n"
+    "  frepcad repair IN -o OUT [--rebuild auto|never|always] [--voxel V] [--force] [--json]\n"
+    "  frepcad compare A B [--json]\n"
     "  frepcad info [TYPE | FILE.vdb] [--json | --markdown]\n"
     "  frepcad COMMAND --help   the options of one command\n"
     "exit status: 0 ok, 1 mesh not printable, 2 bad input, 3 internal error,\n"
@@ -65,11 +68,13 @@ int main(int argc, char** argv) {
     if (command == "check") return finish(checkCommand(args));
     if (command == "info") return finish(infoCommand(args));
     if (command == "deform") return finish(deformCommand(args));
+    if (command == "repair") return finish(repairCommand(args));
+    if (command == "compare") return finish(compareCommand(args));
     if (command == "--version") {
       std::cout << "frepcad 0.1.0\n";
       return 0;
     }
-    throw UsageError("unknown command '" + command + "'; commands: export, deform, check, info");
+    throw UsageError("unknown command '" + command + "'; commands: export, deform, check, repair, compare, info");
   } catch (const UsageError& e) {
     std::cerr << "frepcad: " << e.what() << "\n" << kUsage;
   } catch (const frep::ModelError& e) {

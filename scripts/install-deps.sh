@@ -7,6 +7,8 @@ packages=(
   build-essential cmake ninja-build ccache pkg-config
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev
   libopenmesh-dev libtbb-dev nlohmann-json3-dev libnanoflann-dev libopenvdb-dev
+  lib3mf-dev  # 3MF files (io/mesh_3mf.cpp)
+  admesh      # the repair comparison's reference (bench/repair_comparison.py)
   libgtest-dev libgmock-dev libbenchmark-dev
   freecad freecad-python3 python3-dev pybind11-dev python3-pytest
   xvfb xauth libgl1-mesa-dri  # the GUI test: a display server and software OpenGL

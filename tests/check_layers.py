@@ -11,6 +11,8 @@
                                      exact face-pair test for every collapse)
     frep, io, check <- volume       (OpenVDB grids and mesh distances as fields: io reads the
                                      meshes, check judges them before they become solids)
+    check, volume, mesh <- repair   (CGAL's local repairs, then a rebuild through a level set
+                                     meshed by the mesher; every result judged by check)
     all of them <- pipeline         (the export: box policy, mesh, check, write)
     python: the bindings, above all of them
 
@@ -34,22 +36,26 @@ ALLOWED = {
     "simplify": {"base", "frep", "check", "simplify"},
     "volume": {"base", "lattice", "frep", "io", "check", "volume"},
     "lattice": {"base", "lattice"},
+    "repair": {"base", "lattice", "frep", "mesh", "io", "check", "volume", "repair"},
     "pipeline": {"base", "frep", "mesh", "io", "check", "simplify", "volume", "lattice",
-                 "pipeline"},
+                 "repair", "pipeline"},
     "python": {"base", "frep", "mesh", "io", "check", "simplify", "volume", "lattice",
-               "pipeline"},
+               "repair", "pipeline"},
 }
 # <header prefix>: the layers (or layer/file) that may include it
 LIBRARIES = {
     "CGAL/": {"check/mesh_check.cpp", "check/face_pair_test.cpp", "check/cgal_surface.cpp",
+              "check/mesh_deviation.cpp", "check/printability.cpp", "repair/cgal_repair.cpp",
               "volume/mesh_distance.cpp"},
     "openvdb/": {"volume"},
     "OpenMesh/": {"mesh/openmesh_bridge.h", "mesh/openmesh_bridge.cpp"},
     "tbb/": {"mesh", "simplify", "check/self_intersections.cpp", "check/mesh_check.cpp",
+             "check/printability.cpp",
              "volume/grid_ffd.cpp",
              "pipeline/accuracy.cpp", "volume/level_sets.cpp"},
     "nlohmann/": {"frep", "check", "lattice/lattice_file.cpp"},
     "nanoflann": {"frep/instances.cpp"},
+    "Model/COM/": {"io/mesh_3mf.cpp"},  # lib3mf
     "Eigen/": {"base/affine.cpp", "base/qef.cpp"},
     "pybind11/": {"python"},
     "Python.h": {"python"},

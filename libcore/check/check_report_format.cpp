@@ -3,6 +3,7 @@
 
 #include "base/file_names.h"
 #include "check/mesh_check.h"
+#include "check/printability.h"
 
 namespace frep {
 
@@ -35,7 +36,9 @@ std::string reportToText(const CheckReport& r, const std::string& name) {
   return os.str();
 }
 
-std::string reportToJson(const CheckReport& r, const std::string& name) {
+namespace {
+
+nlohmann::json checkJson(const CheckReport& r, const std::string& name) {
   nlohmann::json j;
   j["file"] = displayName(name);  // valid UTF-8 whatever the file name's bytes
   j["printable"] = r.printable();
@@ -57,7 +60,67 @@ std::string reportToJson(const CheckReport& r, const std::string& name) {
   j["volume"] = r.volume;
   j["area"] = r.area;
   j["bbox"] = {r.bbox.lo[0], r.bbox.lo[1], r.bbox.lo[2], r.bbox.hi[0], r.bbox.hi[1], r.bbox.hi[2]};
+  return j;
+}
+
+std::string dump(const nlohmann::json& j) {
   return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+}
+
+}  // namespace
+
+std::string reportToJson(const CheckReport& r, const std::string& name) {
+  return dump(checkJson(r, name));
+}
+
+std::string printabilityToText(const PrintabilityReport& r, const PrintabilityOptions& o) {
+  std::ostringstream os;
+  os.precision(6);
+  os << "printability (build direction [" << o.up[0] << ", " << o.up[1] << ", " << o.up[2]
+     << "])\n";
+  if (r.minWall >= 0)
+    os << "  thinnest wall        " << r.minWall << " at [" << r.minWallAt[0] << ", "
+       << r.minWallAt[1] << ", " << r.minWallAt[2] << "]\n";
+  else
+    os << "  thinnest wall        not measured (no ray met the surface again: an open mesh?)\n";
+  if (o.minWall)
+    os << "  thinner than " << *o.minWall << "    " << r.thinTriangles << " triangles, area "
+       << r.thinArea << "\n";
+  os << "  overhang             area " << r.overhangArea << " (" << r.overhangTriangles
+     << " triangles facing down more than " << o.overhangDeg << " degrees from vertical)\n";
+  os << "  height               " << r.height << "\n";
+  os << "  volume               " << r.volume << "\n";
+  os << "  area                 " << r.area << "\n";
+  if (o.density > 0)
+    os << "  mass                 " << r.mass << " g (density " << o.density
+       << " g/cm3, units taken as mm)\n";
+  return os.str();
+}
+
+std::string printabilityToJson(const CheckReport& check, const PrintabilityReport& r,
+                               const PrintabilityOptions& o, const std::string& name) {
+  nlohmann::json j = checkJson(check, name);
+  nlohmann::json p;
+  p["up"] = {o.up[0], o.up[1], o.up[2]};
+  p["min_wall"] = r.minWall >= 0 ? nlohmann::json(r.minWall) : nlohmann::json(nullptr);
+  p["min_wall_at"] = {r.minWallAt[0], r.minWallAt[1], r.minWallAt[2]};
+  if (o.minWall) {
+    p["min_wall_required"] = *o.minWall;
+    p["thin_triangles"] = r.thinTriangles;
+    p["thin_area"] = r.thinArea;
+  }
+  p["overhang_angle_deg"] = o.overhangDeg;
+  p["overhang_area"] = r.overhangArea;
+  p["overhang_triangles"] = r.overhangTriangles;
+  p["height"] = r.height;
+  p["volume"] = r.volume;
+  p["area"] = r.area;
+  if (o.density > 0) {
+    p["density"] = o.density;
+    p["mass_g"] = r.mass;
+  }
+  j["print"] = p;
+  return dump(j);
 }
 
 }  // namespace frep

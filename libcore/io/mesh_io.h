@@ -1,4 +1,5 @@
-// Mesh files: binary and ASCII STL, OBJ, binary PLY, and FreeCAD's own binary mesh (.bms:
+// Mesh files: binary and ASCII STL, OBJ, binary PLY, 3MF (one object; io/mesh_3mf.h for
+// several), and FreeCAD's own binary mesh (.bms:
 // points, facets and facet neighbours, which FreeCAD reads without rebuilding topology). Writers go through AtomicFile (no partial
 // file on failure or cancel). Readers return the triangles exactly as stored; STL has no
 // indices, so its vertices come unwelded (the checker welds identical coordinates).
@@ -11,10 +12,10 @@
 
 namespace frep {
 
-enum class MeshFormat { StlBinary, StlAscii, Obj, Ply, FreecadBms };
+enum class MeshFormat { StlBinary, StlAscii, Obj, Ply, FreecadBms, ThreeMf };
 
 const char* formatName(MeshFormat f);
-// "stl", "stl-ascii", "obj", "ply", "bms"; throws ModelError naming the allowed values.
+// "stl", "stl-ascii", "obj", "ply", "bms", "3mf"; throws ModelError naming the allowed values.
 MeshFormat parseFormat(const std::string& name);
 // From the file extension (.stl -> binary STL); throws FileError for an unknown extension.
 MeshFormat formatFromPath(const std::string& path);
@@ -25,8 +26,8 @@ using WriteProgress = std::function<bool(double)>;
 void writeMesh(const TriangleMesh& mesh, const std::string& path, MeshFormat format,
                const WriteProgress& progress = {});
 
-// Reads STL (binary or ASCII, detected from content), OBJ or PLY (ASCII or binary little
-// endian). Polygons are fan-triangulated. Throws FileError with the file name and the problem.
+// Reads STL (binary or ASCII, detected from content), OBJ, PLY (ASCII or binary little
+// endian) or 3MF (every build item, merged: io/mesh_3mf.h reads them one by one). Polygons are fan-triangulated. Throws FileError with the file name and the problem.
 TriangleMesh readMesh(const std::string& path);
 
 }  // namespace frep

@@ -5,6 +5,7 @@
 #include "base/errors.h"
 #include "base/file_names.h"
 #include "io/mesh_io.h"
+#include "io/mesh_3mf.h"
 
 namespace frep {
 
@@ -278,6 +279,16 @@ TriangleMesh readFreecadBms(const std::string& path, const std::string& data) {
 
 TriangleMesh readMesh(const std::string& path) {
   const MeshFormat f = formatFromPath(path);
+  if (f == MeshFormat::ThreeMf) {
+    TriangleMesh all;
+    for (const NamedMesh& o : read3mf(path).objects) {
+      const auto base = static_cast<std::uint32_t>(all.positions.size());
+      all.positions.insert(all.positions.end(), o.mesh.positions.begin(), o.mesh.positions.end());
+      for (const Triangle& t : o.mesh.triangles)
+        all.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    }
+    return all;
+  }
   const std::string data = slurp(path);
   switch (f) {
     case MeshFormat::StlBinary:
@@ -285,6 +296,7 @@ TriangleMesh readMesh(const std::string& path) {
     case MeshFormat::Obj: return readObj(path, data);
     case MeshFormat::Ply: return readPly(path, data);
     case MeshFormat::FreecadBms: return readFreecadBms(path, data);
+    case MeshFormat::ThreeMf: break;
   }
   return {};
 }

@@ -1,10 +1,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 
 #include "base/errors.h"
 #include "base/atomic_file.h"
 #include "io/mesh_io.h"
+#include "io/mesh_3mf.h"
 #include "base/triangle_adjacency.h"
 #include "base/triangle_geometry.h"
 
@@ -17,15 +19,16 @@ const char* formatName(MeshFormat f) {
     case MeshFormat::Obj: return "obj";
     case MeshFormat::Ply: return "ply";
     case MeshFormat::FreecadBms: return "bms";
+    case MeshFormat::ThreeMf: return "3mf";
   }
   return "?";
 }
 
 MeshFormat parseFormat(const std::string& name) {
   for (MeshFormat f : {MeshFormat::StlBinary, MeshFormat::StlAscii, MeshFormat::Obj, MeshFormat::Ply,
-                       MeshFormat::FreecadBms})
+                       MeshFormat::FreecadBms, MeshFormat::ThreeMf})
     if (name == formatName(f)) return f;
-  throw ModelError("unknown format '" + name + "'; allowed: stl, stl-ascii, obj, ply, bms");
+  throw ModelError("unknown format '" + name + "'; allowed: stl, stl-ascii, obj, ply, bms, 3mf");
 }
 
 MeshFormat formatFromPath(const std::string& path) {
@@ -36,8 +39,9 @@ MeshFormat formatFromPath(const std::string& path) {
   if (ext == "obj") return MeshFormat::Obj;
   if (ext == "ply") return MeshFormat::Ply;
   if (ext == "bms") return MeshFormat::FreecadBms;
+  if (ext == "3mf") return MeshFormat::ThreeMf;
   throw FileError(path + ": unknown mesh file type '." + ext +
-                  "'; supported: .stl, .obj, .ply, .bms");
+                  "'; supported: .stl, .obj, .ply, .bms, .3mf");
 }
 
 namespace {
@@ -199,6 +203,13 @@ void writeFreecadBms(const TriangleMesh& m, AtomicFile& f, Ticker& tick) {
 
 void writeMesh(const TriangleMesh& mesh, const std::string& path, MeshFormat format,
                const WriteProgress& progress) {
+  if (format == MeshFormat::ThreeMf) {
+    // One object named after the file; lib3mf validates it (manifold, oriented) unless the
+    // caller already knows the check refused it and writes it anyway.
+    ThreeMfOptions options;
+    options.validate = false;
+    return write3mf({{std::filesystem::path(path).stem().string(), mesh}}, path, options, progress);
+  }
   AtomicFile file(path);
   Ticker tick(progress, mesh.triangles.size());
   switch (format) {
@@ -207,6 +218,7 @@ void writeMesh(const TriangleMesh& mesh, const std::string& path, MeshFormat for
     case MeshFormat::Obj: writeObj(mesh, file, tick); break;
     case MeshFormat::Ply: writePly(mesh, file, tick); break;
     case MeshFormat::FreecadBms: writeFreecadBms(mesh, file, tick); break;
+    case MeshFormat::ThreeMf: break;
   }
   if (progress && !progress(1.0)) throw Cancelled();
   file.commit();

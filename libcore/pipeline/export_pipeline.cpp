@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
+#include <optional>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -9,6 +11,8 @@
 #include "base/errors.h"
 
 namespace frep {
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -159,6 +163,21 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
   result.seconds[1] = since(t);
   if (!request.check) unsimplified = TriangleMesh();
 
+  // A 3MF holds its coordinates rounded (io/mesh_3mf.h): the package is made now, and the
+  // check judges the mesh it holds.
+  std::optional<ThreeMfPackage> package;
+  auto pack = [&]() {
+    if (format != MeshFormat::ThreeMf) return;
+    ThreeMfOptions threeMf = request.threeMf;
+    threeMf.validate = false;  // the check below is the judge (stricter than lib3mf's rule)
+    package = pack3mf({{request.objectName.empty() ? fs::path(path).stem().string()
+                                                    : request.objectName,
+                        mesh}},
+                      threeMf);
+    mesh = package->objects[0].mesh;
+  };
+  pack();
+
   if (request.check) {
     t = Clock::now();
     report(ExportStage::Check, 0.0);
@@ -173,6 +192,8 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
       CheckReport original = checkMesh(unsimplified);  // (progress stays at the end)
       if (original.printable()) {
         mesh = std::move(unsimplified);
+        pack();
+        if (package) original = checkMesh(mesh);
         result.triangles = mesh.triangleCount();
         result.report = std::move(original);
         result.simplified = false;
@@ -193,9 +214,12 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
 
   t = Clock::now();
   report(ExportStage::Write, 0.0);
-  writeMesh(mesh, path, format, [&](double f) {
-    return !request.progress || request.progress(ExportStage::Write, f);
-  });
+  if (package)
+    writePackage(*package, path);
+  else
+    writeMesh(mesh, path, format, [&](double f) {
+      return !request.progress || request.progress(ExportStage::Write, f);
+    });
   result.written = true;
   result.seconds[3] = since(t);
   report(ExportStage::Write, 1.0);

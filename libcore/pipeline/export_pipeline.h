@@ -12,6 +12,7 @@
 #include "check/mesh_check.h"
 #include "frep/bounds.h"
 #include "frep/field.h"
+#include "io/mesh_3mf.h"
 #include "io/mesh_io.h"
 #include "mesh/mesher.h"
 #include "pipeline/accuracy.h"
@@ -63,6 +64,8 @@ struct ExportRequest {
   BoxRequest box;
   Box3 known = BoundsOptions().known;  // structural bounds of the solid, when known
   std::optional<MeshFormat> format;    // default: from the output's extension
+  ThreeMfOptions threeMf;              // a 3MF's unit and metadata
+  std::string objectName;              // a 3MF object's name (default: the file's stem)
   bool check = true;                   // judge the mesh with CGAL before writing
   bool force = false;                  // write a mesh the check refused
   bool normals = true;                 // vertex normals from the gradient (OBJ and PLY keep them)

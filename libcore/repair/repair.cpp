@@ -1,0 +1,269 @@
+#include "repair/repair.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+#include "base/errors.h"
+#include "mesh/mesher.h"
+#include "repair/cgal_repair.h"
+#include "volume/grid_field.h"
+#include "volume/level_sets.h"
+
+namespace frep {
+
+namespace {
+
+constexpr const char* kPolicyNames[] = {"auto", "never", "always"};
+
+std::string plural(std::size_t n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+Box3 boxOf(const TriangleMesh& m) {
+  Box3 b;
+  bool first = true;
+  for (const Triangle& t : m.triangles)
+    for (std::uint32_t v : t) {
+      if (v >= m.positions.size()) continue;
+      const Vec3f& p = m.positions[v];
+      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) continue;
+      for (int a = 0; a < 3; ++a) {
+        b.lo[a] = first ? p[a] : std::min(b.lo[a], double(p[a]));
+        b.hi[a] = first ? p[a] : std::max(b.hi[a], double(p[a]));
+      }
+      first = false;
+    }
+  return b;
+}
+
+// CGAL's log as sentences, appended to `actions`.
+void describe(const CgalRepairLog& log, std::vector<std::string>& actions) {
+  if (log.soupPointsMerged)
+    actions.push_back("merged " + plural(log.soupPointsMerged, "duplicate point", "duplicate points"));
+  if (log.soupFacesRemoved)
+    actions.push_back("removed " + plural(log.soupFacesRemoved, "degenerate or duplicate triangle",
+                                          "degenerate or duplicate triangles"));
+  if (log.bordersStitched)
+    actions.push_back("stitched " + plural(log.bordersStitched, "pair", "pairs") +
+                      " of coincident border edges");
+  if (log.degenerateFacesLeft)
+    actions.push_back(plural(log.degenerateFacesLeft, "degenerate triangle", "degenerate triangles") +
+                      " could not be removed");
+  if (log.nonManifoldVerticesSplit)
+    actions.push_back("split " + plural(log.nonManifoldVerticesSplit, "non-manifold vertex",
+                                        "non-manifold vertices"));
+  if (log.holesFilled)
+    actions.push_back("filled " + plural(log.holesFilled, "hole", "holes") + " with " +
+                      plural(log.facesAdded, "triangle", "triangles"));
+  if (log.holesLeft) actions.push_back(plural(log.holesLeft, "hole", "holes") + " could not be filled");
+  if (log.selfIntersected && log.selfIntersectionsRemoved)
+    actions.push_back("removed the self-intersections locally (CGAL)");
+  if (log.reoriented) actions.push_back("oriented every shell to bound a volume, normals out");
+}
+
+// The closed mesh through a level set and the mesher (see repair.h, step 3).
+TriangleMesh rebuildThroughLevelSet(const TriangleMesh& closed, double voxel,
+                                    const std::string& name,
+                                    const std::function<bool(double)>& progress) {
+  LevelSetOptions ls;
+  ls.voxel = voxel;
+  ls.name = "repair";
+  const GridSet grids = meshToLevelSet(closed, ls, name);
+  if (progress && !progress(0.5)) throw Cancelled();
+  const auto field = gridField(grids, 0, GridFieldOptions(), name);
+  Box3 box = boxOf(closed);
+  for (int a = 0; a < 3; ++a) {
+    box.lo[a] -= 2 * voxel;
+    box.hi[a] += 2 * voxel;
+  }
+  MeshingOptions mo;
+  mo.bbox = box;
+  mo.resolution = voxel;
+  mo.normals = false;
+  mo.progress = [&](double f) { return !progress || progress(0.5 + 0.5 * f); };
+  return polygonize(*field, mo);
+}
+
+}  // namespace
+
+const char* rebuildPolicyName(RebuildPolicy p) { return kPolicyNames[static_cast<int>(p)]; }
+
+RebuildPolicy parseRebuildPolicy(const std::string& name) {
+  for (int i = 0; i < 3; ++i)
+    if (name == kPolicyNames[i]) return static_cast<RebuildPolicy>(i);
+  throw ModelError("unknown rebuild policy '" + name + "'; allowed: auto, never, always");
+}
+
+std::size_t weldNearbyVertices(TriangleMesh& mesh, double distance, std::size_t& removed) {
+  removed = 0;
+  const std::size_t n = mesh.positions.size();
+  std::vector<std::uint32_t> order(n), target(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::iota(target.begin(), target.end(), 0u);
+  std::size_t moved = 0;
+  if (distance > 0) {
+    // A hash grid of cells `distance` wide holds the kept vertices; a vertex looks in the 27
+    // cells around its own for a kept one within reach. Kept vertices never move, so welding
+    // does not chain along a row of close vertices.
+    std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return mesh.positions[a] < mesh.positions[b];
+    });
+    auto key = [&](long long x, long long y, long long z) {
+      return (std::uint64_t(x) * 73856093ull) ^ (std::uint64_t(y) * 19349663ull) ^
+             (std::uint64_t(z) * 83492791ull);
+    };
+    std::unordered_multimap<std::uint64_t, std::uint32_t> kept;
+    kept.reserve(n);
+    const double d2 = distance * distance;
+    for (std::uint32_t v : order) {
+      const Vec3f& p = mesh.positions[v];
+      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) continue;
+      long long c[3];
+      for (int a = 0; a < 3; ++a) c[a] = static_cast<long long>(std::floor(p[a] / distance));
+      std::uint32_t best = v;
+      double bestD = d2;
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz) {
+            auto range = kept.equal_range(key(c[0] + dx, c[1] + dy, c[2] + dz));
+            for (auto it = range.first; it != range.second; ++it) {
+              const Vec3f& q = mesh.positions[it->second];
+              const double e = (double(p[0]) - q[0]) * (double(p[0]) - q[0]) +
+                               (double(p[1]) - q[1]) * (double(p[1]) - q[1]) +
+                               (double(p[2]) - q[2]) * (double(p[2]) - q[2]);
+              if (e <= bestD && (best == v || e < bestD || it->second < best)) {
+                best = it->second;
+                bestD = e;
+              }
+            }
+          }
+      if (best != v) {
+        target[v] = best;
+        moved += !(mesh.positions[best] == p);
+      } else {
+        kept.emplace(key(c[0], c[1], c[2]), v);
+      }
+    }
+  }
+  std::vector<Triangle> kept;
+  kept.reserve(mesh.triangles.size());
+  for (Triangle t : mesh.triangles) {
+    for (std::uint32_t& v : t)
+      if (v < n) v = target[v];
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) ++removed;
+    else kept.push_back(t);
+  }
+  mesh.triangles.swap(kept);
+  return moved;
+}
+
+RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
+                        const std::string& name) {
+  if (!(options.voxel >= 0) || !std::isfinite(options.voxel))
+    throw ModelError(name + ": the rebuild's voxel size must be a number > 0 (or 0 for the "
+                            "default), got " + std::to_string(options.voxel));
+  if (std::isnan(options.weldDistance) || std::isinf(options.weldDistance))
+    throw ModelError(name + ": the weld distance must be a finite number >= 0");
+  auto stage = [&](double from, double to) {
+    return [&options, from, to](double f) {
+      return !options.progress || options.progress(from + (to - from) * f);
+    };
+  };
+  RepairResult r;
+  r.before = checkMesh(input);
+  if (r.before.faces == 0) {
+    r.after = r.before;
+    r.mesh = input;
+    r.actions.push_back("nothing to repair: the mesh has no triangles");
+    return r;
+  }
+  if (!stage(0, 1)(0.02)) throw Cancelled();
+  const Box3 box = boxOf(input);
+  double diagonal = 0;
+  for (int a = 0; a < 3; ++a) diagonal += (box.hi[a] - box.lo[a]) * (box.hi[a] - box.lo[a]);
+  diagonal = std::sqrt(diagonal);
+
+  TriangleMesh mesh = input;
+  const double weld = options.weldDistance < 0 ? 1e-6 * diagonal : options.weldDistance;
+  std::size_t collapsed = 0;
+  const std::size_t welded = weldNearbyVertices(mesh, weld, collapsed);
+  if (welded)
+    r.actions.push_back("welded " + plural(welded, "vertex", "vertices") + " within " +
+                        std::to_string(weld) + " of another");
+  if (collapsed)
+    r.actions.push_back("removed " + plural(collapsed, "triangle", "triangles") +
+                        " that welding collapsed");
+
+  double longest = 0;
+  for (int a = 0; a < 3; ++a) longest = std::max(longest, box.hi[a] - box.lo[a]);
+  const double voxel = options.voxel > 0 ? options.voxel : longest / kDefaultRebuildVoxels;
+
+  // Local repairs first, crossings left alone: CGAL's local removal of self-intersections can
+  // make a valid mesh far from the input (two crossing shells became four nested ones, 0.5
+  // away in places, in the tests), so it is tried only where the rebuild is not wanted or
+  // the removal stays on the input's surface.
+  CgalRepairOptions co;
+  co.fillHoles = options.fillHoles;
+  co.removeSelfIntersections = false;
+  co.progress = stage(0.05, 0.35);
+  CgalRepairLog log;
+  mesh = repairWithCgal(mesh, co, log);
+  describe(log, r.actions);
+  r.after = checkMesh(mesh, [&](double f) {
+    if (!stage(0.35, 0.4)(f)) throw Cancelled();
+  });
+  const bool closed = r.after.closed && r.after.nonManifoldEdges == 0;
+  if (!r.after.printable() && r.after.selfIntersections && options.rebuild != RebuildPolicy::Always) {
+    CgalRepairOptions local = co;
+    local.removeSelfIntersections = true;
+    local.progress = stage(0.4, 0.55);
+    CgalRepairLog localLog;
+    TriangleMesh removed = repairWithCgal(mesh, local, localLog);
+    CheckReport judged = checkMesh(removed);
+    const double away = removed.triangles.empty() ? HUGE_VAL : meshDeviation(removed, input).aToB;
+    const bool keep = judged.printable() &&
+                      (options.rebuild == RebuildPolicy::Never || !closed || away <= voxel);
+    if (keep) {
+      describe(localLog, r.actions);
+      mesh = std::move(removed);
+      r.after = std::move(judged);
+    } else if (options.rebuild == RebuildPolicy::Never || !closed) {
+      r.actions.push_back(judged.printable()
+                              ? "CGAL's local removal of self-intersections was not kept: "
+                                "the surface it made lies up to " + std::to_string(away) +
+                                    " from the input"
+                              : "CGAL's local removal of self-intersections did not succeed");
+    }
+  }
+
+  const bool rebuild = options.rebuild == RebuildPolicy::Always ||
+                       (options.rebuild == RebuildPolicy::Auto && !r.after.printable());
+  if (rebuild) {
+    if (!closed) {
+      r.actions.push_back("no rebuild through a level set: the mesh is still open or "
+                          "non-manifold after the local repairs, so its inside is not known");
+    } else {
+      r.voxel = voxel;
+      TriangleMesh rebuilt = rebuildThroughLevelSet(mesh, r.voxel, name, stage(0.55, 0.9));
+      CheckReport judged = checkMesh(rebuilt);
+      r.actions.push_back("rebuilt through a level set at voxel size " + std::to_string(r.voxel) +
+                          " (" + plural(rebuilt.triangles.size(), "triangle", "triangles") +
+                          "): overlapping shells become their union");
+      // Keep the rebuild when it passes, or when nothing passes and it is the closer miss.
+      if (judged.printable() || judged.reasons.size() <= r.after.reasons.size()) {
+        mesh = std::move(rebuilt);
+        r.after = std::move(judged);
+        r.rebuilt = true;
+      }
+    }
+  }
+  if (!stage(0, 1)(0.9)) throw Cancelled();
+  if (!mesh.triangles.empty()) r.deviation = meshDeviation(input, mesh);
+  r.mesh = std::move(mesh);
+  if (!stage(0, 1)(1.0)) throw Cancelled();
+  return r;
+}
+
+}  // namespace frep

@@ -1,0 +1,419 @@
+// Manufacturing output (issue 16): 3MF files through lib3mf, repair of meshes broken on
+// purpose, the printability report, and the distance between meshes.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "base/errors.h"
+#include "check/mesh_check.h"
+#include "check/mesh_deviation.h"
+#include "check/printability.h"
+#include "frep/program.h"
+#include "frep/tree.h"
+#include "io/mesh_3mf.h"
+#include "io/mesh_io.h"
+#include "mesh/mesher.h"
+#include "repair/repair.h"
+
+namespace frep {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string reasons(const CheckReport& r) {
+  std::string s;
+  for (const std::string& x : r.reasons) s += x + "; ";
+  return s;
+}
+
+std::string tempPath(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / "frep_manufacturing";
+  fs::create_directories(dir);
+  return (dir / name).string();
+}
+
+TriangleMesh sphereMesh(double r = 1.0, Vec3 centre = {0, 0, 0}, double cell = 0.1) {
+  NodePtr s = makeNode("sphere", {{"radius", realValue(r)}}, {});
+  s = makeNode("translate", {{"offset", vec3Value(centre)}}, {s});
+  const Program p = compile(s);
+  MeshingOptions o;
+  o.bbox = {{centre[0] - r - 2 * cell, centre[1] - r - 2 * cell, centre[2] - r - 2 * cell},
+            {centre[0] + r + 2 * cell, centre[1] + r + 2 * cell, centre[2] + r + 2 * cell}};
+  o.resolution = cell;
+  o.normals = false;
+  return polygonize(p, o);
+}
+
+TriangleMesh merged(const TriangleMesh& a, const TriangleMesh& b) {
+  TriangleMesh m = a;
+  const auto base = static_cast<std::uint32_t>(a.positions.size());
+  m.positions.insert(m.positions.end(), b.positions.begin(), b.positions.end());
+  for (auto t : b.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  return m;
+}
+
+// An axis-aligned box from lo to hi, each face an n x n grid of quads, two triangles each;
+// outward, or facing in (a cavity) when `inward`.
+TriangleMesh gridBox(Vec3 lo, Vec3 hi, int n, bool inward = false) {
+  TriangleMesh m;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      const auto base = static_cast<std::uint32_t>(m.positions.size());
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; j <= n; ++j) {
+          Vec3f p;
+          p[axis] = float(side ? hi[axis] : lo[axis]);
+          p[u] = float(lo[u] + (hi[u] - lo[u]) * i / n);
+          p[v] = float(lo[v] + (hi[v] - lo[v]) * j / n);
+          m.positions.push_back(p);
+        }
+      // (u, v, axis) is right-handed: u x v = +axis, so (i,j),(i+1,j),(i,j+1) faces +axis.
+      const bool flip = (side == 0) != inward;
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          const std::uint32_t a = base + i * (n + 1) + j, b = a + (n + 1), c = a + 1, d = b + 1;
+          if (!flip) {
+            m.triangles.push_back({a, b, c});
+            m.triangles.push_back({b, d, c});
+          } else {
+            m.triangles.push_back({a, c, b});
+            m.triangles.push_back({b, c, d});
+          }
+        }
+    }
+  // The faces' grids share their border vertices: weld them.
+  std::vector<Vec3f> welded;
+  const auto map = weldIdenticalVertices(m.positions, welded);
+  for (auto& t : m.triangles)
+    for (auto& v : t) v = map[v];
+  m.positions = welded;
+  return m;
+}
+
+// ---- 3MF ---------------------------------------------------------------------------------
+
+TEST(ThreeMf, WrittenObjectsReadBackWithTheSameGeometryUnitAndMetadata) {
+  const TriangleMesh a = sphereMesh(1.0, {0, 0, 0});
+  TriangleMesh b = gridBox({3, 0, 0}, {4.123456789, 1.5, 2.25}, 3);
+  // Coordinates of every size, so that the six decimals lib3mf writes are exercised.
+  for (auto& p : b.positions) p[2] += 1234.56789f;
+  const std::string path = tempPath("two.3mf");
+  ThreeMfOptions o;
+  o.unit = LengthUnit::Centimeter;
+  o.metadata = {{"Title", "two objects"}, {"Designer", "FRepCAD tests"}};
+  write3mf({{"sphere", a}, {"block", b}}, path, o);
+  const ThreeMfContents c = read3mf(path);
+  ASSERT_EQ(c.objects.size(), 2u);
+  EXPECT_EQ(c.objects[0].name, "sphere");
+  EXPECT_EQ(c.objects[1].name, "block");
+  EXPECT_EQ(c.unit, LengthUnit::Centimeter);
+  bool title = false;
+  for (const auto& [k, v] : c.metadata) title = title || (k == "Title" && v == "two objects");
+  EXPECT_TRUE(title);
+  // The file holds what the package read back in memory held, bit for bit, and that is the
+  // written mesh within lib3mf's six decimals (a float's ulp for large coordinates).
+  const ThreeMfPackage package = pack3mf({{"sphere", a}, {"block", b}}, o);
+  const TriangleMesh* written[] = {&a, &b};
+  for (int k = 0; k < 2; ++k) {
+    const TriangleMesh& w = *written[k];
+    const TriangleMesh& r = c.objects[k].mesh;
+    ASSERT_EQ(r.positions.size(), w.positions.size());
+    EXPECT_EQ(r.triangles, w.triangles);
+    EXPECT_EQ(r.positions, package.objects[k].mesh.positions);
+    std::size_t rounded = 0;
+    for (std::size_t i = 0; i < w.positions.size(); ++i)
+      for (int d = 0; d < 3; ++d) {
+        const float x = w.positions[i][d], y = r.positions[i][d];
+        EXPECT_LE(std::abs(x - y), std::max(2e-6f, 2 * std::abs(std::nextafter(x, 2 * x) - x)));
+        rounded += x != y;
+      }
+    EXPECT_GT(rounded, 0u);  // the rounding is real: hence the read-back
+  }
+  // readMesh merges the build: both objects, still printable.
+  const CheckReport r = checkMesh(readMesh(path));
+  EXPECT_TRUE(r.printable()) << reasons(r);
+  EXPECT_EQ(r.components, 2u);
+}
+
+TEST(ThreeMf, AnObjectThatBreaksTheCoreRulesIsRefusedByNameAndNothingIsWritten) {
+  TriangleMesh open = gridBox({0, 0, 0}, {1, 1, 1}, 2);
+  open.triangles.pop_back();
+  const std::string path = tempPath("refused.3mf");
+  fs::remove(path);
+  try {
+    write3mf({{"good", sphereMesh()}, {"leaky part", open}}, path);
+    FAIL() << "an open object was written";
+  } catch (const FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("leaky part"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("manifold"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(path));
+  for (const auto& entry : fs::directory_iterator(fs::path(path).parent_path()))
+    EXPECT_EQ(entry.path().string().find("refused.3mf."), std::string::npos) << entry.path();
+}
+
+// lib3mf's own rule is about edges only: an inside-out solid passes it (as FreeCAD's check
+// passes it), and the CGAL check read from the 3MF catches it.
+TEST(ThreeMf, AnInsideOutMeshIsCaughtByTheCheck) {
+  TriangleMesh m = sphereMesh();
+  for (auto& t : m.triangles) std::swap(t[1], t[2]);
+  const std::string path = tempPath("inside_out.3mf");
+  write3mf({{"inside out", m}}, path);
+  const CheckReport r = checkMesh(readMesh(path));
+  EXPECT_FALSE(r.printable());
+  EXPECT_TRUE(r.closed);
+  EXPECT_FALSE(r.outward);
+  EXPECT_LT(r.volume, 0);
+}
+
+TEST(ThreeMf, APackageThatUnpacksTooLargeIsRefusedBeforeReading) {
+  const std::string path = tempPath("bomb.3mf");
+  write3mf({{"sphere", sphereMesh()}}, path);
+  EXPECT_LT(zipUnpackedBytes(path), 10u << 20);
+  // Declare every entry 2 GiB unpacked in the central directory, as a zip bomb would.
+  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  int patched = 0;
+  for (std::size_t i = 0; i + 46 <= bytes.size(); ++i)
+    if (bytes.compare(i, 4, "PK\x01\x02", 4) == 0) {
+      const std::uint32_t huge = 0x80000000u;
+      f.seekp(static_cast<std::streamoff>(i + 24));
+      f.write(reinterpret_cast<const char*>(&huge), 4);
+      ++patched;
+    }
+  f.close();
+  ASSERT_GE(patched, 3);
+  EXPECT_GT(zipUnpackedBytes(path), kMax3mfUnpackedBytes);
+  try {
+    read3mf(path);
+    FAIL() << "the bomb was read";
+  } catch (const FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("refused before reading"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ThreeMf, GarbageIsAFileErrorNamingTheFile) {
+  const std::string path = tempPath("garbage.3mf");
+  std::ofstream(path) << "this is not a zip archive";
+  try {
+    read3mf(path);
+    FAIL();
+  } catch (const FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("garbage.3mf"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(parseLengthUnit("furlong"), ModelError);
+}
+
+// ---- repair ------------------------------------------------------------------------------
+
+RepairResult repaired(const TriangleMesh& m, RebuildPolicy rebuild = RebuildPolicy::Auto,
+                      double voxel = 0.0) {
+  RepairOptions o;
+  o.rebuild = rebuild;
+  o.voxel = voxel;
+  return repairMesh(m, o, "test mesh");
+}
+
+TEST(Repair, HolesAreFilled) {
+  const TriangleMesh good = sphereMesh();
+  TriangleMesh m = good;
+  for (std::size_t k = 0; k < 6; ++k) m.triangles.erase(m.triangles.begin() + 97 * k * 5);
+  ASSERT_FALSE(checkMesh(m).printable());
+  const RepairResult r = repaired(m);
+  EXPECT_TRUE(r.printable()) << reasons(r.after);
+  EXPECT_FALSE(r.rebuilt);
+  EXPECT_LT(meshDeviation(r.mesh, good).hausdorff(), 0.05);
+  EXPECT_NEAR(r.after.volume, checkMesh(good).volume, 0.01 * checkMesh(good).volume);
+}
+
+TEST(Repair, FlippedTrianglesAndAnInsideOutShellAreTurnedOutward) {
+  const TriangleMesh good = sphereMesh();
+  TriangleMesh flipped = good, inside = good;
+  std::mt19937 rng(7);
+  for (auto& t : flipped.triangles)
+    if (rng() % 10 == 0) std::swap(t[1], t[2]);
+  for (auto& t : inside.triangles) std::swap(t[1], t[2]);
+  for (const TriangleMesh* m : {&flipped, &inside}) {
+    ASSERT_FALSE(checkMesh(*m).printable());
+    const RepairResult r = repaired(*m);
+    EXPECT_TRUE(r.printable()) << reasons(r.after);
+    EXPECT_TRUE(r.after.outward);
+    EXPECT_GT(r.after.volume, 0);
+    EXPECT_LT(r.deviation.hausdorff(), 1e-6);  // nothing moved
+  }
+}
+
+TEST(Repair, DuplicateTrianglesDegenerateOnesAndNearlyCoincidentVerticesAreCleanedUp) {
+  const TriangleMesh good = sphereMesh();
+  TriangleMesh m = good;
+  // Every triangle its own three vertices (as STL stores them), some nudged by a float ulp or
+  // two (cracks of CAD exports), 40 triangles twice, and 30 zero-area triangles.
+  TriangleMesh soup;
+  for (const auto& t : m.triangles) {
+    const auto base = static_cast<std::uint32_t>(soup.positions.size());
+    for (std::uint32_t v : t) {
+      Vec3f p = m.positions[v];
+      if ((base + v) % 17 == 0) p[0] = std::nextafter(p[0], 10.0f);
+      soup.positions.push_back(p);
+    }
+    soup.triangles.push_back({base, base + 1, base + 2});
+  }
+  for (int k = 0; k < 40; ++k) soup.triangles.push_back(soup.triangles[k * 11]);
+  for (int k = 0; k < 30; ++k) {
+    const Triangle t = soup.triangles[k * 13];
+    soup.triangles.push_back({t[0], t[1], t[1]});
+  }
+  const CheckReport before = checkMesh(soup);
+  ASSERT_FALSE(before.printable());
+  EXPECT_GT(before.degenerateFaces, 0u);
+  const RepairResult r = repaired(soup);
+  EXPECT_TRUE(r.printable()) << reasons(r.after);
+  EXPECT_FALSE(r.rebuilt);
+  EXPECT_EQ(r.after.faces, good.triangles.size());
+  EXPECT_LT(r.deviation.hausdorff(), 1e-5);
+}
+
+TEST(Repair, IntersectingShellsAreRebuiltIntoTheirUnion) {
+  const TriangleMesh a = sphereMesh(1.0, {0, 0, 0}), b = sphereMesh(1.0, {1.0, 0.2, 0});
+  const TriangleMesh m = merged(a, b);
+  const CheckReport before = checkMesh(m);
+  ASSERT_GT(before.selfIntersections, 0u);
+  // Local repairs alone cannot make one solid of two crossing shells: the command says why.
+  const RepairResult r = repaired(m, RebuildPolicy::Auto, 0.03);
+  EXPECT_TRUE(r.printable()) << reasons(r.after);
+  EXPECT_TRUE(r.rebuilt);
+  EXPECT_EQ(r.after.components, 1u);
+  // The union of two unit spheres sqrt(1.04) apart: twice the sphere less the lens between.
+  const double d = std::sqrt(1.04);
+  const double lens = M_PI / 12 * (4 + d) * (2 - d) * (2 - d);
+  const double exact = 2 * 4.0 / 3 * M_PI - lens;
+  EXPECT_NEAR(r.after.volume, exact, 0.01 * exact);
+  // Every point of the result lies on the input's surface, within a voxel (the input's
+  // inner caps are gone from the result, as they must be).
+  EXPECT_LT(r.deviation.bToA, r.voxel) << r.voxel;
+  EXPECT_GT(r.deviation.aToB, 0.5);
+}
+
+// An open sheet has no inside: hole filling closes it flat, and neither CGAL nor the level
+// set can make a solid of that. The repair says why instead of writing something.
+TEST(Repair, ASheetCannotBecomeASolidAndTheRepairSaysWhy) {
+  TriangleMesh sheet = gridBox({0, 0, 0}, {1, 1, 1}, 3);
+  sheet.triangles.resize(18);  // one face of the box
+  const RepairResult r = repaired(sheet);
+  EXPECT_FALSE(r.printable());
+  EXPECT_FALSE(r.after.reasons.empty());
+  RepairOptions o;
+  o.fillHoles = false;
+  const RepairResult open = repairMesh(sheet, o, "sheet");
+  EXPECT_FALSE(open.printable());
+  EXPECT_GT(open.after.borderEdges, 0u);
+  bool said = false;
+  for (const auto& a : open.actions) said = said || a.find("no rebuild") != std::string::npos;
+  EXPECT_TRUE(said);
+}
+
+TEST(Repair, APrintableMeshIsLeftAsItIs) {
+  const TriangleMesh good = sphereMesh();
+  const RepairResult r = repaired(good);
+  EXPECT_TRUE(r.before.printable());
+  EXPECT_TRUE(r.printable());
+  EXPECT_EQ(r.after.faces, good.triangles.size());
+  EXPECT_LT(r.deviation.hausdorff(), 1e-9);
+}
+
+TEST(Repair, WeldingKeepsTheFirstVertexAndNeverChains) {
+  TriangleMesh m;
+  // A row of vertices 0.6 apart, welded within 1: only pairs within 1 of a kept vertex merge.
+  for (int i = 0; i < 5; ++i) m.positions.push_back({0.6f * i, 0, 0});
+  m.positions.push_back({0, 2, 0});
+  m.triangles = {{0, 1, 5}, {2, 3, 5}, {3, 4, 5}};
+  std::size_t removed = 0;
+  const std::size_t moved = weldNearbyVertices(m, 1.0, removed);
+  EXPECT_EQ(moved, 2u);  // 1 -> 0 and 3 -> 2; 2 (1.2 from 0) and 4 (1.2 from 2) are kept
+  EXPECT_EQ(removed, 2u);
+  ASSERT_EQ(m.triangles.size(), 1u);
+  EXPECT_EQ(m.triangles[0], (Triangle{2, 4, 5}));
+}
+
+TEST(Repair, BadOptionsAreRefusedNamingTheMesh) {
+  RepairOptions o;
+  o.voxel = -1;
+  try {
+    repairMesh(sphereMesh(), o, "part.stl");
+    FAIL();
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("part.stl"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("voxel"), std::string::npos);
+  }
+  EXPECT_THROW(parseRebuildPolicy("sometimes"), ModelError);
+}
+
+TEST(Repair, CancelStopsIt) {
+  RepairOptions o;
+  int calls = 0;
+  o.progress = [&](double) { return ++calls < 3; };
+  TriangleMesh m = sphereMesh();
+  m.triangles.pop_back();
+  EXPECT_THROW(repairMesh(m, o, "m"), Cancelled);
+}
+
+// ---- printability ------------------------------------------------------------------------
+
+// A 10 mm hollow cube whose walls are 0.2 mm thick: the thinnest wall is found within 10 %.
+TEST(Printability, TheWallOfAHollowCubeIsMeasuredWithinTenPercent) {
+  const TriangleMesh m = merged(gridBox({0, 0, 0}, {10, 10, 10}, 8),
+                                gridBox({0.2, 0.2, 0.2}, {9.8, 9.8, 9.8}, 8, true));
+  const CheckReport c = checkMesh(m);
+  ASSERT_TRUE(c.printable()) << reasons(c);
+  PrintabilityOptions o;
+  o.minWall = 0.5;
+  o.density = 1.24;
+  const PrintabilityReport p = measurePrintability(m, o);
+  EXPECT_NEAR(p.minWall, 0.2, 0.02);
+  EXPECT_EQ(p.thinTriangles, m.triangles.size());  // every wall is 0.2
+  // The cavity's ceiling faces down and needs support; the outer bottom lies on the plate.
+  EXPECT_NEAR(p.overhangArea, 9.6 * 9.6, 1e-3);
+  const double volume = 1000 - 9.6 * 9.6 * 9.6;
+  EXPECT_NEAR(p.volume, volume, 1e-3);
+  EXPECT_NEAR(p.mass, volume * 1.24 / 1000, 1e-5);
+  EXPECT_NEAR(p.height, 10, 1e-6);
+
+  // A solid cube: its walls are 10 thick, nothing is thin, nothing overhangs.
+  const PrintabilityReport solid = measurePrintability(gridBox({0, 0, 0}, {10, 10, 10}, 8), o);
+  EXPECT_NEAR(solid.minWall, 10, 1.0);
+  EXPECT_EQ(solid.thinTriangles, 0u);
+  EXPECT_EQ(solid.overhangArea, 0.0);
+  // Built along x instead, the face at x = 0 lies on the plate, and the cavity's face at
+  // x = 9.8 (facing -x) is the ceiling.
+  o.up = {1, 0, 0};
+  EXPECT_NEAR(measurePrintability(m, o).overhangArea, 9.6 * 9.6, 1e-3);
+}
+
+TEST(Printability, BadOptionsAreRefused) {
+  PrintabilityOptions o;
+  o.up = {0, 0, 0};
+  EXPECT_THROW(measurePrintability(sphereMesh(), o), ModelError);
+  EXPECT_THROW(materialDensity("cheese"), ModelError);
+  EXPECT_DOUBLE_EQ(materialDensity("pla"), 1.24);
+}
+
+TEST(Deviation, AMeshMovedByASmallDistanceIsThatFarAway) {
+  const TriangleMesh a = gridBox({0, 0, 0}, {1, 1, 1}, 4);
+  TriangleMesh b = a;
+  for (auto& p : b.positions) p[2] += 0.01f;
+  const DeviationReport d = meshDeviation(a, b);
+  EXPECT_NEAR(d.hausdorff(), 0.01, 1e-4);
+  // Most of the side faces' points lie on the moved sides too.
+  EXPECT_GT(d.meanAToB, 0.0);
+  EXPECT_LT(d.meanAToB, 0.006);
+  EXPECT_EQ(meshDeviation(a, a).hausdorff(), 0.0);
+}
+
+}  // namespace
+}  // namespace frep
