@@ -17,6 +17,7 @@ using Args = std::vector<std::string>;
 // The options of `frepcad export`, the same for JSON models and FreeCAD documents.
 struct ExportOptions {
   std::string input, output, format, object;
+  std::string units;                // --units U: a 3MF's unit
   std::optional<double> resolution;
   std::optional<int> cells;
   std::optional<Box3> bbox;

@@ -25,13 +25,15 @@ const char* const kExportHelp =
     "through a temporary file: a mesh the check refuses, an error or Ctrl-C leave no file.\n"
     "\n"
     "options (for both kinds of input):\n"
-    "  -o, --output OUT        the mesh file (.stl, .obj, .ply, .bms), or .vdb: an OpenVDB level\n"
+    "  -o, --output OUT        the mesh file (.stl, .obj, .ply, .3mf, .bms), or .vdb: an OpenVDB level\n"
     "                          set of the solid (one voxel per cell, narrow band of 3 voxels)\n"
     "  --resolution R          cell size (default: the model's, else the box's longest side / "
     "128)\n"
     "  --cells N               cells along the longest side of the box, instead of --resolution\n"
     "  --bbox X0 Y0 Z0 X1 Y1 Z1  meshing box (default: the model's, else the solid's own box)\n"
-    "  --format F              stl, stl-ascii, obj, ply or bms (default: from OUT's extension)\n"
+    "  --format F              stl, stl-ascii, obj, ply, bms or 3mf (default: from OUT's\n"
+    "                          extension)\n"
+    "  --units U               a 3MF's length unit: micron, mm, cm, inch, ft, m (default mm)\n"
     "  --tolerance D           simplify: far fewer triangles, the surface kept within D (model\n"
     "                          units) of the exact one, still checked (a tenth of the cell size\n"
     "                          is a good start)\n"
@@ -87,6 +89,7 @@ ExportOptions parseExportOptions(const Args& args) {
     else if (a == "--stats") o.stats = true;
     else if (a == "--fog") o.fog = true;
     else if (a == "--format") o.format = value("a format");
+    else if (a == "--units") o.units = value("a unit (micron, mm, cm, inch, ft, m)");
     else if (a == "--force") o.force = true;
     else if (a == "--quiet") o.quiet = true;
     else if (a == "--object") o.object = value("an object name");
@@ -148,6 +151,12 @@ int exportModel(const ExportOptions& opt) {
   request.box = box;
   request.known = structuralBounds(model.root);
   request.format = format;
+  if (!opt.units.empty()) {
+    if (format != MeshFormat::ThreeMf) throw UsageError("--units applies to a 3MF output only");
+    request.threeMf.unit = parseLengthUnit(opt.units);
+  }
+  request.threeMf.metadata = {{"Application", "FRepCAD frepcad export"},
+                              {"Title", fs::path(opt.input).stem().string()}};
   request.force = opt.force;
   request.tolerance = opt.tolerance;
   request.sharpFeatures = opt.sharp;

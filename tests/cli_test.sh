@@ -176,5 +176,54 @@ PY
 expect 2 "folds over itself in cell \(" -- "$frepcad" deform "$work/bar.stl" --lattice "$work/folded.json" -o "$work/x.stl"
 [ ! -e "$work/x.stl" ] && [ ! -e "$work/x.vdb" ] || { echo "FAIL: a refused deform left a file"; failures=$((failures + 1)); }
 
+# 3MF (issue 16): export, check, units; refused options
+expect 0 "wrote .*s.3mf \(3mf\)" -- "$frepcad" export "$src/examples/csg.json" -o "$work/s.3mf" --resolution 0.1 --units cm
+expect 0 "verdict: printable" -- "$frepcad" check "$work/s.3mf"
+unzip -p "$work/s.3mf" 3D/3dmodel.model 2>/dev/null | grep -q 'unit="centimeter"' || python3 -c 'import sys, zipfile; sys.exit(0 if b"unit=\"centimeter\"" in zipfile.ZipFile(sys.argv[1]).read("3D/3dmodel.model") else 1)' "$work/s.3mf" || { echo "FAIL: --units cm not in the 3MF"; failures=$((failures + 1)); }
+expect 2 "--units applies to a 3MF output only" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.stl" --units cm
+expect 2 "unknown unit 'furlong'" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.3mf" --units furlong
+echo "not a zip" >"$work/bad.3mf"
+expect 2 "bad.3mf: not a 3MF package" -- "$frepcad" check "$work/bad.3mf"
+
+# repair: holes and an inside-out copy mended, the input untouched, the result printable
+"$frepcad" export "$src/examples/sphere.json" -o "$work/ball.obj" --resolution 0.1 --quiet
+python3 - "$work/ball.obj" "$work/holes.obj" "$work/inside.obj" <<'PY'
+import sys
+lines = open(sys.argv[1]).read().splitlines()
+faces = [l for l in lines if l.startswith("f ")]
+rest = [l for l in lines if not l.startswith("f ")]
+open(sys.argv[2], "w").write("\n".join(rest + [f for i, f in enumerate(faces) if i % 97 != 5]) + "\n")
+flip = lambda f: " ".join([f.split()[0]] + f.split()[1:][::-1])
+open(sys.argv[3], "w").write("\n".join(rest + [flip(f) for f in faces]) + "\n")
+PY
+before=$(md5sum <"$work/holes.obj")
+expect 1 "border edges" -- "$frepcad" check "$work/holes.obj"
+expect 0 "filled [0-9]+ holes" -- "$frepcad" repair "$work/holes.obj" -o "$work/fixed.stl"
+expect 0 "verdict: printable" -- "$frepcad" check "$work/fixed.stl"
+[ "$(md5sum <"$work/holes.obj")" = "$before" ] || { echo "FAIL: repair changed its input"; failures=$((failures + 1)); }
+expect 0 "oriented every shell" -- "$frepcad" repair "$work/inside.obj" -o "$work/out.3mf"
+expect 0 "verdict: printable" -- "$frepcad" check "$work/out.3mf"
+expect 0 '"printable": true' -- "$frepcad" repair "$work/inside.obj" -o "$work/out2.ply" --json
+# a flat sheet cannot become a solid: exit 1, the reasons, nothing written unless --force
+printf 'solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid s\n' >"$work/sheet.stl"
+expect 1 "encloses no volume" -- "$frepcad" repair "$work/sheet.stl" -o "$work/sheet_fixed.stl"
+[ ! -e "$work/sheet_fixed.stl" ] || { echo "FAIL: a failed repair wrote a file"; failures=$((failures + 1)); }
+expect 1 "could not be made printable" -- "$frepcad" repair "$work/holes.obj" -o "$work/open.stl" --no-fill
+[ ! -e "$work/open.stl" ] || { echo "FAIL: a failed repair wrote a file"; failures=$((failures + 1)); }
+expect 1 "written although still not printable" -- "$frepcad" repair "$work/holes.obj" -o "$work/open_forced.stl" --no-fill --force
+[ -e "$work/open_forced.stl" ] || { echo "FAIL: --force wrote nothing"; failures=$((failures + 1)); }
+expect 2 "unknown rebuild policy 'sometimes'" -- "$frepcad" repair "$work/holes.obj" -o "$work/x.stl" --rebuild sometimes
+expect 2 "repair needs -o OUT" -- "$frepcad" repair "$work/holes.obj"
+expect 2 "--voxel must be a size > 0" -- "$frepcad" repair "$work/holes.obj" -o "$work/x.stl" --voxel 0
+expect 0 "Hausdorff distance   (0|[0-9.]+e-1[0-9])$" -- "$frepcad" compare "$work/ball.obj" "$work/ball.obj"
+
+# the printability report
+expect 0 "thinnest wall        1\.9" -- "$frepcad" check "$work/s.stl" --print --material pla
+expect 0 "mass                 [0-9.]+ g" -- "$frepcad" check "$work/s.stl" --print --material pla
+expect 1 "triangles where the wall is thinner than 5" -- "$frepcad" check "$work/s.stl" --print --min-wall 5
+expect 0 '"overhang_area": [0-9.e-]+' -- "$frepcad" check "$work/s.stl" --print --json --up -y
+expect 2 "unknown material 'cheese'" -- "$frepcad" check "$work/s.stl" --print --material cheese
+expect 2 "apply with --print" -- "$frepcad" check "$work/s.stl" --min-wall 1
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

@@ -308,6 +308,9 @@ TEST(Repair, ASheetCannotBecomeASolidAndTheRepairSaysWhy) {
   const RepairResult r = repaired(sheet);
   EXPECT_FALSE(r.printable());
   EXPECT_FALSE(r.after.reasons.empty());
+  bool none = false;
+  for (const auto& a : r.actions) none = none || a.find("encloses no volume") != std::string::npos;
+  EXPECT_TRUE(none);
   RepairOptions o;
   o.fillHoles = false;
   const RepairResult open = repairMesh(sheet, o, "sheet");

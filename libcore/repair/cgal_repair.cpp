@@ -8,6 +8,8 @@
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/polygon_mesh_to_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/bbox.h>
+#include <CGAL/Polygon_mesh_processing/repair.h>
 #include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
 #include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/repair_self_intersections.h>
@@ -16,6 +18,7 @@
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/Surface_mesh.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <iterator>
@@ -55,8 +58,17 @@ TriangleMesh repairWithCgal(const TriangleMesh& soup, const CgalRepairOptions& o
   }
   log.soupFacesRemoved = soup.triangles.size() - polygons.size();
 
-  // The soup: identical points merged, faces that repeat a vertex or another face removed.
+  // The soup: identical points merged, faces that repeat a vertex or another face removed,
+  // and faces of no area (collinear corners, exact predicate): such a face lying on a sound
+  // edge makes it non-manifold, and the split that orienting the soup makes of it would
+  // leave a flat pillow behind. Where a sliver closed a T-junction the crack it leaves is
+  // filled below, and the filling's own slivers are collapsed in the mesh.
   const std::size_t pointsBefore = points.size(), facesBefore = polygons.size();
+  polygons.erase(std::remove_if(polygons.begin(), polygons.end(),
+                                [&](const std::array<std::size_t, 3>& f) {
+                                  return CGAL::collinear(points[f[0]], points[f[1]], points[f[2]]);
+                                }),
+                 polygons.end());
   PMP::repair_polygon_soup(points, polygons);
   log.soupPointsMerged = pointsBefore - points.size();
   log.soupFacesRemoved += facesBefore - polygons.size();
@@ -94,9 +106,27 @@ TriangleMesh repairWithCgal(const TriangleMesh& soup, const CgalRepairOptions& o
       tick(0.35 + 0.2 * double(i + 1) / double(cycles.size()));
     }
   }
+  if (log.holesFilled && !PMP::remove_degenerate_faces(mesh)) {
+    std::size_t left = 0;
+    for (Face f : mesh.faces()) left += PMP::is_degenerate_triangle_face(f, mesh);
+    log.degenerateFacesLeft = left;
+  }
+  // Closed shells of no volume: the pillows that a sliver split off a sound edge (or a
+  // doubled triangle) becomes once its hole is filled. A cube of a ten-thousandth of the
+  // mesh's diagonal is the threshold, far below any part a printer makes.
+  if (!CGAL::is_empty(mesh)) {
+    const CGAL::Bbox_3 box = PMP::bbox(mesh);
+    const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) +
+                                      CGAL::square(box.ymax() - box.ymin()) +
+                                      CGAL::square(box.zmax() - box.zmin()));
+    const double side = 1e-4 * diagonal;
+    log.flatShellsRemoved = PMP::remove_connected_components_of_negligible_size(
+        mesh, CGAL::parameters::area_threshold(0).volume_threshold(side * side * side));
+  }
+  mesh.collect_garbage();
   tick(0.55);
 
-  if (options.removeSelfIntersections && CGAL::is_triangle_mesh(mesh)) {
+  if (options.removeSelfIntersections && !CGAL::is_empty(mesh) && CGAL::is_triangle_mesh(mesh)) {
     log.selfIntersected = PMP::does_self_intersect(mesh);
     if (log.selfIntersected) {
       // The local removal (experimental in CGAL 5.5) may change the genus where it must.
@@ -107,7 +137,9 @@ TriangleMesh repairWithCgal(const TriangleMesh& soup, const CgalRepairOptions& o
   }
   tick(0.85);
 
-  if (CGAL::is_closed(mesh) && CGAL::is_triangle_mesh(mesh) && !PMP::does_self_intersect(mesh)) {
+  // (orient_to_bound_a_volume crashes on an empty mesh: the pillow removal may leave one)
+  if (!CGAL::is_empty(mesh) && CGAL::is_closed(mesh) && CGAL::is_triangle_mesh(mesh) &&
+      !PMP::does_self_intersect(mesh)) {
     PMP::orient_to_bound_a_volume(mesh);
     log.reoriented = true;
   }

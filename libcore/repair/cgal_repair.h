@@ -30,6 +30,7 @@ struct CgalRepairLog {
   std::size_t holesFilled = 0;
   std::size_t holesLeft = 0;
   std::size_t facesAdded = 0;            // by hole filling
+  std::size_t flatShellsRemoved = 0;     // closed components of no volume (pillows)
   bool selfIntersected = false;          // before the local removal
   bool selfIntersectionsRemoved = false; // the removal reported success
   bool reoriented = false;               // orient_to_bound_a_volume ran (closed, no crossings)

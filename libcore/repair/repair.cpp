@@ -38,6 +38,25 @@ Box3 boxOf(const TriangleMesh& m) {
   return b;
 }
 
+// A hundredth of the median edge length: cracks of CAD exports and STL round-offs are far
+// narrower, and no edge of the mesh is that short but a sliver's.
+double defaultWeldDistance(const TriangleMesh& m) {
+  std::vector<double> lengths;
+  lengths.reserve(m.triangles.size());
+  for (const Triangle& t : m.triangles) {
+    if (t[0] >= m.positions.size() || t[1] >= m.positions.size()) continue;
+    const Vec3f& a = m.positions[t[0]];
+    const Vec3f& b = m.positions[t[1]];
+    const double l = std::sqrt((double(a[0]) - b[0]) * (double(a[0]) - b[0]) +
+                               (double(a[1]) - b[1]) * (double(a[1]) - b[1]) +
+                               (double(a[2]) - b[2]) * (double(a[2]) - b[2]));
+    if (std::isfinite(l) && l > 0) lengths.push_back(l);
+  }
+  if (lengths.empty()) return 0.0;
+  std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+  return 0.01 * lengths[lengths.size() / 2];
+}
+
 // CGAL's log as sentences, appended to `actions`.
 void describe(const CgalRepairLog& log, std::vector<std::string>& actions) {
   if (log.soupPointsMerged)
@@ -57,6 +76,9 @@ void describe(const CgalRepairLog& log, std::vector<std::string>& actions) {
   if (log.holesFilled)
     actions.push_back("filled " + plural(log.holesFilled, "hole", "holes") + " with " +
                       plural(log.facesAdded, "triangle", "triangles"));
+  if (log.flatShellsRemoved)
+    actions.push_back("removed " + plural(log.flatShellsRemoved, "shell", "shells") +
+                      " of no volume (slivers split off sound edges)");
   if (log.holesLeft) actions.push_back(plural(log.holesLeft, "hole", "holes") + " could not be filled");
   if (log.selfIntersected && log.selfIntersectionsRemoved)
     actions.push_back("removed the self-intersections locally (CGAL)");
@@ -186,7 +208,7 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
   diagonal = std::sqrt(diagonal);
 
   TriangleMesh mesh = input;
-  const double weld = options.weldDistance < 0 ? 1e-6 * diagonal : options.weldDistance;
+  const double weld = options.weldDistance < 0 ? defaultWeldDistance(input) : options.weldDistance;
   std::size_t collapsed = 0;
   const std::size_t welded = weldNearbyVertices(mesh, weld, collapsed);
   if (welded)
@@ -241,7 +263,10 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
   const bool rebuild = options.rebuild == RebuildPolicy::Always ||
                        (options.rebuild == RebuildPolicy::Auto && !r.after.printable());
   if (rebuild) {
-    if (!closed) {
+    if (mesh.triangles.empty()) {
+      r.actions.push_back("nothing is left: the mesh encloses no volume (a sheet or a surface, "
+                          "not a solid)");
+    } else if (!closed) {
       r.actions.push_back("no rebuild through a level set: the mesh is still open or "
                           "non-manifold after the local repairs, so its inside is not known");
     } else {
@@ -251,8 +276,10 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
       r.actions.push_back("rebuilt through a level set at voxel size " + std::to_string(r.voxel) +
                           " (" + plural(rebuilt.triangles.size(), "triangle", "triangles") +
                           "): overlapping shells become their union");
-      // Keep the rebuild when it passes, or when nothing passes and it is the closer miss.
-      if (judged.printable() || judged.reasons.size() <= r.after.reasons.size()) {
+      // Keep the rebuild when it passes, or when nothing passes and it is the closer miss
+      // (a sheet's flood fill finds no inside and rebuilds to nothing: that is no closer).
+      if (judged.printable() ||
+          (!rebuilt.triangles.empty() && judged.reasons.size() < r.after.reasons.size())) {
         mesh = std::move(rebuilt);
         r.after = std::move(judged);
         r.rebuilt = true;

@@ -33,8 +33,9 @@ RebuildPolicy parseRebuildPolicy(const std::string& name);
 constexpr int kDefaultRebuildVoxels = 192;
 
 struct RepairOptions {
-  // Vertices closer than this are welded into one; < 0: a millionth of the box's diagonal
-  // (below any feature a printer makes, above float noise of CAD exports); 0: identical only.
+  // Vertices closer than this are welded into one; < 0: a hundredth of the median edge
+  // length (wider than the cracks of CAD exports, narrower than any edge but a sliver's);
+  // 0: identical coordinates only.
   double weldDistance = -1.0;
   bool fillHoles = true;
   RebuildPolicy rebuild = RebuildPolicy::Auto;
