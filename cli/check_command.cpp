@@ -93,12 +93,7 @@ int checkCommand(const Args& args) {
     return report.printable() ? 0 : 1;
   }
   const PrintabilityReport p = measurePrintability(mesh, po);
-  if (po.minWall && p.thinTriangles) {
-    std::ostringstream why;
-    why << p.thinTriangles << " triangles where the wall is thinner than " << *po.minWall
-        << " (thinnest " << p.minWall << ")";
-    report.reasons.push_back(why.str());
-  }
+  addPrintabilityReasons(report, p, po);
   if (json) std::cout << printabilityToJson(report, p, po, path);
   else std::cout << reportToText(report, path) << printabilityToText(p, po);
   return report.printable() ? 0 : 1;

@@ -36,6 +36,7 @@ TOOLBARS = (
 )
 LATTICE_COMMANDS = ["FRep_Lattice", "FRep_Deform"]
 MESH_COMMANDS = ["FRep_Polygonize", "FRep_Export", "FRep_PreviewQuality", "FRep_SolidTolerance"]
+PRINT_COMMANDS = ["FRep_Repair", "FRep_Printability"]
 
 
 def command_name(type_id):
@@ -64,6 +65,7 @@ def toolbars():
         if category not in placed:
             bars.append(("FRep " + category, names))
     bars.append(("FRep lattice", LATTICE_COMMANDS))
+    bars.append(("FRep print", PRINT_COMMANDS))
     bars.append(("FRep mesh", MESH_COMMANDS))
     return bars
 
@@ -210,7 +212,8 @@ class PolygonizeCommand:
 
 
 class ExportCommand:
-    FILTERS = "STL mesh (*.stl);;Wavefront OBJ (*.obj);;Stanford PLY (*.ply)"
+    FILTERS = ("STL mesh (*.stl);;3MF, each selected object its own (*.3mf);;"
+               "Wavefront OBJ (*.obj);;Stanford PLY (*.ply)")
 
     def GetResources(self):
         return {"Pixmap": FRepPaths.icon("export"),
@@ -377,6 +380,77 @@ class DeformCommand:
         FreeCADGui.Selection.addSelection(obj)
 
 
+def _selected_meshes():
+    import FRepManufacturing
+    return [o for o in FreeCADGui.Selection.getSelection() if FRepManufacturing.is_mesh_object(o)]
+
+
+class RepairCommand:
+    """Each selected mesh repaired into a new Mesh feature beside it (the input untouched)."""
+
+    def GetResources(self):
+        return {"Pixmap": FRepPaths.icon("repair"),
+                "MenuText": QT_TRANSLATE_NOOP("FRep_Repair", "Repair mesh"),
+                "ToolTip": QT_TRANSLATE_NOOP(
+                    "FRep_Repair",
+                    "Makes the selected meshes printable: welds cracks, removes degenerate and "
+                    "duplicate triangles, fills holes, orients outward and resolves "
+                    "self-intersections (CGAL), rebuilding through a level set where that is "
+                    "not enough. The result is a new mesh, checked; the input is kept.")}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None and bool(_selected_meshes())
+
+    def Activated(self):
+        import FRepManufacturing
+        doc = FreeCAD.ActiveDocument
+        made, failed = [], []
+        for obj in _selected_meshes():
+            try:
+                with Transaction(doc, "Repair %s" % obj.Label):
+                    out, result = FRepManufacturing.repair(obj)
+                    if out is not None:
+                        add_to_active_container(out)
+                        doc.recompute()
+            except (ValueError, RuntimeError, OSError) as e:
+                failed.append(str(e))
+                continue
+            FreeCAD.Console.PrintMessage(result["text"])
+            if out is None:
+                failed.append("%s could not be made printable:\n%s"
+                              % (obj.Label, "\n".join(" - " + r for r in result["reasons"])))
+            else:
+                made.append(out)
+        if failed:
+            report("FRep Repair", "\n\n".join(failed))
+        if made:
+            FreeCADGui.Selection.clearSelection()
+            for out in made:
+                FreeCADGui.Selection.addSelection(out)
+
+
+class PrintabilityCommand:
+    """The printability report of the selected mesh, in a task panel."""
+
+    def GetResources(self):
+        return {"Pixmap": FRepPaths.icon("printability"),
+                "MenuText": QT_TRANSLATE_NOOP("FRep_Printability", "Printability..."),
+                "ToolTip": QT_TRANSLATE_NOOP(
+                    "FRep_Printability",
+                    "Checks the selected mesh with CGAL and reports its thinnest wall (walls "
+                    "below the minimum in red), overhang area, volume and mass.")}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None and len(_selected_meshes()) == 1 and \
+            FreeCADGui.Control.activeDialog() is False
+
+    def Activated(self):
+        import FRepTaskPanels
+        panel = FRepTaskPanels.PrintabilityPanel(_selected_meshes()[0])
+        FreeCADGui.Control.showDialog(panel)
+        panel.run()
+
+
 def register():
     """Adds every command to FreeCAD; returns the toolbars as (title, command names)."""
     for type_id in FRepFeatures.NODE_TYPES:
@@ -387,4 +461,6 @@ def register():
     FreeCADGui.addCommand("FRep_SolidTolerance", SolidToleranceCommand())
     FreeCADGui.addCommand("FRep_Lattice", LatticeCommand())
     FreeCADGui.addCommand("FRep_Deform", DeformCommand())
+    FreeCADGui.addCommand("FRep_Repair", RepairCommand())
+    FreeCADGui.addCommand("FRep_Printability", PrintabilityCommand())
     return toolbars()

@@ -1,9 +1,11 @@
-"""Checked export of FRep solids: File > Export "FRep mesh (*.stl *.obj *.ply)", the Export
-command and `frepcad export part.FCStd` all come here.
+"""Checked export of FRep solids: File > Export "FRep mesh (*.stl *.obj *.ply)" and
+"FRep 3MF (*.3mf)", the Export command and `frepcad export part.FCStd` all come here.
 
 The solid is meshed from its tree (not from the preview), checked with CGAL, and written
 through a temporary file and a rename: a mesh that fails the check, a cancel or an error
 leaves no file. Selected Polygonize features export with their own box and resolution.
+A 3MF holds each selected object as an object of its own (named by its label), each checked
+as the file holds it.
 """
 
 import os
@@ -16,6 +18,7 @@ import FRepTree
 from FRepPaths import frepcore
 
 FILTER = "FRep mesh (*.stl *.obj *.ply)"
+FILTER_3MF = "FRep 3MF (*.3mf)"
 
 
 def export(objects, filename):
@@ -69,6 +72,9 @@ def export_objects(objects, filename, progress=None, cells=None, fmt="", resolut
     Raises frepcore.NotPrintable (nothing written) when the check fails and force is not
     given, RuntimeError when cancelled (nothing written), ValueError for bad input.
     """
+    if filename.lower().endswith(".3mf") or fmt == "3mf":
+        return _export_3mf(objects, filename, progress, cells, resolution, bbox, force,
+                           tolerance, sharp)
     solid, (box, cell) = solid_and_box(objects, cells, resolution, bbox)
     name = os.path.basename(filename)
     if filename.lower().endswith(".vdb"):
@@ -88,6 +94,52 @@ def export_objects(objects, filename, progress=None, cells=None, fmt="", resolut
     if progress is not None:
         return work(progress)
     return FRepMeshing.run_with_progress("Exporting %s" % name, work)
+
+
+def _export_3mf(objects, filename, progress, cells, resolution, bbox, force, tolerance, sharp,
+                unit="mm"):
+    """Every object its own 3MF object: meshed with its own box (a Polygonize feature with its
+    settings), all checked as the file holds them, written only when all pass (or force)."""
+    name = os.path.basename(filename)
+    if not objects:
+        raise ValueError("nothing to export: select FRep features or Polygonize features")
+    labels = [o.Label for o in objects]
+    if len(set(labels)) != len(labels):
+        raise ValueError("%s: two selected objects share a label; 3MF objects are named by "
+                         "their labels" % name)
+
+    def work(tick):
+        meshes = []
+        share = 0.8 / len(objects)
+        for i, obj in enumerate(objects):
+            solid, (box, cell) = solid_and_box([obj], cells, resolution, bbox)
+            tol, sh = tolerance, sharp
+            if tol is None and isinstance(getattr(obj, "Proxy", None), FRepPolygonize.Polygonize):
+                tol, sh = FRepPolygonize.simplification(obj)
+            mesh = solid.node.mesh(box, cell, lambda f, i=i: tick(i * share + f * share), False,
+                                   tol, sh)
+            meshes.append((obj.Label, mesh))
+        doc = objects[0].Document
+        report = frepcore.write_3mf(
+            meshes, filename, unit=unit, force=force,
+            metadata={"Title": doc.Label, "Application": "FRepCAD workbench for FreeCAD"},
+            progress=lambda f: tick(0.8 + 0.2 * f))
+        report["triangles"] = sum(m.triangle_count for _, m in meshes)
+        if not report["written"]:
+            refused = [o["name"] for o in report["objects"] if not o["printable"]]
+            raise frepcore.NotPrintable("%s: not written: %s not printable" % (
+                name, ", ".join(refused)), report)
+        return report
+
+    def guarded(tick):
+        try:
+            return work(tick)
+        except frepcore.Cancelled:
+            raise RuntimeError("export of %s cancelled; no file written" % name)
+
+    if progress is not None:
+        return guarded(progress)
+    return FRepMeshing.run_with_progress("Exporting %s" % name, guarded)
 
 
 def _export_level_set(solid, box, cell, filename, progress):

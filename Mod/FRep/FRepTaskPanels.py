@@ -212,3 +212,81 @@ class LatticeEditPanel:
         import FreeCADGui
         FreeCADGui.ActiveDocument.resetEdit()
         return True
+
+
+class PrintabilityPanel:
+    """The printability report of a mesh: minimum wall, material, build direction and
+    overhang angle in, the report out, the triangles thinner than the wall in red."""
+
+    DIRECTIONS = (("z", (0, 0, 1)), ("y", (0, 1, 0)), ("x", (1, 0, 0)),
+                  ("-z", (0, 0, -1)), ("-y", (0, -1, 0)), ("-x", (-1, 0, 0)))
+
+    def __init__(self, obj):
+        from PySide import QtGui
+        from FRepPaths import frepcore
+        self.obj = obj
+        self.report = None
+        self.form = QtGui.QWidget()
+        self.form.setObjectName("FRepPrintabilityPanel")
+        self.form.setWindowTitle(translate("FRep", "Printability of %s") % obj.Label)
+        layout = QtGui.QFormLayout(self.form)
+        self.min_wall = QtGui.QDoubleSpinBox()
+        self.min_wall.setObjectName("MinWall")
+        self.min_wall.setDecimals(3)
+        self.min_wall.setRange(0.0, 1000.0)
+        self.min_wall.setValue(0.8)
+        self.min_wall.setSuffix(" mm")
+        self.min_wall.setToolTip(translate("FRep", "Walls thinner than this are shown in red "
+                                                   "and make the part not printable (0: none)"))
+        layout.addRow(translate("FRep", "Minimum wall"), self.min_wall)
+        self.material = QtGui.QComboBox()
+        self.material.setObjectName("Material")
+        self.material.addItems(sorted(frepcore.materials()))
+        self.material.setCurrentIndex(self.material.findText("pla"))
+        layout.addRow(translate("FRep", "Material"), self.material)
+        self.up = QtGui.QComboBox()
+        self.up.setObjectName("BuildDirection")
+        self.up.addItems([name for name, _ in self.DIRECTIONS])
+        layout.addRow(translate("FRep", "Build direction"), self.up)
+        self.overhang = QtGui.QDoubleSpinBox()
+        self.overhang.setObjectName("Overhang")
+        self.overhang.setRange(0.0, 90.0)
+        self.overhang.setValue(45.0)
+        self.overhang.setSuffix(" deg")
+        layout.addRow(translate("FRep", "Overhang from vertical"), self.overhang)
+        run = QtGui.QPushButton(translate("FRep", "Check"))
+        run.setObjectName("RunPrintability")
+        run.clicked.connect(self.run)
+        layout.addRow(run)
+        self.text = QtGui.QPlainTextEdit()
+        self.text.setObjectName("PrintabilityReport")
+        self.text.setReadOnly(True)
+        self.text.setMinimumHeight(260)
+        layout.addRow(self.text)
+
+    def run(self):
+        import FRepManufacturing
+        wall = self.min_wall.value() or None
+        try:
+            self.report = FRepManufacturing.printability(
+                self.obj, min_wall=wall, material=self.material.currentText(),
+                up=dict(self.DIRECTIONS)[self.up.currentText()], overhang=self.overhang.value())
+        except (ValueError, OSError) as e:
+            self.text.setPlainText(str(e))
+            return None
+        verdict = "PRINTABLE" if self.report["printable"] else "NOT printable"
+        self.text.setPlainText("%s\n\n%s" % (verdict, self.report["text"]))
+        FRepManufacturing.show_thin_regions(self.obj, self.report["thin"])
+        return self.report
+
+    def accept(self):
+        FreeCADGui.Control.closeDialog()
+        return True
+
+    def reject(self):
+        FreeCADGui.Control.closeDialog()
+        return True
+
+    def getStandardButtons(self):
+        from PySide import QtGui
+        return int(QtGui.QDialogButtonBox.Close)

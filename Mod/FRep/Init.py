@@ -4,5 +4,6 @@ import FreeCAD
 
 FreeCAD.addExportType("FRep mesh (*.stl *.obj *.ply)", "FRepExport")
 FreeCAD.addExportType("FRep level set (*.vdb)", "FRepExport")
+FreeCAD.addExportType("FRep 3MF (*.3mf)", "FRepExport")
 FreeCAD.addImportType("FRep model (*.json)", "FRepImport")
 FreeCAD.addImportType("OpenVDB volume (*.vdb)", "FRepImport")

@@ -73,6 +73,15 @@ std::string reportToJson(const CheckReport& r, const std::string& name) {
   return dump(checkJson(r, name));
 }
 
+void addPrintabilityReasons(CheckReport& check, const PrintabilityReport& r,
+                            const PrintabilityOptions& o) {
+  if (!o.minWall || r.thinTriangles == 0) return;
+  std::ostringstream why;
+  why << r.thinTriangles << " triangles where the wall is thinner than " << *o.minWall
+      << " (thinnest " << r.minWall << ")";
+  check.reasons.push_back(why.str());
+}
+
 std::string printabilityToText(const PrintabilityReport& r, const PrintabilityOptions& o) {
   std::ostringstream os;
   os.precision(6);

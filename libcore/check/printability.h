@@ -55,6 +55,11 @@ struct PrintabilityReport {
 // Throws ModelError for bad options (a zero build direction, angles out of range, rays < 1).
 PrintabilityReport measurePrintability(const TriangleMesh& mesh, const PrintabilityOptions& options);
 
+// Adds to the check's reasons what makes the part unprintable for the printer: walls thinner
+// than options.minWall.
+void addPrintabilityReasons(CheckReport& check, const PrintabilityReport& r,
+                            const PrintabilityOptions& options);
+
 // The report for people (after the check's own text), and the check's JSON report with a
 // "print" object added (check_report_format.cpp).
 std::string printabilityToText(const PrintabilityReport& r, const PrintabilityOptions& options);

@@ -226,4 +226,31 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
   return result;
 }
 
+ThreeMfExportResult export3mf(const std::vector<NamedMesh>& objects, const ThreeMfOptions& options,
+                              const std::string& path, bool force,
+                              const std::function<bool(double)>& progress) {
+  auto tick = [&](double f) {
+    if (progress && !progress(f)) throw Cancelled();
+  };
+  ThreeMfOptions o = options;
+  o.validate = false;  // the check below judges, with every reason, not only the first
+  const ThreeMfPackage package =
+      pack3mf(objects, o, [&](double f) { return !progress || progress(0.3 * f); });
+  ThreeMfExportResult result;
+  std::size_t total = 0, done = 0;
+  for (const NamedMesh& m : package.objects) total += m.mesh.triangles.size();
+  for (const NamedMesh& m : package.objects) {
+    const double from = 0.3 + 0.6 * double(done) / double(std::max<std::size_t>(total, 1));
+    const double share = 0.6 * double(m.mesh.triangles.size()) / double(std::max<std::size_t>(total, 1));
+    result.reports.push_back(checkMesh(m.mesh, [&](double f) { tick(from + share * f); }));
+    done += m.mesh.triangles.size();
+  }
+  if (!result.printable() && !force) return result;
+  tick(0.95);
+  writePackage(package, path);
+  result.written = true;
+  tick(1.0);
+  return result;
+}
+
 }  // namespace frep

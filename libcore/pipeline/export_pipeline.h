@@ -107,4 +107,20 @@ struct ExportResult {
 ExportResult exportField(const Field& field, const ExportRequest& request,
                          const std::string& path, const std::string& name);
 
+// Several meshes as the objects of one 3MF: the package is made in memory and read back
+// (io/mesh_3mf.h), every object as the file holds it is checked, and the file is written
+// atomically only when all pass (or `force`). `progress(fraction)`: false cancels (Cancelled).
+struct ThreeMfExportResult {
+  std::vector<CheckReport> reports;  // one per object, in order
+  bool written = false;
+  bool printable() const {
+    for (const CheckReport& r : reports)
+      if (!r.printable()) return false;
+    return !reports.empty();
+  }
+};
+ThreeMfExportResult export3mf(const std::vector<NamedMesh>& objects, const ThreeMfOptions& options,
+                              const std::string& path, bool force,
+                              const std::function<bool(double)>& progress = nullptr);
+
 }  // namespace frep

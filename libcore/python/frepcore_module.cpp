@@ -11,9 +11,14 @@
 #include <condition_variable>
 #include <exception>
 #include <mutex>
+#include <map>
 #include <thread>
 
 #include "check/mesh_check.h"
+#include "check/mesh_deviation.h"
+#include "check/printability.h"
+#include "io/mesh_3mf.h"
+#include "repair/repair.h"
 #include "frep/bounds.h"
 #include "frep/structural_bounds.h"
 #include "base/errors.h"
@@ -651,7 +656,155 @@ PYBIND11_MODULE(_frepcore, m) {
                 progress);
           },
           py::arg("path"), py::arg("format") = "", py::arg("progress") = py::none(),
-          "Writes through a temporary file and a rename: a cancel or failure leaves no file.");
+          "Writes through a temporary file and a rename: a cancel or failure leaves no file.")
+      .def(
+          "repair",
+          [](const TriangleMesh& t, const std::string& rebuild, double voxel, double weld,
+             bool fillHoles, const std::string& name, py::object progress) {
+            RepairOptions o;
+            o.rebuild = parseRebuildPolicy(rebuild);
+            o.voxel = voxel;
+            o.weldDistance = weld;
+            o.fillHoles = fillHoles;
+            RepairResult r = runWithProgress<RepairResult>(
+                [&](std::function<bool(double)> tick) {
+                  o.progress = tick;
+                  return repairMesh(t, o, name);
+                },
+                progress);
+            py::dict d;
+            d["printable"] = r.printable();
+            d["printable_before"] = r.before.printable();
+            d["actions"] = r.actions;
+            d["reasons_before"] = r.before.reasons;
+            d["reasons"] = r.after.reasons;
+            d["rebuilt"] = r.rebuilt;
+            d["voxel"] = r.voxel;
+            d["deviation"] = r.deviation.hausdorff();
+            d["check"] = fromJson(reportToJson(r.after, name));
+            std::string text = "repair " + name + ": " +
+                               (r.before.printable() ? "printable already\n" : "not printable\n");
+            for (const auto& x : r.before.reasons) text += "  - " + x + "\n";
+            for (const auto& x : r.actions) text += "  * " + x + "\n";
+            text += std::string("result: ") + (r.printable() ? "printable" : "NOT printable") +
+                    ", deviation from the input " + std::to_string(r.deviation.hausdorff()) + "\n";
+            for (const auto& x : r.after.reasons) text += "  - " + x + "\n";
+            d["text"] = text;
+            return py::make_tuple(std::move(r.mesh), d);
+          },
+          py::arg("rebuild") = "auto", py::arg("voxel") = 0.0, py::arg("weld") = -1.0,
+          py::arg("fill_holes") = true, py::arg("name") = "mesh", py::arg("progress") = py::none(),
+          "Makes the mesh printable (docs/manufacturing.md): (repaired Mesh, report dict with "
+          "printable, actions, reasons, rebuilt, deviation, check, text). The mesh itself is "
+          "not changed; a result that is still not printable says why in 'reasons'.")
+      .def(
+          "printability",
+          [](const TriangleMesh& t, const Vec3& up, double overhang, py::object minWall,
+             double density, const std::string& name) {
+            PrintabilityOptions o;
+            o.up = up;
+            o.overhangDeg = overhang;
+            if (!minWall.is_none()) o.minWall = minWall.cast<double>();
+            o.density = density;
+            PrintabilityReport p;
+            CheckReport c;
+            {
+              py::gil_scoped_release release;
+              p = measurePrintability(t, o);
+              c = checkMesh(t);
+              addPrintabilityReasons(c, p, o);
+            }
+            py::dict d = fromJson(printabilityToJson(c, p, o, name)).cast<py::dict>();
+            d["thickness"] = p.thickness;
+            d["text"] = reportToText(c, name) + printabilityToText(p, o);
+            return d;
+          },
+          py::arg("up") = Vec3{0, 0, 1}, py::arg("overhang") = 45.0,
+          py::arg("min_wall") = py::none(), py::arg("density") = 0.0, py::arg("name") = "mesh",
+          "The check plus what a printer makes of the mesh: dict of `frepcad check --print "
+          "--json` ('print': min_wall, thin_triangles, overhang_area, height, mass_g, ...), "
+          "'thickness' per triangle (-1 where not measured) and 'text'.")
+      .def(
+          "deviation",
+          [](const TriangleMesh& a, const TriangleMesh& b) {
+            DeviationReport r;
+            {
+              py::gil_scoped_release release;
+              r = meshDeviation(a, b);
+            }
+            py::dict d;
+            d["hausdorff"] = r.hausdorff();
+            d["a_to_b"] = r.aToB;
+            d["b_to_a"] = r.bToA;
+            d["mean_a_to_b"] = r.meanAToB;
+            d["mean_b_to_a"] = r.meanBToA;
+            return d;
+          },
+          py::arg("other"), "The Hausdorff distance to another mesh, both ways, sampled.");
+
+  m.def("materials", [] {
+    py::dict d;
+    for (const Material& x : materials()) d[x.name] = x.density;
+    return d;
+  }, "The printing materials the printability report knows: name -> density in g/cm3.");
+  m.def(
+      "read_3mf",
+      [](const std::string& path) {
+        ThreeMfContents c;
+        {
+          py::gil_scoped_release release;
+          c = read3mf(path);
+        }
+        py::list objects;
+        for (NamedMesh& o : c.objects) objects.append(py::make_tuple(o.name, std::move(o.mesh)));
+        py::dict d;
+        d["objects"] = objects;
+        d["unit"] = lengthUnitName(c.unit);
+        py::dict meta;
+        for (const auto& [k, v] : c.metadata) meta[py::str(k)] = v;
+        d["metadata"] = meta;
+        return d;
+      },
+      py::arg("path"),
+      "A 3MF file's build: dict(objects=[(name, Mesh)], unit, metadata). Hostile packages "
+      "(zip bombs, deep components) are refused with OSError before they are read.");
+  m.def(
+      "write_3mf",
+      [](const std::vector<std::pair<std::string, TriangleMesh>>& objects, const std::string& path,
+         const std::string& unit, const std::map<std::string, std::string>& metadata, bool force,
+         py::object progress) {
+        std::vector<NamedMesh> named;
+        for (const auto& [n, mesh] : objects) named.push_back({n, mesh});
+        ThreeMfOptions o;
+        o.unit = parseLengthUnit(unit);
+        for (const auto& kv : metadata) o.metadata.push_back(kv);
+        ThreeMfExportResult r = runWithProgress<ThreeMfExportResult>(
+            [&](std::function<bool(double)> tick) {
+              return export3mf(named, o, path, force, tick);
+            },
+            progress);
+        py::dict d;
+        d["printable"] = r.printable();
+        d["written"] = r.written;
+        py::list reports;
+        std::string text;
+        for (std::size_t i = 0; i < r.reports.size(); ++i) {
+          const std::string name = path + ": " + named[i].name;
+          py::dict one = fromJson(reportToJson(r.reports[i], name)).cast<py::dict>();
+          one["name"] = named[i].name;
+          reports.append(one);
+          text += reportToText(r.reports[i], name);
+        }
+        d["objects"] = reports;
+        d["text"] = text;
+        return d;
+      },
+      py::arg("objects"), py::arg("path"), py::arg("unit") = "mm",
+      py::arg("metadata") = std::map<std::string, std::string>(), py::arg("force") = false,
+      py::arg("progress") = py::none(),
+      "Several meshes as the objects of one 3MF: each object as the file holds it (lib3mf "
+      "rounds coordinates) is checked; the file is written atomically only when all pass, or "
+      "with force. Returns dict(printable, written, objects=[check report dicts], text).");
 
   py::class_<FfdLattice>(m, "Lattice",
                          "A Sederberg-Parry FFD lattice: a rest box divided l x m x n times and "

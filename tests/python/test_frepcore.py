@@ -258,3 +258,42 @@ def test_lattices_bend_solids_meshes_and_volumes_alike(tmp_path):
         fc.deform_vdb(vdb, out, lattice, interpolation="cubic")
     with pytest.raises(Exception, match="lattice has 16"):
         fc.Lattice((-1, -1, -1), (1, 1, 1), (3, 1, 1), points=[(0, 0, 0)])
+
+
+def test_several_objects_go_into_one_checked_3mf(tmp_path):
+    ball = fc.sphere(1).mesh(bbox=((-1.2, -1.2, -1.2), (1.2, 1.2, 1.2)), resolution=0.1)
+    block = fc.translate(fc.box(size=(1, 1, 1)), offset=(3, 0, 0))
+    block = block.mesh(bbox=((2.8, -0.2, -0.2), (4.2, 1.2, 1.2)), resolution=0.1)
+    path = str(tmp_path / "two.3mf")
+    report = fc.write_3mf([("ball", ball), ("block", block)], path, unit="cm",
+                          metadata={"Title": "two"})
+    assert report["printable"] and report["written"]
+    assert [o["name"] for o in report["objects"]] == ["ball", "block"]
+    back = fc.read_3mf(path)
+    assert [n for n, _ in back["objects"]] == ["ball", "block"]
+    assert back["unit"] == "cm" and back["metadata"]["Title"] == "two"
+    assert back["objects"][0][1].triangle_count == ball.triangle_count
+    # an inside-out object: checked, refused by name, nothing written
+    flipped = fc.Mesh(ball.points, [(a, c, b) for a, b, c in ball.triangles])
+    refused = str(tmp_path / "refused.3mf")
+    report = fc.write_3mf([("ball", ball), ("flipped", flipped)], refused)
+    assert not report["printable"] and not report["written"]
+    assert not os.path.exists(refused)
+    assert "not outward" in report["objects"][1]["reasons"][0]
+
+
+def test_repair_printability_and_deviation_of_a_mesh():
+    ball = fc.sphere(1).mesh(bbox=((-1.2, -1.2, -1.2), (1.2, 1.2, 1.2)), resolution=0.1)
+    holed = fc.Mesh(ball.points, ball.triangles[:-3])
+    fixed, report = holed.repair()
+    assert not report["printable_before"] and report["printable"], report["text"]
+    assert any("filled" in a for a in report["actions"])
+    assert fixed.check()["printable"]
+    assert fixed.deviation(ball)["hausdorff"] < 0.05
+    p = fixed.printability(min_wall=0.5, density=fc.materials()["pla"])
+    assert p["print"]["min_wall"] > 1.8  # a ball of diameter 2
+    assert p["print"]["thin_triangles"] == 0
+    assert len(p["thickness"]) == fixed.triangle_count
+    assert abs(p["print"]["mass_g"] - 1.24 * fixed.volume() / 1000) < 1e-6
+    with pytest.raises(ValueError, match="rebuild policy"):
+        holed.repair(rebuild="sometimes")
