@@ -16,7 +16,8 @@ using Args = std::vector<std::string>;
 
 // The options of `frepcad export`, the same for JSON models and FreeCAD documents.
 struct ExportOptions {
-  std::string input, output, format, object;
+  std::string input, output, format;
+  std::vector<std::string> objects;  // --object NAME (repeatable; documents only)
   std::string units;                // --units U: a 3MF's unit
   std::optional<double> resolution;
   std::optional<int> cells;

@@ -80,9 +80,9 @@ int exportDocument(const ExportOptions& o) {
   if (!installed) setenv("FREPCORE_PATH", envOr("FREPCORE_PATH", FREPCORE_BUILD_DIR).c_str(), 1);
   // The options travel parsed, so both kinds of input read them alike.
   nlohmann::json args = {{"document", o.input}, {"output", o.output},     {"format", o.format},
-                         {"object", o.object},  {"sets", o.sets},         {"force", o.force},
+                         {"objects", o.objects},  {"sets", o.sets},         {"force", o.force},
                          {"quiet", o.quiet},    {"cells", nullptr},       {"resolution", nullptr},
-                         {"bbox", nullptr},     {"tolerance", nullptr},   {"sharp", o.sharp}};
+                         {"bbox", nullptr},     {"tolerance", nullptr},   {"sharp", o.sharp},       {"units", o.units}};
   if (o.cells) args["cells"] = *o.cells;
   if (o.tolerance) args["tolerance"] = *o.tolerance;
   if (o.resolution) args["resolution"] = *o.resolution;

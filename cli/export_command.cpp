@@ -48,6 +48,8 @@ const char* const kExportHelp =
     "  -h, --help              this text\n"
     "FreeCAD documents only:\n"
     "  --object NAME           the object to export (default: the only Polygonize feature or\n"
+    "                          top-level FRep feature); repeat it for several: a 3MF holds\n"
+    "                          each as its own object, other formats their union\n"
     "                          top-level FRep feature)\n"
     "  --set OBJ.PROP=VALUE    set a property (or a spreadsheet cell: Sheet.Alias=VALUE) first;\n"
     "                          may be repeated\n"
@@ -92,7 +94,7 @@ ExportOptions parseExportOptions(const Args& args) {
     else if (a == "--units") o.units = value("a unit (micron, mm, cm, inch, ft, m)");
     else if (a == "--force") o.force = true;
     else if (a == "--quiet") o.quiet = true;
-    else if (a == "--object") o.object = value("an object name");
+    else if (a == "--object") o.objects.push_back(value("an object name"));
     else if (a == "--set") o.sets.push_back(value("Object.Property=VALUE"));
     else if (a == "--bbox") {
       Box3 b;
@@ -250,7 +252,7 @@ int exportCommand(const Args& args) {
   }
   checkOutputPath(opt.output, opt.input);
   if (isDocumentPath(opt.input)) return exportDocument(opt);
-  if (!opt.object.empty() || !opt.sets.empty())
+  if (!opt.objects.empty() || !opt.sets.empty())
     throw UsageError("--object and --set apply to FreeCAD documents (.FCStd) only");
   return exportModel(opt);
 }

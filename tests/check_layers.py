@@ -11,8 +11,9 @@
                                      exact face-pair test for every collapse)
     frep, io, check <- volume       (OpenVDB grids and mesh distances as fields: io reads the
                                      meshes, check judges them before they become solids)
-    check, volume, mesh <- repair   (CGAL's local repairs, then a rebuild through a level set
-                                     meshed by the mesher; every result judged by check)
+    check, volume, mesh, simplify <- repair
+                                    (CGAL's local repairs, then a rebuild through a level set
+                                     meshed by the mesher and simplified; judged by check)
     all of them <- pipeline         (the export: box policy, mesh, check, write)
     python: the bindings, above all of them
 
@@ -36,7 +37,7 @@ ALLOWED = {
     "simplify": {"base", "frep", "check", "simplify"},
     "volume": {"base", "lattice", "frep", "io", "check", "volume"},
     "lattice": {"base", "lattice"},
-    "repair": {"base", "lattice", "frep", "mesh", "io", "check", "volume", "repair"},
+    "repair": {"base", "lattice", "frep", "mesh", "io", "check", "volume", "simplify", "repair"},
     "pipeline": {"base", "frep", "mesh", "io", "check", "simplify", "volume", "lattice",
                  "repair", "pipeline"},
     "python": {"base", "frep", "mesh", "io", "check", "simplify", "volume", "lattice",

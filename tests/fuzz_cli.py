@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Fuzz test of frepcad: random mutations of the example models and of small meshes, each run
-through `frepcad export` or `frepcad check`.
+through `frepcad export`, `frepcad check` or `frepcad repair`.
 
 Asserts for every case: no signal (no crash), exit status 0, 1 or 2 only, at most a few lines
 on stderr and none of a library's own exception text, no file or temporary file left in the
@@ -131,6 +131,8 @@ def run_case(frepcad, work, index, kind, payload, ext, keep):
             f.write(before)
     if kind == "export":
         cmd = [frepcad, "export", inp, "-o", out, "--cells", "12", "--quiet"]
+    elif kind == "repair":
+        cmd = [frepcad, "repair", inp, "-o", out, "--quiet", "--voxel", "0.1"]
     else:
         cmd = [frepcad, "check", inp, "--json"]
     try:
@@ -155,6 +157,13 @@ def run_case(frepcad, work, index, kind, payload, ext, keep):
         with open(out, "rb") as f:
             if f.read() != before:
                 problems.append("an existing output was changed by a failed export")
+    if kind == "repair" and p.returncode == 0:
+        # what repair wrote, it promised printable: the check must agree
+        c = subprocess.run([frepcad, "check", out], capture_output=True, timeout=60)
+        if c.returncode != 0:
+            problems.append("repair wrote a mesh the check refuses")
+    if kind == "repair" and p.returncode != 0 and os.path.exists(out):
+        problems.append("a failed repair wrote a file")
     if kind == "check" and p.returncode in (0, 1):
         try:
             json.loads(p.stdout.decode("utf-8"))
@@ -188,7 +197,8 @@ def main(argv):
                              rng.random() < 0.5))
             else:
                 ext, data = rng.choice(meshes)
-                jobs.append((i, "check", mutate_mesh(rng, data), ext, False))
+                kind = "repair" if rng.random() < 0.2 else "check"
+                jobs.append((i, kind, mutate_mesh(rng, data), ext, False))
         failures = []
         with concurrent.futures.ThreadPoolExecutor(max_workers=os.cpu_count() or 2) as pool:
             for result in pool.map(lambda j: run_case(frepcad, work, *j), jobs):

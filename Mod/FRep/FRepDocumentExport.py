@@ -18,8 +18,8 @@ class UsageError(Exception):
     pass
 
 
-KEYS = ("document", "output", "format", "object", "sets", "force", "quiet", "cells",
-        "resolution", "bbox", "tolerance", "sharp")
+KEYS = ("document", "output", "format", "objects", "sets", "force", "quiet", "cells",
+        "resolution", "bbox", "tolerance", "sharp", "units")
 
 
 def parse_args(options):
@@ -170,7 +170,7 @@ def main(out):
                              "%s (%s)" % (n, t) for n, t in missing[:5])))
     for text in args.sets:
         apply_override(doc, text)
-    obj = choose_object(doc, args.object)
+    chosen = [choose_object(doc, name) for name in args.objects] or [choose_object(doc, "")]
     for o in doc.Objects:  # recompute everything: the saved results may be stale
         o.touch()
     try:
@@ -187,9 +187,9 @@ def main(out):
     signal.signal(signal.SIGINT, lambda *_: stop.append(True))
     try:
         report = FRepExport.export_objects(
-            [obj], args.output, progress=lambda f: not stop, cells=args.cells,
+            chosen, args.output, progress=lambda f: not stop, cells=args.cells,
             resolution=args.resolution, bbox=args.bbox, fmt=args.format, force=args.force,
-            tolerance=args.tolerance, sharp=args.sharp)
+            tolerance=args.tolerance, sharp=args.sharp, unit=args.units or "mm")
     except frepcore.NotPrintable as e:
         print(e.report["text"], file=out)
         print("frepcad: refusing to write %s: the mesh is not printable (see reasons above; "
@@ -202,7 +202,8 @@ def main(out):
         raise
     if not args.quiet:
         print(report["text"], file=out)
-        print("wrote %s from %s (%s)" % (args.output, args.document, obj.Label), file=out)
+        print("wrote %s from %s (%s)" % (args.output, args.document,
+                                         ", ".join(o.Label for o in chosen)), file=out)
     return 0 if report["printable"] else 1
 
 

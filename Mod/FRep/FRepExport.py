@@ -64,17 +64,20 @@ def solid_and_box(objects, cells=None, resolution=None, bbox=None):
 
 
 def export_objects(objects, filename, progress=None, cells=None, fmt="", resolution=None,
-                   bbox=None, force=False, tolerance=None, sharp=True):
+                   bbox=None, force=False, tolerance=None, sharp=True, unit="mm"):
     """Meshes, checks and writes (libcore's export pipeline); returns the check report (a
     dict with 'text' and 'written'). With a tolerance the mesh is simplified first, kept
     within that distance of the surface (sharp: merged vertices on creases and corners).
+    A .3mf holds each object as its own, in `unit`; other formats the objects' union.
 
     Raises frepcore.NotPrintable (nothing written) when the check fails and force is not
     given, RuntimeError when cancelled (nothing written), ValueError for bad input.
     """
     if filename.lower().endswith(".3mf") or fmt == "3mf":
         return _export_3mf(objects, filename, progress, cells, resolution, bbox, force,
-                           tolerance, sharp)
+                           tolerance, sharp, unit)
+    if unit != "mm":
+        raise ValueError("%s: a unit applies to a 3MF output only" % os.path.basename(filename))
     solid, (box, cell) = solid_and_box(objects, cells, resolution, bbox)
     name = os.path.basename(filename)
     if filename.lower().endswith(".vdb"):

@@ -8,6 +8,7 @@
 #include "base/errors.h"
 #include "mesh/mesher.h"
 #include "repair/cgal_repair.h"
+#include "simplify/simplify.h"
 #include "volume/grid_field.h"
 #include "volume/level_sets.h"
 
@@ -104,8 +105,18 @@ TriangleMesh rebuildThroughLevelSet(const TriangleMesh& closed, double voxel,
   mo.bbox = box;
   mo.resolution = voxel;
   mo.normals = false;
-  mo.progress = [&](double f) { return !progress || progress(0.5 + 0.5 * f); };
-  return polygonize(*field, mo);
+  mo.progress = [&](double f) { return !progress || progress(0.5 + 0.3 * f); };
+  const TriangleMesh fine = polygonize(*field, mo);
+  // The mesher's triangles are a few per voxel wherever the surface goes; guarded collapses
+  // (simplify/, each proved intersection-free and within the tolerance of the level set)
+  // bring that down to what the shape needs.
+  SimplifyOptions so;
+  so.bbox = box;
+  so.cell = voxel;
+  so.tolerance = 0.25 * voxel;
+  so.sharpFeatures = true;
+  so.progress = [&](double f) { return !progress || progress(0.8 + 0.2 * f); };
+  return simplifyMesh(fine, *field, so);
 }
 
 }  // namespace
@@ -222,10 +233,12 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
   for (int a = 0; a < 3; ++a) longest = std::max(longest, box.hi[a] - box.lo[a]);
   const double voxel = options.voxel > 0 ? options.voxel : longest / kDefaultRebuildVoxels;
 
-  // Local repairs first, crossings left alone: CGAL's local removal of self-intersections can
-  // make a valid mesh far from the input (two crossing shells became four nested ones, 0.5
-  // away in places, in the tests), so it is tried only where the rebuild is not wanted or
-  // the removal stays on the input's surface.
+  // Local repairs first, crossings left alone. CGAL's local removal of self-intersections
+  // is used only where the rebuild is not wanted (--rebuild never) or cannot run (an open
+  // mesh): on crossing shells it made valid meshes of the wrong solid, every face on the
+  // input's surface but inner caps kept as cavities, a third of the union's volume gone
+  // (bench/repair_comparison.py, docs/manufacturing.md). The level set's flood fill takes the
+  // union, which is what overlapping shells mean.
   CgalRepairOptions co;
   co.fillHoles = options.fillHoles;
   co.removeSelfIntersections = false;
@@ -236,27 +249,24 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
   r.after = checkMesh(mesh, [&](double f) {
     if (!stage(0.35, 0.4)(f)) throw Cancelled();
   });
-  const bool closed = r.after.closed && r.after.nonManifoldEdges == 0;
-  if (!r.after.printable() && r.after.selfIntersections && options.rebuild != RebuildPolicy::Always) {
+  // The level set's flood fill needs a watertight surface only: non-manifold edges and
+  // crossings it resolves.
+  const bool closed = r.after.closed;
+  const std::size_t openEdges = r.after.borderEdges;
+  const bool rebuildPossible = options.rebuild != RebuildPolicy::Never && closed;
+  if (!r.after.printable() && r.after.selfIntersections && !rebuildPossible) {
     CgalRepairOptions local = co;
     local.removeSelfIntersections = true;
     local.progress = stage(0.4, 0.55);
     CgalRepairLog localLog;
     TriangleMesh removed = repairWithCgal(mesh, local, localLog);
     CheckReport judged = checkMesh(removed);
-    const double away = removed.triangles.empty() ? HUGE_VAL : meshDeviation(removed, input).aToB;
-    const bool keep = judged.printable() &&
-                      (options.rebuild == RebuildPolicy::Never || !closed || away <= voxel);
-    if (keep) {
+    if (judged.printable() || judged.reasons.size() < r.after.reasons.size()) {
       describe(localLog, r.actions);
       mesh = std::move(removed);
       r.after = std::move(judged);
-    } else if (options.rebuild == RebuildPolicy::Never || !closed) {
-      r.actions.push_back(judged.printable()
-                              ? "CGAL's local removal of self-intersections was not kept: "
-                                "the surface it made lies up to " + std::to_string(away) +
-                                    " from the input"
-                              : "CGAL's local removal of self-intersections did not succeed");
+    } else {
+      r.actions.push_back("CGAL's local removal of self-intersections did not succeed");
     }
   }
 
@@ -267,8 +277,9 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
       r.actions.push_back("nothing is left: the mesh encloses no volume (a sheet or a surface, "
                           "not a solid)");
     } else if (!closed) {
-      r.actions.push_back("no rebuild through a level set: the mesh is still open or "
-                          "non-manifold after the local repairs, so its inside is not known");
+      r.actions.push_back("no rebuild through a level set: after the local repairs the mesh "
+                          "still has " + plural(openEdges, "border edge", "border edges") +
+                          " (holes that could not be filled), so its inside is not known");
     } else {
       r.voxel = voxel;
       TriangleMesh rebuilt = rebuildThroughLevelSet(mesh, r.voxel, name, stage(0.55, 0.9));

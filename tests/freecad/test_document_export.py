@@ -128,3 +128,26 @@ def test_damaged_and_hostile_documents_are_one_line_errors(sheet_document, tmp_p
         ours = [line for line in r.stderr.splitlines() if line.startswith("frepcad:")]
         assert len(ours) == 1, r.stderr
         assert not os.path.exists(out)
+
+
+def test_several_objects_of_a_document_into_one_3mf(tmp_path):
+    import FRepFeatures as F
+    doc = FreeCAD.newDocument("TwoParts")
+    F.make("sphere", doc, name="Ball", radius=1)
+    F.make("translate", doc, inputs=[F.make("box", doc, name="Block", size=(1, 1, 1))],
+           name="Moved", offset=(3, 0, 0))
+    doc.recompute()
+    path = str(tmp_path / "two.FCStd")
+    doc.saveAs(path)
+    FreeCAD.closeDocument(doc.Name)
+    out = str(tmp_path / "two.3mf")
+    r = frepcad(path, "-o", out, "--object", "Ball", "--object", "Moved", "--cells", "24",
+                "--units", "cm")
+    assert r.returncode == 0, r.stderr
+    back = frepcore.read_3mf(out)
+    assert [n for n, _ in back["objects"]] == ["Ball", "Moved"]
+    assert back["unit"] == "cm"
+    assert all(m.check()["printable"] for _, m in back["objects"])
+    # a unit is refused for other formats, naming the file
+    r = frepcad(path, "-o", str(tmp_path / "x.stl"), "--object", "Ball", "--units", "cm")
+    assert r.returncode == 2 and "3MF output only" in r.stderr
