@@ -5,6 +5,8 @@
 #include <iostream>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "base/errors.h"
 #include "base/file_names.h"
 #include "check/mesh_deviation.h"
@@ -41,17 +43,9 @@ const char* const kRepairHelp =
     "exit status: 0 repaired and written, 1 still not printable (the remaining reasons are\n"
     "printed; nothing written without --force), 2 bad input, 130 cancelled\n";
 
-std::string jsonString(const std::string& s) {
-  std::string out = "\"";
-  for (unsigned char c : s) {
-    if (c == '"' || c == '\\') out += '\\', out += char(c);
-    else if (c < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof(buf), "\\u%04x", c);
-      out += buf;
-    } else out += char(c);
-  }
-  return out + "\"";
+std::string dumped(const nlohmann::json& j) {
+  // file names are bytes: invalid UTF-8 is replaced rather than failing the report
+  return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace
@@ -119,30 +113,22 @@ int repairCommand(const Args& args) {
   }
 
   if (json) {
-    std::ostringstream os;
-    os.precision(10);
-    os << "{\n  \"input\": " << jsonString(displayName(input)) << ",\n"
-       << "  \"output\": " << jsonString(displayName(output)) << ",\n"
-       << "  \"printable_before\": " << (r.before.printable() ? "true" : "false") << ",\n"
-       << "  \"printable\": " << (r.printable() ? "true" : "false") << ",\n"
-       << "  \"written\": " << (write ? "true" : "false") << ",\n"
-       << "  \"rebuilt\": " << (r.rebuilt ? "true" : "false") << ",\n"
-       << "  \"voxel\": " << r.voxel << ",\n"
-       << "  \"triangles_before\": " << r.before.faces << ",\n"
-       << "  \"triangles\": " << r.mesh.triangles.size() << ",\n"
-       << "  \"deviation\": " << r.deviation.hausdorff() << ",\n"
-       << "  \"deviation_mean\": " << std::max(r.deviation.meanAToB, r.deviation.meanBToA) << ",\n"
-       << "  \"actions\": [";
-    for (std::size_t i = 0; i < r.actions.size(); ++i)
-      os << (i ? ", " : "") << jsonString(r.actions[i]);
-    os << "],\n  \"reasons_before\": [";
-    for (std::size_t i = 0; i < r.before.reasons.size(); ++i)
-      os << (i ? ", " : "") << jsonString(r.before.reasons[i]);
-    os << "],\n  \"reasons\": [";
-    for (std::size_t i = 0; i < r.after.reasons.size(); ++i)
-      os << (i ? ", " : "") << jsonString(r.after.reasons[i]);
-    os << "]\n}\n";
-    std::cout << os.str();
+    nlohmann::json j;
+    j["input"] = displayName(input);
+    j["output"] = displayName(output);
+    j["printable_before"] = r.before.printable();
+    j["printable"] = r.printable();
+    j["written"] = write;
+    j["rebuilt"] = r.rebuilt;
+    j["voxel"] = r.voxel;
+    j["triangles_before"] = r.before.faces;
+    j["triangles"] = r.mesh.triangles.size();
+    j["deviation"] = r.deviation.hausdorff();
+    j["deviation_mean"] = std::max(r.deviation.meanAToB, r.deviation.meanBToA);
+    j["actions"] = r.actions;
+    j["reasons_before"] = r.before.reasons;
+    j["reasons"] = r.after.reasons;
+    std::cout << dumped(j);
   } else if (!quiet || !r.printable()) {
     std::cout << "repair " << displayName(input) << ": "
               << (r.before.printable() ? "printable already" : "not printable") << "\n";
@@ -183,20 +169,26 @@ int compareCommand(const Args& args) {
   }
   if (files.size() != 2) throw UsageError("compare takes two mesh files");
   const DeviationReport d = meshDeviation(readMesh(files[0]), readMesh(files[1]));
+  if (json) {
+    nlohmann::json j;
+    j["a"] = displayName(files[0]);
+    j["b"] = displayName(files[1]);
+    j["hausdorff"] = d.hausdorff();
+    j["a_to_b"] = d.aToB;
+    j["b_to_a"] = d.bToA;
+    j["mean_a_to_b"] = d.meanAToB;
+    j["mean_b_to_a"] = d.meanBToA;
+    j["samples"] = d.samples;
+    std::cout << dumped(j);
+    return 0;
+  }
   std::ostringstream os;
   os.precision(10);
-  if (json)
-    os << "{\"a\": " << jsonString(displayName(files[0])) << ", \"b\": "
-       << jsonString(displayName(files[1])) << ", \"hausdorff\": " << d.hausdorff()
-       << ", \"a_to_b\": " << d.aToB << ", \"b_to_a\": " << d.bToA
-       << ", \"mean_a_to_b\": " << d.meanAToB << ", \"mean_b_to_a\": " << d.meanBToA
-       << ", \"samples\": " << d.samples << "}\n";
-  else
-    os << "compare " << displayName(files[0]) << " with " << displayName(files[1]) << "\n"
-       << "  Hausdorff distance   " << d.hausdorff() << "\n"
-       << "  A to B               " << d.aToB << " largest, " << d.meanAToB << " mean\n"
-       << "  B to A               " << d.bToA << " largest, " << d.meanBToA << " mean\n"
-       << "  points sampled       " << d.samples << "\n";
+  os << "compare " << displayName(files[0]) << " with " << displayName(files[1]) << "\n"
+     << "  Hausdorff distance   " << d.hausdorff() << "\n"
+     << "  A to B               " << d.aToB << " largest, " << d.meanAToB << " mean\n"
+     << "  B to A               " << d.bToA << " largest, " << d.meanBToA << " mean\n"
+     << "  points sampled       " << d.samples << "\n";
   std::cout << os.str();
   return 0;
 }

@@ -24,9 +24,7 @@ TriangleMesh tetra(float dx = 0, float dy = 0, float dz = 0) {
 
 TriangleMesh merged(const TriangleMesh& a, const TriangleMesh& b) {
   TriangleMesh m = a;
-  const auto base = static_cast<std::uint32_t>(a.positions.size());
-  m.positions.insert(m.positions.end(), b.positions.begin(), b.positions.end());
-  for (auto t : b.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  appendMesh(m, b);
   return m;
 }
 

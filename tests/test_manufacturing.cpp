@@ -51,9 +51,7 @@ TriangleMesh sphereMesh(double r = 1.0, Vec3 centre = {0, 0, 0}, double cell = 0
 
 TriangleMesh merged(const TriangleMesh& a, const TriangleMesh& b) {
   TriangleMesh m = a;
-  const auto base = static_cast<std::uint32_t>(a.positions.size());
-  m.positions.insert(m.positions.end(), b.positions.begin(), b.positions.end());
-  for (auto t : b.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  appendMesh(m, b);
   return m;
 }
 

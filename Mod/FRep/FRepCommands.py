@@ -238,14 +238,68 @@ class ExportCommand:
             FreeCADGui.getMainWindow(), "Export printable mesh", start, self.FILTERS)
         if not filename:
             return
+        options = export_options(objects, filename)
+        if options is None:
+            return
         try:
-            result = FRepExport.export_objects(objects, filename)
+            result = FRepExport.export_objects(objects, filename, **options)
         except (ValueError, RuntimeError, OSError) as e:
             report("FRep export", str(e))
             return
         FreeCAD.Console.PrintMessage("%s\n" % result["text"])
         FreeCADGui.getMainWindow().statusBar().showMessage(
             "Wrote %s (%d triangles, printable)" % (filename, result["triangles"]), 10000)
+
+
+def export_options(objects, filename):
+    """The export's options, asked where the objects do not carry them: cells and tolerance
+    for FRep features (a Polygonize feature has its own), the unit of a 3MF. {} when there is
+    nothing to ask, None when the user cancels."""
+    import FRepPolygonize
+    from PySide import QtGui
+    unmeshed = [o for o in objects
+                if not isinstance(getattr(o, "Proxy", None), FRepPolygonize.Polygonize)]
+    three_mf = filename.lower().endswith(".3mf")
+    if not unmeshed and not three_mf:
+        return {}
+    dialog = QtGui.QDialog(FreeCADGui.getMainWindow())
+    dialog.setObjectName("FRepExportOptions")
+    dialog.setWindowTitle(translate("FRep", "Export options"))
+    form = QtGui.QFormLayout(dialog)
+    cells = tolerance = unit = None
+    if unmeshed:
+        cells = QtGui.QSpinBox()
+        cells.setObjectName("Cells")
+        cells.setRange(8, 4096)
+        cells.setValue(FRepPaths.frepcore.DEFAULT_CELLS)
+        cells.setToolTip(translate("FRep", "Grid cells along the longest side of each solid's "
+                                           "box (Polygonize features keep their own)"))
+        form.addRow(translate("FRep", "Cells"), cells)
+        tolerance = QtGui.QDoubleSpinBox()
+        tolerance.setObjectName("Tolerance")
+        tolerance.setDecimals(4)
+        tolerance.setRange(0.0, 1000.0)
+        tolerance.setToolTip(translate("FRep", "Simplify within this distance of the surface "
+                                               "(0: off; a tenth of a cell is a good start)"))
+        form.addRow(translate("FRep", "Tolerance"), tolerance)
+    if three_mf:
+        unit = QtGui.QComboBox()
+        unit.setObjectName("Unit")
+        unit.addItems(["mm", "micron", "cm", "m", "inch", "ft"])
+        form.addRow(translate("FRep", "3MF unit"), unit)
+    buttons = QtGui.QDialogButtonBox(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
+    buttons.accepted.connect(dialog.accept)
+    buttons.rejected.connect(dialog.reject)
+    form.addRow(buttons)
+    if not dialog.exec_():
+        return None
+    options = {}
+    if cells is not None:
+        options["cells"] = cells.value()
+        options["tolerance"] = tolerance.value() or None
+    if unit is not None:
+        options["unit"] = unit.currentText()
+    return options
 
 
 class PreviewQualityCommand:

@@ -115,9 +115,14 @@ def _export_3mf(objects, filename, progress, cells, resolution, bbox, force, tol
         meshes = []
         share = 0.8 / len(objects)
         for i, obj in enumerate(objects):
-            solid, (box, cell) = solid_and_box([obj], cells, resolution, bbox)
+            meshed = isinstance(getattr(obj, "Proxy", None), FRepPolygonize.Polygonize)
+            # a Polygonize feature keeps its own settings unless the caller gives a box or size
+            own = meshed and len(objects) > 1
+            solid, (box, cell) = solid_and_box([obj], None if own else cells,
+                                               None if own else resolution,
+                                               None if own else bbox)
             tol, sh = tolerance, sharp
-            if tol is None and isinstance(getattr(obj, "Proxy", None), FRepPolygonize.Polygonize):
+            if meshed and (tol is None or own):
                 tol, sh = FRepPolygonize.simplification(obj)
             mesh = solid.node.mesh(box, cell, lambda f, i=i: tick(i * share + f * share), False,
                                    tol, sh)

@@ -57,7 +57,7 @@ void registerFieldSources(Registry& r) {
     range(voxel, 0.0, std::numeric_limits<double>::infinity());
     r.add({"mesh_sdf",
            "field source",
-           "A closed triangle mesh (STL, OBJ or PLY file) as a solid: its signed distance, "
+           "A closed triangle mesh (STL, OBJ, PLY or 3MF file) as a solid: its signed distance, "
            "positive inside. Method 'exact' measures the distance to the triangles themselves "
            "(CGAL AABB tree, ray-cast inside test), so the solid is the mesh at any resolution; "
            "method 'grid' samples it once into an OpenVDB level set (meshToLevelSet) at the "
@@ -68,7 +68,7 @@ void registerFieldSources(Registry& r) {
            "F = +distance to the mesh inside, -distance outside",
            0,
            0,
-           {fileParam("path", "The mesh file (.stl, .obj, .ply)."),
+           {fileParam("path", "The mesh file (.stl, .obj, .ply, .3mf)."),
             choiceParam("method", {"exact", "grid"},
                         "'exact': distance to the triangles; 'grid': an OpenVDB level set."),
             voxel},

@@ -281,12 +281,7 @@ TriangleMesh readMesh(const std::string& path) {
   const MeshFormat f = formatFromPath(path);
   if (f == MeshFormat::ThreeMf) {
     TriangleMesh all;
-    for (const NamedMesh& o : read3mf(path).objects) {
-      const auto base = static_cast<std::uint32_t>(all.positions.size());
-      all.positions.insert(all.positions.end(), o.mesh.positions.begin(), o.mesh.positions.end());
-      for (const Triangle& t : o.mesh.triangles)
-        all.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
-    }
+    for (const NamedMesh& o : read3mf(path).objects) appendMesh(all, o.mesh);
     return all;
   }
   const std::string data = slurp(path);
