@@ -178,7 +178,8 @@ TEST_F(MeshIo, BadFilesAreClearErrors) {
   }
   std::ofstream(path("bad.obj")) << "v 0 0 0\nv 1 0 0\nf 1 2 7\n";
   EXPECT_THROW(readMesh(path("bad.obj")), FileError);
-  EXPECT_THROW(parseFormat("3mf"), ModelError);
+  EXPECT_THROW(parseFormat("amf"), ModelError);
+  EXPECT_EQ(parseFormat("3mf"), MeshFormat::ThreeMf);
 }
 
 TEST_F(MeshIo, OpenMeshBridgeKeepsTheMesh) {
