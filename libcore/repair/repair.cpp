@@ -212,11 +212,14 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
     r.actions.push_back("nothing to repair: the mesh has no triangles");
     return r;
   }
+  if (r.before.printable() && options.rebuild != RebuildPolicy::Always) {
+    r.after = r.before;
+    r.mesh = input;
+    r.actions.push_back("nothing to repair: the mesh is printable");
+    return r;
+  }
   if (!stage(0, 1)(0.02)) throw Cancelled();
   const Box3 box = boxOf(input);
-  double diagonal = 0;
-  for (int a = 0; a < 3; ++a) diagonal += (box.hi[a] - box.lo[a]) * (box.hi[a] - box.lo[a]);
-  diagonal = std::sqrt(diagonal);
 
   TriangleMesh mesh = input;
   const double weld = options.weldDistance < 0 ? defaultWeldDistance(input) : options.weldDistance;
@@ -286,7 +289,7 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
       CheckReport judged = checkMesh(rebuilt);
       r.actions.push_back("rebuilt through a level set at voxel size " + std::to_string(r.voxel) +
                           " (" + plural(rebuilt.triangles.size(), "triangle", "triangles") +
-                          "): overlapping shells become their union");
+                          "; the inside from a flood fill, so overlapping shells become one)");
       // Keep the rebuild when it passes, or when nothing passes and it is the closer miss
       // (a sheet's flood fill finds no inside and rebuilds to nothing: that is no closer).
       if (judged.printable() ||
