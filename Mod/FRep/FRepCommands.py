@@ -212,7 +212,8 @@ class PolygonizeCommand:
 
 
 class ExportCommand:
-    FILTERS = ("STL mesh (*.stl);;3MF, each selected object its own (*.3mf);;"
+    ASCII_STL = "STL mesh, ASCII (*.stl)"
+    FILTERS = ("STL mesh (*.stl);;" + ASCII_STL + ";;3MF, each selected object its own (*.3mf);;"
                "Wavefront OBJ (*.obj);;Stanford PLY (*.ply)")
 
     def GetResources(self):
@@ -234,13 +235,15 @@ class ExportCommand:
         objects = FreeCADGui.Selection.getSelection()
         start = os.path.join(os.path.dirname(FreeCAD.ActiveDocument.FileName or "") or
                              os.path.expanduser("~"), objects[0].Label + ".stl")
-        filename, _ = QtGui.QFileDialog.getSaveFileName(
+        filename, chosen = QtGui.QFileDialog.getSaveFileName(
             FreeCADGui.getMainWindow(), "Export printable mesh", start, self.FILTERS)
         if not filename:
             return
         options = export_options(objects, filename)
         if options is None:
             return
+        if chosen == self.ASCII_STL:
+            options["fmt"] = "stl-ascii"
         try:
             result = FRepExport.export_objects(objects, filename, **options)
         except (ValueError, RuntimeError, OSError) as e:

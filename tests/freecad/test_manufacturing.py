@@ -101,3 +101,17 @@ def test_printability_of_a_thin_walled_part(doc):
         1.27 * report["volume"] / 1000, rel=1e-6)
     with pytest.raises(ValueError, match="unknown material 'cheese'"):
         FRepManufacturing.printability(p, material="cheese")
+
+
+def test_an_inside_out_mesh_that_freecads_own_check_passes_is_caught(doc):
+    ball = frepcore.sphere(5).mesh(bbox=((-6, -6, -6), (6, 6, 6)), resolution=0.5)
+    inside_out = frepcore.Mesh(ball.points, [(a, c, b) for a, b, c in ball.triangles])
+    obj = doc.addObject("Mesh::Feature", "InsideOut")
+    obj.Mesh = FRepMeshing.to_freecad_mesh(inside_out)
+    # FreeCAD: a closed solid of positive volume (its Volume is unsigned)
+    assert obj.Mesh.isSolid() and obj.Mesh.Volume > 500
+    report = FRepManufacturing.printability(obj)
+    assert not report["printable"] and not report["outward"]
+    assert any("not outward" in r for r in report["reasons"])
+    fixed, result = FRepManufacturing.repair(obj, progress=lambda f: True)
+    assert fixed is not None and result["check"]["outward"]
