@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "base/errors.h"
+#include "base/triangle_adjacency.h"
 #include "mesh/mesher.h"
 #include "repair/cgal_repair.h"
 #include "simplify/simplify.h"
@@ -39,9 +40,10 @@ Box3 boxOf(const TriangleMesh& m) {
   return b;
 }
 
-// A hundredth of the median edge length: cracks of CAD exports and STL round-offs are far
-// narrower, and no edge of the mesh is that short but a sliver's.
-double defaultWeldDistance(const TriangleMesh& m) {
+// The median edge length (0 for a mesh without edges): the scale of the default weld, a
+// hundredth of it, far wider than the cracks of CAD exports and STL round-offs, far narrower
+// than any edge but a sliver's.
+double medianEdgeLength(const TriangleMesh& m) {
   std::vector<double> lengths;
   lengths.reserve(m.triangles.size());
   for (const Triangle& t : m.triangles) {
@@ -55,7 +57,15 @@ double defaultWeldDistance(const TriangleMesh& m) {
   }
   if (lengths.empty()) return 0.0;
   std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
-  return 0.01 * lengths[lengths.size() / 2];
+  return lengths[lengths.size() / 2];
+}
+
+// Edges with no facet across (borders, and non-manifold edges, which have no single one).
+std::size_t borderEdgeCount(const TriangleMesh& m) {
+  std::size_t n = 0;
+  for (const auto& f : facetNeighbours(m))
+    for (std::uint32_t g : f) n += g == kNoNeighbour;
+  return n;
 }
 
 // CGAL's log as sentences, appended to `actions`.
@@ -222,9 +232,29 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
   const Box3 box = boxOf(input);
 
   TriangleMesh mesh = input;
-  const double weld = options.weldDistance < 0 ? defaultWeldDistance(input) : options.weldDistance;
+  const double median = medianEdgeLength(input);
+  double weld = options.weldDistance < 0 ? 0.01 * median : options.weldDistance;
   std::size_t collapsed = 0;
-  const std::size_t welded = weldNearbyVertices(mesh, weld, collapsed);
+  std::size_t welded = weldNearbyVertices(mesh, weld, collapsed);
+  if (options.weldDistance < 0) {
+    // Cracks wider than the first weld: widen it, up to a tenth of the median edge, as long
+    // as that closes borders (admesh's nearby search does the same), so that a cracked mesh
+    // keeps its own triangles rather than being filled and rebuilt.
+    std::size_t open = borderEdgeCount(mesh);
+    for (double factor : {0.03, 0.1}) {
+      if (open == 0) break;
+      TriangleMesh wider = input;
+      std::size_t widerCollapsed = 0;
+      const std::size_t widerWelded = weldNearbyVertices(wider, factor * median, widerCollapsed);
+      const std::size_t widerOpen = borderEdgeCount(wider);
+      if (widerOpen >= open) break;
+      mesh = std::move(wider);
+      weld = factor * median;
+      welded = widerWelded;
+      collapsed = widerCollapsed;
+      open = widerOpen;
+    }
+  }
   if (welded)
     r.actions.push_back("welded " + plural(welded, "vertex", "vertices") + " within " +
                         std::to_string(weld) + " of another");

@@ -34,8 +34,8 @@ constexpr int kDefaultRebuildVoxels = 192;
 
 struct RepairOptions {
   // Vertices closer than this are welded into one; < 0: a hundredth of the median edge
-  // length (wider than the cracks of CAD exports, narrower than any edge but a sliver's);
-  // 0: identical coordinates only.
+  // length (wider than the cracks of CAD exports, narrower than any edge but a sliver's),
+  // widened up to a tenth of it while that closes borders; 0: identical coordinates only.
   double weldDistance = -1.0;
   bool fillHoles = true;
   RebuildPolicy rebuild = RebuildPolicy::Auto;
