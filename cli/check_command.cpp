@@ -34,7 +34,7 @@ Vec3 parseAxis(const std::string& s) {
   static const struct {
     const char* name;
     Vec3 v;
-  } axes[] = {{"x", {1, 0, 0}},  {"y", {0, 1, 0}},  {"z", {0, 0, 1}},
+  } axes[] = {{"x", {1, 0, 0}},   {"y", {0, 1, 0}},   {"z", {0, 0, 1}},
               {"-x", {-1, 0, 0}}, {"-y", {0, -1, 0}}, {"-z", {0, 0, -1}}};
   for (const auto& a : axes)
     if (s == a.name) return a.v;
@@ -58,8 +58,10 @@ int checkCommand(const Args& args) {
       std::cout << kCheckHelp;
       return 0;
     }
-    if (a == "--json") json = true;
-    else if (a == "--print") print = true;
+    if (a == "--json")
+      json = true;
+    else if (a == "--print")
+      print = true;
     else if (a == "--min-wall") {
       po.minWall = parseNumber(value(), a);
       if (!(*po.minWall > 0) || !std::isfinite(*po.minWall))
@@ -74,14 +76,18 @@ int checkCommand(const Args& args) {
       po.density = parseNumber(value(), a);
       if (!(po.density > 0) || !std::isfinite(po.density))
         throw UsageError("--density must be > 0 (g/cm3), got '" + args[i] + "'");
-    } else if (a == "--up") po.up = parseAxis(value());
+    } else if (a == "--up")
+      po.up = parseAxis(value());
     else if (a == "--overhang") {
       po.overhangDeg = parseNumber(value(), a);
       if (!(po.overhangDeg >= 0 && po.overhangDeg <= 90))
         throw UsageError("--overhang must be an angle from 0 to 90 degrees, got '" + args[i] + "'");
-    } else if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + a + "' for check");
-    else if (path.empty()) path = a;
-    else throw UsageError("check takes one mesh file, got a second: '" + a + "'");
+    } else if (!a.empty() && a[0] == '-')
+      throw UsageError("unknown option '" + a + "' for check");
+    else if (path.empty())
+      path = a;
+    else
+      throw UsageError("check takes one mesh file, got a second: '" + a + "'");
   }
   if (path.empty()) throw UsageError("check needs a mesh file (.stl, .obj, .ply or .3mf)");
   if (printOption && !print)
@@ -94,8 +100,10 @@ int checkCommand(const Args& args) {
   }
   const PrintabilityReport p = measurePrintability(mesh, po);
   addPrintabilityReasons(report, p, po);
-  if (json) std::cout << printabilityToJson(report, p, po, path);
-  else std::cout << reportToText(report, path) << printabilityToText(p, po);
+  if (json)
+    std::cout << printabilityToJson(report, p, po, path);
+  else
+    std::cout << reportToText(report, path) << printabilityToText(p, po);
   return report.printable() ? 0 : 1;
 }
 

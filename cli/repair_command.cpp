@@ -3,9 +3,8 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "base/errors.h"
 #include "base/file_names.h"
@@ -64,8 +63,10 @@ int repairCommand(const Args& args) {
     if (a == "-h" || a == "--help") {
       std::cout << kRepairHelp;
       return 0;
-    } else if (a == "-o" || a == "--output") output = value();
-    else if (a == "--rebuild") options.rebuild = parseRebuildPolicy(value());
+    } else if (a == "-o" || a == "--output")
+      output = value();
+    else if (a == "--rebuild")
+      options.rebuild = parseRebuildPolicy(value());
     else if (a == "--voxel") {
       options.voxel = parseNumber(value(), a);
       if (!(options.voxel > 0) || !std::isfinite(options.voxel))
@@ -74,16 +75,24 @@ int repairCommand(const Args& args) {
       options.weldDistance = parseNumber(value(), a);
       if (!(options.weldDistance >= 0) || !std::isfinite(options.weldDistance))
         throw UsageError("--weld must be a distance >= 0, got '" + args[i] + "'");
-    } else if (a == "--no-fill") options.fillHoles = false;
-    else if (a == "--format") format = value();
-    else if (a == "--units") units = value();
-    else if (a == "--force") force = true;
-    else if (a == "--json") json = true;
-    else if (a == "--quiet") quiet = true;
+    } else if (a == "--no-fill")
+      options.fillHoles = false;
+    else if (a == "--format")
+      format = value();
+    else if (a == "--units")
+      units = value();
+    else if (a == "--force")
+      force = true;
+    else if (a == "--json")
+      json = true;
+    else if (a == "--quiet")
+      quiet = true;
     else if (!a.empty() && a[0] == '-' && a.size() > 1)
       throw UsageError("unknown option '" + a + "' for repair (see frepcad repair --help)");
-    else if (input.empty()) input = a;
-    else throw UsageError("repair takes one input mesh, got a second: '" + a + "'");
+    else if (input.empty())
+      input = a;
+    else
+      throw UsageError("repair takes one input mesh, got a second: '" + a + "'");
   }
   if (input.empty()) throw UsageError("repair needs an input mesh (.stl, .obj, .ply or .3mf)");
   if (output.empty()) throw UsageError("repair needs -o OUT");
@@ -164,9 +173,12 @@ int compareCommand(const Args& args) {
                    "measured to the other's nearest triangle. Broken meshes are measured too.\n";
       return 0;
     }
-    if (a == "--json") json = true;
-    else if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + a + "' for compare");
-    else files.push_back(a);
+    if (a == "--json")
+      json = true;
+    else if (!a.empty() && a[0] == '-')
+      throw UsageError("unknown option '" + a + "' for compare");
+    else
+      files.push_back(a);
   }
   if (files.size() != 2) throw UsageError("compare takes two mesh files");
   const DeviationReport d = meshDeviation(readMesh(files[0]), readMesh(files[1]));

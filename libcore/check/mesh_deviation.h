@@ -11,7 +11,7 @@
 namespace frep {
 
 struct DeviationReport {
-  double aToB = 0.0;       // largest distance from a point of a to b
+  double aToB = 0.0;  // largest distance from a point of a to b
   double bToA = 0.0;
   double meanAToB = 0.0;
   double meanBToA = 0.0;

@@ -29,9 +29,8 @@ using Primitive = CGAL::AABB_triangle_primitive<Kernel, Iterator>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
 const std::vector<Material> kMaterials = {
-    {"pla", 1.24},   {"petg", 1.27},   {"abs", 1.04},   {"asa", 1.07},
-    {"nylon", 1.01}, {"tpu", 1.21},    {"resin", 1.15}, {"316l", 7.99},
-    {"ti64", 4.43},  {"alsi10mg", 2.67},
+    {"pla", 1.24}, {"petg", 1.27},  {"abs", 1.04},  {"asa", 1.07},  {"nylon", 1.01},
+    {"tpu", 1.21}, {"resin", 1.15}, {"316l", 7.99}, {"ti64", 4.43}, {"alsi10mg", 2.67},
 };
 
 Vector unit(const Vector& v) {
@@ -48,7 +47,9 @@ void basis(const Vector& n, Vector& a, Vector& b) {
 
 }  // namespace
 
-const std::vector<Material>& materials() { return kMaterials; }
+const std::vector<Material>& materials() {
+  return kMaterials;
+}
 
 double materialDensity(const std::string& name) {
   std::string known;
@@ -109,8 +110,8 @@ PrintabilityReport measurePrintability(const TriangleMesh& mesh, const Printabil
     const Vector c = CGAL::cross_product(t[1] - t[0], t[2] - t[0]);
     const double a2 = std::sqrt(c.squared_length());
     r.area += 0.5 * a2;
-    r.volume += (Vector(CGAL::ORIGIN, t[0]) * CGAL::cross_product(Vector(CGAL::ORIGIN, t[1]),
-                                                                  Vector(CGAL::ORIGIN, t[2]))) /
+    r.volume += (Vector(CGAL::ORIGIN, t[0]) *
+                 CGAL::cross_product(Vector(CGAL::ORIGIN, t[1]), Vector(CGAL::ORIGIN, t[2]))) /
                 6.0;
     if (a2 <= 0) continue;
     const double down = -(c * up) / a2;
@@ -145,10 +146,10 @@ PrintabilityReport measurePrintability(const TriangleMesh& mesh, const Printabil
       // The axis first, then directions spread over the cone (golden angle).
       const double f = o.rays == 1 ? 0.0 : std::sqrt(double(k) / double(o.rays - 1));
       const double tilt = cone * f, turn = 2.399963229728653 * k;
-      const Vector d = std::cos(tilt) * inward +
-                       std::sin(tilt) * (std::cos(turn) * a + std::sin(turn) * b);
-      const auto hit = tree.first_intersection(Ray(centre, d),
-                                               [&](const Iterator& id) { return id == self; });
+      const Vector d =
+          std::cos(tilt) * inward + std::sin(tilt) * (std::cos(turn) * a + std::sin(turn) * b);
+      const auto hit =
+          tree.first_intersection(Ray(centre, d), [&](const Iterator& id) { return id == self; });
       if (!hit) continue;
       const Point* p = boost::get<Point>(&hit->first);
       if (!p) continue;

@@ -27,33 +27,34 @@ const std::vector<Material>& materials();
 double materialDensity(const std::string& name);
 
 struct PrintabilityOptions {
-  Vec3 up{0, 0, 1};              // build direction (normalised here)
-  double overhangDeg = 45.0;     // a downward face steeper than this from vertical needs support
-  std::optional<double> minWall; // report faces thinner than this
-  double density = 0.0;          // g/cm^3 (model units taken as mm); 0: no mass
-  double coneDeg = 20.0;         // half-angle of the cone of rays
-  int rays = 9;                  // rays per triangle
+  Vec3 up{0, 0, 1};               // build direction (normalised here)
+  double overhangDeg = 45.0;      // a downward face steeper than this from vertical needs support
+  std::optional<double> minWall;  // report faces thinner than this
+  double density = 0.0;           // g/cm^3 (model units taken as mm); 0: no mass
+  double coneDeg = 20.0;          // half-angle of the cone of rays
+  int rays = 9;                   // rays per triangle
 };
 
 struct PrintabilityReport {
   // Per triangle of the mesh (in its order): the wall thickness there, or -1 where no ray met
   // the surface again (an open mesh).
   std::vector<float> thickness;
-  double minWall = -1;        // the thinnest triangle's thickness; -1: none measured
-  Vec3 minWallAt{0, 0, 0};    // that triangle's centre
+  double minWall = -1;            // the thinnest triangle's thickness; -1: none measured
+  Vec3 minWallAt{0, 0, 0};        // that triangle's centre
   std::size_t thinTriangles = 0;  // thinner than options.minWall
   double thinArea = 0.0;
   double overhangArea = 0.0;  // downward faces past the angle, not lying on the build plate
   std::size_t overhangTriangles = 0;
-  double volume = 0.0;        // signed, as the check computes it
+  double volume = 0.0;  // signed, as the check computes it
   double area = 0.0;
   Box3 bbox;
-  double height = 0.0;        // along the build direction
-  double mass = 0.0;          // grams, when a density was given
+  double height = 0.0;  // along the build direction
+  double mass = 0.0;    // grams, when a density was given
 };
 
 // Throws ModelError for bad options (a zero build direction, angles out of range, rays < 1).
-PrintabilityReport measurePrintability(const TriangleMesh& mesh, const PrintabilityOptions& options);
+PrintabilityReport measurePrintability(const TriangleMesh& mesh,
+                                       const PrintabilityOptions& options);
 
 // Adds to the check's reasons what makes the part unprintable for the printer: walls thinner
 // than options.minWall.

@@ -2,6 +2,8 @@
 // Windows-style types and macros that must not reach the rest of libcore.
 #include "io/mesh_3mf.h"
 
+#include <Model/COM/NMR_DLLInterfaces.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -14,8 +16,6 @@
 #include "base/atomic_file.h"
 #include "base/errors.h"
 #include "base/file_names.h"
-
-#include <Model/COM/NMR_DLLInterfaces.h>
 
 namespace frep {
 
@@ -103,7 +103,8 @@ class Flattener {
   void add(Instance object, const Transform& t, int depth, TriangleMesh& out) {
     if (depth > kMax3mfComponentDepth)
       throw FileError(path_ + ": components nested deeper than " +
-                      std::to_string(kMax3mfComponentDepth) + " levels (a cycle or a hostile file)");
+                      std::to_string(kMax3mfComponentDepth) +
+                      " levels (a cycle or a hostile file)");
     BOOL isMesh = 0, isComponents = 0;
     lib3mf_object_ismeshobject(object, &isMesh);
     lib3mf_object_iscomponentsobject(object, &isComponents);
@@ -152,7 +153,8 @@ class Flattener {
         if (i >= nv)
           throw FileError(path_ + ": a triangle of object '" + objectName(mesh) +
                           "' refers to vertex " + std::to_string(i) + " of " + std::to_string(nv));
-      out.triangles.push_back({base + f.m_nIndices[0], base + f.m_nIndices[1], base + f.m_nIndices[2]});
+      out.triangles.push_back(
+          {base + f.m_nIndices[0], base + f.m_nIndices[1], base + f.m_nIndices[2]});
     }
   }
 
@@ -164,14 +166,18 @@ std::uint32_t le32(const unsigned char* p) {
   return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 |
          std::uint32_t(p[3]) << 24;
 }
-std::uint16_t le16(const unsigned char* p) { return std::uint16_t(p[0] | p[1] << 8); }
+std::uint16_t le16(const unsigned char* p) {
+  return std::uint16_t(p[0] | p[1] << 8);
+}
 std::uint64_t le64(const unsigned char* p) {
   return std::uint64_t(le32(p)) | std::uint64_t(le32(p + 4)) << 32;
 }
 
 }  // namespace
 
-const char* lengthUnitName(LengthUnit u) { return kUnitNames[static_cast<int>(u)]; }
+const char* lengthUnitName(LengthUnit u) {
+  return kUnitNames[static_cast<int>(u)];
+}
 
 LengthUnit parseLengthUnit(const std::string& name) {
   for (int i = 0; i < 6; ++i)
@@ -329,19 +335,21 @@ ThreeMfPackage pack3mf(const std::vector<NamedMesh>& objects, const ThreeMfOptio
       require(lib3mf_object_setnameutf8(mesh.get(), o.name.c_str()), mesh.get(), what);
     static_assert(sizeof(MODELMESHVERTEX) == sizeof(Vec3f), "3MF vertices are three floats");
     static_assert(sizeof(MODELMESHTRIANGLE) == sizeof(Triangle), "3MF triangles are three indices");
-    require(lib3mf_meshobject_setgeometry(
-                mesh.get(),
-                reinterpret_cast<MODELMESHVERTEX*>(const_cast<Vec3f*>(o.mesh.positions.data())),
-                DWORD(o.mesh.positions.size()),
-                reinterpret_cast<MODELMESHTRIANGLE*>(const_cast<Triangle*>(o.mesh.triangles.data())),
-                DWORD(o.mesh.triangles.size())),
-            mesh.get(), what);
+    require(
+        lib3mf_meshobject_setgeometry(
+            mesh.get(),
+            reinterpret_cast<MODELMESHVERTEX*>(const_cast<Vec3f*>(o.mesh.positions.data())),
+            DWORD(o.mesh.positions.size()),
+            reinterpret_cast<MODELMESHTRIANGLE*>(const_cast<Triangle*>(o.mesh.triangles.data())),
+            DWORD(o.mesh.triangles.size())),
+        mesh.get(), what);
     if (options.validate) {
       BOOL ok = 0;
       require(lib3mf_meshobject_ismanifoldandoriented(mesh.get(), &ok), mesh.get(), what);
       if (!ok)
-        throw FileError(what + " is not manifold and consistently oriented, which the 3MF core "
-                               "specification requires (frepcad repair can mend it)");
+        throw FileError(what +
+                        " is not manifold and consistently oriented, which the 3MF core "
+                        "specification requires (frepcad repair can mend it)");
     }
     Handle item;
     require(lib3mf_model_addbuilditem(model.get(), mesh.get(), nullptr, item.out()), model.get(),

@@ -2,13 +2,13 @@
 #include "repair/cgal_repair.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/bbox.h>
 #include <CGAL/Polygon_mesh_processing/border.h>
 #include <CGAL/Polygon_mesh_processing/manifoldness.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
 #include <CGAL/Polygon_mesh_processing/polygon_mesh_to_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
-#include <CGAL/Polygon_mesh_processing/bbox.h>
 #include <CGAL/Polygon_mesh_processing/repair.h>
 #include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
 #include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
@@ -100,8 +100,10 @@ TriangleMesh repairWithCgal(const TriangleMesh& soup, const CgalRepairOptions& o
       std::vector<Mesh::Vertex_index> vertices;
       PMP::triangulate_and_refine_hole(mesh, cycles[i], std::back_inserter(added),
                                        std::back_inserter(vertices));
-      if (added.empty()) ++log.holesLeft;
-      else ++log.holesFilled;
+      if (added.empty())
+        ++log.holesLeft;
+      else
+        ++log.holesFilled;
       log.facesAdded += added.size();
       tick(0.35 + 0.2 * double(i + 1) / double(cycles.size()));
     }
@@ -116,9 +118,9 @@ TriangleMesh repairWithCgal(const TriangleMesh& soup, const CgalRepairOptions& o
   // mesh's diagonal is the threshold, far below any part a printer makes.
   if (!CGAL::is_empty(mesh)) {
     const CGAL::Bbox_3 box = PMP::bbox(mesh);
-    const double diagonal = std::sqrt(CGAL::square(box.xmax() - box.xmin()) +
-                                      CGAL::square(box.ymax() - box.ymin()) +
-                                      CGAL::square(box.zmax() - box.zmin()));
+    const double diagonal =
+        std::sqrt(CGAL::square(box.xmax() - box.xmin()) + CGAL::square(box.ymax() - box.ymin()) +
+                  CGAL::square(box.zmax() - box.zmin()));
     const double side = 1e-4 * diagonal;
     log.flatShellsRemoved = PMP::remove_connected_components_of_negligible_size(
         mesh, CGAL::parameters::area_threshold(0).volume_threshold(side * side * side));

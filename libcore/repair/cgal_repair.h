@@ -21,19 +21,19 @@ struct CgalRepairOptions {
 
 // What each step changed (counts of CGAL's own reports).
 struct CgalRepairLog {
-  std::size_t soupPointsMerged = 0;      // repair_polygon_soup: points and faces removed
+  std::size_t soupPointsMerged = 0;  // repair_polygon_soup: points and faces removed
   std::size_t soupFacesRemoved = 0;
-  bool soupOriented = true;              // orient_polygon_soup made it one orientation
-  std::size_t bordersStitched = 0;       // pairs of border halfedges
-  std::size_t degenerateFacesLeft = 0;   // remove_degenerate_faces could not remove them all
+  bool soupOriented = true;             // orient_polygon_soup made it one orientation
+  std::size_t bordersStitched = 0;      // pairs of border halfedges
+  std::size_t degenerateFacesLeft = 0;  // remove_degenerate_faces could not remove them all
   std::size_t nonManifoldVerticesSplit = 0;
   std::size_t holesFilled = 0;
   std::size_t holesLeft = 0;
-  std::size_t facesAdded = 0;            // by hole filling
-  std::size_t flatShellsRemoved = 0;     // closed components of no volume (pillows)
-  bool selfIntersected = false;          // before the local removal
-  bool selfIntersectionsRemoved = false; // the removal reported success
-  bool reoriented = false;               // orient_to_bound_a_volume ran (closed, no crossings)
+  std::size_t facesAdded = 0;             // by hole filling
+  std::size_t flatShellsRemoved = 0;      // closed components of no volume (pillows)
+  bool selfIntersected = false;           // before the local removal
+  bool selfIntersectionsRemoved = false;  // the removal reported success
+  bool reoriented = false;                // orient_to_bound_a_volume ran (closed, no crossings)
 };
 
 // The mended mesh (float coordinates, as files hold them: the caller checks it again).

@@ -71,7 +71,8 @@ std::size_t borderEdgeCount(const TriangleMesh& m) {
 // CGAL's log as sentences, appended to `actions`.
 void describe(const CgalRepairLog& log, std::vector<std::string>& actions) {
   if (log.soupPointsMerged)
-    actions.push_back("merged " + plural(log.soupPointsMerged, "duplicate point", "duplicate points"));
+    actions.push_back("merged " +
+                      plural(log.soupPointsMerged, "duplicate point", "duplicate points"));
   if (log.soupFacesRemoved)
     actions.push_back("removed " + plural(log.soupFacesRemoved, "degenerate or duplicate triangle",
                                           "degenerate or duplicate triangles"));
@@ -79,8 +80,9 @@ void describe(const CgalRepairLog& log, std::vector<std::string>& actions) {
     actions.push_back("stitched " + plural(log.bordersStitched, "pair", "pairs") +
                       " of coincident border edges");
   if (log.degenerateFacesLeft)
-    actions.push_back(plural(log.degenerateFacesLeft, "degenerate triangle", "degenerate triangles") +
-                      " could not be removed");
+    actions.push_back(
+        plural(log.degenerateFacesLeft, "degenerate triangle", "degenerate triangles") +
+        " could not be removed");
   if (log.nonManifoldVerticesSplit)
     actions.push_back("split " + plural(log.nonManifoldVerticesSplit, "non-manifold vertex",
                                         "non-manifold vertices"));
@@ -90,7 +92,8 @@ void describe(const CgalRepairLog& log, std::vector<std::string>& actions) {
   if (log.flatShellsRemoved)
     actions.push_back("removed " + plural(log.flatShellsRemoved, "shell", "shells") +
                       " of no volume (slivers split off sound edges)");
-  if (log.holesLeft) actions.push_back(plural(log.holesLeft, "hole", "holes") + " could not be filled");
+  if (log.holesLeft)
+    actions.push_back(plural(log.holesLeft, "hole", "holes") + " could not be filled");
   if (log.selfIntersected && log.selfIntersectionsRemoved)
     actions.push_back("removed the self-intersections locally (CGAL)");
   if (log.reoriented) actions.push_back("oriented every shell to bound a volume, normals out");
@@ -131,7 +134,9 @@ TriangleMesh rebuildThroughLevelSet(const TriangleMesh& closed, double voxel,
 
 }  // namespace
 
-const char* rebuildPolicyName(RebuildPolicy p) { return kPolicyNames[static_cast<int>(p)]; }
+const char* rebuildPolicyName(RebuildPolicy p) {
+  return kPolicyNames[static_cast<int>(p)];
+}
 
 RebuildPolicy parseRebuildPolicy(const std::string& name) {
   for (int i = 0; i < 3; ++i)
@@ -195,8 +200,10 @@ std::size_t weldNearbyVertices(TriangleMesh& mesh, double distance, std::size_t&
   for (Triangle t : mesh.triangles) {
     for (std::uint32_t& v : t)
       if (v < n) v = target[v];
-    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) ++removed;
-    else kept.push_back(t);
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
+      ++removed;
+    else
+      kept.push_back(t);
   }
   mesh.triangles.swap(kept);
   return moved;
@@ -205,8 +212,10 @@ std::size_t weldNearbyVertices(TriangleMesh& mesh, double distance, std::size_t&
 RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
                         const std::string& name) {
   if (!(options.voxel >= 0) || !std::isfinite(options.voxel))
-    throw ModelError(name + ": the rebuild's voxel size must be a number > 0 (or 0 for the "
-                            "default), got " + std::to_string(options.voxel));
+    throw ModelError(name +
+                     ": the rebuild's voxel size must be a number > 0 (or 0 for the "
+                     "default), got " +
+                     std::to_string(options.voxel));
   if (std::isnan(options.weldDistance) || std::isinf(options.weldDistance))
     throw ModelError(name + ": the weld distance must be a finite number >= 0");
   auto stage = [&](double from, double to) {
@@ -307,12 +316,15 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
                        (options.rebuild == RebuildPolicy::Auto && !r.after.printable());
   if (rebuild) {
     if (mesh.triangles.empty()) {
-      r.actions.push_back("nothing is left: the mesh encloses no volume (a sheet or a surface, "
-                          "not a solid)");
+      r.actions.push_back(
+          "nothing is left: the mesh encloses no volume (a sheet or a surface, "
+          "not a solid)");
     } else if (!closed) {
-      r.actions.push_back("no rebuild through a level set: after the local repairs the mesh "
-                          "still has " + plural(openEdges, "border edge", "border edges") +
-                          " (holes that could not be filled), so its inside is not known");
+      r.actions.push_back(
+          "no rebuild through a level set: after the local repairs the mesh "
+          "still has " +
+          plural(openEdges, "border edge", "border edges") +
+          " (holes that could not be filled), so its inside is not known");
     } else {
       r.voxel = voxel;
       TriangleMesh rebuilt = rebuildThroughLevelSet(mesh, r.voxel, name, stage(0.55, 0.9));

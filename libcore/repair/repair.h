@@ -39,7 +39,8 @@ struct RepairOptions {
   double weldDistance = -1.0;
   bool fillHoles = true;
   RebuildPolicy rebuild = RebuildPolicy::Auto;
-  double voxel = 0.0;  // the rebuild's voxel size; 0: the box's longest side / kDefaultRebuildVoxels
+  double voxel =
+      0.0;  // the rebuild's voxel size; 0: the box's longest side / kDefaultRebuildVoxels
   // (fraction done); false cancels: repairMesh throws Cancelled.
   std::function<bool(double)> progress;
 };
@@ -49,8 +50,8 @@ struct RepairResult {
   CheckReport before, after;
   std::vector<std::string> actions;  // what was done, in order, each a sentence with counts
   bool rebuilt = false;
-  double voxel = 0.0;                // when rebuilt
-  DeviationReport deviation;         // the result against the input
+  double voxel = 0.0;         // when rebuilt
+  DeviationReport deviation;  // the result against the input
   bool printable() const { return after.printable(); }
 };
 

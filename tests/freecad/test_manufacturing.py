@@ -1,8 +1,6 @@
 """Manufacturing output in the workbench (issue 16): several FRep features into one checked
 3MF, a broken mesh repaired into a new feature (the input kept), the printability report."""
 
-import os
-
 import FreeCAD
 import Mesh
 import pytest
