@@ -134,7 +134,12 @@ int repairCommand(const Args& args) {
     j["triangles_before"] = r.before.faces;
     j["triangles"] = r.mesh.triangles.size();
     j["deviation"] = r.deviation.hausdorff();
-    j["deviation_mean"] = std::max(r.deviation.meanAToB, r.deviation.meanBToA);
+    // (deviation is the input's a, the result b) the result's surface to the input's, and
+    // the input's to the result's: large only where parts of the input are gone (the inner
+    // surfaces of overlapping shells)
+    j["result_to_input"] = r.deviation.bToA;
+    j["result_to_input_mean"] = r.deviation.meanBToA;
+    j["input_to_result"] = r.deviation.aToB;
     j["actions"] = r.actions;
     j["reasons_before"] = r.before.reasons;
     j["reasons"] = r.after.reasons;
@@ -145,9 +150,10 @@ int repairCommand(const Args& args) {
     for (const auto& reason : r.before.reasons) std::cout << "  - " << reason << "\n";
     for (const auto& action : r.actions) std::cout << "  * " << action << "\n";
     std::cout << "result: " << r.mesh.triangles.size() << " triangles, "
-              << (r.printable() ? "printable" : "NOT printable") << "; deviation from the input "
-              << r.deviation.hausdorff() << " (largest), "
-              << std::max(r.deviation.meanAToB, r.deviation.meanBToA) << " (mean)\n";
+              << (r.printable() ? "printable" : "NOT printable")
+              << "; its surface within " << r.deviation.bToA << " of the input's (mean "
+              << r.deviation.meanBToA << "), the input's within " << r.deviation.aToB
+              << " of it\n";
     for (const auto& reason : r.after.reasons) std::cout << "  - " << reason << "\n";
   }
   if (!r.printable()) {

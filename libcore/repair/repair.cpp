@@ -275,12 +275,13 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
   for (int a = 0; a < 3; ++a) longest = std::max(longest, box.hi[a] - box.lo[a]);
   const double voxel = options.voxel > 0 ? options.voxel : longest / kDefaultRebuildVoxels;
 
-  // Local repairs first, crossings left alone. CGAL's local removal of self-intersections
-  // is used only where the rebuild is not wanted (--rebuild never) or cannot run (an open
-  // mesh): on crossing shells it made valid meshes of the wrong solid, every face on the
-  // input's surface but inner caps kept as cavities, a third of the union's volume gone
-  // (bench/repair_comparison.py, docs/manufacturing.md). The level set's flood fill takes the
-  // union, which is what overlapping shells mean.
+  // Local repairs first, crossings left alone; then, where crossings remain, CGAL's local
+  // removal of self-intersections, kept only when its result passes the check, lies on the
+  // input's surface (within a voxel) and has no more pieces than the mesh had. The last rule
+  // is what the first two miss: on two crossing balls the removal returned four nested
+  // shells, every face on the input, the inner caps kept as cavities and a third of the
+  // union's volume gone (bench/repair_comparison.py). Otherwise the rebuild through a level
+  // set runs, whose flood fill takes the union, which is what overlapping shells mean.
   CgalRepairOptions co;
   co.fillHoles = options.fillHoles;
   co.removeSelfIntersections = false;
@@ -296,19 +297,29 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
   const bool closed = r.after.closed;
   const std::size_t openEdges = r.after.borderEdges;
   const bool rebuildPossible = options.rebuild != RebuildPolicy::Never && closed;
-  if (!r.after.printable() && r.after.selfIntersections && !rebuildPossible) {
+  if (!r.after.printable() && r.after.selfIntersections &&
+      options.rebuild != RebuildPolicy::Always) {
     CgalRepairOptions local = co;
     local.removeSelfIntersections = true;
     local.progress = stage(0.4, 0.55);
     CgalRepairLog localLog;
     TriangleMesh removed = repairWithCgal(mesh, local, localLog);
     CheckReport judged = checkMesh(removed);
-    if (judged.printable() || judged.reasons.size() < r.after.reasons.size()) {
+    const bool sound = judged.printable() && judged.components <= r.after.components &&
+                       meshDeviation(removed, input).aToB <= voxel;
+    const bool better = judged.printable() || judged.reasons.size() < r.after.reasons.size();
+    if (sound || (!rebuildPossible && better)) {
       describe(localLog, r.actions);
       mesh = std::move(removed);
       r.after = std::move(judged);
-    } else {
+    } else if (!rebuildPossible) {
       r.actions.push_back("CGAL's local removal of self-intersections did not succeed");
+    } else {
+      r.actions.push_back("CGAL's local removal of self-intersections was not kept (" +
+                          std::string(judged.printable() ? "it changed the solid's pieces or "
+                                                           "moved its surface"
+                                                         : "not printable") +
+                          "): rebuilding instead");
     }
   }
 
