@@ -6,7 +6,6 @@
 #include <unordered_map>
 
 #include "base/errors.h"
-#include "base/triangle_adjacency.h"
 #include "mesh/mesher.h"
 #include "repair/cgal_repair.h"
 #include "simplify/simplify.h"
@@ -60,11 +59,23 @@ double medianEdgeLength(const TriangleMesh& m) {
   return lengths[lengths.size() / 2];
 }
 
-// Edges with no facet across (borders, and non-manifold edges, which have no single one).
+// Edges of exactly one triangle (cracks and holes; an edge of three is no crack).
 std::size_t borderEdgeCount(const TriangleMesh& m) {
+  std::vector<std::uint64_t> edges;
+  edges.reserve(3 * m.triangles.size());
+  for (const Triangle& t : m.triangles)
+    for (int i = 0; i < 3; ++i) {
+      const std::uint64_t a = t[i], b = t[(i + 1) % 3];
+      edges.push_back(a < b ? a << 32 | b : b << 32 | a);
+    }
+  std::sort(edges.begin(), edges.end());
   std::size_t n = 0;
-  for (const auto& f : facetNeighbours(m))
-    for (std::uint32_t g : f) n += g == kNoNeighbour;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    n += j - i == 1;
+    i = j;
+  }
   return n;
 }
 
