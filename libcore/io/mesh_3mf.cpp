@@ -97,7 +97,7 @@ bool isIdentity(const Transform& t) {
 
 class Flattener {
  public:
-  Flattener(Instance model, const std::string& path) : model_(model), path_(path) {}
+  explicit Flattener(const std::string& path) : path_(path) {}
 
   // Appends the triangles of `object` (mesh or components), placed by `t`.
   void add(Instance object, const Transform& t, int depth, TriangleMesh& out) {
@@ -130,9 +130,11 @@ class Flattener {
     DWORD nv = 0, nt = 0;
     require(lib3mf_meshobject_getvertexcount(mesh, &nv), mesh, path_);
     require(lib3mf_meshobject_gettrianglecount(mesh, &nt), mesh, path_);
-    if (out.triangles.size() + nt > kMax3mfTriangles)
+    // The whole build counts: components can instance one mesh many times.
+    if (triangles_ + nt > kMax3mfTriangles)
       throw FileError(path_ + ": the build holds more than " + std::to_string(kMax3mfTriangles) +
                       " triangles; refused");
+    triangles_ += nt;
     std::vector<MODELMESHVERTEX> v(nv);
     std::vector<MODELMESHTRIANGLE> tri(nt);
     DWORD got = 0;
@@ -158,8 +160,8 @@ class Flattener {
     }
   }
 
-  Instance model_;
   const std::string& path_;
+  std::size_t triangles_ = 0;  // in every build item so far
 };
 
 std::uint32_t le32(const unsigned char* p) {
@@ -282,8 +284,7 @@ ThreeMfContents contentsOf(Instance model, const std::string& path) {
   }
   Handle items;
   require(lib3mf_model_getbuilditems(model, items.out()), model, path);
-  Flattener flatten(model, path);
-  std::size_t triangles = 0;
+  Flattener flatten(path);
   BOOL more = 0;
   while (lib3mf_builditemiterator_movenext(items.get(), &more) == 0 && more) {
     Handle item, object;
@@ -297,10 +298,6 @@ ThreeMfContents contentsOf(Instance model, const std::string& path) {
     o.name = objectName(object.get());
     if (o.name.empty()) o.name = "object " + std::to_string(c.objects.size() + 1);
     flatten.add(object.get(), t, 0, o.mesh);
-    triangles += o.mesh.triangles.size();
-    if (triangles > kMax3mfTriangles)
-      throw FileError(path + ": the build holds more than " + std::to_string(kMax3mfTriangles) +
-                      " triangles; refused");
     c.objects.push_back(std::move(o));
   }
   if (c.objects.empty()) throw FileError(path + ": the 3MF build has no objects");

@@ -37,6 +37,14 @@ using Mesh = CGAL::Surface_mesh<Point>;
 using Halfedge = Mesh::Halfedge_index;
 using Face = Mesh::Face_index;
 
+// PMP::remove_degenerate_faces; returns how many degenerate faces it could not remove.
+std::size_t removeDegenerateFaces(Mesh& mesh) {
+  if (PMP::remove_degenerate_faces(mesh)) return 0;
+  std::size_t left = 0;
+  for (Face f : mesh.faces()) left += PMP::is_degenerate_triangle_face(f, mesh);
+  return left;
+}
+
 }  // namespace
 
 TriangleMesh repairWithCgal(const TriangleMesh& soup, const CgalRepairOptions& options,
@@ -83,11 +91,7 @@ TriangleMesh repairWithCgal(const TriangleMesh& soup, const CgalRepairOptions& o
   tick(0.2);
 
   log.bordersStitched = PMP::stitch_borders(mesh);
-  if (!PMP::remove_degenerate_faces(mesh)) {
-    std::size_t left = 0;
-    for (Face f : mesh.faces()) left += PMP::is_degenerate_triangle_face(f, mesh);
-    log.degenerateFacesLeft = left;
-  }
+  log.degenerateFacesLeft = removeDegenerateFaces(mesh);
   mesh.collect_garbage();
   log.nonManifoldVerticesSplit = PMP::duplicate_non_manifold_vertices(mesh);
   tick(0.35);
@@ -108,11 +112,7 @@ TriangleMesh repairWithCgal(const TriangleMesh& soup, const CgalRepairOptions& o
       tick(0.35 + 0.2 * double(i + 1) / double(cycles.size()));
     }
   }
-  if (log.holesFilled && !PMP::remove_degenerate_faces(mesh)) {
-    std::size_t left = 0;
-    for (Face f : mesh.faces()) left += PMP::is_degenerate_triangle_face(f, mesh);
-    log.degenerateFacesLeft = left;
-  }
+  if (log.holesFilled) log.degenerateFacesLeft = removeDegenerateFaces(mesh);
   // Closed shells of no volume: the pillows that a sliver split off a sound edge (or a
   // doubled triangle) becomes once its hole is filled. A cube of a ten-thousandth of the
   // mesh's diagonal is the threshold, far below any part a printer makes.
