@@ -13,6 +13,7 @@
 #include "cli/terminal_progress.h"
 #include "io/mesh_3mf.h"
 #include "io/mesh_io.h"
+#include "pipeline/export_pipeline.h"
 #include "repair/repair.h"
 
 namespace frep::cli {
@@ -110,15 +111,21 @@ int repairCommand(const Args& args) {
   const RepairResult r = repairMesh(mesh, options, displayName(input));
   if (interrupted()) throw Cancelled();
 
-  const bool write = r.printable() || force;
-  if (write && !r.mesh.triangles.empty()) {
+  // The verdict on what is written: a 3MF holds its coordinates rounded (io/mesh_3mf.h), so
+  // its package is checked as read back, like every 3MF export (pipeline's export3mf).
+  CheckReport verdict = r.after;
+  bool written = false;
+  if ((r.printable() || force) && !r.mesh.triangles.empty()) {
     if (outFormat == MeshFormat::ThreeMf) {
-      threeMf.validate = r.printable();
       threeMf.metadata = {{"Application", "FRepCAD frepcad repair"}};
-      write3mf({{std::filesystem::path(output).stem().string(), r.mesh}}, output, threeMf,
-               [](double) { return !interrupted(); });
+      const ThreeMfExportResult e =
+          export3mf({{std::filesystem::path(output).stem().string(), r.mesh}}, threeMf, output,
+                    force, [](double) { return !interrupted(); });
+      verdict = e.reports.at(0);
+      written = e.written;
     } else {
       writeMesh(r.mesh, output, outFormat, [](double) { return !interrupted(); });
+      written = true;
     }
   }
 
@@ -127,8 +134,8 @@ int repairCommand(const Args& args) {
     j["input"] = displayName(input);
     j["output"] = displayName(output);
     j["printable_before"] = r.before.printable();
-    j["printable"] = r.printable();
-    j["written"] = write;
+    j["printable"] = verdict.printable();
+    j["written"] = written;
     j["rebuilt"] = r.rebuilt;
     j["voxel"] = r.voxel;
     j["triangles_before"] = r.before.faces;
@@ -142,26 +149,25 @@ int repairCommand(const Args& args) {
     j["input_to_result"] = r.deviation.aToB;
     j["actions"] = r.actions;
     j["reasons_before"] = r.before.reasons;
-    j["reasons"] = r.after.reasons;
+    j["reasons"] = verdict.reasons;
     std::cout << dumped(j);
-  } else if (!quiet || !r.printable()) {
+  } else if (!quiet || !verdict.printable()) {
     std::cout << "repair " << displayName(input) << ": "
               << (r.before.printable() ? "printable already" : "not printable") << "\n";
     for (const auto& reason : r.before.reasons) std::cout << "  - " << reason << "\n";
     for (const auto& action : r.actions) std::cout << "  * " << action << "\n";
     std::cout << "result: " << r.mesh.triangles.size() << " triangles, "
-              << (r.printable() ? "printable" : "NOT printable")
-              << "; its surface within " << r.deviation.bToA << " of the input's (mean "
-              << r.deviation.meanBToA << "), the input's within " << r.deviation.aToB
-              << " of it\n";
-    for (const auto& reason : r.after.reasons) std::cout << "  - " << reason << "\n";
+              << (verdict.printable() ? "printable" : "NOT printable") << "; its surface within "
+              << r.deviation.bToA << " of the input's (mean " << r.deviation.meanBToA
+              << "), the input's within " << r.deviation.aToB << " of it\n";
+    for (const auto& reason : verdict.reasons) std::cout << "  - " << reason << "\n";
   }
-  if (!r.printable()) {
+  if (!verdict.printable()) {
     if (!json)
       std::cerr << "frepcad: " << displayName(input)
-                << (write ? ": written although still not printable (--force)\n"
-                          : ": could not be made printable (reasons above); nothing written "
-                            "(--force writes it anyway)\n");
+                << (written ? ": written although still not printable (--force)\n"
+                            : ": could not be made printable (reasons above); nothing written "
+                              "(--force writes it anyway)\n");
     return 1;
   }
   if (!quiet && !json) std::cout << "wrote " << displayName(output) << "\n";
