@@ -152,15 +152,7 @@ int repairCommand(const Args& args) {
     j["reasons"] = verdict.reasons;
     std::cout << dumped(j);
   } else if (!quiet || !verdict.printable()) {
-    std::cout << "repair " << displayName(input) << ": "
-              << (r.before.printable() ? "printable already" : "not printable") << "\n";
-    for (const auto& reason : r.before.reasons) std::cout << "  - " << reason << "\n";
-    for (const auto& action : r.actions) std::cout << "  * " << action << "\n";
-    std::cout << "result: " << r.mesh.triangles.size() << " triangles, "
-              << (verdict.printable() ? "printable" : "NOT printable") << "; its surface within "
-              << r.deviation.bToA << " of the input's (mean " << r.deviation.meanBToA
-              << "), the input's within " << r.deviation.aToB << " of it\n";
-    for (const auto& reason : verdict.reasons) std::cout << "  - " << reason << "\n";
+    std::cout << repairToText(r, verdict, displayName(input));
   }
   if (!verdict.printable()) {
     if (!json)

@@ -684,16 +684,7 @@ PYBIND11_MODULE(_frepcore, m) {
             d["result_to_input"] = r.deviation.bToA;
             d["input_to_result"] = r.deviation.aToB;
             d["check"] = fromJson(reportToJson(r.after, name));
-            std::string text = "repair " + name + ": " +
-                               (r.before.printable() ? "printable already\n" : "not printable\n");
-            for (const auto& x : r.before.reasons) text += "  - " + x + "\n";
-            for (const auto& x : r.actions) text += "  * " + x + "\n";
-            text += std::string("result: ") + (r.printable() ? "printable" : "NOT printable") +
-                    ", its surface within " + std::to_string(r.deviation.bToA) +
-                    " of the input's, the input's within " + std::to_string(r.deviation.aToB) +
-                    " of it\n";
-            for (const auto& x : r.after.reasons) text += "  - " + x + "\n";
-            d["text"] = text;
+            d["text"] = repairToText(r, r.after, name);
             return py::make_tuple(std::move(r.mesh), d);
           },
           py::arg("rebuild") = "auto", py::arg("voxel") = 0.0, py::arg("weld") = -1.0,

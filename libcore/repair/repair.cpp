@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <sstream>
 #include <unordered_map>
 
 #include "base/errors.h"
@@ -218,6 +219,21 @@ std::size_t weldNearbyVertices(TriangleMesh& mesh, double distance, std::size_t&
   }
   mesh.triangles.swap(kept);
   return moved;
+}
+
+std::string repairToText(const RepairResult& r, const CheckReport& verdict,
+                         const std::string& name) {
+  std::ostringstream os;
+  os << "repair " << name << ": " << (r.before.printable() ? "printable already" : "not printable")
+     << "\n";
+  for (const auto& reason : r.before.reasons) os << "  - " << reason << "\n";
+  for (const auto& action : r.actions) os << "  * " << action << "\n";
+  os << "result: " << r.mesh.triangles.size() << " triangles, "
+     << (verdict.printable() ? "printable" : "NOT printable") << "; its surface within "
+     << r.deviation.bToA << " of the input's (mean " << r.deviation.meanBToA
+     << "), the input's within " << r.deviation.aToB << " of it\n";
+  for (const auto& reason : verdict.reasons) os << "  - " << reason << "\n";
+  return os.str();
 }
 
 RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,

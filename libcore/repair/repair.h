@@ -60,6 +60,12 @@ struct RepairResult {
 RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
                         const std::string& name);
 
+// The report for people: the verdict before, each action, the result and its deviation both
+// ways, the reasons left. `verdict` is the check of what was written (a 3MF's package as read
+// back), which is result.after for every other format.
+std::string repairToText(const RepairResult& result, const CheckReport& verdict,
+                         const std::string& name);
+
 // Vertices within `distance` of an earlier kept vertex (in x order) take its index; returns
 // how many moved. Triangles left with a repeated vertex are removed (counted in `removed`).
 std::size_t weldNearbyVertices(TriangleMesh& mesh, double distance, std::size_t& removed);
