@@ -98,8 +98,6 @@ std::string printabilityToText(const PrintabilityReport& r, const PrintabilityOp
   os << "  overhang             area " << r.overhangArea << " (" << r.overhangTriangles
      << " triangles facing down more than " << o.overhangDeg << " degrees from vertical)\n";
   os << "  height               " << r.height << "\n";
-  os << "  volume               " << r.volume << "\n";
-  os << "  area                 " << r.area << "\n";
   if (o.density > 0)
     os << "  mass                 " << r.mass << " g (density " << o.density
        << " g/cm3, units taken as mm)\n";
@@ -122,8 +120,6 @@ std::string printabilityToJson(const CheckReport& check, const PrintabilityRepor
   p["overhang_area"] = r.overhangArea;
   p["overhang_triangles"] = r.overhangTriangles;
   p["height"] = r.height;
-  p["volume"] = r.volume;
-  p["area"] = r.area;
   if (o.density > 0) {
     p["density"] = o.density;
     p["mass_g"] = r.mass;

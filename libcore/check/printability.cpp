@@ -1,6 +1,6 @@
 // Wall thickness by rays through CGAL's AABB tree (the shape diameter function's measure,
 // computed here on a triangle soup so that a mesh needs no halfedge structure and the rays
-// run in parallel); overhangs, volume and mass from the triangles.
+// run in parallel); overhangs and mass from the triangles.
 #include "check/printability.h"
 
 #include <CGAL/AABB_traits.h>
@@ -79,17 +79,11 @@ PrintabilityReport measurePrintability(const TriangleMesh& mesh, const Printabil
   const std::size_t n = mesh.triangles.size();
   std::vector<Tri> tris;
   tris.reserve(n);
-  bool any = false;
   for (const Triangle& t : mesh.triangles) {
     Point p[3];
     for (int i = 0; i < 3; ++i) {
       const Vec3f& q = t[i] < mesh.positions.size() ? mesh.positions[t[i]] : Vec3f{0, 0, 0};
       p[i] = Point(q[0], q[1], q[2]);
-      for (int a = 0; a < 3; ++a) {
-        r.bbox.lo[a] = any ? std::min(r.bbox.lo[a], double(q[a])) : q[a];
-        r.bbox.hi[a] = any ? std::max(r.bbox.hi[a], double(q[a])) : q[a];
-      }
-      any = true;
     }
     tris.emplace_back(p[0], p[1], p[2]);
   }
@@ -109,7 +103,6 @@ PrintabilityReport measurePrintability(const TriangleMesh& mesh, const Printabil
   for (const Tri& t : tris) {
     const Vector c = CGAL::cross_product(t[1] - t[0], t[2] - t[0]);
     const double a2 = std::sqrt(c.squared_length());
-    r.area += 0.5 * a2;
     r.volume += (Vector(CGAL::ORIGIN, t[0]) *
                  CGAL::cross_product(Vector(CGAL::ORIGIN, t[1]), Vector(CGAL::ORIGIN, t[2]))) /
                 6.0;

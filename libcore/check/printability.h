@@ -3,8 +3,8 @@
 // shape diameter function does; the deepest first hit, measured along the normal, so that a
 // flat wall measures exactly and a triangle beside a convex edge is not made thin by rays
 // that leave through the side),
-// regions thinner than a minimum, the overhang area for a build direction, volume, area,
-// bounding box and mass for a material.
+// regions thinner than a minimum, the overhang area for a build direction, height,
+// and mass for a material (volume, area and bounding box are the check's).
 #pragma once
 
 #include <optional>
@@ -45,9 +45,7 @@ struct PrintabilityReport {
   double thinArea = 0.0;
   double overhangArea = 0.0;  // downward faces past the angle, not lying on the build plate
   std::size_t overhangTriangles = 0;
-  double volume = 0.0;  // signed, as the check computes it
-  double area = 0.0;
-  Box3 bbox;
+  double volume = 0.0;  // signed, for the mass (the check's report gives it, with the area)
   double height = 0.0;  // along the build direction
   double mass = 0.0;    // grams, when a density was given
 };
