@@ -23,6 +23,7 @@ struct ExportOptions {
   std::optional<int> cells;
   std::optional<Box3> bbox;
   std::optional<double> tolerance;  // --tolerance D: simplify within D of the surface
+  bool tetra = false;               // --mesher tetra: marching tetrahedra, as before mesher v2
   bool sharp = true;                // --no-sharp: merged vertices stay where a vertex was
   bool stats = false;               // --stats: the accuracy report
   bool fog = false;                 // --fog: a .vdb fog volume instead of a level set

@@ -37,8 +37,11 @@ const char* const kExportHelp =
     "  --tolerance D           simplify: far fewer triangles, the surface kept within D (model\n"
     "                          units) of the exact one, still checked (a tenth of the cell size\n"
     "                          is a good start)\n"
-    "  --no-sharp              with --tolerance: keep merged vertices where vertices were,\n"
-    "                          instead of placing them on the creases and corners\n"
+    "  --no-sharp              no vertices placed on creases and corners (the mesher's and,\n"
+    "                          with --tolerance, the simplifier's): edges are chamfered\n"
+    "  --mesher M              cubes (default: about a third of the triangles of tetra) or\n"
+    "                          tetra (marching tetrahedra, the mesher before 0.3; kept for\n"
+    "                          one release)\n"
     "  --fog                   with OUT.vdb: a fog volume (0 outside, 1 inside, a ramp across\n"
     "                          the band inside the surface) instead of a level set\n"
     "  --stats                 measure the mesh against the exact surface: the Hausdorff\n"
@@ -88,6 +91,12 @@ ExportOptions parseExportOptions(const Args& args) {
         throw UsageError("--tolerance must be a distance > 0 (model units), got '" + args[i] +
                          "'");
     } else if (a == "--no-sharp") o.sharp = false;
+    else if (a == "--mesher") {
+      const std::string m = value("cubes or tetra");
+      if (m != "cubes" && m != "tetra")
+        throw UsageError("--mesher must be cubes or tetra, got '" + m + "'");
+      o.tetra = m == "tetra";
+    }
     else if (a == "--stats") o.stats = true;
     else if (a == "--fog") o.fog = true;
     else if (a == "--format") o.format = value("a format");
@@ -114,7 +123,6 @@ ExportOptions parseExportOptions(const Args& args) {
   if (o.input.empty()) throw UsageError("export needs an input file (MODEL.json or DOC.FCStd)");
   if (o.output.empty()) throw UsageError("export needs -o OUT");
   if (o.resolution && o.cells) throw UsageError("give --resolution or --cells, not both");
-  if (!o.sharp && !o.tolerance) throw UsageError("--no-sharp applies with --tolerance only");
   if (o.fog && !isVdbPath(o.output))
     throw UsageError("--fog applies to a .vdb output only");
   return o;
@@ -162,6 +170,7 @@ int exportModel(const ExportOptions& opt) {
   request.force = opt.force;
   request.tolerance = opt.tolerance;
   request.sharpFeatures = opt.sharp;
+  request.extraction = opt.tetra ? Extraction::Tetrahedra : Extraction::Cubes;
   request.stats = opt.stats;
   // The box policy is the pipeline's; the CLI only adds where the user gives a box.
   MeshingBox chosen;

@@ -41,7 +41,10 @@ expect 0 "simplified" -- "$frepcad" export "$src/examples/csg.json" -o "$work/t2
 expect 2 "--tolerance must be a distance > 0 \(model units\), got '0'" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.stl" --tolerance 0
 expect 0 "Hausdorff distance   [0-9.e-]+ \([0-9.e-]+ cells\)" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/st.stl" --resolution 0.1 --stats
 expect 0 "crease length        [0-9.e-]+" -- "$frepcad" export "$src/examples/csg.json" -o "$work/st.stl" --resolution 0.1 --tolerance 0.01 --stats
-expect 2 "--no-sharp applies with --tolerance only" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.stl" --no-sharp
+expect 0 "wrote" -- "$frepcad" export "$src/examples/csg.json" -o "$work/ns.stl" --resolution 0.1 --no-sharp
+expect 0 "wrote" -- "$frepcad" export "$src/examples/csg.json" -o "$work/tetra.stl" --resolution 0.1 --mesher tetra
+[ "$(stat -c %s "$work/ns.stl")" -lt "$(stat -c %s "$work/tetra.stl")" ] || { echo "FAIL: --mesher tetra did not make more triangles"; failures=$((failures + 1)); }
+expect 2 "--mesher must be cubes or tetra, got 'dual'" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.stl" --mesher dual
 expect 0 "wrote" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/a.stl" --format stl-ascii --resolution 0.2 --bbox -2 -2 -2 2 2 2
 head -c 5 "$work/a.stl" | grep -q solid || { echo "FAIL: stl-ascii not ASCII"; failures=$((failures + 1)); }
 expect 0 "radius : real = 1 \[length\]" -- "$frepcad" info sphere

@@ -321,7 +321,7 @@ TEST(MeshFfd, ADeformedSphereAsAFunctionAndAsAMeshAgreeWithinACell) {
 TEST(MeshFfd, ProgressIsReportedAndCancelStops) {
   MeshingOptions o;
   o.bbox = {{-0.5, -0.5, 0.5}, {0.7, 0.5, 1.5}};
-  o.resolution = 0.01;
+  o.resolution = 0.008;
   const TriangleMesh mesh = polygonize(compile(ball({0.1, 0, 1}, 0.45)), o);
   ASSERT_GT(mesh.positions.size(), std::size_t(40000));
   int calls = 0;

@@ -134,19 +134,20 @@ TEST(Mesher, NormalsComeFromTheGradient) {
   }
 }
 
+std::vector<std::array<float, 9>> sortedTriangles(const TriangleMesh& mesh) {
+  std::vector<std::array<float, 9>> t;
+  for (const auto& tri : mesh.triangles) {
+    std::array<Vec3f, 3> c = {mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]]};
+    std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
+    t.push_back({c[0][0], c[0][1], c[0][2], c[1][0], c[1][1], c[1][2], c[2][0], c[2][1], c[2][2]});
+  }
+  std::sort(t.begin(), t.end());
+  return t;
+}
+
 TEST(Mesher, SameMeshWhateverTheBrickSize) {
   // Bricks only split the work: vertices on brick faces weld exactly.
   const Model m = example("csg");
-  auto sortedTriangles = [](const TriangleMesh& mesh) {
-    std::vector<std::array<float, 9>> t;
-    for (const auto& tri : mesh.triangles) {
-      std::array<Vec3f, 3> c = {mesh.positions[tri[0]], mesh.positions[tri[1]], mesh.positions[tri[2]]};
-      std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
-      t.push_back({c[0][0], c[0][1], c[0][2], c[1][0], c[1][1], c[1][2], c[2][0], c[2][1], c[2][2]});
-    }
-    std::sort(t.begin(), t.end());
-    return t;
-  };
   const TriangleMesh a = meshModel(m, 1.0 / 24, 4), b = meshModel(m, 1.0 / 24, 16);
   const TriangleMesh odd = meshModel(m, 1.0 / 24, 7);  // bricks that do not divide the grid
   EXPECT_EQ(sortedTriangles(odd), sortedTriangles(b));
@@ -164,11 +165,11 @@ TEST(Mesher, BoxCutsTheSolidWithACap) {
   o.resolution = 0.1;
   const CheckReport r = checkMesh(polygonize(compile(h), o));
   EXPECT_TRUE(r.printable()) << reasons(r);
-  // Cap faces lie exactly on the box (root finding stops at an exact zero); only its 21
-  // units of edges are chamfered, by marching tetrahedra, within a small fraction of a cell
-  // (at most h^2 / 20 of cross-section: 0.011 of volume here).
+  // Cap faces lie exactly on the box (root finding stops at an exact zero); its 21 units of
+  // edges get vertices on them (sharp features). The top plane lies on grid points (value
+  // exactly 0: inside), so its vertices sit on the 1 % edge margin above it: 0.004 of volume.
   EXPECT_NEAR(r.volume, 2 * 2 * 1.25, 0.011);
-  EXPECT_LE(r.volume, 5.0);
+  EXPECT_LE(r.volume, 5.0 + 4 * 0.01 * o.resolution + 1e-6);
   EXPECT_NEAR(r.bbox.lo[0], -1.0, 1e-6);
   EXPECT_NEAR(r.bbox.hi[0], 1.0, 1e-6);
   EXPECT_NEAR(r.bbox.hi[2], 0.25, 1e-3);
@@ -232,7 +233,8 @@ TEST(Mesher, BadOptionsAreRefused) {
   }
 }
 
-// >= 1,000 random trees (8 shards of 125), each mesh checked by CGAL.
+// >= 1,000 random trees (8 shards of 125), each meshed by cubes with sharp features on and
+// off (and one in four by tetrahedra too), every mesh checked by CGAL.
 class RandomTreeShard : public ::testing::TestWithParam<int> {};
 
 TEST_P(RandomTreeShard, EveryMeshIsPrintable) {
@@ -241,19 +243,35 @@ TEST_P(RandomTreeShard, EveryMeshIsPrintable) {
   int nonEmpty = 0;
   for (int i = 0; i < 125; ++i) {
     const NodePtr tree = rng.tree(rng.integer(1, 4));
+    const Program program = compile(tree);
     MeshingOptions o;
     o.bbox = {{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}};
     o.resolution = resolutions[rng.integer(0, 3)];
     o.brickCells = rng.integer(0, 1) ? 16 : 5;  // bricks that do not divide the grid, too
-    MeshingStats stats;
-    const TriangleMesh mesh = polygonize(compile(tree), o, &stats);
-    // every vertex a brick shares was found in its owner's list
-    ASSERT_FALSE(stats.weldedBySorting) << "tree " << i;
-    if (mesh.triangleCount() == 0) continue;
-    ++nonEmpty;
-    const CheckReport r = checkMesh(mesh);
-    ASSERT_TRUE(r.printable()) << "tree " << i << " at " << o.resolution << ": " << reasons(r)
-                               << "\n" << modelToJson(Model{tree, o.bbox, o.resolution, ""});
+    const bool tetra = rng.integer(0, 3) == 0, bricksAgain = rng.integer(0, 7) == 0;
+    std::size_t cubeTriangles = 0;
+    for (int mode = 0; mode < (tetra ? 3 : 2); ++mode) {
+      o.sharpFeatures = mode == 0;
+      o.extraction = mode == 2 ? Extraction::Tetrahedra : Extraction::Cubes;
+      MeshingStats stats;
+      const TriangleMesh mesh = polygonize(program, o, &stats);
+      // every vertex a brick shares was found in its owner's list
+      ASSERT_FALSE(stats.weldedBySorting) << "tree " << i << " mode " << mode;
+      if (mesh.triangleCount() == 0) continue;
+      nonEmpty += mode == 0;
+      const CheckReport r = checkMesh(mesh);
+      ASSERT_TRUE(r.printable()) << "tree " << i << " at " << o.resolution << " mode " << mode
+                                 << ": " << reasons(r) << "\n"
+                                 << modelToJson(Model{tree, o.bbox, o.resolution, ""});
+      if (mode == 1) cubeTriangles = mesh.triangleCount();
+      if (mode == 2) EXPECT_LT(cubeTriangles, mesh.triangleCount()) << "tree " << i;
+      if (mode == 0 && bricksAgain) {  // the bricks decide their shared faces alike
+        MeshingOptions other = o;
+        other.brickCells = o.brickCells == 16 ? 7 : 16;
+        EXPECT_EQ(sortedTriangles(polygonize(program, other)), sortedTriangles(mesh))
+            << "tree " << i;
+      }
+    }
   }
   EXPECT_GT(nonEmpty, 80);  // the generator makes real shapes, not mostly empty boxes
 }

@@ -26,8 +26,10 @@ std::string reasons(const CheckReport& r) {
   return s;
 }
 
-TriangleMesh meshOf(const Field& f, const Box3& box, double cell, bool normals = false) {
+TriangleMesh meshOf(const Field& f, const Box3& box, double cell, bool normals = false,
+                    Extraction extraction = Extraction::Cubes) {
   MeshingOptions o;
+  o.extraction = extraction;
   o.bbox = box;
   o.resolution = cell;
   o.normals = normals;
@@ -131,7 +133,8 @@ TEST(Simplify, SharpFeaturesPutVerticesOnTheCorners) {
   const Program p = compile(turnedCube());
   const Box3 box{{-1, -1, -1}, {1, 1, 1}};
   const double cell = 2.0 / 24;
-  const TriangleMesh mesh = meshOf(p, box, cell);
+  // marching tetrahedra: the mesher's cubes would put vertices on the corners themselves
+  const TriangleMesh mesh = meshOf(p, box, cell, false, Extraction::Tetrahedra);
   const TriangleMesh sharp = simplifyMesh(mesh, p, optionsFor(box, cell, 0.2 * cell, true));
   const TriangleMesh smooth = simplifyMesh(mesh, p, optionsFor(box, cell, 0.2 * cell, false));
   for (const TriangleMesh* m : {&sharp, &smooth}) {
@@ -162,7 +165,10 @@ void simplifyRandomTrees(unsigned seed, int trees) {
     const Box3 box{{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}};
     const double cell = cells[rng.integer(0, 2)];
     const Program p = compile(tree);
-    const TriangleMesh mesh = meshOf(p, box, cell);
+    // both extractions: the default's cubes, and marching tetrahedra's three times as many
+    const bool tetra = rng.integer(0, 1) == 1;
+    const TriangleMesh mesh =
+        meshOf(p, box, cell, false, tetra ? Extraction::Tetrahedra : Extraction::Cubes);
     if (mesh.triangleCount() == 0) continue;
     ++nonEmpty;
     const std::size_t components = checkMesh(mesh).components;
@@ -176,11 +182,12 @@ void simplifyRandomTrees(unsigned seed, int trees) {
                                  << "\n" << modelToJson(Model{tree, box, cell, ""});
       ASSERT_EQ(countSelfIntersectionsWithCgal(s.positions, s.triangles, true), 0u) << "tree " << i;
       EXPECT_EQ(r.components, components) << "tree " << i;
-      fewer += 2 * s.triangleCount() < mesh.triangleCount();
+      fewer += (tetra ? 2 : 1) * s.triangleCount() < mesh.triangleCount();
     }
   }
   EXPECT_GT(nonEmpty, trees * 2 / 3);
-  EXPECT_GT(fewer, nonEmpty);  // most meshes lose more than half their triangles
+  // most meshes lose triangles (a tetrahedra mesh more than half)
+  EXPECT_GT(fewer, nonEmpty);
 }
 
 // 128 trees in make test; the acceptance tier simplifies 1,008 more.
@@ -202,7 +209,8 @@ INSTANTIATE_TEST_SUITE_P(Shards, SimplifyRandomTreesAcceptance, ::testing::Range
 TEST(Simplify, AFaceRemovedOnlyForATestStaysSearched) {
   const Model m = loadModel(std::string(FREP_SOURCE_DIR) + "/tests/data/simplify_search_grid.json");
   const Program p = compile(m.root);
-  const TriangleMesh mesh = meshOf(p, *m.bbox, *m.resolution);
+  // the marching-tetrahedra mesh it was found on
+  const TriangleMesh mesh = meshOf(p, *m.bbox, *m.resolution, false, Extraction::Tetrahedra);
   const TriangleMesh s =
       simplifyMesh(mesh, p, optionsFor(*m.bbox, *m.resolution, 0.033642576569059716, false));
   const CheckReport r = checkMesh(s);
@@ -241,7 +249,7 @@ TEST(Accuracy, SharpFeaturesBringTheCubesEdgesBack) {
   const Program p = compile(turnedCube());
   const Box3 box{{-1, -1, -1}, {1, 1, 1}};
   const double cell = 2.0 / 32;
-  const TriangleMesh mesh = meshOf(p, box, cell);
+  const TriangleMesh mesh = meshOf(p, box, cell, false, Extraction::Tetrahedra);
   const TriangleMesh sharp = simplifyMesh(mesh, p, optionsFor(box, cell, 0.1 * cell));
   AccuracyOptions o;
   o.bbox = box;
@@ -253,6 +261,32 @@ TEST(Accuracy, SharpFeaturesBringTheCubesEdgesBack) {
   EXPECT_NEAR(placed.creaseLength, 12.0, 2.5) << "grid's " << grid.creaseLength;
   EXPECT_GT(grid.creaseLength, 18.0);
   EXPECT_NEAR(placed.volume, 1.0, 0.01);
+}
+
+// The mesher's own sharp features (cubes with a vertex on the crease or corner, joined by
+// flips): the same turned cube comes within half a cell without any simplification, and
+// with them off its edges are chamfered by more.
+TEST(Accuracy, TheMeshersSharpFeaturesPlaceTheCubesEdges) {
+  const Program p = compile(turnedCube());
+  const Box3 box{{-1, -1, -1}, {1, 1, 1}};
+  const double cell = 2.0 / 32;
+  MeshingOptions m;
+  m.bbox = box;
+  m.resolution = cell;
+  m.normals = false;
+  const TriangleMesh sharp = polygonize(p, m);
+  m.sharpFeatures = false;
+  const TriangleMesh chamfered = polygonize(p, m);
+  AccuracyOptions o;
+  o.bbox = box;
+  o.cell = cell;
+  const AccuracyReport s = measureAccuracy(sharp, p, o), c = measureAccuracy(chamfered, p, o);
+  EXPECT_TRUE(checkMesh(sharp).printable());
+  EXPECT_LT(s.hausdorff, 0.5 * cell) << "without: " << c.hausdorff / cell << " cells";
+  EXPECT_GT(c.hausdorff, 0.5 * cell);
+  EXPECT_LT(std::abs(s.volume - 1.0), std::abs(c.volume - 1.0));
+  EXPECT_LT(std::abs(s.creaseLength - 12.0), std::abs(c.creaseLength - 12.0))
+      << s.creaseLength << " against " << c.creaseLength;
 }
 
 TEST(Simplify, RefusesBadOptions) {

@@ -1,19 +1,22 @@
 #include "mesh/mesher.h"
-#include "base/triangle_geometry.h"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <mutex>
 #include <sstream>
 
 #include "base/errors.h"
+#include "base/qef.h"
+#include "base/triangle_geometry.h"
+#include "mesh/crease_flips.h"
+#include "mesh/cube_loops.h"
 #include "mesh/kuhn_tetrahedra.h"
 
 namespace frep {
@@ -40,6 +43,14 @@ constexpr double kRootBracket = 1e-7;
 // (the reference models at 256 cells: mean distance 1e-4 of a cell, as with full
 // convergence), at about half the evaluations (2.1 instead of 5.2 per vertex on the helix).
 constexpr double kRootStep = 1e-3;
+// A cube's loop is a sharp feature when two of its vertices' normals differ by more than
+// this angle (its cosine; 37 degrees): extended marching cubes' test.
+constexpr double kFeatureCos = 0.8;
+// Quadric directions weaker than this fraction of the strongest are not solved (the vertex
+// stays at the planes' mean along them), as dual contouring truncates its QEF.
+constexpr double kFeatureCutoff = 0.02;
+// A vertex placed inside a cube keeps this fraction of the cell off its faces.
+constexpr double kInnerMargin = 0.05;
 
 // The sampling grid. Grid point j on an axis sits at lo + (j - 0.5) h, j = 0 .. n + 1: points 0
 // and n + 1 lie half a cell outside the box, so the surface closes there (box caps).
@@ -69,8 +80,12 @@ struct Grid {
 };
 
 // min(F, B) that keeps a NaN from F (NaN counts as outside).
-inline double combine(double f, double b) { return b < f ? b : f; }
-inline bool isInside(double g) { return g >= 0.0; }
+inline double combine(double f, double b) {
+  return b < f ? b : f;
+}
+inline bool isInside(double g) {
+  return g >= 0.0;
+}
 
 struct CellRange {
   std::int64_t lo[3], hi[3];  // cells [lo, hi) per axis
@@ -112,24 +127,33 @@ struct BrickResult {
   std::vector<std::uint64_t> keys;  // global edge key per local vertex
   std::vector<Ownership> owner;     // per local vertex
   std::vector<Vec3f> positions;
-  std::vector<Vec3f> normals;  // when asked for; NaN for the vertices other bricks own
-  std::vector<Triangle> triangles;  // local vertex ids
+  std::vector<Vec3f> normals;            // when asked for; NaN for the vertices other bricks own
+  std::vector<Triangle> triangles;       // local vertex ids
+  std::vector<std::uint32_t> flippable;  // triangles crease flips may pair (local indices)
 };
 
 struct Scratch {
   std::vector<double> x, y, z, f;
-  std::vector<double> qx, qy, qz, qf;  // the points evaluated, packed
-  std::vector<char> need;              // grid point needs its value
-  std::vector<std::int8_t> standIn;    // proven sign of a point that needs none
+  std::vector<double> qx, qy, qz, qf;    // the points evaluated, packed
+  std::vector<char> need;                // grid point needs its value
+  std::vector<std::int8_t> standIn;      // proven sign of a point that needs none
   std::vector<std::int32_t> edgeVertex;  // local edge key -> local vertex id
-  std::vector<std::uint32_t> edgeOf;  // new local vertex -> local edge key
-  std::vector<std::uint32_t> polys;  // 4 ids per polygon, last = UINT32_MAX for triangles
+  std::vector<std::uint32_t> edgeOf;     // new local vertex -> local edge key
+  std::vector<std::uint32_t> polys;      // 4 ids per polygon, last = UINT32_MAX for triangles
+  std::vector<std::uint8_t> cellMask;    // per cube: bit v set when corner v is inside
+  std::vector<std::uint8_t> kept;        // per local edge key: a face diagonal that stays
+  std::vector<std::uint32_t> loops;      // per cube: base, length, (vertex, cube-local id)...
+  // corners of the neighbour bricks' cubes next to this brick's faces
+  std::vector<double> hx, hy, hz, hf;
+  std::vector<std::uint32_t> haloKey;
+  std::vector<std::uint8_t> haloMask;  // the neighbour's corners known here, and the axis
   // root finding, one entry per new vertex
   std::vector<double> px, py, pz, dx, dy, dz, ta, tb, fa, fb;
   std::vector<std::int8_t> lastSide;
-  std::vector<std::uint32_t> active;  // edges still being refined
+  std::vector<std::uint32_t> active;   // edges still being refined
   std::vector<Dual> gx, gy, gz, grad;  // normals: the vertices and the field's gradient there
   std::vector<std::uint32_t> owned;    // normals: the vertices the brick owns
+  std::vector<Vec3f> unit;             // unit normal per vertex (NaN where not computed)
 };
 
 double quality(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
@@ -161,14 +185,27 @@ Vec3f vertexNormal(const Dual& d, const Grid& g, const Vec3f& p) {
              : Vec3f{0.f, 0.f, 0.f};
 }
 
+// The cube edges of face `face` (bit 2a + s, as CubeLoopTables::faces) whose corners differ.
+int crossedEdgesOnFace(std::uint32_t mask, std::uint8_t face) {
+  const CubeLoopTables& cl = cubeLoopTables();
+  int crossed = 0;
+  for (int id = 0; id < kFirstFaceDiagonal; ++id) {
+    const TetEdge& e = cl.edges[id];
+    if ((cl.faces[id] & face) && ((mask >> e.low) & 1) != ((mask >> (e.low | e.dir)) & 1))
+      ++crossed;
+  }
+  return crossed;
+}
+
 class BrickMesher {
  public:
   BrickMesher(const Grid& grid, const MeshingOptions& opt) : g_(grid), opt_(opt) {}
 
-  // `field` is the brick's own (specialised) field: equal to the whole one inside the brick.
-  std::size_t run(const Field& field, const CellRange& r, Scratch& s, BrickResult& out) const {
-    const std::int64_t n[3] = {r.hi[0] - r.lo[0] + 1, r.hi[1] - r.lo[1] + 1,
-                               r.hi[2] - r.lo[2] + 1};
+  // `field` is the brick's own (specialised) field: equal to the whole one inside the brick;
+  // `whole` is the whole one, for the few points just outside the brick.
+  std::size_t run(const Field& field, const Field& whole, const CellRange& r, Scratch& s,
+                  BrickResult& out) const {
+    const std::int64_t n[3] = {r.hi[0] - r.lo[0] + 1, r.hi[1] - r.lo[1] + 1, r.hi[2] - r.lo[2] + 1};
     const std::size_t count = static_cast<std::size_t>(n[0] * n[1] * n[2]);
     auto local = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
       return static_cast<std::uint32_t>(i + n[0] * (j + n[1] * k));
@@ -200,8 +237,10 @@ class BrickMesher {
             for (std::int64_t j = j0; j <= j1; ++j)
               for (std::int64_t i = i0; i <= i1; ++i) {
                 const std::uint32_t id = local(i, j, k);
-                if (sign == 0) s.need[id] = 1;
-                else s.standIn[id] = static_cast<std::int8_t>(sign);
+                if (sign == 0)
+                  s.need[id] = 1;
+                else
+                  s.standIn[id] = static_cast<std::int8_t>(sign);
               }
         }
     std::vector<double>&qx = s.qx, &qy = s.qy, &qz = s.qz, &qf = s.qf;
@@ -228,22 +267,70 @@ class BrickMesher {
                            : static_cast<double>(s.standIn[id]);
     const std::size_t evaluated = qx.size();
 
-    // 2. Polygons of every tetrahedron the surface crosses; one vertex per crossed edge.
+    // 2. The crossed cubes. With the cube extraction a cube whose surface meets its faces in
+    // one loop is capped by a fan over that loop (after the roots are known); any other
+    // crossed cube keeps its tetrahedra's polygons, and then the face diagonals it crosses
+    // stay on its neighbours' loops too, so both sides of every face draw the same line.
     const KuhnTables& kt = kuhnTables();
+    const CubeLoopTables& cl = cubeLoopTables();
+    const bool byCubes = opt_.extraction == Extraction::Cubes;
+    auto byTetrahedra = [&](int mask) { return !byCubes || cl.cases[mask].loops != 1; };
     s.edgeVertex.assign(count * 7, -1);
     s.polys.clear();
+    s.loops.clear();
     std::vector<std::uint32_t>& edgeOf = s.edgeOf;
     edgeOf.clear();
-    const std::uint32_t cornerOffset[8] = {
-        0, local(1, 0, 0), local(0, 1, 0), local(1, 1, 0),
-        local(0, 0, 1), local(1, 0, 1), local(0, 1, 1), local(1, 1, 1)};
-    for (std::int64_t k = 0; k + 1 < n[2]; ++k)
-      for (std::int64_t j = 0; j + 1 < n[1]; ++j)
-        for (std::int64_t i = 0; i + 1 < n[0]; ++i) {
+    const std::uint32_t cornerOffset[8] = {0,
+                                           local(1, 0, 0),
+                                           local(0, 1, 0),
+                                           local(1, 1, 0),
+                                           local(0, 0, 1),
+                                           local(1, 0, 1),
+                                           local(0, 1, 1),
+                                           local(1, 1, 1)};
+    const std::size_t cubes = static_cast<std::size_t>(c[0] * c[1] * c[2]);
+    s.cellMask.resize(cubes);
+    for (std::int64_t k = 0, q = 0; k < c[2]; ++k)
+      for (std::int64_t j = 0; j < c[1]; ++j)
+        for (std::int64_t i = 0; i < c[0]; ++i, ++q) {
           const std::uint32_t base = local(i, j, k);
           int cellMask = 0;
-          for (int c = 0; c < 8; ++c) cellMask |= isInside(s.f[base + cornerOffset[c]]) << c;
+          for (int v = 0; v < 8; ++v) cellMask |= isInside(s.f[base + cornerOffset[v]]) << v;
+          s.cellMask[q] = static_cast<std::uint8_t>(cellMask);
+        }
+    auto edgeKey = [&](std::uint32_t base, const TetEdge& e) {
+      return (base + cornerOffset[e.low]) * 7 + (e.dir - 1);
+    };
+    if (byCubes) markKeptDiagonals(whole, r, n, c, cornerOffset, s);
+    auto vertexFor = [&](std::uint32_t key) {
+      std::int32_t& slot = s.edgeVertex[key];
+      if (slot < 0) {
+        slot = static_cast<std::int32_t>(edgeOf.size());
+        edgeOf.push_back(key);
+      }
+      return static_cast<std::uint32_t>(slot);
+    };
+    for (std::int64_t k = 0, q = 0; k < c[2]; ++k)
+      for (std::int64_t j = 0; j < c[1]; ++j)
+        for (std::int64_t i = 0; i < c[0]; ++i, ++q) {
+          const int cellMask = s.cellMask[q];
           if (cellMask == 0 || cellMask == 255) continue;
+          const std::uint32_t base = local(i, j, k);
+          if (!byTetrahedra(cellMask)) {
+            // loop entry: cube base, length, then (vertex, cube-local id) pairs
+            const CubeLoopCase& lc = cl.cases[cellMask];
+            const std::size_t head = s.loops.size();
+            s.loops.push_back(base);
+            s.loops.push_back(static_cast<std::uint32_t>(cellMask) << 8);  // | length
+            for (int v = 0; v < lc.length; ++v) {
+              const std::uint32_t key = edgeKey(base, cl.edges[lc.ids[v]]);
+              if (lc.ids[v] >= kFirstFaceDiagonal && !s.kept[key]) continue;
+              s.loops.push_back(vertexFor(key));
+              s.loops.push_back(lc.ids[v]);
+              ++s.loops[head + 1];
+            }
+            continue;
+          }
           for (int t = 0; t < 6; ++t) {
             const auto& tet = kt.tets[t];
             int mask = 0;
@@ -251,25 +338,16 @@ class BrickMesher {
             const TetPolygon& poly = kt.polygons[t][mask];
             if (poly.count == 0) continue;
             std::uint32_t ids[4] = {0, 0, 0, UINT32_MAX};
-            for (int e = 0; e < poly.count; ++e) {
-              const std::uint32_t key = (base + cornerOffset[poly.edges[e].low]) * 7 +
-                                        (poly.edges[e].dir - 1);
-              std::int32_t& slot = s.edgeVertex[key];
-              if (slot < 0) {
-                slot = static_cast<std::int32_t>(edgeOf.size());
-                edgeOf.push_back(key);
-              }
-              ids[e] = static_cast<std::uint32_t>(slot);
-            }
+            for (int e = 0; e < poly.count; ++e) ids[e] = vertexFor(edgeKey(base, poly.edges[e]));
             s.polys.insert(s.polys.end(), ids, ids + 4);
           }
         }
 
     // 3. Vertices: root of the field along each crossed edge.
-    const std::size_t m = edgeOf.size();
-    out.keys.resize(m);
-    out.positions.resize(m);
+    out.keys.resize(edgeOf.size());
+    out.positions.resize(edgeOf.size());
     const std::size_t rootEvaluations = locateRoots(field, s, edgeOf, n, r, out);
+    const std::size_t m = edgeOf.size();
     // Ownership: an edge belongs to the brick whose half-open cell range holds its lower grid
     // point (the last brick on an axis also holds the grid's last points).
     out.owner.resize(m);
@@ -283,14 +361,18 @@ class BrickMesher {
       }
       out.owner[e] = !mine ? Ownership::Other : lowerFace ? Ownership::OwnShared : Ownership::Own;
     }
-    // Normals of the vertices this brick owns, with its own (specialised) field, in one
-    // gradient batch; a vertex another brick owns takes that brick's normal in the weld.
-    out.normals.clear();
-    if (opt_.normals) {
+    // Unit normals from the gradient, with the brick's own (specialised) field, in one batch:
+    // of every vertex where sharp features place cube vertices from them, else of the vertices
+    // this brick owns (a vertex another brick owns takes that brick's normal in the weld).
+    const bool sharp = byCubes && opt_.sharpFeatures;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    s.unit.clear();
+    if (sharp || opt_.normals) {
       std::vector<std::uint32_t>& owned = s.owned;
       owned.clear();
       for (std::size_t e = 0; e < m; ++e)
-        if (out.owner[e] != Ownership::Other) owned.push_back(static_cast<std::uint32_t>(e));
+        if (sharp || out.owner[e] != Ownership::Other)
+          owned.push_back(static_cast<std::uint32_t>(e));
       const std::size_t k = owned.size();
       s.gx.resize(k);
       s.gy.resize(k);
@@ -303,15 +385,23 @@ class BrickMesher {
         s.gz[i] = Dual(p[2], 0, 0, 1);
       }
       field.evalGradientBatch(s.gx.data(), s.gy.data(), s.gz.data(), k, s.grad.data());
-      const float nan = std::numeric_limits<float>::quiet_NaN();
-      out.normals.assign(m, Vec3f{nan, nan, nan});
+      s.unit.assign(m, Vec3f{nan, nan, nan});
       for (std::size_t i = 0; i < k; ++i)
-        out.normals[owned[i]] = vertexNormal(s.grad[i], g_, out.positions[owned[i]]);
+        s.unit[owned[i]] = vertexNormal(s.grad[i], g_, out.positions[owned[i]]);
+    }
+    out.triangles.clear();
+    out.flippable.clear();
+    out.triangles.reserve(s.polys.size() / 2 + s.loops.size() / 2);
+    capLoops(r, n, sharp, s, out);  // adds the cubes' inner vertices, owned here
+    out.normals.clear();
+    if (opt_.normals) {
+      out.normals.assign(s.unit.begin(), s.unit.end());
+      for (std::size_t e = 0; e < m; ++e)
+        if (out.owner[e] == Ownership::Other) out.normals[e] = Vec3f{nan, nan, nan};
     }
 
-    // 4. Triangles; a quad is split along the diagonal giving the better-shaped pair.
-    out.triangles.clear();
-    out.triangles.reserve(s.polys.size() / 2);
+    // 4. The tetrahedra's triangles; a quad is split along the diagonal giving the
+    // better-shaped pair.
     for (std::size_t p = 0; p < s.polys.size(); p += 4) {
       const std::uint32_t* q = &s.polys[p];
       if (q[3] == UINT32_MAX) {
@@ -319,10 +409,10 @@ class BrickMesher {
         continue;
       }
       const auto& P = out.positions;
-      const double splitA = std::min(quality(P[q[0]], P[q[1]], P[q[2]]),
-                                     quality(P[q[0]], P[q[2]], P[q[3]]));
-      const double splitB = std::min(quality(P[q[0]], P[q[1]], P[q[3]]),
-                                     quality(P[q[1]], P[q[2]], P[q[3]]));
+      const double splitA =
+          std::min(quality(P[q[0]], P[q[1]], P[q[2]]), quality(P[q[0]], P[q[2]], P[q[3]]));
+      const double splitB =
+          std::min(quality(P[q[0]], P[q[1]], P[q[3]]), quality(P[q[1]], P[q[2]], P[q[3]]));
       if (splitA >= splitB) {
         out.triangles.push_back({q[0], q[1], q[2]});
         out.triangles.push_back({q[0], q[2], q[3]});
@@ -335,13 +425,264 @@ class BrickMesher {
   }
 
  private:
+  // The face diagonals that stay on the loops: those a cube meshed by its tetrahedra
+  // crosses. Across the brick's own faces that cube is a neighbour brick's: its four outer
+  // corners are evaluated here with the whole field, which gives the values the neighbour
+  // computes (specialisation keeps values bit-identical), so both bricks decide alike.
+  void markKeptDiagonals(const Field& whole, const CellRange& r, const std::int64_t n[3],
+                         const std::int64_t c[3], const std::uint32_t cornerOffset[8],
+                         Scratch& s) const {
+    const CubeLoopTables& cl = cubeLoopTables();
+    s.kept.assign(static_cast<std::size_t>(n[0] * n[1] * n[2]) * 7, 0);
+    s.hx.clear();
+    s.hy.clear();
+    s.hz.clear();
+    s.haloKey.clear();
+    s.haloMask.clear();
+    for (std::int64_t k = 0, q = 0; k < c[2]; ++k)
+      for (std::int64_t j = 0; j < c[1]; ++j)
+        for (std::int64_t i = 0; i < c[0]; ++i, ++q) {
+          const int mask = s.cellMask[q];
+          if (mask == 0 || mask == 255) continue;
+          const std::uint32_t base = static_cast<std::uint32_t>(i + n[0] * (j + n[1] * k));
+          const bool byTetrahedra = cl.cases[mask].loops != 1;
+          const std::int64_t at[3] = {i, j, k};
+          for (int id = kFirstFaceDiagonal; id < kMainDiagonal; ++id) {
+            const TetEdge& e = cl.edges[id];
+            if (((mask >> e.low) & 1) == ((mask >> (e.low | e.dir)) & 1)) continue;
+            const std::uint32_t key = (base + cornerOffset[e.low]) * 7 + (e.dir - 1);
+            if (byTetrahedra) {
+              s.kept[key] = 1;
+              continue;
+            }
+            const int a = (~e.dir & 1) ? 0 : (~e.dir & 2) ? 1 : 2;  // the face's normal axis
+            const int side = (e.low >> a) & 1;
+            if (side ? at[a] != c[a] - 1 : at[a] != 0) continue;  // inside the brick
+            const std::int64_t far = r.lo[a] + at[a] + (side ? 2 : -1);
+            if (far < 0 || far >= g_.points[a]) continue;  // the grid's edge: never crossed
+            std::uint8_t known = 0;  // the neighbour's corners on the shared face, from here
+            for (int v = 0; v < 8; ++v)
+              if (((v >> a) & 1) != side && ((mask >> (v ^ (1 << a))) & 1)) known |= 1u << v;
+            s.haloKey.push_back(key);
+            s.haloMask.push_back(known);
+            s.haloMask.push_back(static_cast<std::uint8_t>(a * 2 + side));
+            for (int v = 0; v < 8; ++v) {
+              if (((v >> a) & 1) != side) continue;
+              std::int64_t p[3];
+              for (int b = 0; b < 3; ++b) p[b] = r.lo[b] + at[b] + ((v >> b) & 1);
+              p[a] = far;
+              s.hx.push_back(g_.coord(0, p[0]));
+              s.hy.push_back(g_.coord(1, p[1]));
+              s.hz.push_back(g_.coord(2, p[2]));
+            }
+          }
+        }
+    if (s.haloKey.empty()) return;
+    s.hf.resize(s.hx.size());
+    whole.evalBatch(s.hx.data(), s.hy.data(), s.hz.data(), s.hx.size(), s.hf.data());
+    for (std::size_t h = 0; h < s.haloKey.size(); ++h) {
+      int mask = s.haloMask[2 * h];
+      const int a = s.haloMask[2 * h + 1] / 2, side = s.haloMask[2 * h + 1] % 2;
+      for (int v = 0, f = 0; v < 8; ++v) {
+        if (((v >> a) & 1) != side) continue;
+        const std::size_t at = 4 * h + static_cast<std::size_t>(f++);
+        if (isInside(combine(s.hf[at], g_.boxField(s.hx[at], s.hy[at], s.hz[at])))) mask |= 1 << v;
+      }
+      if (cl.cases[mask].loops != 1) s.kept[s.haloKey[h]] = 1;
+    }
+  }
+
+  // Caps every one-loop cube's loop with a fan. From a loop vertex that shares no cube face
+  // with any loop vertex but its two neighbours, the fan is embedded: seen from that corner
+  // the rest of the loop lies on the other faces, where each ray into the cube leaves it
+  // once, so two of its triangles meet only along their shared edge; no triangle lies in a
+  // face, and each touches the faces only along the loop, which the neighbour cube draws
+  // alike (docs/mesher.md). The best-shaped such fan is taken; a loop with no such vertex
+  // (14 of the 2,202 cases) is fanned from a point inside the cube, embedded for the same
+  // reason.
+  void capLoops(const CellRange& r, const std::int64_t n[3], bool sharp, Scratch& s,
+                BrickResult& out) const {
+    const CubeLoopTables& cl = cubeLoopTables();
+    const std::vector<Vec3f>& P = out.positions;
+    for (std::size_t p = 0; p < s.loops.size();) {
+      const std::uint32_t base = s.loops[p], len = s.loops[p + 1] & 255, mask = s.loops[p + 1] >> 8;
+      const std::uint32_t* L = &s.loops[p + 2];
+      p += 2 + 2 * static_cast<std::size_t>(len);
+      auto v = [&](std::uint32_t i) { return L[2 * (i % len)]; };
+      auto id = [&](std::uint32_t i) { return L[2 * (i % len) + 1]; };
+      if (sharp && placeFeature(r, n, base, mask, L, len, s, out)) continue;
+      int best = -1;
+      double bestQuality = -1.0;
+      for (std::uint32_t a = 0; a < len; ++a) {
+        bool sees = true;
+        for (std::uint32_t j = 2; j + 1 < len && sees; ++j)
+          sees = (cl.faces[id(a + j)] & cl.faces[id(a)]) == 0;
+        if (!sees) continue;
+        double q = std::numeric_limits<double>::infinity();
+        for (std::uint32_t j = 1; j + 1 < len; ++j)
+          q = std::min(q, quality(P[v(a)], P[v(a + j)], P[v(a + j + 1)]));
+        if (q > bestQuality) {
+          bestQuality = q;
+          best = static_cast<int>(a);
+        }
+      }
+      if (best >= 0) {
+        const std::uint32_t a = static_cast<std::uint32_t>(best);
+        for (std::uint32_t j = 1; j + 1 < len; ++j)
+          out.triangles.push_back({v(a), v(a + j), v(a + j + 1)});
+        continue;
+      }
+      const std::uint32_t apex = innerVertex(r, n, base, L, len, s, out);
+      for (std::uint32_t j = 0; j < len; ++j) out.triangles.push_back({apex, v(j), v(j + 1)});
+    }
+  }
+
+  // Sharp features (as Kobbelt et al.'s extended marching cubes): where the normals at a
+  // loop's vertices spread by more than kFeatureCos, the loop is fanned from the point its
+  // tangent planes meet at (a crease line's point nearest their mean, or a corner), kept
+  // inside the cube, so the fan stays embedded (capLoops). Refused, leaving the plain fan,
+  // where that point lies over a cell outside the cube (the feature is not this cube's) or
+  // a triangle of the fan would face against its vertices' normals (a fold).
+  bool placeFeature(const CellRange& r, const std::int64_t n[3], std::uint32_t base,
+                    std::uint32_t mask, const std::uint32_t* L, std::uint32_t len, Scratch& s,
+                    BrickResult& out) const {
+    const std::vector<Vec3f>& P = out.positions;
+    double leastCos = 1.0;
+    std::uint32_t spreadA = 0, spreadB = 0;  // the two most different normals
+    for (std::uint32_t i = 0; i < len; ++i) {
+      const Vec3f& a = s.unit[L[2 * i]];
+      if (!(std::isfinite(a[0]) && (a[0] != 0 || a[1] != 0 || a[2] != 0))) return false;
+      for (std::uint32_t j = 0; j < i; ++j) {
+        const Vec3f& b = s.unit[L[2 * j]];
+        const double c = double(a[0]) * b[0] + double(a[1]) * b[1] + double(a[2]) * b[2];
+        if (c < leastCos) {
+          leastCos = c;
+          spreadA = i;
+          spreadB = j;
+        }
+      }
+    }
+    if (leastCos > kFeatureCos) return false;
+    Quadric q;
+    Vec3 normalSum{0, 0, 0};
+    for (std::uint32_t i = 0; i < len; ++i) {
+      const Vec3f& p = P[L[2 * i]];
+      const Vec3f& u = s.unit[L[2 * i]];
+      q.addPlane(Vec3{p[0], p[1], p[2]}, Vec3{u[0], u[1], u[2]});
+      for (int a = 0; a < 3; ++a) normalSum[a] += u[a];
+    }
+    int rank = 0;
+    Vec3 x = q.minimiser(kFeatureCutoff, &rank);
+    if (rank < 2) return false;
+    const std::int64_t l[3] = {base % n[0], (base / n[0]) % n[1], base / (n[0] * n[1])};
+    double lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      const double c0 = g_.coord(a, r.lo[a] + l[a]), c1 = g_.coord(a, r.lo[a] + l[a] + 1);
+      lo[a] = c0 + kInnerMargin * (c1 - c0);
+      hi[a] = c1 - kInnerMargin * (c1 - c0);
+    }
+    // A crease whose point nearest the planes' mean lies outside the cube may still cross
+    // it: then the vertex goes where the crease line does, inside (the two most different
+    // normals give its direction); else to the cube's point nearest the minimiser.
+    if (rank == 2) {
+      const Vec3f &na = s.unit[L[2 * spreadA]], &nb = s.unit[L[2 * spreadB]];
+      const double d[3] = {double(na[1]) * nb[2] - double(na[2]) * nb[1],
+                           double(na[2]) * nb[0] - double(na[0]) * nb[2],
+                           double(na[0]) * nb[1] - double(na[1]) * nb[0]};
+      double t0 = -std::numeric_limits<double>::infinity(), t1 = -t0;
+      for (int a = 0; a < 3; ++a) {
+        if (d[a] == 0.0) {
+          if (x[a] < lo[a] || x[a] > hi[a]) t0 = t1 + 1.0;  // parallel, outside: no crossing
+          continue;
+        }
+        double u = (lo[a] - x[a]) / d[a], w = (hi[a] - x[a]) / d[a];
+        if (u > w) std::swap(u, w);
+        t0 = std::max(t0, u);
+        t1 = std::min(t1, w);
+      }
+      if (t0 <= t1) {
+        const double t = std::clamp(0.0, t0, t1);
+        for (int a = 0; a < 3; ++a) x[a] += t * d[a];
+      }
+    }
+    Vec3f at;
+    for (int a = 0; a < 3; ++a) {
+      const double h = (hi[a] - lo[a]) / (1.0 - 2.0 * kInnerMargin);
+      if (!(x[a] > lo[a] - h && x[a] < hi[a] + h)) return false;
+      at[a] = static_cast<float>(std::clamp(x[a], lo[a], hi[a]));
+    }
+    for (std::uint32_t j = 0; j < len; ++j) {
+      const std::uint32_t u = L[2 * j], w = L[2 * ((j + 1) % len)];
+      const Vec3d nt = triangleCross(at, P[u], P[w]);
+      double dot = 0.0;
+      for (int a = 0; a < 3; ++a) dot += nt[a] * (double(s.unit[u][a]) + s.unit[w][a]);
+      if (!(dot > 0.0)) return false;
+    }
+    const std::uint32_t apex = addInnerVertex(r, n, base, at, normalSum, s, out);
+    const CubeLoopTables& cl = cubeLoopTables();
+    for (std::uint32_t j = 0; j < len; ++j) {
+      // A fan triangle over the only line the loop draws on a face (two of the face's edges
+      // crossed, no diagonal vertex) may be flipped with its neighbour cube's across that
+      // line to join the two feature vertices (mesh/crease_flips.h).
+      const std::uint32_t a = L[2 * j + 1], b = L[2 * ((j + 1) % len) + 1];
+      if (a < kFirstFaceDiagonal && b < kFirstFaceDiagonal &&
+          crossedEdgesOnFace(mask, cl.faces[a] & cl.faces[b]) == 2)
+        out.flippable.push_back(static_cast<std::uint32_t>(out.triangles.size()));
+      out.triangles.push_back({apex, L[2 * j], L[2 * ((j + 1) % len)]});
+    }
+    return true;
+  }
+
+  // The mean of a loop's vertices, kept kInnerMargin of the cell off every face.
+  std::uint32_t innerVertex(const CellRange& r, const std::int64_t n[3], std::uint32_t base,
+                            const std::uint32_t* L, std::uint32_t count, Scratch& s,
+                            BrickResult& out) const {
+    const std::int64_t l[3] = {base % n[0], (base / n[0]) % n[1], base / (n[0] * n[1])};
+    double mean[3] = {0, 0, 0};
+    Vec3 normalSum{0, 0, 0};
+    for (std::uint32_t i = 0; i < count; ++i)
+      for (int a = 0; a < 3; ++a) {
+        mean[a] += out.positions[L[2 * i]][a];
+        if (!s.unit.empty() && std::isfinite(s.unit[L[2 * i]][a]))
+          normalSum[a] += s.unit[L[2 * i]][a];
+      }
+    Vec3f at;
+    for (int a = 0; a < 3; ++a) {
+      const double lo = g_.coord(a, r.lo[a] + l[a]), hi = g_.coord(a, r.lo[a] + l[a] + 1);
+      at[a] = static_cast<float>(std::clamp(mean[a] / count, lo + kInnerMargin * (hi - lo),
+                                            hi - kInnerMargin * (hi - lo)));
+    }
+    return addInnerVertex(r, n, base, at, normalSum, s, out);
+  }
+
+  // A vertex inside the cube at `base`, keyed as the cube's main diagonal (a cube capped by
+  // a fan has no vertex there), owned by this brick; its normal the loop's mean.
+  std::uint32_t addInnerVertex(const CellRange& r, const std::int64_t n[3], std::uint32_t base,
+                               const Vec3f& at, const Vec3& normalSum, Scratch& s,
+                               BrickResult& out) const {
+    const std::int64_t l[3] = {base % n[0], (base / n[0]) % n[1], base / (n[0] * n[1])};
+    const std::uint32_t key = base * 7 + 6;
+    s.edgeVertex[key] = static_cast<std::int32_t>(s.edgeOf.size());
+    s.edgeOf.push_back(key);
+    out.positions.push_back(at);
+    out.keys.push_back(g_.linear(r.lo[0] + l[0], r.lo[1] + l[1], r.lo[2] + l[2]) * 7 + 6);
+    out.owner.push_back(Ownership::Own);
+    if (!s.unit.empty()) {
+      const double len = std::sqrt(normalSum[0] * normalSum[0] + normalSum[1] * normalSum[1] +
+                                   normalSum[2] * normalSum[2]);
+      s.unit.push_back(len > 0 ? Vec3f{float(normalSum[0] / len), float(normalSum[1] / len),
+                                       float(normalSum[2] / len)}
+                               : Vec3f{0.f, 0.f, 0.f});
+    }
+    return static_cast<std::uint32_t>(s.edgeOf.size() - 1);
+  }
+
   // Illinois (modified regula falsi), all edges of the brick at once so each iteration is one
   // batch evaluation. The edge is parametrised from its lower grid point, so a vertex on a
   // face shared by two bricks is computed identically from both sides.
   // Returns the points evaluated.
-  std::size_t locateRoots(const Field& field, Scratch& s,
-                          const std::vector<std::uint32_t>& edgeOf, const std::int64_t n[3],
-                          const CellRange& r, BrickResult& out) const {
+  std::size_t locateRoots(const Field& field, Scratch& s, const std::vector<std::uint32_t>& edgeOf,
+                          const std::int64_t n[3], const CellRange& r, BrickResult& out) const {
     const std::size_t m = edgeOf.size();
     for (auto* v : {&s.px, &s.py, &s.pz, &s.dx, &s.dy, &s.dz, &s.ta, &s.tb, &s.fa, &s.fb})
       v->resize(m);
@@ -351,7 +692,8 @@ class BrickMesher {
       const std::uint32_t low = key / 7, dir = key % 7 + 1;
       const std::int64_t li = low % n[0], lj = (low / n[0]) % n[1], lk = low / (n[0] * n[1]);
       const std::int64_t gi = r.lo[0] + li, gj = r.lo[1] + lj, gk = r.lo[2] + lk;
-      const std::int64_t hi = gi + (dir & 1), hj = gj + ((dir >> 1) & 1), hk = gk + ((dir >> 2) & 1);
+      const std::int64_t hi = gi + (dir & 1), hj = gj + ((dir >> 1) & 1),
+                         hk = gk + ((dir >> 2) & 1);
       out.keys[e] = g_.linear(gi, gj, gk) * 7 + (dir - 1);
       s.px[e] = g_.coord(0, gi);
       s.py[e] = g_.coord(1, gj);
@@ -472,10 +814,10 @@ void collectBricks(const Field& field, const std::shared_ptr<const Field>& holde
 
 // Weld, the reference way: sort every brick's vertices by global edge key and merge equal
 // keys. Used where the ownership weld below cannot place a vertex (it never should).
-TriangleMesh weldBySorting(std::vector<BrickResult>& results, bool normals) {
+TriangleMesh weldBySorting(std::vector<BrickResult>& results, bool normals,
+                           std::vector<std::uint32_t>* flippable) {
   std::vector<std::size_t> first(results.size() + 1, 0);
-  for (std::size_t i = 0; i < results.size(); ++i)
-    first[i + 1] = first[i] + results[i].keys.size();
+  for (std::size_t i = 0; i < results.size(); ++i) first[i + 1] = first[i] + results[i].keys.size();
   std::vector<std::pair<std::uint64_t, std::uint32_t>> order(first.back());
   tbb::parallel_for(std::size_t(0), results.size(), [&](std::size_t i) {
     for (std::size_t v = 0; v < results[i].keys.size(); ++v)
@@ -511,6 +853,8 @@ TriangleMesh weldBySorting(std::vector<BrickResult>& results, bool normals) {
   mesh.triangles.reserve(triangleCount);
   for (std::size_t i = 0; i < results.size(); ++i) {
     const std::uint32_t base = static_cast<std::uint32_t>(first[i]);
+    const std::uint32_t offset = static_cast<std::uint32_t>(mesh.triangles.size());
+    for (std::uint32_t t : results[i].flippable) flippable->push_back(offset + t);
     for (const Triangle& t : results[i].triangles)
       mesh.triangles.push_back({unique[base + t[0]], unique[base + t[1]], unique[base + t[2]]});
   }
@@ -526,7 +870,7 @@ TriangleMesh weldBySorting(std::vector<BrickResult>& results, bool normals) {
 // compute the edge identically. Every step is per brick, in parallel; no global sort.
 TriangleMesh weld(const Grid& g, int bc, const std::int64_t bricksPerAxis[3],
                   const std::vector<ActiveBrick>& bricks, std::vector<BrickResult>& results,
-                  bool normals, bool* bySorting) {
+                  bool normals, bool* bySorting, std::vector<std::uint32_t>* flippable) {
   const std::size_t count = bricks.size();
   auto brickLinear = [&](const std::int64_t b[3]) {
     return static_cast<std::uint64_t>(b[0] + bricksPerAxis[0] * (b[1] + bricksPerAxis[1] * b[2]));
@@ -536,7 +880,8 @@ TriangleMesh weld(const Grid& g, int bc, const std::int64_t bricksPerAxis[3],
     std::uint64_t p = key / 7;
     std::int64_t b[3];
     for (int a = 0; a < 3; ++a) {
-      const std::int64_t at = static_cast<std::int64_t>(p % static_cast<std::uint64_t>(g.points[a]));
+      const std::int64_t at =
+          static_cast<std::int64_t>(p % static_cast<std::uint64_t>(g.points[a]));
       p /= static_cast<std::uint64_t>(g.points[a]);
       b[a] = std::min(at / bc, bricksPerAxis[a] - 1);
     }
@@ -589,8 +934,8 @@ TriangleMesh weld(const Grid& g, int bc, const std::int64_t bricksPerAxis[3],
       bool found = false;
       if (at != brickIndex.end() && at->first == owner) {
         const auto& list = ownedKeys[at->second];
-        const auto k = std::lower_bound(list.begin(), list.end(),
-                                        std::make_pair(keys[v], std::uint32_t(0)));
+        const auto k =
+            std::lower_bound(list.begin(), list.end(), std::make_pair(keys[v], std::uint32_t(0)));
         if (k != list.end() && k->first == keys[v]) {
           out[v] = static_cast<std::uint32_t>(base[at->second] + k->second);
           found = true;
@@ -601,7 +946,7 @@ TriangleMesh weld(const Grid& g, int bc, const std::int64_t bricksPerAxis[3],
   });
   if (lost) {
     *bySorting = true;
-    return weldBySorting(results, normals);
+    return weldBySorting(results, normals, flippable);
   }
 
   // 3. Positions, normals and triangles, written in place per brick.
@@ -612,6 +957,9 @@ TriangleMesh weld(const Grid& g, int bc, const std::int64_t bricksPerAxis[3],
   for (std::size_t i = 0; i < count; ++i)
     firstTriangle[i + 1] = firstTriangle[i] + results[i].triangles.size();
   mesh.triangles.resize(firstTriangle[count]);
+  for (std::size_t i = 0; i < count; ++i)
+    for (std::uint32_t t : results[i].flippable)
+      flippable->push_back(static_cast<std::uint32_t>(firstTriangle[i]) + t);
   tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
     BrickResult& r = results[i];
     for (std::size_t v = 0; v < r.keys.size(); ++v)
@@ -671,7 +1019,8 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
       h = std::min(h, g.h[a]);
     }
     const float f = static_cast<float>(far);
-    const double step = static_cast<double>(std::nextafter(f, std::numeric_limits<float>::infinity())) - f;
+    const double step =
+        static_cast<double>(std::nextafter(f, std::numeric_limits<float>::infinity())) - f;
     if (h < kMinCellFloatSteps * step) {
       std::ostringstream os;
       os << "mesher: cells of " << h << " at coordinates up to " << far << " span only "
@@ -703,8 +1052,10 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
       auto readable = [](double v) {
         std::ostringstream t;
         t.precision(3);
-        if (v >= 1000.0) t << std::llround(v);
-        else t << v;
+        if (v >= 1000.0)
+          t << std::llround(v);
+        else
+          t << v;
         return t.str();
       };
       os << "mesher: at cell size " << opt.resolution << " the mesh would have about "
@@ -727,7 +1078,8 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
   tbb::parallel_for(std::size_t(0), bricks.size(), [&](std::size_t i) {
     if (cancelled.load(std::memory_order_relaxed)) return;
     const ActiveBrick& b = bricks[i];
-    evaluated += mesher.run(b.field ? *b.field : field, b.range, scratch.local(), results[i]);
+    evaluated +=
+        mesher.run(b.field ? *b.field : field, field, b.range, scratch.local(), results[i]);
     const std::size_t d = ++done;
     if (opt.progress && d % reportEvery == 0) {
       std::lock_guard<std::mutex> lock(progressMutex);
@@ -738,7 +1090,9 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
   if (cancelled) throw Cancelled();
 
   bool bySorting = false;
-  TriangleMesh mesh = weld(g, bc, b1, bricks, results, opt.normals, &bySorting);
+  std::vector<std::uint32_t> flippable;
+  TriangleMesh mesh = weld(g, bc, b1, bricks, results, opt.normals, &bySorting, &flippable);
+  flipCreases(mesh, flippable);
   if (opt.progress) opt.progress(1.0);
 
   if (stats) {

@@ -17,8 +17,23 @@
 
 namespace frep {
 
+// How a crossed cube becomes triangles (docs/mesher.md).
+enum class Extraction {
+  // Each cube whose surface meets its faces in one loop caps that loop with a fan of
+  // straight triangles (as many as marching cubes makes); the rare cube with several loops
+  // keeps its tetrahedra's triangles. The default.
+  Cubes,
+  // Marching tetrahedra in every cube: about three times the triangles (`--mesher tetra`,
+  // kept for one release).
+  Tetrahedra,
+};
+
 struct MeshingOptions {
   Box3 bbox;
+  Extraction extraction = Extraction::Cubes;
+  // Cubes only: a cube a crease or corner crosses gets a vertex on it (from the normals'
+  // tangent planes) instead of a chamfer across it.
+  bool sharpFeatures = true;
   double resolution = 0.05;  // target cell size; the grid fits the box exactly (cells <= this)
   int brickCells = 16;       // cells per brick edge: the unit of pruning and of threading
   int rootIterations = 8;    // Illinois iterations per edge vertex

@@ -126,6 +126,8 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
   MeshingOptions o;
   o.bbox = result.box.box;
   o.resolution = result.box.resolution;
+  o.extraction = request.extraction;
+  o.sharpFeatures = request.sharpFeatures;
   // Vertex normals only where the file keeps them: STL's facet normals come from the
   // triangles, FreeCAD computes its own for .bms.
   o.normals = request.normals && (format == MeshFormat::Obj || format == MeshFormat::Ply);

@@ -73,7 +73,9 @@ struct ExportRequest {
   // this distance of F = 0 (model units, > 0); sharp features place merged vertices on the
   // creases and corners of the field.
   std::optional<double> tolerance;
+  // Creases and corners get vertices on them: in the mesher's cubes, and in the simplifier.
   bool sharpFeatures = true;
+  Extraction extraction = Extraction::Cubes;  // Tetrahedra: the old mesher (one release)
   // Measure the written mesh against the exact surface (pipeline/accuracy.h): distances
   // both ways, volume, crease length. Costs a mesh at half the cell size.
   bool stats = false;

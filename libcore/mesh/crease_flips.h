@@ -1,0 +1,26 @@
+// Creases joined across cubes: extended marching cubes' edge flip (Kobbelt et al. 2001).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "base/triangle_mesh.h"
+
+namespace frep {
+
+// `flippable` lists fan triangles (apex, a, b) whose apex is a feature vertex inside its cube
+// and whose edge a-b is the only line that cube's loop draws on the face holding it. Where the
+// neighbour cube across that face has such a triangle (apex2, b, a) too, the pair becomes
+// (apex, a, apex2), (apex, apex2, b): the crease runs from feature vertex to feature vertex
+// instead of being cut across at the face.
+//
+// Why no flip can make two triangles cross (docs/mesher.md, "Sharp features"): the two new
+// triangles lie in the box the two cubes form and meet its boundary only at a and b; in each
+// cube they are cones from that cube's apex over a line on the face (a to where apex-apex2
+// crosses it, on to b), which meets no other line of the loop since the face holds one, so
+// each cube's fan stays a cone over a simple loop on its boundary, embedded as before.
+// A flip is skipped where a new triangle would be (nearly) degenerate or face against the
+// two it replaces.
+void flipCreases(TriangleMesh& mesh, const std::vector<std::uint32_t>& flippable);
+
+}  // namespace frep
