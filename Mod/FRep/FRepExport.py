@@ -82,15 +82,18 @@ def export_objects(objects, filename, progress=None, cells=None, fmt="", resolut
     name = os.path.basename(filename)
     if filename.lower().endswith(".vdb"):
         return _export_level_set(solid, box, cell, filename, progress)
-    # a single Polygonize feature exports as it meshes: with its Tolerance
-    if (tolerance is None and len(objects) == 1
+    # a single Polygonize feature exports as it meshes: with its Method and Tolerance
+    mesher = "cubes"
+    if (len(objects) == 1
             and isinstance(getattr(objects[0], "Proxy", None), FRepPolygonize.Polygonize)):
-        tolerance, sharp = FRepPolygonize.simplification(objects[0])
+        mesher = FRepPolygonize.mesher_of(objects[0])
+        if tolerance is None:
+            tolerance, sharp = FRepPolygonize.simplification(objects[0])
 
     def work(tick):
         try:
             return solid.export(filename, resolution=cell, bbox=box, format=fmt, progress=tick,
-                                force=force, tolerance=tolerance, sharp=sharp)
+                                force=force, tolerance=tolerance, sharp=sharp, mesher=mesher)
         except frepcore.Cancelled:
             raise RuntimeError("export of %s cancelled; no file written" % name)
 
@@ -125,7 +128,7 @@ def _export_3mf(objects, filename, progress, cells, resolution, bbox, force, tol
             if meshed and (tol is None or own):
                 tol, sh = FRepPolygonize.simplification(obj)
             mesh = solid.node.mesh(box, cell, lambda f, i=i: tick(i * share + f * share), False,
-                                   tol, sh)
+                                   tol, sh, FRepPolygonize.mesher_of(obj) if meshed else "cubes")
             meshes.append((obj.Label, mesh))
         doc = objects[0].Document
         report = frepcore.write_3mf(

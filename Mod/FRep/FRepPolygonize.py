@@ -13,7 +13,11 @@ from FRepProxy import StatelessProxy
 from FRepPaths import frepcore
 
 GROUP = "Polygonize"
-METHODS = ["Marching tetrahedra"]  # Kuhn decomposition: closed, manifold, oriented by design
+# Both closed, manifold and oriented by design (docs/mesher.md): "Cubes" caps each crossed
+# cube with a fan (a third of the triangles, creases placed); "Marching tetrahedra" is the
+# mesher before 0.3, kept selectable for one release.
+METHODS = ["Cubes", "Marching tetrahedra"]
+MESHER_OF_METHOD = {"Cubes": "cubes", "Marching tetrahedra": "tetra"}
 
 
 class Polygonize(StatelessProxy):
@@ -38,12 +42,20 @@ class Polygonize(StatelessProxy):
         add("App::PropertyLength", "Resolution", "Cell size; 0 derives it from Cells.", 0)
         add("App::PropertyInteger", "Cells", "Cells along the longest side of the box when "
             "Resolution is 0. Allowed: 4 to 4096.", FRepMeshing.DEFAULT_EXPORT_CELLS)
-        add("App::PropertyEnumeration", "Method", "Polygonisation method.", METHODS)
+        add("App::PropertyEnumeration", "Method", "Polygonisation method: Cubes (a third "
+            "of the triangles, creases placed) or Marching tetrahedra (the mesher before "
+            "0.3).", METHODS)
+        if list(obj.getEnumerationsOfProperty("Method")) != METHODS:
+            # a document from before 0.3 had one method to store: it meshes with the new
+            # default from now on (Marching tetrahedra stays selectable)
+            obj.Method = METHODS
+            obj.Method = "Cubes"
         add("App::PropertyLength", "Tolerance", "Simplify the mesh: far fewer triangles, the "
             "surface kept within this distance of the exact one (0: off). A tenth of the "
             "cell size is a good start.", 0)
-        add("App::PropertyBool", "SharpFeatures", "With a Tolerance: put vertices on the "
-            "creases and corners the grid cut off.", True)
+        add("App::PropertyBool", "SharpFeatures", "Put vertices on the creases and corners "
+            "(the Cubes mesher, and the simplifier with a Tolerance) instead of chamfering "
+            "them within a cell.", True)
         if "Triangles" not in obj.PropertiesList:
             obj.addProperty("App::PropertyInteger", "Triangles", GROUP,
                             "Triangles in the mesh (read-only).")
@@ -84,10 +96,16 @@ def simplification(obj):
     return (tolerance or None), sharp
 
 
+def mesher_of(obj):
+    """frepcore's mesher name ('cubes' or 'tetra') for a Polygonize feature's Method."""
+    method = obj.Method if "Method" in obj.PropertiesList else METHODS[0]
+    return MESHER_OF_METHOD.get(method, "cubes")
+
+
 def _mesh_or_cancel(obj, shape, box, cell, progress):
     tolerance, sharp = simplification(obj)
     try:
-        return shape.node.mesh(box, cell, progress, False, tolerance, sharp)
+        return shape.node.mesh(box, cell, progress, False, tolerance, sharp, mesher_of(obj))
     except frepcore.Cancelled:
         raise RuntimeError("%s: polygonizing was cancelled; the previous mesh is kept"
                            % obj.Label)

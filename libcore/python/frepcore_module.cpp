@@ -117,6 +117,13 @@ py::object fromParamValue(const ParamTemplate& t, const ParamValue& v) {
   }
 }
 
+// 'cubes' (the default) or 'tetra'; anything else is a ValueError naming the argument.
+Extraction parseMesher(const std::string& name) {
+  if (name == "cubes") return Extraction::Cubes;
+  if (name == "tetra") return Extraction::Tetrahedra;
+  throw py::value_error("mesher must be 'cubes' or 'tetra', got '" + name + "'");
+}
+
 Box3 toBox(const py::sequence& s) {
   if (s.size() == 6) {
     Box3 b;
@@ -420,8 +427,9 @@ PYBIND11_MODULE(_frepcore, m) {
           "export",
           [](PyNode& n, const std::string& path, py::object bbox, py::object resolution,
              py::object cells, const std::string& format, bool check, bool force,
-             py::object progress, py::object tolerance, bool sharp) {
+             py::object progress, py::object tolerance, bool sharp, const std::string& mesher) {
             ExportRequest r;
+            r.extraction = parseMesher(mesher);
             r.box = boxRequest(bbox, resolution, cells, kPaddingCells);
             r.known = structuralBounds(n.node);
             if (!format.empty()) r.format = parseFormat(format);
@@ -466,15 +474,18 @@ PYBIND11_MODULE(_frepcore, m) {
           py::arg("path"), py::arg("bbox") = py::none(), py::arg("resolution") = py::none(),
           py::arg("cells") = py::none(), py::arg("format") = "", py::arg("check") = true,
           py::arg("force") = false, py::arg("progress") = py::none(),
-          py::arg("tolerance") = py::none(), py::arg("sharp") = true,
-          "The export pipeline: box policy, mesh, (simplify within `tolerance` of the surface, "
-          "creases placed unless sharp=False), CGAL check, atomic write. Returns the check "
+          py::arg("tolerance") = py::none(), py::arg("sharp") = true, py::arg("mesher") = "cubes",
+          "The export pipeline: box policy, mesh (mesher 'cubes' or 'tetra'; creases and "
+          "corners placed unless sharp=False), (simplify within `tolerance` of the surface), "
+          "CGAL check, atomic write. Returns the check "
           "report dict plus 'written'; a refused mesh is not written unless force.")
       .def(
           "mesh",
           [](PyNode& n, py::object bbox, double resolution, py::object progress, bool normals,
-             py::object tolerance, bool sharp) {
+             py::object tolerance, bool sharp, const std::string& mesher) {
             MeshingOptions o;
+            o.extraction = parseMesher(mesher);
+            o.sharpFeatures = sharp;
             o.bbox = toBox(bbox.cast<py::sequence>());
             o.resolution = resolution;
             o.normals = normals;
@@ -505,9 +516,12 @@ PYBIND11_MODULE(_frepcore, m) {
           },
           py::arg("bbox"), py::arg("resolution"), py::arg("progress") = py::none(),
           py::arg("normals") = false, py::arg("tolerance") = py::none(), py::arg("sharp") = true,
-          "Polygonises inside bbox with cells of at most `resolution`; with a tolerance the "
-          "mesh is then simplified within it of the surface (creases placed unless "
-          "sharp=False). progress(fraction) is called on this thread; returning False cancels "
+          py::arg("mesher") = "cubes",
+          "Polygonises inside bbox with cells of at most `resolution` (mesher 'cubes', or "
+          "'tetra': marching tetrahedra, three times the triangles); with a tolerance the "
+          "mesh is then simplified within it of the surface (creases and corners placed "
+          "unless sharp=False). progress(fraction) is called on this thread; returning False "
+          "cancels "
           "(raises Cancelled).")
       .def(
           "to_vdb",

@@ -139,6 +139,24 @@ def test_polygonize_and_export_checked(doc, tmp_path):
     assert report["volume"] == pytest.approx(reference.mesh(cells=64).volume(), rel=1e-3)
 
 
+def test_polygonize_method_chooses_the_mesher(doc, tmp_path):
+    part = FRepExamples.build_csg(doc)
+    p = FRepPolygonize.make(part, doc, Cells=48)
+    doc.recompute()
+    assert p.Method == "Cubes" and p.isValid(), p.getStatusString()
+    cubes = p.Triangles
+    p.Method = "Marching tetrahedra"
+    doc.recompute()
+    assert p.isValid() and p.Triangles > 2.5 * cubes
+    out = str(tmp_path / "tetra.stl")
+    assert FRepExport.export_objects([p], out)["triangles"] == p.Triangles
+    # a document from before 0.3 stored the one method it had: it moves to the new default
+    p.Method = ["Marching tetrahedra"]
+    p.Proxy.onDocumentRestored(p)
+    assert p.Method == "Cubes"
+    assert list(p.getEnumerationsOfProperty("Method")) == FRepPolygonize.METHODS
+
+
 def test_polygonize_with_a_tolerance_simplifies_and_exports_alike(doc, tmp_path):
     part = FRepExamples.build_csg(doc)
     full = FRepPolygonize.make(part, doc, Cells=48)
@@ -157,8 +175,11 @@ def test_polygonize_with_a_tolerance_simplifies_and_exports_alike(doc, tmp_path)
     simple.SharpFeatures = False
     doc.recompute()
     assert simple.isValid() and 5 * simple.Triangles < full.Triangles
-    # off again: the full mesh
+    # no tolerance: the mesher's mesh, chamfered without sharp features, as the full one with
     simple.Tolerance = 0
+    doc.recompute()
+    assert simple.Triangles < full.Triangles
+    simple.SharpFeatures = True
     doc.recompute()
     assert simple.Triangles == full.Triangles
 

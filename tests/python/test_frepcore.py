@@ -297,3 +297,17 @@ def test_repair_printability_and_deviation_of_a_mesh():
     assert abs(p["print"]["mass_g"] - 1.24 * fixed.volume() / 1000) < 1e-6
     with pytest.raises(ValueError, match="rebuild policy"):
         holed.repair(rebuild="sometimes")
+
+
+def test_the_cube_mesher_makes_a_third_of_the_tetrahedra_triangles():
+    part = csg()
+    box = ((-1.2, -1.2, -1.2), (1.2, 1.2, 1.2))
+    cubes = part.node.mesh(box, 0.05)
+    tetra = part.node.mesh(box, 0.05, mesher="tetra")
+    chamfered = part.node.mesh(box, 0.05, sharp=False)
+    assert 2.5 * cubes.triangle_count < tetra.triangle_count
+    assert chamfered.triangle_count < cubes.triangle_count  # creases cost a fan each
+    for m in (cubes, tetra, chamfered):
+        assert m.check()["printable"]
+    with pytest.raises(ValueError, match="mesher must be 'cubes' or 'tetra', got 'dual'"):
+        part.node.mesh(box, 0.05, mesher="dual")

@@ -115,28 +115,29 @@ class Shape:
 
     # -- meshing and export ---------------------------------------------------------------
     def mesh(self, resolution=None, bbox=None, cells=None, progress=None, normals=False,
-             tolerance=None, sharp=True):
-        """Polygonises the solid; bbox and resolution default to automatic_box. With a
-        tolerance the mesh is simplified, kept within it of the surface (creases and corners
-        placed unless sharp=False)."""
+             tolerance=None, sharp=True, mesher="cubes"):
+        """Polygonises the solid; bbox and resolution default to automatic_box. Creases and
+        corners get vertices unless sharp=False; mesher='tetra' is the marching-tetrahedra
+        mesher of before 0.3 (three times the triangles). With a tolerance the mesh is
+        simplified, kept within it of the surface."""
         box, cell = automatic_box(self, resolution=resolution, bbox=bbox, cells=cells)
-        return self.node.mesh(box, cell, progress, normals, tolerance, sharp)
+        return self.node.mesh(box, cell, progress, normals, tolerance, sharp, mesher)
 
     def export(self, path, resolution=None, bbox=None, cells=None, format="", check=True,
-               progress=None, force=False, tolerance=None, sharp=True):
+               progress=None, force=False, tolerance=None, sharp=True, mesher="cubes"):
         """Meshes, checks with CGAL and writes path atomically (libcore's export pipeline,
         the same as `frepcad export`); returns the check report (a dict with 'text').
-        With a tolerance (model units) the mesh is simplified first, kept within it of the
-        surface, creases and corners placed unless sharp=False (`frepcad export
-        --tolerance`); the report then has 'triangles_before_simplify' and
-        'largest_distance'.
+        Creases and corners get vertices unless sharp=False; mesher='tetra' meshes by
+        marching tetrahedra (`--mesher tetra`). With a tolerance (model units) the mesh is
+        simplified first, kept within it of the surface (`frepcad export --tolerance`); the
+        report then has 'triangles_before_simplify' and 'largest_distance'.
 
         Raises NotPrintable (nothing written) when the check fails and force is not given,
         Cancelled when progress returns False (nothing written).
         """
         report = self.node.export(path, bbox=bbox, resolution=resolution, cells=cells,
                                   format=format, check=check, force=force, progress=progress,
-                                  tolerance=tolerance, sharp=sharp)
+                                  tolerance=tolerance, sharp=sharp, mesher=mesher)
         if check and not report["printable"] and not force:
             raise NotPrintable("%s: not written, the mesh is not printable: %s"
                                % (path, "; ".join(report["reasons"])), report)
