@@ -6,6 +6,8 @@
 #include "base/triangle_geometry.h"
 
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
@@ -101,33 +103,11 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
   }
 
   tick(0.1);
-  // Edges: border, non-manifold, orientation consistency.
-  {
-  std::vector<std::tuple<std::uint32_t, std::uint32_t, bool>> edges;
-  edges.reserve(faces.size() * 3);
-  for (const auto& f : faces)
-    for (int i = 0; i < 3; ++i) {
-      const auto a = static_cast<std::uint32_t>(f[i]), b = static_cast<std::uint32_t>(f[(i + 1) % 3]);
-      edges.emplace_back(std::min(a, b), std::max(a, b), a < b);
-    }
-  tbb::parallel_sort(edges.begin(), edges.end());
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i, forward = 0;
-    while (j < edges.size() && std::get<0>(edges[j]) == std::get<0>(edges[i]) &&
-           std::get<1>(edges[j]) == std::get<1>(edges[i]))
-      forward += std::get<2>(edges[j++]);
-    const std::size_t n = j - i;
-    if (n == 1) ++r.borderEdges;
-    if (n > 2) ++r.nonManifoldEdges;
-    if (n == 2 && forward != 1) ++r.misorientedEdges;
-    i = j;
-  }
-  }
-  r.closed = r.borderEdges == 0 && !faces.empty();
-
-  tick(0.2);
-  // Non-manifold vertices: the triangles around a vertex must form a single fan.
-  {
+  // Edges and vertices, in one pass over every vertex's incident faces (no table of all 3F
+  // edges to sort): an edge {v, w}, w > v, lies in exactly the faces round v that hold w, so
+  // the run of w among v's neighbours gives its face count (1: a border edge, over 2:
+  // non-manifold) and its directions (two faces must run it opposite ways); and the faces
+  // round v that share a neighbour must join into a single fan (else a non-manifold vertex).
   std::vector<std::uint32_t> start(pos.size() + 1, 0), incident(faces.size() * 3);
   for (const auto& f : faces)
     for (std::size_t v : f) ++start[v + 1];
@@ -137,24 +117,61 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
     for (std::size_t fi = 0; fi < faces.size(); ++fi)
       for (std::size_t v : faces[fi]) incident[fill[v]++] = static_cast<std::uint32_t>(fi);
   }
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> neighbours;  // other vertex, local face
-  for (std::size_t v = 0; v < pos.size(); ++v) {
-    const std::uint32_t b = start[v], e = start[v + 1];
-    if (e - b < 2) continue;
-    UnionFind fans(e - b);
-    neighbours.clear();
-    for (std::uint32_t k = b; k < e; ++k)
-      for (std::uint32_t w : faces[incident[k]])
-        if (w != v) neighbours.emplace_back(w, k - b);
-    std::sort(neighbours.begin(), neighbours.end());
-    for (std::size_t i = 1; i < neighbours.size(); ++i)
-      if (neighbours[i].first == neighbours[i - 1].first)
-        fans.join(neighbours[i].second, neighbours[i - 1].second);
-    std::size_t roots = 0;
-    for (std::uint32_t k = 0; k < e - b; ++k) roots += fans.find(k) == k;
-    if (roots > 1) ++r.nonManifoldVertices;
-  }
+  struct Counts {
+    std::size_t border = 0, nonManifoldEdges = 0, misoriented = 0, nonManifoldVertices = 0;
+  };
+  const Counts counts = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, pos.size(), 4096), Counts(),
+      [&](const tbb::blocked_range<std::size_t>& range, Counts c) {
+        // (other vertex, local face, 1 when the face runs v -> other)
+        std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint8_t>> neighbours;
+        for (std::size_t v = range.begin(); v != range.end(); ++v) {
+          const std::uint32_t b = start[v], e = start[v + 1];
+          if (e == b) continue;
+          neighbours.clear();
+          for (std::uint32_t k = b; k < e; ++k) {
+            const FaceIndices& f = faces[incident[k]];
+            const int at = f[0] == v ? 0 : f[1] == v ? 1 : 2;
+            neighbours.emplace_back(static_cast<std::uint32_t>(f[(at + 1) % 3]), k - b, 1);
+            neighbours.emplace_back(static_cast<std::uint32_t>(f[(at + 2) % 3]), k - b, 0);
+          }
+          std::sort(neighbours.begin(), neighbours.end());
+          UnionFind fans(e - b);
+          for (std::size_t i = 0; i < neighbours.size();) {
+            std::size_t j = i, forward = 0;
+            const std::uint32_t w = std::get<0>(neighbours[i]);
+            for (; j < neighbours.size() && std::get<0>(neighbours[j]) == w; ++j) {
+              forward += std::get<2>(neighbours[j]);
+              if (j > i) fans.join(std::get<1>(neighbours[j]), std::get<1>(neighbours[i]));
+            }
+            if (w > v) {
+              const std::size_t n = j - i;
+              c.border += n == 1;
+              c.nonManifoldEdges += n > 2;
+              c.misoriented += n == 2 && forward != 1;
+            }
+            i = j;
+          }
+          std::size_t roots = 0;
+          for (std::uint32_t k = 0; k < e - b; ++k) roots += fans.find(k) == k;
+          c.nonManifoldVertices += roots > 1;
+        }
+        return c;
+      },
+      [](Counts x, const Counts& y) {
+        x.border += y.border;
+        x.nonManifoldEdges += y.nonManifoldEdges;
+        x.misoriented += y.misoriented;
+        x.nonManifoldVertices += y.nonManifoldVertices;
+        return x;
+      });
+  r.borderEdges = counts.border;
+  r.nonManifoldEdges = counts.nonManifoldEdges;
+  r.misorientedEdges = counts.misoriented;
+  r.nonManifoldVertices = counts.nonManifoldVertices;
+  r.closed = r.borderEdges == 0 && !faces.empty();
 
+  {
   tick(0.3);
   // Connected components (through shared edges and vertices).
   UnionFind parts(pos.size());
