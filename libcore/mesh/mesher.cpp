@@ -28,8 +28,11 @@ namespace {
 constexpr double kEdgeMargin = 0.01;
 // The least number of float32 steps a cell must span (so kEdgeMargin is a few steps).
 constexpr double kMinCellFloatSteps = 256.0;
-// Triangles per cell of a brick's face, for the memory estimate.
+// Triangles per cell of a brick's face, for the memory estimate: marching tetrahedra's (5 to
+// 7 on the reference models) and the cubes' (a third of that, the gyroid's 2.8 times fewer:
+// 2.5 errs on the side of a mesh that fits).
 constexpr double kTrianglesPerFaceCell = 6.0;
+constexpr double kCubeTrianglesPerFaceCell = 2.5;
 // Cells per edge of the sub-blocks of a brick that are proven uniform before its points are
 // evaluated: the octants of a 16-cell brick. An interval evaluation costs about as much as
 // a few dozen point evaluations (branches and outward rounding against straight vector
@@ -1037,11 +1040,13 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
   std::vector<ActiveBrick> bricks;
   collectBricks(field, nullptr, g, cells, bc, b0, b1, bricks);
 
-  // Memory guard: an ordinary surface makes about 6 triangles per cell of a brick's face
-  // (calibrated on the reference models: 5 to 7; a gyroid's dense sheets make more, so the
-  // estimate never refuses a mesh that would fit).
+  // Memory guard: an ordinary surface makes about 6 triangles per cell of a brick's face by
+  // tetrahedra, a third by cubes (calibrated on the reference models; a gyroid's dense
+  // sheets make more, so the estimate never refuses a mesh that would fit).
   if (opt.memoryBudget > 0) {
-    const double triangles = static_cast<double>(bricks.size()) * bc * bc * kTrianglesPerFaceCell;
+    const double triangles =
+        static_cast<double>(bricks.size()) * bc * bc *
+        (opt.extraction == Extraction::Cubes ? kCubeTrianglesPerFaceCell : kTrianglesPerFaceCell);
     const double bytes = triangles * opt.bytesPerTriangle;
     if (bytes > static_cast<double>(opt.memoryBudget)) {
       double h = g.h[0];

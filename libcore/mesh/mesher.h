@@ -2,10 +2,12 @@
 //
 // Guarantees, for any function: the mesh is closed, 2-manifold, consistently oriented with
 // normals pointing out of the solid F >= 0, free of self-intersections, and every triangle
-// has three distinct, non-collinear vertices. How (see docs/mesher.md): marching tetrahedra on
-// the Kuhn decomposition of a regular grid (no ambiguous cases, each triangle stays inside its
-// tetrahedron), the bounding box intersected into the field (so cut solids get caps), vertices
-// found by bracketed root finding and kept strictly inside their grid edge.
+// has three distinct, non-collinear vertices. How (see docs/mesher.md): the topology of
+// marching tetrahedra on the Kuhn decomposition of a regular grid (no ambiguous cases), each
+// crossed cube capped by a fan over the loop that topology draws on its faces (marching
+// cubes' triangle count; embedded by construction), creases and corners given vertices from
+// the gradient, the bounding box intersected into the field (so cut solids get caps),
+// vertices found by bracketed root finding and kept strictly inside their grid edge.
 #pragma once
 
 #include <cstddef>
