@@ -20,11 +20,14 @@ Model example(const std::string& name) {
   return loadModel(std::string(FREP_SOURCE_DIR) + "/examples/" + name + ".json");
 }
 
-TriangleMesh meshModel(const Model& m, double resolution, int brick = 16) {
+TriangleMesh meshModel(const Model& m, double resolution, int brick = 16, bool sharp = true,
+                       Extraction extraction = Extraction::Cubes) {
   MeshingOptions o;
   o.bbox = *m.bbox;
   o.resolution = resolution;
   o.brickCells = brick;
+  o.sharpFeatures = sharp;
+  o.extraction = extraction;
   return polygonize(compile(m.root), o);
 }
 
@@ -41,17 +44,24 @@ struct ExampleCase {
 
 class ExamplesPrintable : public ::testing::TestWithParam<ExampleCase> {};
 
+// Each by cubes with sharp features (the default) and without; the coarse cases by
+// marching tetrahedra too (still selectable).
 TEST_P(ExamplesPrintable, CgalSaysPrintable) {
   const ExampleCase c = GetParam();
-  const TriangleMesh mesh = meshModel(example(c.model), 1.0 / c.cellsPerUnit);
-  const CheckReport r = checkMesh(mesh);
-  EXPECT_TRUE(r.printable()) << c.model << " at 1/" << c.cellsPerUnit << ": " << reasons(r);
-  // The gyroid shell cut by the ball leaves small separate pieces at the ball's surface.
-  if (c.model != "gyroid") {
-    EXPECT_EQ(r.components, 1u);
+  for (int mode = 0; mode < (c.cellsPerUnit <= 64 ? 3 : 2); ++mode) {
+    const TriangleMesh mesh =
+        meshModel(example(c.model), 1.0 / c.cellsPerUnit, 16, mode == 0,
+                  mode == 2 ? Extraction::Tetrahedra : Extraction::Cubes);
+    const CheckReport r = checkMesh(mesh);
+    EXPECT_TRUE(r.printable()) << c.model << " at 1/" << c.cellsPerUnit << " mode " << mode
+                               << ": " << reasons(r);
+    // The gyroid shell cut by the ball leaves small separate pieces at the ball's surface.
+    if (c.model != "gyroid") {
+      EXPECT_EQ(r.components, 1u);
+    }
+    EXPECT_GT(r.volume, 0.0);
+    EXPECT_TRUE(r.outward);
   }
-  EXPECT_GT(r.volume, 0.0);
-  EXPECT_TRUE(r.outward);
 }
 
 std::vector<ExampleCase> exampleCases() {
