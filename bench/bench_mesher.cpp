@@ -6,6 +6,8 @@
 #include <fstream>
 #include <string>
 
+#include <tbb/global_control.h>
+
 #include "frep/model_json.h"
 #include "mesh/mesher.h"
 #include "simplify/simplify.h"
@@ -120,6 +122,36 @@ void BM_AcrossCsg(benchmark::State& s) { meshAcross(s, "csg"); }
 void BM_AcrossTwist(benchmark::State& s) { meshAcross(s, "twist"); }
 void BM_AcrossGyroid(benchmark::State& s) { meshAcross(s, "gyroid"); }
 BENCHMARK(BM_AcrossHelix)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Mesher v2 beside marching tetrahedra (issue 12): each reference model at 128, 256 and 512
+// cells, 1 and 2 threads, without normals (as an STL export meshes): BM_Cubes/csg/256/2 and
+// BM_Tetra/csg/256/2 side by side in one run.
+void meshBy(benchmark::State& state, const std::string& name, frep::Extraction extraction) {
+  auto [program, options] = across(name, state.range(0), false);
+  options.extraction = extraction;
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
+                              static_cast<std::size_t>(state.range(1)));
+  std::size_t triangles = 0;
+  for (auto _ : state) {
+    const frep::TriangleMesh mesh = frep::polygonize(program, options);
+    triangles = mesh.triangleCount();
+    benchmark::DoNotOptimize(mesh.triangles.data());
+  }
+  state.counters["triangles"] = static_cast<double>(triangles);
+}
+const bool kExtractionBenchmarks = [] {
+  for (const char* model : {"sphere", "csg", "twist", "helix", "gyroid"})
+    for (const auto& [label, extraction] :
+         {std::pair<const char*, frep::Extraction>{"Cubes", frep::Extraction::Cubes},
+          {"Tetra", frep::Extraction::Tetrahedra}})
+      benchmark::RegisterBenchmark(
+          (std::string("BM_") + label + "/" + model).c_str(),
+          [m = std::string(model), e = extraction](benchmark::State& st) { meshBy(st, m, e); })
+          ->ArgsProduct({{128, 256, 512}, {1, 2}})
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
+  return true;
+}();
 BENCHMARK(BM_AcrossCsg)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_AcrossTwist)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_AcrossGyroid)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
