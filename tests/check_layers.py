@@ -46,11 +46,13 @@ ALLOWED = {
 # <header prefix>: the layers (or layer/file) that may include it
 LIBRARIES = {
     "CGAL/": {"check/mesh_check.cpp", "check/face_pair_test.cpp", "check/cgal_surface.cpp",
+              "check/volume_nesting.cpp",
               "check/mesh_deviation.cpp", "check/printability.cpp", "repair/cgal_repair.cpp",
               "volume/mesh_distance.cpp"},
     "openvdb/": {"volume"},
     "OpenMesh/": {"mesh/openmesh_bridge.h", "mesh/openmesh_bridge.cpp"},
     "tbb/": {"mesh", "simplify", "check/self_intersections.cpp", "check/mesh_check.cpp",
+             "check/volume_nesting.cpp",
              "check/printability.cpp",
              "volume/grid_ffd.cpp",
              "pipeline/accuracy.cpp", "volume/level_sets.cpp"},

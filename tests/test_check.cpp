@@ -386,5 +386,52 @@ TEST(Check, OrientationOfOneAndOfNestedComponents) {
   EXPECT_FALSE(checkMesh(merged(ball, flipped(scaled(ball, 1.0f, 3)))).outward);
 }
 
+// The nesting test by rays (check/volume_nesting.h) against the rule the check had before
+// (CGAL's does_bound_a_volume and a positive volume) on 200 random arrangements of balls and
+// axis-aligned boxes (whose vertices share grid lines, where axis rays from vertices would
+// graze), nested up to three deep, side by side, some turned inside out: the two agree on
+// every one.
+TEST(Check, NestingByRaysAgreesWithCgal) {
+  MeshingOptions o;
+  o.bbox = {{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}};
+  o.resolution = 0.3;
+  const TriangleMesh ball = polygonize(compile(makeNode("sphere", {}, {})), o);
+  const TriangleMesh cube = polygonize(
+      compile(makeNode("box", {{"corner", vec3Value({-0.9, -0.9, -0.9})},
+                               {"size", vec3Value({1.8, 1.8, 1.8})}}, {})),
+      o);
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<float> u(0, 1);
+  int outward = 0, not_outward = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    TriangleMesh all;
+    const int groups = 1 + static_cast<int>(u(rng) * 3);
+    for (int g = 0; g < groups; ++g) {
+      const float dx = 5.0f * static_cast<float>(g), dy = u(rng) < 0.3f ? 0.0f : u(rng);
+      const int depth = 1 + static_cast<int>(u(rng) * 3);
+      for (int d = 0; d < depth; ++d) {
+        TriangleMesh m = u(rng) < 0.5f ? ball : cube;
+        const float s = std::pow(0.45f, static_cast<float>(d));
+        for (Vec3f& p : m.positions) p = {p[0] * s + dx, p[1] * s + 0.2f * dy * (1 - s), p[2] * s};
+        // the orientation a volume needs (outward at even depth), or now and then the other
+        if ((d % 2 == 1) != (u(rng) < 0.1f))
+          for (Triangle& t : m.triangles) std::swap(t[1], t[2]);
+        all = all.triangles.empty() ? m : merged(all, m);
+      }
+    }
+    const CheckReport r = checkMesh(all);
+    ASSERT_TRUE(r.closed && r.selfIntersections == 0) << "trial " << trial;
+    std::vector<Vec3f> welded;
+    const std::vector<std::uint32_t> map = weldIdenticalVertices(all.positions, welded);
+    std::vector<FaceIndices> faces;
+    for (const Triangle& t : all.triangles) faces.push_back({map[t[0]], map[t[1]], map[t[2]]});
+    const bool before = r.volume > 0 && (r.components == 1 || boundsAVolume(welded, faces));
+    EXPECT_EQ(r.outward, before) << "trial " << trial << ", " << r.components << " components";
+    (before ? outward : not_outward)++;
+  }
+  EXPECT_GT(outward, 40);
+  EXPECT_GT(not_outward, 40);
+}
+
 }  // namespace
 }  // namespace frep
