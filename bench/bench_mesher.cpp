@@ -76,8 +76,9 @@ std::pair<frep::Program, frep::MeshingOptions> across(const std::string& name, l
   return {frep::compile(model.root), options};
 }
 
-void meshAcross(benchmark::State& state, const std::string& name, bool normals = true) {
-  const auto [program, options] = across(name, state.range(0), normals);
+// Meshes `program` once per iteration; the triangles made as a counter.
+void meshRepeatedly(benchmark::State& state, const frep::Program& program,
+                    const frep::MeshingOptions& options) {
   std::size_t triangles = 0;
   for (auto _ : state) {
     const frep::TriangleMesh mesh = frep::polygonize(program, options);
@@ -85,6 +86,11 @@ void meshAcross(benchmark::State& state, const std::string& name, bool normals =
     benchmark::DoNotOptimize(mesh.triangles.data());
   }
   state.counters["triangles"] = static_cast<double>(triangles);
+}
+
+void meshAcross(benchmark::State& state, const std::string& name, bool normals = true) {
+  const auto [program, options] = across(name, state.range(0), normals);
+  meshRepeatedly(state, program, options);
 }
 // The simplifier on the mesher's mesh at N cells, tolerance a tenth of a cell, sharp features
 // on: the seconds are the simplification's alone (the mesh is made once, outside the loop).
@@ -131,13 +137,7 @@ void meshBy(benchmark::State& state, const std::string& name, frep::Extraction e
   options.extraction = extraction;
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
                               static_cast<std::size_t>(state.range(1)));
-  std::size_t triangles = 0;
-  for (auto _ : state) {
-    const frep::TriangleMesh mesh = frep::polygonize(program, options);
-    triangles = mesh.triangleCount();
-    benchmark::DoNotOptimize(mesh.triangles.data());
-  }
-  state.counters["triangles"] = static_cast<double>(triangles);
+  meshRepeatedly(state, program, options);
 }
 const bool kExtractionBenchmarks = [] {
   for (const char* model : {"sphere", "csg", "twist", "helix", "gyroid"})
