@@ -19,6 +19,9 @@ namespace {
 using Fast = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Exact = CGAL::Exact_predicates_exact_constructions_kernel;
 
+constexpr std::uint32_t kMostComponents = 8192;
+constexpr std::size_t kMostAsking = 4096;
+
 struct Bounds {
   float lo[3] = {HUGE_VALF, HUGE_VALF, HUGE_VALF}, hi[3] = {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF};
   void add(const Vec3f& p) {
@@ -100,6 +103,8 @@ std::optional<bool> boundsAVolumeByRays(const std::vector<Vec3f>& points,
                                         const std::vector<FaceIndices>& faces,
                                         const std::vector<std::uint32_t>& component,
                                         std::uint32_t components) {
+  // The boxes are compared pair by pair: many components (an array of parts) go to CGAL.
+  if (components > kMostComponents) return std::nullopt;
   std::vector<Bounds> box(components);
   std::vector<double> volume(components, 0.0);
   std::vector<std::vector<std::uint32_t>> someFaces(components);  // where rays may start
@@ -120,7 +125,7 @@ std::optional<bool> boundsAVolumeByRays(const std::vector<Vec3f>& points,
         isCandidate[b] = 1;
       }
     if (!mayEnclose[a].empty()) asking.push_back(a);
-    if (asking.size() > 4096) return std::nullopt;
+    if (asking.size() > kMostAsking) return std::nullopt;
   }
   std::vector<int> depth(components, 0);
 

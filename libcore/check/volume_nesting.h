@@ -16,7 +16,8 @@ namespace frep {
 // `component[f]`: face f's component, 0 .. components - 1. Enclosure by ray parity with exact
 // predicates: a ray along +x from the centroid of a face of one component counts the faces
 // of each other component it crosses. Returns nothing where it cannot decide cheaply (over
-// 4,096 components whose boxes nest, or every ray tried grazes an edge): CGAL decides then.
+// 8,192 components, over 4,096 whose boxes lie in others', or every ray tried grazes an
+// edge): CGAL decides then.
 std::optional<bool> boundsAVolumeByRays(const std::vector<Vec3f>& points,
                                         const std::vector<FaceIndices>& faces,
                                         const std::vector<std::uint32_t>& component,
