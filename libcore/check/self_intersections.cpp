@@ -1,5 +1,6 @@
 #include "check/self_intersections.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
@@ -37,24 +38,36 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
   const std::vector<Vec3f>& p = points;
 
   // Degenerate faces count as a pair with themselves and take part in nothing else, as in CGAL.
+  // The faces' boxes and degeneracy in parallel (CGAL's exact collinearity test per face),
+  // then the live faces in order.
+  std::vector<Box> boxes(faces.size());
+  std::vector<char> degenerate(faces.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces.size(), 4096),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        const FaceIndices& f = faces[i];
+                        degenerate[i] = collinear(p[f[0]], p[f[1]], p[f[2]]);
+                        Box& b = boxes[i];
+                        for (int k = 0; k < 3; ++k) {  // floats: exact
+                          b.lo[k] = std::min({p[f[0]][k], p[f[1]][k], p[f[2]][k]});
+                          b.hi[k] = std::max({p[f[0]][k], p[f[1]][k], p[f[2]][k]});
+                        }
+                      }
+                    });
   std::size_t count = 0;
   std::vector<std::uint32_t> live;
   live.reserve(faces.size());
-  std::vector<Box> boxes(faces.size());
   std::vector<double> extent;
   extent.reserve(faces.size());
   Box all{{HUGE_VALF, HUGE_VALF, HUGE_VALF}, {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF}};
   for (std::uint32_t i = 0; i < faces.size(); ++i) {
-    const FaceIndices& f = faces[i];
-    if (collinear(p[f[0]], p[f[1]], p[f[2]])) {
+    if (degenerate[i]) {
       ++count;
       continue;
     }
-    Box& b = boxes[i];
+    const Box& b = boxes[i];
     double e = 0.0;
     for (int k = 0; k < 3; ++k) {
-      b.lo[k] = std::min({p[f[0]][k], p[f[1]][k], p[f[2]][k]});
-      b.hi[k] = std::max({p[f[0]][k], p[f[1]][k], p[f[2]][k]});  // floats: exact in double
       e = std::max(e, double(b.hi[k]) - b.lo[k]);
       all.lo[k] = std::min(all.lo[k], b.lo[k]);
       all.hi[k] = std::max(all.hi[k], b.hi[k]);
@@ -62,6 +75,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
     live.push_back(i);
     extent.push_back(e);
   }
+  std::vector<char>().swap(degenerate);
   if (live.size() < 2) return count;
   const double n = static_cast<double>(live.size());
 
@@ -95,27 +109,35 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
   std::vector<std::uint64_t> entries;
   auto cellOf = [&](std::size_t e) { return entries[e] >> 32; };
   auto faceOf = [&](std::size_t e) { return static_cast<std::uint32_t>(entries[e]); };
+  // Each live face's cells, counted and then written in parallel at its place in `entries`.
+  std::vector<std::size_t> firstEntry;
   if (grid) {
-    double total = 0.0;
-    for (std::uint32_t f : live) {
+    firstEntry.assign(live.size() + 1, 0);
+    const double most = kMaxEntriesPerFace * n;
+    tbb::parallel_for(std::size_t(0), live.size(), [&](std::size_t l) {
+      const Box& b = boxes[live[l]];
       double cells = 1.0;
       for (int k = 0; k < 3; ++k)
-        cells *= static_cast<double>(index(boxes[f].hi[k], k) - index(boxes[f].lo[k], k) + 1);
-      total += cells;
-    }
-    grid = total <= kMaxEntriesPerFace * n;
+        cells *= static_cast<double>(index(b.hi[k], k) - index(b.lo[k], k) + 1);
+      firstEntry[l + 1] = static_cast<std::size_t>(std::min(cells, most + 1.0));
+    });
+    for (std::size_t l = 0; l < live.size(); ++l) firstEntry[l + 1] += firstEntry[l];
+    grid = static_cast<double>(firstEntry.back()) <= most;
   }
   if (grid) {
-    entries.reserve(static_cast<std::size_t>(4.0 * n));
-    for (std::uint32_t f : live) {
+    entries.resize(firstEntry.back());
+    tbb::parallel_for(std::size_t(0), live.size(), [&](std::size_t l) {
+      const std::uint32_t f = live[l];
       const Box& b = boxes[f];
       const std::uint64_t i0 = index(b.lo[0], 0), i1 = index(b.hi[0], 0);
       const std::uint64_t j0 = index(b.lo[1], 1), j1 = index(b.hi[1], 1);
       const std::uint64_t k0 = index(b.lo[2], 2), k1 = index(b.hi[2], 2);
+      std::size_t at = firstEntry[l];
       for (std::uint64_t k = k0; k <= k1; ++k)
         for (std::uint64_t j = j0; j <= j1; ++j)
-          for (std::uint64_t i = i0; i <= i1; ++i) entries.push_back(key(i, j, k) << 32 | f);
-    }
+          for (std::uint64_t i = i0; i <= i1; ++i) entries[at++] = key(i, j, k) << 32 | f;
+    });
+    std::vector<std::size_t>().swap(firstEntry);
     tbb::parallel_sort(entries.begin(), entries.end());
   }
   // The cells, as runs of entries; and the work their pairs make.
