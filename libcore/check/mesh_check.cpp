@@ -1,4 +1,5 @@
-// The only translation unit that includes CGAL (slow to compile: keep it alone).
+// The check's passes; CGAL's predicates and routines stay in the check's few files that
+// include CGAL (slow to compile).
 #include "check/mesh_check.h"
 #include "check/volume_nesting.h"
 #include "check/cgal_surface.h"
@@ -39,15 +40,13 @@ std::string count(std::size_t n, const char* what) { return std::to_string(n) + 
 // wholly inside out) and a positive volume, the rule this check had before. A test compares
 // the two on 200 random nests.
 bool severalBoundAVolume(const std::vector<Vec3f>& pos, const std::vector<FaceIndices>& faces,
-                         UnionFind& parts) {
+                         UnionFind& parts, double volume) {
   std::vector<std::uint32_t> index(pos.size(), UINT32_MAX), component(faces.size());
   std::uint32_t components = 0;
-  double volume = 0.0;
   for (std::size_t f = 0; f < faces.size(); ++f) {
     std::uint32_t& c = index[parts.find(faces[f][0])];
     if (c == UINT32_MAX) c = components++;
     component[f] = c;
-    volume += signedTetraVolume(pos[faces[f][0]], pos[faces[f][1]], pos[faces[f][2]]);
   }
   const std::optional<bool> byRays = boundsAVolumeByRays(pos, faces, component, components);
   return byRays ? *byRays : boundsAVolume(pos, faces) && volume > 0;
@@ -229,7 +228,7 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
       // One closed, consistently oriented, self-intersection-free component bounds a volume,
       // outward exactly when its signed volume is positive: CGAL's does_bound_a_volume (a
       // Surface_mesh, about 110 bytes a face, 0.5 s for a million) decides only nestings.
-      r.outward = r.components == 1 ? r.volume > 0 : severalBoundAVolume(pos, indexed, parts);
+      r.outward = r.components == 1 ? r.volume > 0 : severalBoundAVolume(pos, indexed, parts, r.volume);
   }
 
   tick(1.0);

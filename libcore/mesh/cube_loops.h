@@ -31,6 +31,10 @@ struct CubeLoopTables {
   std::array<TetEdge, kCubeEdgeIds> edges;       // id -> (low corner, direction)
   std::array<std::uint8_t, kCubeEdgeIds> faces;  // id -> the cube faces it lies on, bit 2a+s
   std::uint8_t idOf[8][8];  // (low corner, direction) -> id, 255 where no such edge
+
+  // A cube of this sign pattern is capped by a fan over its one loop; any other crossed cube
+  // keeps its tetrahedra's triangles.
+  bool fanned(int mask) const { return cases[mask].loops == 1; }
 };
 
 const CubeLoopTables& cubeLoopTables();

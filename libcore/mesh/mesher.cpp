@@ -188,6 +188,12 @@ Vec3f vertexNormal(const Dual& d, const Grid& g, const Vec3f& p) {
              : Vec3f{0.f, 0.f, 0.f};
 }
 
+// The local key of the grid edge `e` of the cube whose lowest grid point is `base`: its
+// lower grid point x 7 + direction - 1 (the welds' key, in brick-local numbering).
+std::uint32_t edgeKey(std::uint32_t base, const std::uint32_t cornerOffset[8], const TetEdge& e) {
+  return (base + cornerOffset[e.low]) * 7 + (e.dir - 1);
+}
+
 // The cube edges of face `face` (bit 2a + s, as CubeLoopTables::faces) whose corners differ.
 int crossedEdgesOnFace(std::uint32_t mask, std::uint8_t face) {
   const CubeLoopTables& cl = cubeLoopTables();
@@ -277,7 +283,7 @@ class BrickMesher {
     const KuhnTables& kt = kuhnTables();
     const CubeLoopTables& cl = cubeLoopTables();
     const bool byCubes = opt_.extraction == Extraction::Cubes;
-    auto byTetrahedra = [&](int mask) { return !byCubes || cl.cases[mask].loops != 1; };
+    auto byTetrahedra = [&](int mask) { return !byCubes || !cl.fanned(mask); };
     s.edgeVertex.assign(count * 7, -1);
     s.polys.clear();
     s.loops.clear();
@@ -301,9 +307,6 @@ class BrickMesher {
           for (int v = 0; v < 8; ++v) cellMask |= isInside(s.f[base + cornerOffset[v]]) << v;
           s.cellMask[q] = static_cast<std::uint8_t>(cellMask);
         }
-    auto edgeKey = [&](std::uint32_t base, const TetEdge& e) {
-      return (base + cornerOffset[e.low]) * 7 + (e.dir - 1);
-    };
     if (byCubes) markKeptDiagonals(whole, r, n, c, cornerOffset, s);
     auto vertexFor = [&](std::uint32_t key) {
       std::int32_t& slot = s.edgeVertex[key];
@@ -326,7 +329,7 @@ class BrickMesher {
             s.loops.push_back(base);
             s.loops.push_back(static_cast<std::uint32_t>(cellMask) << 8);  // | length
             for (int v = 0; v < lc.length; ++v) {
-              const std::uint32_t key = edgeKey(base, cl.edges[lc.ids[v]]);
+              const std::uint32_t key = edgeKey(base, cornerOffset, cl.edges[lc.ids[v]]);
               if (lc.ids[v] >= kFirstFaceDiagonal && !s.kept[key]) continue;
               s.loops.push_back(vertexFor(key));
               s.loops.push_back(lc.ids[v]);
@@ -341,7 +344,7 @@ class BrickMesher {
             const TetPolygon& poly = kt.polygons[t][mask];
             if (poly.count == 0) continue;
             std::uint32_t ids[4] = {0, 0, 0, UINT32_MAX};
-            for (int e = 0; e < poly.count; ++e) ids[e] = vertexFor(edgeKey(base, poly.edges[e]));
+            for (int e = 0; e < poly.count; ++e) ids[e] = vertexFor(edgeKey(base, cornerOffset, poly.edges[e]));
             s.polys.insert(s.polys.end(), ids, ids + 4);
           }
         }
@@ -448,12 +451,12 @@ class BrickMesher {
           const int mask = s.cellMask[q];
           if (mask == 0 || mask == 255) continue;
           const std::uint32_t base = static_cast<std::uint32_t>(i + n[0] * (j + n[1] * k));
-          const bool byTetrahedra = cl.cases[mask].loops != 1;
+          const bool byTetrahedra = !cl.fanned(mask);
           const std::int64_t at[3] = {i, j, k};
           for (int id = kFirstFaceDiagonal; id < kMainDiagonal; ++id) {
             const TetEdge& e = cl.edges[id];
             if (((mask >> e.low) & 1) == ((mask >> (e.low | e.dir)) & 1)) continue;
-            const std::uint32_t key = (base + cornerOffset[e.low]) * 7 + (e.dir - 1);
+            const std::uint32_t key = edgeKey(base, cornerOffset, e);
             if (byTetrahedra) {
               s.kept[key] = 1;
               continue;
@@ -491,7 +494,7 @@ class BrickMesher {
         const std::size_t at = 4 * h + static_cast<std::size_t>(f++);
         if (isInside(combine(s.hf[at], g_.boxField(s.hx[at], s.hy[at], s.hz[at])))) mask |= 1 << v;
       }
-      if (cl.cases[mask].loops != 1) s.kept[s.haloKey[h]] = 1;
+      if (!cl.fanned(mask)) s.kept[s.haloKey[h]] = 1;
     }
   }
 
@@ -577,13 +580,8 @@ class BrickMesher {
     int rank = 0;
     Vec3 x = q.minimiser(kFeatureCutoff, &rank);
     if (rank < 2) return false;
-    const std::int64_t l[3] = {base % n[0], (base / n[0]) % n[1], base / (n[0] * n[1])};
     double lo[3], hi[3];
-    for (int a = 0; a < 3; ++a) {
-      const double c0 = g_.coord(a, r.lo[a] + l[a]), c1 = g_.coord(a, r.lo[a] + l[a] + 1);
-      lo[a] = c0 + kInnerMargin * (c1 - c0);
-      hi[a] = c1 - kInnerMargin * (c1 - c0);
-    }
+    innerBox(r, n, base, lo, hi);
     // A crease whose point nearest the planes' mean lies outside the cube may still cross
     // it: then the vertex goes where the crease line does, inside (the two most different
     // normals give its direction); else to the cube's point nearest the minimiser.
@@ -636,11 +634,22 @@ class BrickMesher {
     return true;
   }
 
+  // The cube at `base` (its lowest grid point, brick-local) shrunk by kInnerMargin of the
+  // cell on every side: where a vertex inside it may go.
+  void innerBox(const CellRange& r, const std::int64_t n[3], std::uint32_t base, double lo[3],
+                double hi[3]) const {
+    const std::int64_t l[3] = {base % n[0], (base / n[0]) % n[1], base / (n[0] * n[1])};
+    for (int a = 0; a < 3; ++a) {
+      const double c0 = g_.coord(a, r.lo[a] + l[a]), c1 = g_.coord(a, r.lo[a] + l[a] + 1);
+      lo[a] = c0 + kInnerMargin * (c1 - c0);
+      hi[a] = c1 - kInnerMargin * (c1 - c0);
+    }
+  }
+
   // The mean of a loop's vertices, kept kInnerMargin of the cell off every face.
   std::uint32_t innerVertex(const CellRange& r, const std::int64_t n[3], std::uint32_t base,
                             const std::uint32_t* L, std::uint32_t count, Scratch& s,
                             BrickResult& out) const {
-    const std::int64_t l[3] = {base % n[0], (base / n[0]) % n[1], base / (n[0] * n[1])};
     double mean[3] = {0, 0, 0};
     Vec3 normalSum{0, 0, 0};
     for (std::uint32_t i = 0; i < count; ++i)
@@ -649,12 +658,10 @@ class BrickMesher {
         if (!s.unit.empty() && std::isfinite(s.unit[L[2 * i]][a]))
           normalSum[a] += s.unit[L[2 * i]][a];
       }
+    double lo[3], hi[3];
+    innerBox(r, n, base, lo, hi);
     Vec3f at;
-    for (int a = 0; a < 3; ++a) {
-      const double lo = g_.coord(a, r.lo[a] + l[a]), hi = g_.coord(a, r.lo[a] + l[a] + 1);
-      at[a] = static_cast<float>(std::clamp(mean[a] / count, lo + kInnerMargin * (hi - lo),
-                                            hi - kInnerMargin * (hi - lo)));
-    }
+    for (int a = 0; a < 3; ++a) at[a] = static_cast<float>(std::clamp(mean[a] / count, lo[a], hi[a]));
     return addInnerVertex(r, n, base, at, normalSum, s, out);
   }
 
