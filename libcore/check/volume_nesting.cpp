@@ -52,9 +52,15 @@ int sumSign(int a, int b, int c) {
   return 2;  // undecided
 }
 
-Fast::Point_2 yz(const Vec3f& p) { return {p[1], p[2]}; }
-Fast::Point_3 xyz(const Vec3f& p) { return {p[0], p[1], p[2]}; }
-Exact::Point_3 exact3(const Vec3f& p) { return {p[0], p[1], p[2]}; }
+Fast::Point_2 yz(const Vec3f& p) {
+  return {p[1], p[2]};
+}
+Fast::Point_3 xyz(const Vec3f& p) {
+  return {p[0], p[1], p[2]};
+}
+Exact::Point_3 exact3(const Vec3f& p) {
+  return {p[0], p[1], p[2]};
+}
 
 // Orientation of (a, b, centroid) projected on (y, z).
 int orient2(const Vec3f& a, const Vec3f& b, const Start& q) {
@@ -195,8 +201,10 @@ std::optional<bool> boundsAVolumeByRays(const std::vector<Vec3f>& points,
             const int c = crossing(start[a], p0, p1, p2);
             if (c == 0) continue;
             Hits& h = hits.local();
-            if (c < 0) h.grazed.push_back(a);
-            else h.parity[(std::uint64_t(a) << 32) | b] ^= 1;
+            if (c < 0)
+              h.grazed.push_back(a);
+            else
+              h.parity[(std::uint64_t(a) << 32) | b] ^= 1;
           }
         }
     });

@@ -344,7 +344,8 @@ class BrickMesher {
             const TetPolygon& poly = kt.polygons[t][mask];
             if (poly.count == 0) continue;
             std::uint32_t ids[4] = {0, 0, 0, UINT32_MAX};
-            for (int e = 0; e < poly.count; ++e) ids[e] = vertexFor(edgeKey(base, cornerOffset, poly.edges[e]));
+            for (int e = 0; e < poly.count; ++e)
+              ids[e] = vertexFor(edgeKey(base, cornerOffset, poly.edges[e]));
             s.polys.insert(s.polys.end(), ids, ids + 4);
           }
         }
@@ -661,7 +662,8 @@ class BrickMesher {
     double lo[3], hi[3];
     innerBox(r, n, base, lo, hi);
     Vec3f at;
-    for (int a = 0; a < 3; ++a) at[a] = static_cast<float>(std::clamp(mean[a] / count, lo[a], hi[a]));
+    for (int a = 0; a < 3; ++a)
+      at[a] = static_cast<float>(std::clamp(mean[a] / count, lo[a], hi[a]));
     return addInnerVertex(r, n, base, at, normalSum, s, out);
   }
 
