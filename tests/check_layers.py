@@ -2,6 +2,8 @@
 """Layering of libcore: each folder is a layer and may include only the layers below it.
 
     base   <- lattice               (FFD lattices: forward and inverse maps, folds)
+    base   <- hspline               (hierarchical B-spline surfaces; hspline/occt/ alone knows
+                                     OpenCASCADE)
     lattice <- frep <- mesh         (mesh meshes any Field: it knows frep's field seam; frep's
                                      ffd node pulls fields back through a lattice, mesh FFD
                                      pushes vertices forward)
@@ -37,11 +39,12 @@ ALLOWED = {
     "simplify": {"base", "frep", "check", "simplify"},
     "volume": {"base", "lattice", "frep", "io", "check", "volume"},
     "lattice": {"base", "lattice"},
+    "hspline": {"base", "hspline"},
     "repair": {"base", "lattice", "frep", "mesh", "io", "check", "volume", "simplify", "repair"},
     "pipeline": {"base", "frep", "mesh", "io", "check", "simplify", "volume", "lattice",
                  "repair", "pipeline"},
     "python": {"base", "frep", "mesh", "io", "check", "simplify", "volume", "lattice",
-               "repair", "pipeline"},
+               "repair", "pipeline", "hspline"},
 }
 # <header prefix>: the layers (or layer/file) that may include it
 LIBRARIES = {

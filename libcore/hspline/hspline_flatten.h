@@ -1,0 +1,32 @@
+// An hspline as one ordinary B-spline surface, exactly: each level's knots are inserted into
+// the surface so far wherever that level has CVs (and only there), and the level's
+// displacements then add onto single control points. The result is what OpenCASCADE gets
+// (hspline/occt) and what tessellation evaluates.
+#pragma once
+
+#include <vector>
+
+#include "base/vec.h"
+#include "hspline/hspline.h"
+#include "hspline/spline_axis.h"
+
+namespace frep {
+
+struct FlatBSpline {
+  SplineAxis u, v;
+  std::vector<Vec3> poles;  // u.count() x v.count(), index i + u.count() * j
+
+  const Vec3& pole(int i, int j) const {
+    return poles[static_cast<std::size_t>(i) +
+                 static_cast<std::size_t>(u.count()) * static_cast<std::size_t>(j)];
+  }
+  HsSurfacePoint evaluate(double s, double t) const;
+};
+
+FlatBSpline flatten(const HSpline& h);
+
+// Carries a pole grid (nu x nv on `from`'s axes) onto finer axes (their knots hold these).
+std::vector<Vec3> refineGrid(const std::vector<Vec3>& poles, const SplineAxis& fromU,
+                             const SplineAxis& fromV, const SplineAxis& toU, const SplineAxis& toV);
+
+}  // namespace frep

@@ -1,0 +1,387 @@
+// Hierarchical B-spline surfaces (issue 15): the spline axis, refinement, offsets in the
+// parent's frame, the movable-CV rule, zero offsets and unrefine, flattening, tessellation.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <random>
+
+#include "base/errors.h"
+#include "hspline/hspline.h"
+#include "hspline/hspline_flatten.h"
+#include "hspline/hspline_shapes.h"
+#include "hspline/hspline_tessellate.h"
+#include "hspline/spline_axis.h"
+
+using namespace frep;
+
+namespace {
+
+double curveAt(const SplineAxis& a, const std::vector<double>& c, double t, int derivative = 0) {
+  const SpanBasis b = a.basis(t);
+  double x = 0;
+  for (int q = 0; q < 4; ++q) {
+    const auto& w = derivative == 0 ? b.value : derivative == 1 ? b.first : b.second;
+    x += w[q] * c[static_cast<std::size_t>(a.wrap(b.span - 3 + q))];
+  }
+  return x;
+}
+
+std::vector<SplineAxis> someAxes() {
+  return {SplineAxis::clampedUniform(5), SplineAxis::periodicUniform(7),
+          SplineAxis::open({0, 0, 0, 0, 0.3, 0.3, 1.1, 2, 2.5, 2.5, 2.5, 2.5}),
+          SplineAxis::open({-3, -2, -1, 0, 1, 2, 3, 4, 5, 6}),
+          SplineAxis::periodic({0.5, 0.75, 1.5, 2.0, 2.0, 3.25}, 4.0)};
+}
+
+double distance(const Vec3& a, const Vec3& b) {
+  return vlength(vsub(a, b));
+}
+
+// A plane with a level-0 bump and detail on levels 1 and 2.
+HSpline detailedPlane() {
+  HSpline h = hsplinePlane(8, 7, 10, 9);
+  h.moveCv(0, 3, 3, {h.position(0, 3, 3)[0], h.position(0, 3, 3)[1], 2.0});
+  std::vector<std::pair<int, int>> all;
+  for (const HsCv& cv : h.level(0).cvs) all.push_back({cv.i, cv.j});
+  h.refine(0, all);
+  h.setValue(1, 6, 6, {0.1, -0.2, 0.7});
+  h.refine(1, {{6, 6}, {7, 6}});
+  h.setValue(2, 14, 14, {0, 0, -0.4});
+  return h;
+}
+
+std::vector<std::pair<double, double>> samplesOf(const HSpline& h, int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  const HsLevel& l = h.level(0);
+  std::uniform_real_distribution<double> u(l.u.lo(), l.u.hi()), v(l.v.lo(), l.v.hi());
+  std::vector<std::pair<double, double>> out;
+  for (int k = 0; k < n; ++k) out.push_back({u(rng), v(rng)});
+  // Knots and the domain's corners, where spans meet.
+  out.push_back({l.u.lo(), l.v.lo()});
+  out.push_back({l.u.hi(), l.v.hi()});
+  out.push_back({l.u.knot(5), l.v.knot(4)});
+  return out;
+}
+
+}  // namespace
+
+TEST(SplineAxis, BasisSumsToOneAndDerivativesMatchDifferences) {
+  for (const SplineAxis& a : someAxes()) {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> t(a.lo(), a.hi());
+    std::vector<double> c(static_cast<std::size_t>(a.count()));
+    for (double& x : c) x = std::uniform_real_distribution<double>(-1, 1)(rng);
+    for (int k = 0; k < 200; ++k) {
+      const double x = t(rng);
+      const SpanBasis b = a.basis(x);
+      EXPECT_NEAR(b.value[0] + b.value[1] + b.value[2] + b.value[3], 1.0, 1e-14);
+      const double h = 1e-6;
+      if (x - h < a.lo() || x + h > a.hi()) continue;
+      EXPECT_NEAR(curveAt(a, c, x, 1), (curveAt(a, c, x + h) - curveAt(a, c, x - h)) / (2 * h),
+                  1e-5);
+      EXPECT_NEAR(curveAt(a, c, x, 2),
+                  (curveAt(a, c, x + h, 1) - curveAt(a, c, x - h, 1)) / (2 * h), 1e-4);
+    }
+  }
+}
+
+TEST(SplineAxis, RefinementRowsReproduceTheCurveExactly) {
+  for (const SplineAxis& a : someAxes()) {
+    const SplineAxis fine = a.refined();
+    EXPECT_EQ(fine.lo(), a.lo());
+    EXPECT_EQ(fine.hi(), a.hi());
+    std::mt19937 rng(5);
+    std::vector<double> c(static_cast<std::size_t>(a.count()));
+    for (double& x : c) x = std::uniform_real_distribution<double>(-1, 1)(rng);
+    std::vector<double> f(static_cast<std::size_t>(fine.count()), 0);
+    const auto rows = a.rowsOnto(fine);
+    for (std::size_t j = 0; j < rows.size(); ++j) {
+      ASSERT_FALSE(rows[j].empty());
+      for (const auto& [i, w] : rows[j]) f[j] += w * c[static_cast<std::size_t>(i)];
+    }
+    std::uniform_real_distribution<double> t(a.lo(), a.hi());
+    for (int k = 0; k < 300; ++k) {
+      const double x = t(rng);
+      EXPECT_NEAR(curveAt(fine, f, x), curveAt(a, c, x), 1e-13);
+    }
+  }
+}
+
+TEST(SplineAxis, UniformRefinementIsTheSubdivisionMask) {
+  const SplineAxis a = SplineAxis::periodicUniform(6);
+  const auto rows = a.rowsOnto(a.refined());
+  const auto centres = a.childCentres(a.refined());
+  // The fine CV at a coarse CV's centre is (1/8, 3/4, 1/8) of it and its neighbours.
+  for (int i = 0; i < 6; ++i) {
+    const auto& row = rows[static_cast<std::size_t>(centres[static_cast<std::size_t>(i)])];
+    double self = 0, total = 0;
+    for (const auto& [k, w] : row) {
+      total += w;
+      if (k == i) self = w;
+    }
+    EXPECT_NEAR(self, 0.75, 1e-15);
+    EXPECT_NEAR(total, 1.0, 1e-15);
+  }
+}
+
+TEST(SplineAxis, BadKnotsAreRefusedWithTheReason) {
+  auto message = [](auto make) {
+    try {
+      make();
+    } catch (const ModelError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(message([] {
+              SplineAxis::open({0, 0, 0, 0, 2, 1, 3, 3, 3, 3});
+            }).find("smaller than the one before"),
+            std::string::npos);
+  EXPECT_NE(message([] {
+              SplineAxis::open({0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2});
+            }).find("repeated 4 times"),
+            std::string::npos);
+  EXPECT_NE(message([] {
+              SplineAxis::open({0, 0, 0, 0, NAN, 2, 2, 2, 2});
+            }).find("not a finite number"),
+            std::string::npos);
+  EXPECT_NE(message([] {
+              SplineAxis::periodic({0, 1, 2, 5}, 4);
+            }).find("within one period"),
+            std::string::npos);
+  EXPECT_NE(message([] {
+              SplineAxis::open({0, 0, 0, 1, 1, 1});
+            }).find("at least 8 knots"),
+            std::string::npos);
+}
+
+TEST(HSpline, RefiningDoesNotChangeTheSurface) {
+  for (HSpline h : {detailedPlane(), hsplineTorus(8, 6, 5, 1.5)}) {
+    const auto at = samplesOf(h, 400, 11);
+    std::vector<Vec3> before;
+    for (const auto& [u, v] : at) before.push_back(h.evaluate(u, v).position);
+    const int finest = h.levelCount() - 1;
+    std::vector<std::pair<int, int>> some;
+    for (std::size_t k = 0; k < h.level(finest).cvs.size(); k += 3)
+      some.push_back({h.level(finest).cvs[k].i, h.level(finest).cvs[k].j});
+    const std::size_t cvs = h.cvCount();
+    h.refine(finest, some);
+    EXPECT_EQ(h.levelCount(), finest + 2);
+    EXPECT_GT(h.cvCount(), cvs);
+    for (std::size_t k = 0; k < at.size(); ++k) {
+      const Vec3 p = h.evaluate(at[k].first, at[k].second).position;
+      EXPECT_LE(distance(p, before[k]), 1e-12)
+          << "at (" << at[k].first << ", " << at[k].second << ")";
+    }
+  }
+}
+
+TEST(HSpline, NewCvsSitWhereTheParentNetPutsThem) {
+  HSpline h = detailedPlane();
+  // A fresh refinement's CV positions are the parent's net refined by knot insertion: the
+  // flattened level-0-and-1 net at those CVs.
+  h.refine(2, {{14, 14}});
+  const auto positions = h.positions(3);
+  ASSERT_EQ(positions.size(), 49u);
+  for (std::size_t k = 0; k < positions.size(); ++k) {
+    const HsCv& cv = h.level(3).cvs[k];
+    const auto [u, v] = h.referenceParameter(3, cv.i, cv.j);
+    // A uniform cubic's control point lies within its curvature of the surface point it
+    // peaks at; here just nearby.
+    EXPECT_LT(distance(positions[k], h.evaluate(u, v).position), 0.2);
+  }
+}
+
+TEST(HSpline, DetailFollowsTheParentWhenLevelZeroTurns) {
+  HSpline h = detailedPlane();
+  const auto at = samplesOf(h, 200, 17);
+  std::vector<Vec3> before;
+  for (const auto& [u, v] : at) before.push_back(h.evaluate(u, v).position);
+  // Turn every level-0 CV by 90 degrees about the x axis and shift it: the detail, stored in
+  // the parent's frame, must turn and shift with it.
+  auto turn = [](const Vec3& p) { return Vec3{p[0] + 1, -p[2] + 2, p[1] - 3}; };
+  for (const HsCv& cv : std::vector<HsCv>(h.level(0).cvs)) h.moveCv(0, cv.i, cv.j, turn(cv.value));
+  for (std::size_t k = 0; k < at.size(); ++k)
+    EXPECT_LE(distance(h.evaluate(at[k].first, at[k].second).position, turn(before[k])), 1e-9);
+  // Offsets are what they were.
+  EXPECT_EQ(h.find(1, 6, 6)->value, (Vec3{0.1, -0.2, 0.7}));
+}
+
+TEST(HSpline, MovingALevelZeroCvCarriesLevelOneDetailAlong) {
+  HSpline h = detailedPlane();
+  const Vec3 detailBefore =
+      vsub(h.position(1, 6, 6),
+           h.evaluate(h.referenceParameter(1, 6, 6).first, h.referenceParameter(1, 6, 6).second, 0)
+               .position);
+  const Vec3 start = h.position(0, 3, 3), cvBefore = h.position(1, 6, 6);
+  h.moveCv(0, 3, 3, {start[0], start[1], start[2] + 3});
+  const auto [u, v] = h.referenceParameter(1, 6, 6);
+  const Vec3 detailAfter = vsub(h.position(1, 6, 6), h.evaluate(u, v, 0).position);
+  // The CV rose with the parent surface under it...
+  EXPECT_GT(h.position(1, 6, 6)[2], cvBefore[2] + 0.5);
+  // ...and its offset turned with the parent's frame: the displacement keeps its length.
+  const HsFrame f = h.frame(1, 6, 6);
+  const Vec3 d = vadd(vadd(vscale(f.tu, 0.1), vscale(f.tv, -0.2)), vscale(f.n, 0.7));
+  const HsCv* cv = h.find(1, 6, 6);
+  ASSERT_NE(cv, nullptr);
+  const auto k = static_cast<int>(cv - h.level(1).cvs.data());
+  EXPECT_LE(distance(h.displacement(1, k), d), 1e-12);
+  EXPECT_NEAR(vlength(h.displacement(1, k)), std::sqrt(0.01 + 0.04 + 0.49), 1e-12);
+  EXPECT_GT(f.n[0] * f.n[0] + f.n[1] * f.n[1], 1e-4);    // the frame did turn
+  EXPECT_GT(distance(detailAfter, detailBefore), 1e-3);  // not a mere translation
+}
+
+TEST(HSpline, AFixedCvRefusesToMove) {
+  HSpline h = hsplinePlane(12, 12, 10, 10);
+  h.refine(0, {{5, 5}});
+  ASSERT_EQ(h.level(1).cvs.size(), 49u);
+  const HsCv centre = h.level(1).cvs[24];
+  EXPECT_TRUE(h.movable(1, centre.i, centre.j));
+  EXPECT_FALSE(h.movable(1, centre.i + 1, centre.j));
+  const Vec3 p = h.position(1, centre.i + 1, centre.j);
+  try {
+    h.moveCv(1, centre.i + 1, centre.j, {p[0], p[1], p[2] + 1});
+    FAIL() << "a fixed CV moved";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("is fixed"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("7 x 7"), std::string::npos) << e.what();
+  }
+  // Refining the neighbours makes it movable.
+  h.refine(0, {{6, 5}, {4, 5}, {5, 6}, {5, 4}, {6, 6}, {6, 4}, {4, 6}, {4, 4}});
+  EXPECT_TRUE(h.movable(1, centre.i + 1, centre.j));
+  EXPECT_NO_THROW(h.moveCv(1, centre.i + 1, centre.j, {p[0], p[1], p[2] + 1}));
+  EXPECT_NEAR(h.position(1, centre.i + 1, centre.j)[2], p[2] + 1, 1e-12);
+}
+
+TEST(HSpline, TheSurfaceStaysC2AcrossTheBorderOfARefinedRegion) {
+  HSpline h = hsplinePlane(12, 12, 10, 10);
+  h.refine(0, {{5, 5}, {6, 5}});
+  for (const HsCv& cv : h.level(1).cvs)
+    if (h.movable(1, cv.i, cv.j)) h.setValue(1, cv.i, cv.j, {0.2, 0.1, 0.5 + 0.1 * cv.i});
+  h.refine(1, {{h.level(1).cvs[24].i, h.level(1).cvs[24].j}});
+  for (const HsCv& cv : h.level(2).cvs)
+    if (h.movable(2, cv.i, cv.j)) h.setValue(2, cv.i, cv.j, {0, 0, -0.3});
+  // Across every knot line of level 2 (which hold the borders of both refined regions), value,
+  // first and second derivatives agree from both sides.
+  const SplineAxis& u = h.level(2).u;
+  int checked = 0;
+  for (int k = 4; k < u.count(); ++k) {
+    const double t = u.knot(k), e = 1e-7;
+    for (double v : {3.0, 4.4, 5.1, 6.3}) {
+      const HsSurfacePoint a = h.evaluate(t - e, v), b = h.evaluate(t + e, v);
+      EXPECT_LT(distance(a.position, b.position), 1e-5);
+      EXPECT_LT(distance(a.du, b.du), 1e-4);
+      EXPECT_LT(distance(a.duu, b.duu), 1e-3) << "at u " << t << ", v " << v;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 40);
+}
+
+TEST(HSpline, UnrefineAfterZeroOffsetsRestoresTheCvsAndKeepsTheSurface) {
+  HSpline h = hsplineTorus(8, 6, 5, 1.5);
+  const std::size_t cvs = h.cvCount();
+  std::vector<std::pair<int, int>> all;
+  for (const HsCv& cv : h.level(0).cvs) all.push_back({cv.i, cv.j});
+  h.refine(0, all);
+  h.setValue(1, 4, 4, {0, 0, 0.3});
+  h.refine(1, {{4, 4}});
+  h.setValue(2, 10, 10, {0.1, 0, 0.2});
+  // Unrefine keeps what carries detail: the 7 x 7 blocks and the parents of level 2.
+  const auto at = samplesOf(h, 300, 23);
+  std::vector<Vec3> before;
+  for (const auto& [u, v] : at) before.push_back(h.evaluate(u, v).position);
+  const std::size_t removed = h.unrefine();
+  EXPECT_GT(removed, 0u);
+  EXPECT_EQ(h.levelCount(), 3);
+  EXPECT_EQ(h.level(2).cvs.size(), 49u);
+  for (std::size_t k = 0; k < at.size(); ++k)
+    EXPECT_EQ(h.evaluate(at[k].first, at[k].second).position, before[k]);
+  // Zero everything above level 0: unrefine leaves level 0 alone, as it was.
+  std::vector<HsCvRef> refs;
+  for (int l = 1; l < h.levelCount(); ++l)
+    for (const HsCv& cv : h.level(l).cvs) refs.push_back({l, cv.i, cv.j});
+  h.zeroOffsets(refs);
+  const HSpline plain = hsplineTorus(8, 6, 5, 1.5);
+  h.unrefine();
+  EXPECT_EQ(h.levelCount(), 1);
+  EXPECT_EQ(h.cvCount(), cvs);
+  for (const auto& [u, v] : at) EXPECT_EQ(h.evaluate(u, v).position, plain.evaluate(u, v).position);
+}
+
+TEST(HSpline, ZeroOffsetsRefusesLevelZeroAndMissingCvs) {
+  HSpline h = detailedPlane();
+  EXPECT_THROW(h.zeroOffsets({{0, 1, 1}}), ModelError);
+  EXPECT_THROW(h.zeroOffsets({{1, 500, 1}}), ModelError);
+  EXPECT_THROW(h.refine(2, {{0, 0}}), ModelError);  // level 2 has no CV there
+  EXPECT_THROW(h.refine(7, {{0, 0}}), ModelError);
+  // Nothing changed on refusal.
+  EXPECT_EQ(h.find(1, 6, 6)->value, (Vec3{0.1, -0.2, 0.7}));
+}
+
+TEST(HSpline, LevelsAreCapped) {
+  HSpline h = hsplinePlane(4, 4, 1, 1);
+  int level = 0;
+  try {
+    for (; level < 40; ++level)
+      h.refine(level, {{h.level(level).cvs[0].i, h.level(level).cvs[0].j}});
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("levels"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(h.levelCount(), HSpline::kMaxLevels);
+}
+
+TEST(HsFlatten, TheFlattenedSurfaceIsTheHierarchy) {
+  HSpline torus = hsplineTorus(8, 6, 5, 1.5);
+  torus.refine(0, {{2, 2}, {3, 2}});
+  torus.setValue(1, 6, 6, {0.1, 0.2, 0.4});
+  torus.refine(1, {{6, 6}});
+  torus.setValue(2, 14, 14, {0, 0, -0.2});
+  for (const HSpline& h : {detailedPlane(), torus, hsplineCylinder(6, 5, 2, 4)}) {
+    const FlatBSpline f = flatten(h);
+    // Only where finer levels are do their knots enter.
+    EXPECT_LE(f.u.count(), h.level(h.levelCount() - 1).u.count());
+    for (const auto& [u, v] : samplesOf(h, 500, 29)) {
+      const HsSurfacePoint a = h.evaluate(u, v), b = f.evaluate(u, v);
+      EXPECT_LE(distance(a.position, b.position), 1e-9);
+      EXPECT_LE(distance(a.du, b.du), 1e-8);
+    }
+  }
+}
+
+TEST(HsTessellation, ATorusClosesAndStaysWithinTheTolerance) {
+  HSpline h = hsplineTorus(10, 8, 5, 1.5);
+  h.refine(0, {{3, 3}});
+  h.setValue(1, 8, 8, {0, 0, 0.5});
+  const FlatBSpline f = flatten(h);
+  const HsTessellation t = tessellate(f, 0.01);
+  EXPECT_TRUE(t.closed);
+  EXPECT_EQ(t.mesh.triangles.size(), 2u * t.samplesU * t.samplesV);
+  // Each edge of every triangle appears once each way: closed and consistently oriented.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+  for (const Triangle& tri : t.mesh.triangles)
+    for (int e = 0; e < 3; ++e) ++edges[{tri[e], tri[(e + 1) % 3]}];
+  for (const auto& [e, n] : edges) {
+    EXPECT_EQ(n, 1);
+    EXPECT_EQ(edges.count({e.second, e.first}), 1u);
+  }
+  // The surface in the middle of each cell lies within the tolerance (the chord estimate,
+  // with the twist term's factor 2 of slack) of the cells' shared diagonal.
+  ASSERT_EQ(t.us.size(), static_cast<std::size_t>(t.samplesU));
+  double worst = 0;
+  for (int j = 0; j < t.samplesV; ++j)
+    for (int i = 0; i < t.samplesU; ++i) {
+      const std::size_t i1 = (i + 1) % t.samplesU, j1 = (j + 1) % t.samplesV;
+      const double u1 = i1 ? t.us[i1] : f.u.hi(), v1 = j1 ? t.vs[j1] : f.v.hi();
+      const Vec3 mid = f.evaluate(0.5 * (t.us[i] + u1), 0.5 * (t.vs[j] + v1)).position;
+      const auto& a = t.mesh.positions[i + t.samplesU * j];
+      const auto& c = t.mesh.positions[i1 + t.samplesU * j1];
+      const Vec3 chord{0.5 * (a[0] + c[0]), 0.5 * (a[1] + c[1]), 0.5 * (a[2] + c[2])};
+      worst = std::max(worst, distance(mid, chord));
+    }
+  EXPECT_LE(worst, 0.02);
+  EXPECT_GT(worst, 0.001);  // and not far finer than asked
+  EXPECT_THROW(tessellate(f, 0), ModelError);
+  EXPECT_THROW(tessellate(f, 1e-9, 1000), ModelError);
+}
