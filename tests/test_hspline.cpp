@@ -385,3 +385,138 @@ TEST(HsTessellation, ATorusClosesAndStaysWithinTheTolerance) {
   EXPECT_THROW(tessellate(f, 0), ModelError);
   EXPECT_THROW(tessellate(f, 1e-9, 1000), ModelError);
 }
+
+// ---- .hs files ----
+
+#include "hspline/hs_file.h"
+
+namespace {
+
+std::string errorOf(const std::string& text) {
+  try {
+    parseHs(text, "test.hs");
+  } catch (const FileError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string replaced(std::string s, const std::string& from, const std::string& to) {
+  const auto at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) s.replace(at, from.size(), to);
+  return s;
+}
+
+}  // namespace
+
+TEST(HsFile, RoundTripIsExact) {
+  HSpline torus = hsplineTorus(8, 6, 5, 1.5);
+  torus.refine(0, {{2, 2}});
+  torus.setValue(1, 6, 6, {0.1, 1.0 / 3, -0.4});
+  for (const HSpline& h : {detailedPlane(), torus}) {
+    const std::string text = hsText(h);
+    const HSpline back = parseHs(text);
+    EXPECT_EQ(hsText(back), text);
+    ASSERT_EQ(back.levelCount(), h.levelCount());
+    for (const auto& [u, v] : samplesOf(h, 100, 31))
+      EXPECT_EQ(back.evaluate(u, v).position, h.evaluate(u, v).position);
+  }
+}
+
+TEST(HsFile, OptimisedSaveDropsUnusedCvsAndKeepsTheSurface) {
+  const HSpline h = detailedPlane();
+  const HSpline lean = parseHs(hsText(h, true));
+  EXPECT_LT(lean.cvCount(), h.cvCount());
+  for (const auto& [u, v] : samplesOf(h, 200, 37))
+    EXPECT_EQ(lean.evaluate(u, v).position, h.evaluate(u, v).position);
+}
+
+TEST(HsFile, WritesAtomicallyAndReadsBack) {
+  const std::string path = testing::TempDir() + "/plane.hs";
+  writeHsFile(detailedPlane(), path);
+  EXPECT_EQ(hsText(readHsFile(path)), hsText(detailedPlane()));
+  EXPECT_THROW(readHsFile(path + ".missing"), FileError);
+}
+
+TEST(HsFile, MalformedFilesNameTheLine) {
+  HSpline h = hsplinePlane(8, 8, 2, 2);
+  h.refine(0, {{3, 3}});
+  h.setValue(1, 5, 5, {0, 0, 0.1});
+  const std::string good = hsText(h);
+  ASSERT_EQ(errorOf(good), "");
+  // Lines: 1 comment, 2 hspline, 3 axis u, 4 knots, 5 axis v, 6 knots, 7 level 0, 8.. cvs.
+  const std::string truncated = good.substr(0, good.find("level 1"));
+  EXPECT_NE(errorOf(truncated).find("truncated?"), std::string::npos) << errorOf(truncated);
+  const std::string fewer = good.substr(0, good.find("cv 5 5 0 0 0.1"));
+  EXPECT_NE(errorOf(fewer).find("level 1 declares 49 CVs but has"), std::string::npos)
+      << errorOf(fewer);
+  const std::string cut = good.substr(0, good.size() / 2);
+  EXPECT_NE(errorOf(cut).find("line "), std::string::npos);
+  EXPECT_NE(
+      errorOf(replaced(good, "hspline 1", "hspline 2")).find("line 2: version 2 is not known"),
+      std::string::npos);
+  EXPECT_NE(errorOf(replaced(good, "knots 0 0 0 0 1 2 3", "knots 0 0 0 0 1 0.5 3"))
+                .find("line 4: axis u: knots: knot 5"),
+            std::string::npos)
+      << errorOf(replaced(good, "knots 0 0 0 0 1 2 3", "knots 0 0 0 0 1 0.5 3"));
+  const std::string beyond = replaced(good, "cv 5 5 0 0 0.1", "cv 5 400 0 0 0.1");
+  EXPECT_NE(errorOf(beyond).find("j is 400; it must be 0 to"), std::string::npos)
+      << errorOf(beyond);
+  EXPECT_NE(errorOf(beyond).find(", line "), std::string::npos);
+  EXPECT_NE(errorOf(replaced(good, "cv 5 5 0 0 0.10000000000000001", "cv 5 5 0 nan 0.1"))
+                .find("is not a finite number"),
+            std::string::npos);
+  EXPECT_NE(errorOf(replaced(good, "level 1 49", "level 1 999999999")).find("must be 0 to"),
+            std::string::npos);
+  EXPECT_NE(errorOf(replaced(good, "level 1", "level 3")).find("level 1 expected here"),
+            std::string::npos);
+  EXPECT_NE(errorOf(good + "cv 1 1 0 0 0\n").find("nothing may follow 'end'"), std::string::npos);
+  EXPECT_NE(errorOf(replaced(good, "cv 0 0 ", "cv 0 1 ")).find("is given twice"),
+            std::string::npos);
+  EXPECT_NE(errorOf("").find("line 1: the file ends here"), std::string::npos) << errorOf("");
+}
+
+TEST(HsFile, MutatedFilesNeverCrash) {
+  HSpline h = hsplineTorus(6, 5, 3, 1);
+  h.refine(0, {{2, 2}, {3, 3}});
+  h.setValue(1, 6, 6, {0.1, 0.2, 0.3});
+  const std::string good = hsText(h);
+  std::mt19937 rng(41);
+  const std::string alphabet = "0123456789 .-+eE#\nnaicvlkotsuperd";
+  int refused = 0, read = 0;
+  for (int round = 0; round < 3000; ++round) {
+    std::string s = good;
+    const int edits = 1 + static_cast<int>(rng() % 4);
+    for (int e = 0; e < edits; ++e) {
+      const std::size_t at = rng() % s.size();
+      switch (rng() % 5) {
+        case 0:
+          s.erase(at, 1 + rng() % 12);
+          break;
+        case 1:
+          s.insert(at, 1, alphabet[rng() % alphabet.size()]);
+          break;
+        case 2:
+          s[at] = alphabet[rng() % alphabet.size()];
+          break;
+        case 3:
+          s.insert(at, rng() % 2 ? "999999999" : "1e308");
+          break;
+        default:
+          s = s.substr(0, at);
+          break;
+      }
+      if (s.empty()) s = "x";
+    }
+    try {
+      const HSpline back = parseHs(s, "mutant.hs");
+      back.evaluate(0.5, 0.5);
+      ++read;
+    } catch (const FileError&) {
+      ++refused;
+    }
+  }
+  EXPECT_GT(refused, 1000);
+  EXPECT_GT(read, 10);
+}
