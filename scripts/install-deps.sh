@@ -8,6 +8,8 @@ packages=(
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev
   libopenmesh-dev libtbb-dev nlohmann-json3-dev libnanoflann-dev libopenvdb-dev
   lib3mf-dev  # 3MF files (io/mesh_3mf.cpp)
+  libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
+  libocct-data-exchange-dev  # OpenCASCADE: hspline surfaces, solids, STEP (hspline/occt/)
   admesh      # the repair comparison's reference (bench/repair_comparison.py)
   libgtest-dev libgmock-dev libbenchmark-dev
   freecad freecad-python3 python3-dev pybind11-dev python3-pytest

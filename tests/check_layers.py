@@ -63,6 +63,7 @@ LIBRARIES = {
     "nanoflann": {"frep/instances.cpp"},
     "Model/COM/": {"io/mesh_3mf.cpp"},  # lib3mf
     "Eigen/": {"base/affine.cpp", "base/qef.cpp"},
+    ".hxx": {"hspline/occt/occ_hspline.cpp"},  # OpenCASCADE (its headers have no folder)
     "pybind11/": {"python"},
     "Python.h": {"python"},
 }
@@ -100,7 +101,8 @@ def violations(root):
                                              f"but may include only {sorted(ALLOWED[layer])}")
                             continue
                         for prefix, users in LIBRARIES.items():
-                            if header.startswith(prefix) and layer not in users and rel not in users:
+                            matches = header.endswith(prefix) if prefix.startswith(".") else header.startswith(prefix)
+                            if matches and layer not in users and rel not in users:
                                 found.append(f"{where}: {header} belongs in {sorted(users)} only")
                         if layer != "python" and header.startswith(FORBIDDEN_EVERYWHERE):
                             found.append(f"{where}: libcore knows no FreeCAD ({header})")

@@ -1,0 +1,158 @@
+#include "hspline/occt/occ_hspline.h"
+
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakeSolid.hxx>
+#include <BRepCheck_Analyzer.hxx>
+#include <BRepGProp.hxx>
+#include <BRepLib.hxx>
+#include <BRep_Builder.hxx>
+#include <GProp_GProps.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <Interface_Static.hxx>
+#include <STEPControl_Reader.hxx>
+#include <STEPControl_Writer.hxx>
+#include <Standard_Failure.hxx>
+#include <TColStd_Array1OfInteger.hxx>
+#include <TColStd_Array1OfReal.hxx>
+#include <TColgp_Array2OfPnt.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Shell.hxx>
+#include <TopoDS_Solid.hxx>
+#include <algorithm>
+#include <vector>
+
+#include "base/atomic_file.h"
+#include "base/errors.h"
+#include "hspline/hspline_flatten.h"
+
+namespace frep {
+
+namespace {
+
+// OpenCASCADE's knots: distinct values and multiplicities. A periodic axis closes with the
+// first knot one period on, as often as the first.
+void occKnots(const SplineAxis& a, TColStd_Array1OfReal& knots, TColStd_Array1OfInteger& mults) {
+  std::vector<double> value;
+  std::vector<int> count;
+  const auto& k = a.knots();
+  for (double x : k) {
+    if (!value.empty() && value.back() == x)
+      ++count.back();
+    else
+      value.push_back(x), count.push_back(1);
+  }
+  if (a.isPeriodic()) value.push_back(a.lo() + a.period()), count.push_back(count.front());
+  knots.Resize(1, static_cast<int>(value.size()), false);
+  mults.Resize(1, static_cast<int>(value.size()), false);
+  for (std::size_t q = 0; q < value.size(); ++q)
+    knots(int(q) + 1) = value[q], mults(int(q) + 1) = count[q];
+}
+
+// OpenCASCADE extends a periodic knot sequence by three knots before the first: its pole k
+// (from 1) is the CV whose basis starts at knot k - 4 of ours.
+int ourIndex(const SplineAxis& a, int occPole) {
+  return a.isPeriodic() ? a.wrap(occPole - 4) : occPole - 1;
+}
+
+Handle(Geom_BSplineSurface) occSurface(const FlatBSpline& f) {
+  TColStd_Array1OfReal uk(1, 1), vk(1, 1);
+  TColStd_Array1OfInteger um(1, 1), vm(1, 1);
+  occKnots(f.u, uk, um);
+  occKnots(f.v, vk, vm);
+  TColgp_Array2OfPnt poles(1, f.u.count(), 1, f.v.count());
+  for (int j = 1; j <= f.v.count(); ++j)
+    for (int i = 1; i <= f.u.count(); ++i) {
+      const Vec3& p = f.pole(ourIndex(f.u, i), ourIndex(f.v, j));
+      poles(i, j) = gp_Pnt(p[0], p[1], p[2]);
+    }
+  try {
+    return new Geom_BSplineSurface(poles, uk, vk, um, vm, 3, 3, f.u.isPeriodic(), f.v.isPeriodic());
+  } catch (const Standard_Failure& e) {
+    throw ModelError(std::string("OpenCASCADE refused the hspline's B-spline surface: ") +
+                     e.GetMessageString());
+  }
+}
+
+OccShapeSummary summarise(const TopoDS_Shape& shape) {
+  OccShapeSummary s;
+  for (TopExp_Explorer e(shape, TopAbs_SOLID); e.More(); e.Next()) ++s.solids;
+  for (TopExp_Explorer e(shape, TopAbs_SHELL); e.More(); e.Next()) ++s.shells;
+  for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next()) ++s.faces;
+  s.valid = BRepCheck_Analyzer(shape).IsValid();
+  GProp_GProps props;
+  if (s.solids > 0) {
+    BRepGProp::VolumeProperties(shape, props);
+    s.volume = props.Mass();
+  }
+  GProp_GProps area;
+  BRepGProp::SurfaceProperties(shape, area);
+  s.area = area.Mass();
+  return s;
+}
+
+}  // namespace
+
+double occSurfaceDeviation(const HSpline& h, int n) {
+  const FlatBSpline f = flatten(h);
+  Handle(Geom_BSplineSurface) s = occSurface(f);
+  double worst = 0;
+  const SplineAxis &u = h.level(0).u, &v = h.level(0).v;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      // Irregular steps, so samples fall on knots and between them.
+      const double a = u.lo() + (u.hi() - u.lo()) * (i == n ? 1.0 : (i + 0.37 * (i % 3)) / n);
+      const double b = v.lo() + (v.hi() - v.lo()) * (j == n ? 1.0 : (j + 0.29 * (j % 4)) / n);
+      const Vec3 ours = h.evaluate(std::min(a, u.hi()), std::min(b, v.hi())).position;
+      const gp_Pnt theirs = s->Value(std::min(a, u.hi()), std::min(b, v.hi()));
+      worst = std::max(worst, vlength(vsub(ours, {theirs.X(), theirs.Y(), theirs.Z()})));
+    }
+  return worst;
+}
+
+OccShapeSummary writeHsStep(const HSpline& h, const std::string& path) {
+  const FlatBSpline f = flatten(h);
+  Handle(Geom_BSplineSurface) surface = occSurface(f);
+  TopoDS_Shape shape;
+  try {
+    const TopoDS_Face face = BRepBuilderAPI_MakeFace(surface, 1e-7);
+    shape = face;
+    if (f.u.isPeriodic() && f.v.isPeriodic()) {
+      // A surface closed both ways bounds a solid on its own: one face, one shell.
+      BRep_Builder builder;
+      TopoDS_Shell shell;
+      builder.MakeShell(shell);
+      builder.Add(shell, face);
+      shell.Closed(true);
+      TopoDS_Solid solid = BRepBuilderAPI_MakeSolid(shell);
+      BRepLib::OrientClosedSolid(solid);
+      shape = solid;
+    }
+  } catch (const Standard_Failure& e) {
+    throw ModelError(std::string("OpenCASCADE could not make a face or solid of the hspline: ") +
+                     e.GetMessageString());
+  }
+  const OccShapeSummary summary = summarise(shape);
+  if (!summary.valid)
+    throw ModelError("OpenCASCADE's check finds the hspline's shape invalid; nothing was written");
+  AtomicFile file(path);
+  STEPControl_Writer writer;
+  Interface_Static::SetCVal("write.step.schema", "AP214IS");
+  if (writer.Transfer(shape, STEPControl_AsIs) != IFSelect_RetDone)
+    throw ModelError("OpenCASCADE could not translate the hspline to STEP");
+  if (writer.Write(file.temporaryPath().c_str()) != IFSelect_RetDone)
+    throw FileError(path + ": OpenCASCADE could not write the STEP file");
+  file.commit();
+  return summary;
+}
+
+OccShapeSummary readStepSummary(const std::string& path) {
+  STEPControl_Reader reader;
+  if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
+    throw FileError(path + ": OpenCASCADE cannot read it as STEP");
+  if (reader.TransferRoots() == 0) throw FileError(path + ": the STEP file holds no shape");
+  return summarise(reader.OneShape());
+}
+
+}  // namespace frep
