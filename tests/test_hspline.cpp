@@ -520,3 +520,47 @@ TEST(HsFile, MutatedFilesNeverCrash) {
   EXPECT_GT(refused, 1000);
   EXPECT_GT(read, 10);
 }
+
+// ---- tags ----
+
+#include "hspline/hspline_select.h"
+
+TEST(HsTags, SelectionsFollowTheirRules) {
+  HSpline h = hsplineTorus(8, 6, 5, 1.5);
+  h.refine(0, {{2, 2}, {3, 2}});
+  // Along U: every CV of the level on the selected CVs' v line (j), and no other.
+  const auto along = selectAlongU(h, {{1, 8, 6}});
+  ASSERT_FALSE(along.empty());
+  for (const HsCvRef& c : along) {
+    EXPECT_EQ(c.j, 6);
+    EXPECT_EQ(c.level, 1);
+  }
+  std::size_t onLine = 0;
+  for (const HsCv& cv : h.level(1).cvs) onLine += cv.j == 6;
+  EXPECT_EQ(along.size(), onLine);
+  for (const HsCvRef& c : selectAlongV(h, {{0, 3, 1}})) EXPECT_EQ(c.i, 3);
+  EXPECT_EQ(selectAlongV(h, {{0, 3, 1}}).size(), 6u);
+  // Movable: exactly the CVs with a whole 7 x 7 block.
+  const auto movable = selectMovable(h, 1);
+  // Neighbouring coarse CVs have children two apart: two 7 x 7 blocks make a 9 x 7 patch,
+  // whose middle three CVs have a whole block.
+  EXPECT_EQ(movable.size(), 3u);
+  for (const HsCvRef& c : movable) EXPECT_TRUE(h.movable(1, c.i, c.j));
+  EXPECT_EQ(keepMovable(h, selectLevel(h, 1)), movable);
+  EXPECT_EQ(selectLevel(h, 1).size(), 63u);
+  // Neighbours of one CV in the middle: 9.
+  EXPECT_EQ(selectNeighbours(h, {movable[0]}).size(), 9u);
+  // A region across the periodic seam of u: the CVs near u = 0 from both sides.
+  const auto seam = selectRegion(h, 0, 7.5, 0.5, 0, 6);
+  ASSERT_FALSE(seam.empty());
+  for (const HsCvRef& c : seam) {
+    const double u = std::fmod(h.level(0).u.reference(c.i), 8.0);
+    EXPECT_TRUE(u >= 7.5 || u <= 0.5) << u;
+  }
+  // Non-zero offsets, then refining a selection made of two levels.
+  h.setValue(1, movable[0].i, movable[0].j, {0, 0, 0.2});
+  EXPECT_EQ(selectNonZeroOffsets(h), (std::vector<HsCvRef>{movable[0]}));
+  refineSelection(h, {movable[0], {0, 6, 4}});
+  EXPECT_EQ(h.levelCount(), 3);
+  EXPECT_EQ(h.level(2).cvs.size(), 49u);
+}

@@ -95,6 +95,19 @@ FlatBSpline flatten(const HSpline& h) {
   return flat;
 }
 
+OccStyleAxis occStyle(const SplineAxis& a) {
+  OccStyleAxis o;
+  o.periodic = a.isPeriodic();
+  for (double x : a.knots()) {
+    if (!o.knots.empty() && o.knots.back() == x)
+      ++o.mults.back();
+    else
+      o.knots.push_back(x), o.mults.push_back(1);
+  }
+  if (o.periodic) o.knots.push_back(a.lo() + a.period()), o.mults.push_back(o.mults.front());
+  return o;
+}
+
 HsSurfacePoint FlatBSpline::evaluate(double s, double t) const {
   HsSurfacePoint p;
   const SpanBasis bu = u.basis(s), bv = v.basis(t);

@@ -25,6 +25,19 @@ struct FlatBSpline {
 
 FlatBSpline flatten(const HSpline& h);
 
+// An axis the way OpenCASCADE (and FreeCAD's Part.BSplineSurface) take it: distinct knots with
+// multiplicities, a periodic one closed by its first knot one period on. Its pole k (from 0)
+// is our CV ourPole(k): OpenCASCADE starts a periodic sequence three knots before the first.
+struct OccStyleAxis {
+  std::vector<double> knots;
+  std::vector<int> mults;
+  bool periodic = false;
+};
+OccStyleAxis occStyle(const SplineAxis& a);
+inline int ourPole(const SplineAxis& a, int k) {
+  return a.isPeriodic() ? a.wrap(k - 3) : k;
+}
+
 // Carries a pole grid (nu x nv on `from`'s axes) onto finer axes (their knots hold these).
 std::vector<Vec3> refineGrid(const std::vector<Vec3>& poles, const SplineAxis& fromU,
                              const SplineAxis& fromV, const SplineAxis& toU, const SplineAxis& toV);

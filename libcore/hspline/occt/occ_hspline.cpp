@@ -31,29 +31,12 @@ namespace frep {
 
 namespace {
 
-// OpenCASCADE's knots: distinct values and multiplicities. A periodic axis closes with the
-// first knot one period on, as often as the first.
 void occKnots(const SplineAxis& a, TColStd_Array1OfReal& knots, TColStd_Array1OfInteger& mults) {
-  std::vector<double> value;
-  std::vector<int> count;
-  const auto& k = a.knots();
-  for (double x : k) {
-    if (!value.empty() && value.back() == x)
-      ++count.back();
-    else
-      value.push_back(x), count.push_back(1);
-  }
-  if (a.isPeriodic()) value.push_back(a.lo() + a.period()), count.push_back(count.front());
-  knots.Resize(1, static_cast<int>(value.size()), false);
-  mults.Resize(1, static_cast<int>(value.size()), false);
-  for (std::size_t q = 0; q < value.size(); ++q)
-    knots(int(q) + 1) = value[q], mults(int(q) + 1) = count[q];
-}
-
-// OpenCASCADE extends a periodic knot sequence by three knots before the first: its pole k
-// (from 1) is the CV whose basis starts at knot k - 4 of ours.
-int ourIndex(const SplineAxis& a, int occPole) {
-  return a.isPeriodic() ? a.wrap(occPole - 4) : occPole - 1;
+  const OccStyleAxis o = occStyle(a);
+  knots.Resize(1, static_cast<int>(o.knots.size()), false);
+  mults.Resize(1, static_cast<int>(o.knots.size()), false);
+  for (std::size_t q = 0; q < o.knots.size(); ++q)
+    knots(int(q) + 1) = o.knots[q], mults(int(q) + 1) = o.mults[q];
 }
 
 Handle(Geom_BSplineSurface) occSurface(const FlatBSpline& f) {
@@ -64,7 +47,7 @@ Handle(Geom_BSplineSurface) occSurface(const FlatBSpline& f) {
   TColgp_Array2OfPnt poles(1, f.u.count(), 1, f.v.count());
   for (int j = 1; j <= f.v.count(); ++j)
     for (int i = 1; i <= f.u.count(); ++i) {
-      const Vec3& p = f.pole(ourIndex(f.u, i), ourIndex(f.v, j));
+      const Vec3& p = f.pole(ourPole(f.u, i - 1), ourPole(f.v, j - 1));
       poles(i, j) = gp_Pnt(p[0], p[1], p[2]);
     }
   try {
