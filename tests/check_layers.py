@@ -44,7 +44,7 @@ ALLOWED = {
     "pipeline": {"base", "frep", "mesh", "io", "check", "simplify", "volume", "lattice",
                  "repair", "pipeline"},
     "python": {"base", "frep", "mesh", "io", "check", "simplify", "volume", "lattice",
-               "repair", "pipeline", "hspline"},
+               "repair", "pipeline", "hspline", "python"},
 }
 # <header prefix>: the layers (or layer/file) that may include it
 LIBRARIES = {

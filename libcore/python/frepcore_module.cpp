@@ -14,6 +14,7 @@
 #include <map>
 #include <thread>
 
+#include "python/bindings.h"
 #include "check/mesh_check.h"
 #include "check/mesh_deviation.h"
 #include "check/printability.h"
@@ -907,4 +908,6 @@ PYBIND11_MODULE(_frepcore, m) {
         return readMesh(path);
       },
       py::arg("path"));
+
+  bindHSpline(m);
 }

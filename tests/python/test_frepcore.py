@@ -311,3 +311,40 @@ def test_the_cube_mesher_makes_a_third_of_the_tetrahedra_triangles():
         assert m.check()["printable"]
     with pytest.raises(ValueError, match="mesher must be 'cubes' or 'tetra', got 'dual'"):
         part.node.mesh(box, 0.05, mesher="dual")
+
+
+def test_hsplines_refine_edit_and_leave_as_step_stl_and_hs(tmp_path):
+    h = fc.HSpline.torus(8, 6, 5, 1.5)
+    before = h.evaluate(1.3, 2.7)["point"]
+    h.refine(0, [(2, 2), (3, 2)])
+    assert h.level_count == 2 and h.evaluate(1.3, 2.7)["point"] == pytest.approx(before, abs=1e-12)
+    movable = h.select_movable(1)
+    assert movable and all(h.movable(*c) for c in movable)
+    level, i, j = movable[0]
+    target = [x + 0.25 for x in h.position(level, i, j)]
+    h.move_cv(level, i, j, target)
+    assert h.position(level, i, j) == pytest.approx(target, abs=1e-12)
+    with pytest.raises(ValueError, match="is fixed"):
+        h.move_cv(1, *h.cvs(1)[0][1:], (0, 0, 0))
+    # The flat arrays rebuild the same hierarchy (how the FreeCAD feature stores it).
+    a = h.to_arrays()
+    again = fc.HSpline.from_arrays(a["knots_u"], a["period_u"], a["knots_v"], a["period_v"],
+                                   a["levels"], a["i"], a["j"], a["values"])
+    assert again.to_text() == h.to_text()
+    with pytest.raises(ValueError, match="lies outside level 1"):
+        fc.HSpline.from_arrays(a["knots_u"], a["period_u"], a["knots_v"], a["period_v"],
+                               a["levels"], [v if n != len(a["i"]) - 1 else 999
+                                             for n, v in enumerate(a["i"])], a["j"], a["values"])
+    path = str(tmp_path / "t.hs")
+    h.write_hs(path)
+    assert fc.read_hs(path).to_text() == h.to_text()
+    step = str(tmp_path / "t.step")
+    written = h.write_step(step)
+    back = fc.read_step_summary(step)
+    assert back["solids"] == 1 and back["valid"]
+    assert back["volume"] == pytest.approx(written["volume"], rel=1e-9)
+    report = h.tessellate(0.005).check()
+    assert report["printable"] and report["outward"], report["text"]
+    flat = h.bspline()
+    assert flat["uperiodic"] and flat["vperiodic"]
+    assert len(flat["poles"]) == sum(flat["umults"][:-1])

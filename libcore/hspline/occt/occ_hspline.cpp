@@ -10,6 +10,9 @@
 #include <Geom_BSplineSurface.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <Interface_Static.hxx>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+#include <Message_PrinterOStream.hxx>
 #include <STEPControl_Reader.hxx>
 #include <STEPControl_Writer.hxx>
 #include <Standard_Failure.hxx>
@@ -57,6 +60,24 @@ Handle(Geom_BSplineSurface) occSurface(const FlatBSpline& f) {
                      e.GetMessageString());
   }
 }
+
+// OpenCASCADE's translators print statistics to standard output; a command's output is ours.
+// Holds its console printers off while it lives.
+class QuietOcc {
+ public:
+  QuietOcc() {
+    const Handle(Message_Messenger)& m = Message::DefaultMessenger();
+    for (Message_SequenceOfPrinters::Iterator p(m->Printers()); p.More(); p.Next())
+      if (p.Value()->IsKind(STANDARD_TYPE(Message_PrinterOStream))) removed_.push_back(p.Value());
+    for (const auto& p : removed_) m->RemovePrinter(p);
+  }
+  ~QuietOcc() {
+    for (const auto& p : removed_) Message::DefaultMessenger()->AddPrinter(p);
+  }
+
+ private:
+  std::vector<Handle(Message_Printer)> removed_;
+};
 
 OccShapeSummary summarise(const TopoDS_Shape& shape) {
   OccShapeSummary s;
@@ -120,6 +141,7 @@ OccShapeSummary writeHsStep(const HSpline& h, const std::string& path) {
   if (!summary.valid)
     throw ModelError("OpenCASCADE's check finds the hspline's shape invalid; nothing was written");
   AtomicFile file(path);
+  QuietOcc quiet;
   STEPControl_Writer writer;
   Interface_Static::SetCVal("write.step.schema", "AP214IS");
   if (writer.Transfer(shape, STEPControl_AsIs) != IFSelect_RetDone)
@@ -131,6 +153,7 @@ OccShapeSummary writeHsStep(const HSpline& h, const std::string& path) {
 }
 
 OccShapeSummary readStepSummary(const std::string& path) {
+  QuietOcc quiet;
   STEPControl_Reader reader;
   if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
     throw FileError(path + ": OpenCASCADE cannot read it as STEP");
