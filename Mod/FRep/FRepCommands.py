@@ -65,6 +65,8 @@ def toolbars():
         if category not in placed:
             bars.append(("FRep " + category, names))
     bars.append(("FRep lattice", LATTICE_COMMANDS))
+    import FRepHSplineCommands
+    bars.append(("FRep hspline", FRepHSplineCommands.HSPLINE_COMMANDS))
     bars.append(("FRep print", PRINT_COMMANDS))
     bars.append(("FRep mesh", MESH_COMMANDS))
     return bars
@@ -520,4 +522,6 @@ def register():
     FreeCADGui.addCommand("FRep_Deform", DeformCommand())
     FreeCADGui.addCommand("FRep_Repair", RepairCommand())
     FreeCADGui.addCommand("FRep_Printability", PrintabilityCommand())
+    import FRepHSplineCommands
+    FRepHSplineCommands.register()
     return toolbars()

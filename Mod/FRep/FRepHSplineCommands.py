@@ -1,0 +1,207 @@
+"""The hspline commands (FRep > HSpline): new hsplines from a plane, a cylinder, a torus or a
+selected B-spline face; Refine, Zero Offsets and Unrefine on the tagged CVs; To Solid; import
+and export of .hs files, and export as STEP or as a checked mesh. Each works inside one undo
+transaction and reports a refusal in a dialog with the reason."""
+
+import FreeCAD
+import FreeCADGui
+
+import FRepPaths
+from FRepCommands import QT_TRANSLATE_NOOP, Transaction, add_to_active_container, report
+
+HSPLINE_COMMANDS = ["FRep_HSplinePlane", "FRep_HSplineCylinder", "FRep_HSplineTorus",
+                    "FRep_HSplineFromFace", "FRep_HSplineRefine", "FRep_HSplineZeroOffsets",
+                    "FRep_HSplineUnrefine", "FRep_HSplineToSolid", "FRep_HSplineImport",
+                    "FRep_HSplineExport"]
+
+
+def _selected_hsplines():
+    import FRepHSpline
+    return [o for o in FreeCADGui.Selection.getSelection() if FRepHSpline.is_hspline(o)]
+
+
+def _select(obj):
+    FreeCADGui.Selection.clearSelection()
+    FreeCADGui.Selection.addSelection(obj)
+
+
+class NewHSplineCommand:
+    SHAPES = {
+        "plane": ("New hspline plane", "An hspline from a plane of 8 x 8 CVs, 100 mm square."),
+        "cylinder": ("New hspline cylinder",
+                     "An hspline cylinder (periodic around): 8 x 8 CVs, radius 20 mm, 60 mm high."),
+        "torus": ("New hspline torus", "A closed hspline torus (a solid): 10 x 8 CVs, radii 30 "
+                                       "and 10 mm."),
+    }
+
+    def __init__(self, shape):
+        self.shape = shape
+
+    def GetResources(self):
+        text, tip = self.SHAPES[self.shape]
+        return {"Pixmap": FRepPaths.icon("hspline"), "MenuText": text, "ToolTip": tip}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None
+
+    def Activated(self):
+        import FRepHSpline
+        doc = FreeCAD.ActiveDocument
+        make = {"plane": FRepHSpline.make_plane, "cylinder": FRepHSpline.make_cylinder,
+                "torus": FRepHSpline.make_torus}[self.shape]
+        with Transaction(doc, "Create hspline"):
+            obj = make(doc)
+            add_to_active_container(obj)
+            doc.recompute()
+        _select(obj)
+
+
+class FromFaceCommand:
+    def GetResources(self):
+        return {"Pixmap": FRepPaths.icon("hspline"),
+                "MenuText": QT_TRANSLATE_NOOP("FRep_HSplineFromFace", "Hspline from face"),
+                "ToolTip": QT_TRANSLATE_NOOP(
+                    "FRep_HSplineFromFace",
+                    "An hspline whose level 0 is the selected face's B-spline surface, exactly "
+                    "(untrimmed; degree raised to 3 where lower).")}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None and bool(FreeCADGui.Selection.getSelectionEx())
+
+    def Activated(self):
+        import FRepHSpline
+        doc = FreeCAD.ActiveDocument
+        faces = [(s.Object, f) for s in FreeCADGui.Selection.getSelectionEx()
+                 for f in (s.SubObjects or getattr(s.Object.Shape, "Faces", [])[:1])
+                 if f.ShapeType == "Face"]
+        if not faces:
+            report("FRep hspline", "Hspline from face needs a face selected (a B-spline face: "
+                   "Part > Convert to NURBS makes one of most faces)")
+            return
+        source, face = faces[0]
+        try:
+            with Transaction(doc, "Hspline from face"):
+                obj = FRepHSpline.make_from_face(doc, face, label="%s's face" % source.Label)
+                add_to_active_container(obj)
+                doc.recompute()
+        except ValueError as e:
+            report("FRep hspline", str(e))
+            return
+        _select(obj)
+
+
+class EditCommand:
+    """Refine, Zero Offsets, Unrefine, To Solid on the selected hsplines."""
+    ACTIONS = {
+        "refine": ("hspline_refine", "Refine",
+                   "Adds a finer level around the tagged CVs (7 x 7 new CVs about each, with zero "
+                   "offsets: the surface does not change). Tag CVs in edit mode first."),
+        "zero": ("hspline_zero", "Zero offsets",
+                 "Puts the tagged CVs of refined levels back on their parent surface."),
+        "unrefine": ("hspline_unrefine", "Unrefine",
+                     "Removes the CVs with zero offset that no detail needs, and empty levels; "
+                     "the surface does not change."),
+        "solid": ("hspline", "To solid",
+                  "Makes the selected closed hspline (periodic both ways, like a torus) a solid."),
+    }
+
+    def __init__(self, action):
+        self.action = action
+
+    def GetResources(self):
+        icon, text, tip = self.ACTIONS[self.action]
+        return {"Pixmap": FRepPaths.icon(icon), "MenuText": text, "ToolTip": tip}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None and bool(_selected_hsplines())
+
+    def Activated(self):
+        import FRepHSpline as H
+        doc = FreeCAD.ActiveDocument
+        run = {"refine": H.refine, "zero": H.zero_offsets, "unrefine": H.unrefine,
+               "solid": H.set_make_solid}[self.action]
+        for obj in _selected_hsplines():
+            try:
+                with Transaction(doc, "%s %s" % (self.ACTIONS[self.action][1], obj.Label)):
+                    result = run(obj)
+                    doc.recompute()
+            except ValueError as e:
+                report("FRep hspline", str(e))
+                continue
+            if self.action == "unrefine":
+                FreeCAD.Console.PrintMessage("%s: unrefine removed %d CVs\n" % (obj.Label, result))
+
+
+class ImportCommand:
+    def GetResources(self):
+        return {"Pixmap": FRepPaths.icon("hspline"), "MenuText": "Import .hs...",
+                "ToolTip": "Reads an hspline file (.hs, docs/file-formats.md) into a new HSpline."}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None
+
+    def Activated(self):
+        from PySide import QtGui
+        import FRepHSpline
+        path, _ = QtGui.QFileDialog.getOpenFileName(FreeCADGui.getMainWindow(), "Import hspline",
+                                                    "", "Hspline (*.hs)")
+        if not path:
+            return
+        doc = FreeCAD.ActiveDocument
+        try:
+            with Transaction(doc, "Import hspline"):
+                obj = FRepHSpline.import_hs(doc, path)
+                add_to_active_container(obj)
+                doc.recompute()
+        except (ValueError, OSError) as e:
+            report("FRep hspline", str(e))
+            return
+        _select(obj)
+
+
+class ExportCommand:
+    FILTERS = ("Hspline (*.hs);;Hspline, unrefined (*.hs);;STEP (*.step *.stp);;"
+               "STL mesh, checked (*.stl)")
+
+    def GetResources(self):
+        return {"Pixmap": FRepPaths.icon("export"), "MenuText": "Export hspline...",
+                "ToolTip": "Writes the selected hspline as .hs (optionally unrefined), as STEP "
+                           "(a solid when closed) or as an STL mesh checked printable."}
+
+    def IsActive(self):
+        return len(_selected_hsplines()) == 1
+
+    def Activated(self):
+        import os
+        from PySide import QtGui
+        import FRepHSpline
+        obj = _selected_hsplines()[0]
+        path, chosen = QtGui.QFileDialog.getSaveFileName(
+            FreeCADGui.getMainWindow(), "Export hspline", obj.Label + ".hs", self.FILTERS)
+        if not path:
+            return
+        ext = os.path.splitext(path)[1].lower()
+        try:
+            if ext == ".hs":
+                FRepHSpline.export_hs(obj, path, optimised="unrefined" in chosen)
+            elif ext in (".step", ".stp"):
+                FRepHSpline.export_step(obj, path)
+            elif ext == ".stl":
+                FRepHSpline.export_mesh(obj, path, tolerance=0.01)
+            else:
+                raise ValueError("%s: export as .hs, .step or .stl, not '%s'" % (obj.Label, ext))
+        except (ValueError, OSError) as e:
+            report("FRep hspline", str(e))
+            return
+        FreeCADGui.getMainWindow().statusBar().showMessage("Wrote %s" % path, 10000)
+
+
+def register():
+    for shape in ("plane", "cylinder", "torus"):
+        FreeCADGui.addCommand("FRep_HSpline" + shape.capitalize(), NewHSplineCommand(shape))
+    FreeCADGui.addCommand("FRep_HSplineFromFace", FromFaceCommand())
+    for action, name in (("refine", "Refine"), ("zero", "ZeroOffsets"), ("unrefine", "Unrefine"),
+                         ("solid", "ToSolid")):
+        FreeCADGui.addCommand("FRep_HSpline" + name, EditCommand(action))
+    FreeCADGui.addCommand("FRep_HSplineImport", ImportCommand())
+    FreeCADGui.addCommand("FRep_HSplineExport", ExportCommand())

@@ -1,0 +1,276 @@
+"""The HSpline feature's view provider: the exact surface as Part draws it, with the CVs of one
+level over it (ShowLevel; -1 the finest), movable CVs green, fixed ones grey, tagged ones red,
+and their control net. Edit mode (double-click) opens the HSpline panel, puts a dragger on
+every tagged CV that may move (each drag one undo step) and tags a CV on Ctrl+click, refusing
+fixed ones with the reason. A view provider asks its object: it never imports the feature
+module."""
+
+import FreeCAD
+
+import FRepPaths
+from FRepProxy import StatelessProxy
+
+MOVABLE = (0.1, 0.6, 0.2)
+FIXED = (0.55, 0.55, 0.55)
+TAGGED = (0.9, 0.1, 0.1)
+
+
+def shown_level(vobj, h):
+    level = vobj.ShowLevel
+    return h.level_count - 1 if level < 0 or level >= h.level_count else level
+
+
+class ViewProviderHSpline(StatelessProxy):
+    def __init__(self, vobj):
+        vobj.Proxy = self
+        self.setup(vobj)
+        vobj.ShapeColor = (0.8, 0.7, 0.45)
+
+    def setup(self, vobj):
+        have = vobj.PropertiesList
+        if "ShowLevel" not in have:
+            vobj.addProperty("App::PropertyInteger", "ShowLevel", "HSpline",
+                             "The level whose CVs are drawn; -1: the finest.")
+            vobj.ShowLevel = -1
+        if "ShowCvs" not in have:
+            vobj.addProperty("App::PropertyBool", "ShowCvs", "HSpline",
+                             "Draw the CVs of ShowLevel and their control net.")
+            vobj.ShowCvs = True
+
+    def attach(self, vobj):
+        from pivy import coin
+        self.Object = vobj.Object
+        self.setup(vobj)
+        self.overlay = coin.SoSeparator()
+        self.overlay.setName("HSplineCvs")
+        vobj.RootNode.addChild(self.overlay)
+        self.edit_root = None
+        self.draggers = []
+        self.callback = None
+
+    def getIcon(self):
+        return FRepPaths.icon("hspline")
+
+    def updateData(self, obj, prop):
+        if prop in ("CvValues", "Tagged", "CvLevels", "Shape"):
+            self.rebuild()
+
+    def onChanged(self, vobj, prop):
+        if prop in ("ShowLevel", "ShowCvs", "Visibility"):
+            self.rebuild()
+
+    # -- the CV overlay -------------------------------------------------------------------------
+    def overlay_data(self):
+        """(level, cvs, positions, colours, net index pairs) of the drawn level."""
+        obj = self.Object
+        h = obj.Proxy.hspline(obj)
+        level = shown_level(obj.ViewObject, h)
+        cvs = h.cvs(level)
+        positions = h.positions(level)
+        tagged = set(_tags(obj))
+        colours = [TAGGED if c in tagged else MOVABLE if h.movable(*c) else FIXED for c in cvs]
+        index = {c[1:]: k for k, c in enumerate(cvs)}
+        nu, nv = h.grid_size(level)
+        pu, pv = h.periodic
+        net = []
+        for (i, j), k in index.items():
+            for di, dj in ((1, 0), (0, 1)):
+                a, b = i + di, j + dj
+                if pu:
+                    a %= nu
+                if pv:
+                    b %= nv
+                if (a, b) in index:
+                    net.append((k, index[(a, b)]))
+        return level, cvs, positions, colours, net
+
+    def rebuild(self):
+        from pivy import coin
+        overlay = getattr(self, "overlay", None)
+        if overlay is None:
+            return
+        overlay.removeAllChildren()
+        obj = self.Object
+        vobj = obj.ViewObject
+        if not vobj.ShowCvs or not vobj.Visibility:
+            return
+        try:
+            _, _, positions, colours, net = self.overlay_data()
+        except (ValueError, RuntimeError):
+            return  # a broken hierarchy shows the feature's error, not a half overlay
+        pick = coin.SoPickStyle()
+        pick.style = coin.SoPickStyle.UNPICKABLE
+        overlay.addChild(pick)
+        coords = coin.SoCoordinate3()
+        coords.point.setValues(0, len(positions), [list(p) for p in positions])
+        overlay.addChild(coords)
+        lines = coin.SoSeparator()
+        colour = coin.SoBaseColor()
+        colour.rgb = (0.35, 0.35, 0.45)
+        style = coin.SoDrawStyle()
+        style.lineWidth = 1
+        index = []
+        for a, b in net:
+            index.extend((a, b, -1))
+        line_set = coin.SoIndexedLineSet()
+        line_set.coordIndex.setValues(0, len(index), index)
+        for n in (colour, style, line_set):
+            lines.addChild(n)
+        overlay.addChild(lines)
+        points = coin.SoSeparator()
+        binding = coin.SoMaterialBinding()
+        binding.value = coin.SoMaterialBinding.PER_VERTEX
+        material = coin.SoMaterial()
+        material.diffuseColor.setValues(0, len(colours), [list(c) for c in colours])
+        dots = coin.SoDrawStyle()
+        dots.pointSize = 7
+        point_set = coin.SoPointSet()
+        point_set.numPoints = len(positions)
+        for n in (binding, material, dots, point_set):
+            points.addChild(n)
+        overlay.addChild(points)
+        if self.edit_root is not None:
+            self.build_draggers(vobj)
+
+    # -- edit mode ----------------------------------------------------------------------------
+    def setEdit(self, vobj, mode=0):
+        if mode != 0:
+            return None
+        import FreeCADGui
+        import FRepHSplinePanel
+        self.build_draggers(vobj)
+        try:
+            view = FreeCADGui.ActiveDocument.ActiveView
+            self.callback = (view, view.addEventCallback("SoMouseButtonEvent", self.clicked))
+        except Exception:  # no 3D view
+            self.callback = None
+        FreeCADGui.Control.showDialog(FRepHSplinePanel.HSplinePanel(vobj.Object))
+        return True
+
+    def unsetEdit(self, vobj, mode=0):
+        if mode != 0:
+            return None
+        import FreeCADGui
+        self.remove_draggers(vobj)
+        if self.callback is not None:
+            view, cb = self.callback
+            try:
+                view.removeEventCallback("SoMouseButtonEvent", cb)
+            except Exception:
+                pass
+            self.callback = None
+        FreeCADGui.Control.closeDialog()
+        return True
+
+    def doubleClicked(self, vobj):
+        import FreeCADGui
+        FreeCADGui.ActiveDocument.setEdit(vobj.Object.Name, 0)
+        return True
+
+    def dragger_size(self):
+        b = self.Object.Shape.BoundBox
+        return max(b.DiagonalLength, 1e-6) / 60
+
+    def build_draggers(self, vobj):
+        from pivy import coin
+        self.remove_draggers(vobj)
+        obj = vobj.Object
+        h = obj.Proxy.hspline(obj)
+        size = self.dragger_size()
+        self.edit_root = coin.SoSeparator()
+        self.draggers = []
+        for cv in _tags(obj):
+            if not (h.has_cv(*cv) and h.movable(*cv)):
+                continue
+            sep = coin.SoSeparator()
+            place = coin.SoTransform()
+            place.translation.setValue(*h.position(*cv))
+            place.scaleFactor.setValue(size, size, size)
+            dragger = coin.SoDragPointDragger()
+            sep.addChild(place)
+            sep.addChild(dragger)
+            self.edit_root.addChild(sep)
+            dragger.addStartCallback(lambda _d, _dr, cv=cv: self.drag_started(cv))
+            dragger.addFinishCallback(lambda _d, dr, cv=cv, s=size: self.drag_finished(cv, dr, s))
+            self.draggers.append((cv, dragger, size))
+        vobj.RootNode.addChild(self.edit_root)
+
+    def remove_draggers(self, vobj):
+        if self.edit_root is not None:
+            vobj.RootNode.removeChild(self.edit_root)
+        self.edit_root = None
+        self.draggers = []
+
+    def dragger(self, cv):
+        """The dragger of a tagged CV, for the GUI test and scripts."""
+        for c, dragger, size in self.draggers:
+            if c == tuple(cv):
+                return dragger, size
+        raise KeyError(cv)
+
+    def drag_started(self, cv):
+        self.Object.Document.openTransaction("Move hspline CV (%d, %d, %d)" % cv)
+
+    def drag_finished(self, cv, dragger, size):
+        """Moves the CV by the dragger's translation, recomputes and commits the undo step."""
+        obj = self.Object
+        doc = obj.Document
+        t = dragger.translation.getValue()
+        try:
+            obj.Proxy.nudge(obj, [cv], (t[0] * size, t[1] * size, t[2] * size))
+            doc.recompute()
+            doc.commitTransaction()
+        except Exception as e:  # a refused move leaves the document as it was
+            doc.abortTransaction()
+            FreeCAD.Console.PrintError("%s: %s\n" % (obj.Label, e))
+        from PySide import QtCore
+        vobj = obj.ViewObject
+        QtCore.QTimer.singleShot(0, lambda: self.build_draggers(vobj)
+                                 if self.edit_root is not None else None)
+
+    def pick(self, view, position):
+        """The drawn CV nearest the view ray through a screen position, within a few
+        dragger sizes, or None."""
+        level, cvs, positions, _, _ = self.overlay_data()
+        origin = view.getPoint(*position)
+        direction = view.getViewDirection()
+        best, best_distance = None, 3 * self.dragger_size()
+        for cv, p in zip(cvs, positions):
+            d = FreeCAD.Vector(*p) - origin
+            off = (d - direction * d.dot(direction)).Length
+            if off < best_distance:
+                best, best_distance = cv, off
+        return best
+
+    def clicked(self, event):
+        if event.get("State") != "DOWN" or event.get("Button") != "BUTTON1" or \
+                not event.get("CtrlDown"):
+            return
+        import FreeCADGui
+        view = FreeCADGui.ActiveDocument.ActiveView
+        cv = self.pick(view, event["Position"])
+        if cv is not None:
+            self.toggle_tag(cv)
+
+    def toggle_tag(self, cv):
+        """Tags or untags a CV (one undo step); a fixed CV is refused, the reason on the
+        status bar and the console."""
+        obj = self.Object
+        doc = obj.Document
+        doc.openTransaction("Tag hspline CV")
+        try:
+            obj.Proxy.toggle_tag(obj, cv)
+            doc.commitTransaction()
+        except ValueError as e:
+            doc.abortTransaction()
+            FreeCAD.Console.PrintWarning("%s\n" % e)
+            if FreeCAD.GuiUp:
+                import FreeCADGui
+                FreeCADGui.getMainWindow().statusBar().showMessage(str(e), 8000)
+            return False
+        return True
+
+
+def _tags(obj):
+    t = list(obj.Tagged)
+    return [tuple(t[k:k + 3]) for k in range(0, len(t) - len(t) % 3, 3)]

@@ -1,0 +1,146 @@
+"""Hspline features in FreeCAD (issue 15): the exact surface as a Part face or solid, seed
+003's tutorial steps, the hierarchy saved in properties (reopen, undo), tags refusing fixed
+CVs, B-spline faces as level 0, and .hs, STEP and checked STL exports."""
+
+import FreeCAD
+import Part
+import pytest
+
+import FRepExamples
+import FRepHSpline as H
+from FRepPaths import frepcore
+
+
+def _points(obj, n=7):
+    surface = obj.Shape.Faces[0].Surface
+    u0, u1, v0, v1 = surface.bounds()
+    return [surface.value(u0 + (u1 - u0) * (a + 0.3) / n, v0 + (v1 - v0) * (b + 0.6) / n)
+            for a in range(n) for b in range(n)]
+
+
+def test_the_tutorial_refines_edits_zeroes_and_unrefines(doc):
+    obj = FRepExamples.hspline_tutorial(doc)
+    assert obj.isValid(), obj.getStatusString()
+    # After the whole tutorial: level 3's detail zeroed and unrefined away, level 1's kept.
+    h = H.hspline_of(obj)
+    assert h.level_count == 2 and obj.Levels == 2
+    assert h.select_non_zero() == [(1, 5, 5)]
+    face = obj.Shape.Faces[0]
+    assert isinstance(face.Surface, Part.BSplineSurface)
+    # The Part face is the hierarchy: sample both.
+    s = face.Surface
+    for u, v in ((0.3, 0.4), (1.7, 2.2), (2.5, 1.1)):
+        p = s.value(u, v)
+        assert (p - FreeCAD.Vector(*h.evaluate(u, v)["point"])).Length < 1e-9
+
+
+def test_each_tutorial_step_is_one_undo_step_and_level3_follows_level1(doc):
+    doc.UndoMode = 1
+    obj = FRepExamples.hspline_tutorial(doc, step=3)
+    h = H.hspline_of(obj)
+    assert h.level_count == 4
+    dent = h.evaluate(*h.reference(3, 17, 16))["point"]
+    base = h.evaluate(*h.reference(3, 17, 16), level=2)["point"]
+    assert base[2] - dent[2] > 1.0  # the level-3 edit dents the surface
+    doc.openTransaction("lift")
+    H.nudge_cvs(obj, [(1, 5, 5)], (0, 0, 10.0))
+    doc.commitTransaction()
+    doc.recompute()
+    h2 = H.hspline_of(obj)
+    moved_dent = h2.evaluate(*h2.reference(3, 17, 16))["point"]
+    moved_base = h2.evaluate(*h2.reference(3, 17, 16), level=2)["point"]
+    assert moved_base[2] > base[2] + 1.0            # level 1's move lifted the region...
+    assert moved_base[2] - moved_dent[2] > 1.0       # ...and the dent came along
+    doc.undo()
+    doc.recompute()
+    assert H.hspline_of(obj).to_text() == h.to_text()
+    doc.undo()  # step 3 as a whole
+    doc.recompute()
+    assert H.hspline_of(obj).level_count == 2
+
+
+def test_the_hierarchy_saves_and_reopens(doc, tmp_path):
+    obj = H.make_torus(doc, 10, 8, 30, 10)
+    doc.recompute()
+    H.set_tags(obj, [(0, 3, 3), (0, 4, 3)])
+    H.refine(obj)
+    H.nudge_cvs(obj, H.tags(obj)[:1], (0, 0, 0), along_normal=3.0)
+    doc.recompute()
+    assert obj.Shape.ShapeType == "Solid" and obj.Shape.isValid()
+    volume, text, name = obj.Shape.Volume, H.hspline_of(obj).to_text(), obj.Name
+    path = str(tmp_path / "hspline.FCStd")
+    doc.saveAs(path)
+    label = doc.Name
+    FreeCAD.closeDocument(label)
+    again = FreeCAD.openDocument(path)
+    try:
+        restored = again.getObject(name)
+        again.recompute()
+        assert H.hspline_of(restored).to_text() == text
+        assert restored.Shape.Volume == pytest.approx(volume, rel=1e-9)
+        assert H.tags(restored)
+    finally:
+        FreeCAD.closeDocument(again.Name)
+
+
+def test_tags_refuse_fixed_cvs_and_the_rules_select(doc):
+    obj = H.make_plane(doc, 12, 12, 100, 100)
+    doc.recompute()
+    H.set_tags(obj, [(0, 5, 5)])
+    fresh = H.refine(obj)
+    assert fresh == [(1, 9, 9)]  # the one movable CV of a 7 x 7 block
+    with pytest.raises(ValueError, match=r"CV \(level 1, i 8, j 9\) is fixed"):
+        H.tag_cv(obj, (1, 8, 9))
+    with pytest.raises(ValueError, match="is fixed"):
+        H.move_cv(obj, (1, 6, 6), (0, 0, 5))
+    assert H.tag(obj, "along_u") == [(1, i, 9) for i in range(6, 13)]
+    assert H.tag(obj, "untag_fixed") == [(1, 9, 9)]
+    with pytest.raises(ValueError, match="Zero Offsets acts on CVs of level 1"):
+        H.zero_offsets(obj, [(0, 1, 1)])
+    with pytest.raises(ValueError, match="only a closed hspline"):
+        H.set_make_solid(obj)
+
+
+def test_a_bspline_face_becomes_level_zero_exactly(doc):
+    plane = Part.makePlane(40, 30).toNurbs().Faces[0]
+    s = plane.Surface
+    s.increaseDegree(3, 3)
+    s.insertUKnot(0.4, 1, 1e-9)  # an uneven knot: level 0 need not be uniform
+    s.setPole(2, 2, s.getPole(2, 2) + FreeCAD.Vector(0, 0, 5))
+    obj = H.make_from_face(doc, s.toShape(), label="test face")
+    doc.recompute()
+    mine = obj.Shape.Faces[0].Surface
+    u0, u1, v0, v1 = s.bounds()
+    assert mine.bounds() == pytest.approx((u0, u1, v0, v1))
+    for a, b in ((0.1, 0.2), (0.45, 0.7), (0.9, 0.35), (1.0, 1.0)):
+        u, v = u0 + a * (u1 - u0), v0 + b * (v1 - v0)
+        assert (s.value(u, v) - mine.value(u, v)).Length < 1e-9
+    sphere = Part.makeSphere(5).Faces[0]
+    with pytest.raises(ValueError, match="not a B-spline surface"):
+        H.make_from_face(doc, sphere, label="the sphere")
+    with pytest.raises(ValueError, match="is rational"):
+        H.make_from_face(doc, Part.makeSphere(5).toNurbs().Faces[0], label="the sphere")
+
+
+def test_exports_hs_step_and_a_checked_stl(doc, tmp_path):
+    obj = H.make_torus(doc, 10, 8, 30, 10)
+    doc.recompute()
+    H.set_tags(obj, [(0, 2, 2)])
+    H.refine(obj)
+    H.nudge_cvs(obj, H.tags(obj), (0, 0, 0), along_normal=2.0)
+    doc.recompute()
+    hs = str(tmp_path / "t.hs")
+    H.export_hs(obj, hs, optimised=True)
+    copy = H.import_hs(doc, hs)
+    doc.recompute()
+    assert copy.Shape.Volume == pytest.approx(obj.Shape.Volume, rel=1e-9)
+    assert copy.CvCount <= obj.CvCount
+    step = str(tmp_path / "t.step")
+    H.export_step(obj, step)
+    back = Part.read(step)
+    assert back.Solids and back.isValid()
+    assert back.Volume == pytest.approx(obj.Shape.Volume, rel=1e-6)
+    stl = str(tmp_path / "t.stl")
+    report = H.export_mesh(obj, stl, tolerance=0.02)
+    assert report["printable"]
+    assert frepcore.read_mesh(stl).check()["printable"]
