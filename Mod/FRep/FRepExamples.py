@@ -126,41 +126,35 @@ def build_lattice_bend(doc, lift=12.0):
 
 
 
-def hspline_tutorial(doc, step=None):
+def hspline_tutorial_steps(doc):
     """Seed 003's tutorial (appendix A) as FreeCAD steps on one HSpline feature, each its own
-    undo step: a plane refined twice over (A.2, A.3), a CV edited at level 1, two at level 3,
-    the level-1 CV moved again so the level-3 detail follows it, then Zero Offsets and
-    Unrefine (A.6). Stops after `step` (1 to 6) when given. Returns the feature."""
+    undo step: a plane refined (A.2), a CV edited at level 1, two levels more and two CVs
+    edited at level 3 (A.3), the level-1 CV moved again so the level-3 detail follows it, then
+    Zero Offsets on level 3 and Unrefine (A.6). Yields (title, feature) after each step."""
     import FRepHSpline as H
-    steps = []
-
-    def run(title, action):
-        doc.openTransaction(title)
-        action()
-        doc.commitTransaction()
-        doc.recompute()
-        steps.append(title)
-        return step is not None and len(steps) >= step
-
     obj = H.make_plane(doc, 6, 6, 60.0, 60.0, name="Tutorial")
     doc.recompute()
 
     def refine_all():
         H.tag(obj, "level", level=0)
         H.refine(obj)
+        H.set_tags(obj, [])
 
     def edit_level1():
         H.move_cv(obj, (1, 5, 5), tuple(H.hspline_of(obj).position(1, 5, 5))[:2] + (15.0,))
+        H.set_tags(obj, [(1, 5, 5)])
 
     def refine_twice_and_edit_level3():
         for level in (1, 2):
             H.tag(obj, "level", level=level)
             H.refine(obj)
         for cv in ((3, 17, 16), (3, 20, 20)):
-            H.nudge_cvs(obj, [cv], (0, 0, 0), along_normal=-4.0)
+            H.nudge_cvs(obj, [cv], (0, 0, 0), along_normal=-8.0)
+        H.set_tags(obj, [(3, 17, 16), (3, 20, 20)])
 
     def move_level1_again():
         H.nudge_cvs(obj, [(1, 5, 5)], (0, 0, 10.0))
+        H.set_tags(obj, [(1, 5, 5)])
 
     def zero_level3():
         H.set_tags(obj, H.hspline_of(obj).select_non_zero(3))
@@ -171,6 +165,17 @@ def hspline_tutorial(doc, step=None):
                           ("Move the level-1 CV again", move_level1_again),
                           ("Zero the level-3 offsets", zero_level3),
                           ("Unrefine", lambda: H.unrefine(obj))):
-        if run(title, action):
+        doc.openTransaction(title)
+        action()
+        doc.commitTransaction()
+        doc.recompute()
+        yield title, obj
+
+
+def hspline_tutorial(doc, step=None):
+    """The tutorial's feature after `step` steps (1 to 6; all by default)."""
+    obj = None
+    for done, (_, obj) in enumerate(hspline_tutorial_steps(doc), start=1):
+        if step is not None and done >= step:
             break
     return obj

@@ -31,6 +31,16 @@ DATA_GROUP = "HSpline data"
 DATA = ("KnotsU", "PeriodU", "KnotsV", "PeriodV", "CvLevels", "CvI", "CvJ", "CvValues")
 
 
+# The hierarchy of each feature as last built from or written to its properties, so that a drag
+# does not rebuild 10,000 CVs from property lists twice. Any change of a data property (undo,
+# a document restore, a script) drops the entry; our own edits put the new one back.
+_CACHE = {}
+
+
+def _key(obj):
+    return (obj.Document.Name, obj.Name)
+
+
 def is_hspline(obj):
     return isinstance(getattr(obj, "Proxy", None), HSplineFeature)
 
@@ -76,9 +86,13 @@ class HSplineFeature(StatelessProxy):
     def onDocumentRestored(self, obj):
         self.setup(obj)
 
+    def onChanged(self, obj, prop):
+        if prop in DATA:
+            _CACHE.pop(_key(obj), None)
+
     # For the view provider and the panel, which do not import this module.
     def hspline(self, obj):
-        return hspline_of(obj)
+        return _shared(obj)
 
     def nudge(self, obj, cvs, delta):
         nudge_cvs(obj, cvs, delta)
@@ -92,7 +106,7 @@ class HSplineFeature(StatelessProxy):
 
     def execute(self, obj):
         import Part
-        h = hspline_of(obj)
+        h = _shared(obj)
         flat = h.bspline()
         surface = Part.BSplineSurface()
         poles = [[FreeCAD.Vector(*p) for p in row] for row in flat["poles"]]
@@ -102,7 +116,7 @@ class HSplineFeature(StatelessProxy):
         shape = face
         if h.closed and obj.MakeSolid:
             solid = Part.Solid(Part.Shell([face]))
-            if solid.Volume < 0:
+            if flat["inward"]:  # the normals point in: a negative volume until reversed
                 solid.reverse()
             shape = solid
         obj.Shape = shape
@@ -112,28 +126,42 @@ class HSplineFeature(StatelessProxy):
             obj.CvCount = h.cv_count
 
 
+def _shared(obj):
+    """The feature's hierarchy, shared: read it, never change it."""
+    h = _CACHE.get(_key(obj))
+    if h is None:
+        try:
+            h = frepcore.HSpline.from_arrays(
+                list(obj.KnotsU), obj.PeriodU, list(obj.KnotsV), obj.PeriodV, list(obj.CvLevels),
+                list(obj.CvI), list(obj.CvJ), [tuple(v) for v in obj.CvValues])
+        except ValueError as e:
+            raise ValueError("%s: %s" % (obj.Label, e)) from None
+        _CACHE[_key(obj)] = h
+    return h
+
+
 def hspline_of(obj):
-    """The feature's hierarchy as a frepcore.HSpline (ValueError naming the object when its
-    properties do not describe one)."""
-    try:
-        return frepcore.HSpline.from_arrays(
-            list(obj.KnotsU), obj.PeriodU, list(obj.KnotsV), obj.PeriodV, list(obj.CvLevels),
-            list(obj.CvI), list(obj.CvJ), [tuple(v) for v in obj.CvValues])
-    except ValueError as e:
-        raise ValueError("%s: %s" % (obj.Label, e)) from None
+    """The feature's hierarchy as a frepcore.HSpline of the caller's own (ValueError naming
+    the object when its properties do not describe one)."""
+    return _shared(obj).copy()
 
 
-def store(obj, h):
+def store(obj, h, values_only=False):
     """Writes a hierarchy into the feature's properties (in the open transaction: one undo
-    step) and drops tags of CVs it no longer has."""
-    a = h.to_arrays()
-    obj.KnotsU, obj.PeriodU = a["knots_u"], a["period_u"]
-    obj.KnotsV, obj.PeriodV = a["knots_v"], a["period_v"]
-    obj.CvLevels, obj.CvI, obj.CvJ = a["levels"], a["i"], a["j"]
-    obj.CvValues = [FreeCAD.Vector(*v) for v in a["values"]]
-    kept = [c for c in tags(obj) if h.has_cv(*c)]
-    if kept != tags(obj):
-        set_tags(obj, kept)
+    step) and drops tags of CVs it no longer has. values_only: the CVs are the same ones,
+    only their values changed (a move, zero offsets): one property is written."""
+    if values_only:
+        obj.CvValues = [FreeCAD.Vector(*v) for v in h.to_arrays(values_only=True)["values"]]
+    else:
+        a = h.to_arrays()
+        obj.KnotsU, obj.PeriodU = a["knots_u"], a["period_u"]
+        obj.KnotsV, obj.PeriodV = a["knots_v"], a["period_v"]
+        obj.CvLevels, obj.CvI, obj.CvJ = a["levels"], a["i"], a["j"]
+        obj.CvValues = [FreeCAD.Vector(*v) for v in a["values"]]
+        kept = [c for c in tags(obj) if h.has_cv(*c)]
+        if kept != tags(obj):
+            set_tags(obj, kept)
+    _CACHE[_key(obj)] = h
 
 
 def make_hspline(doc, h, name="HSpline"):
@@ -217,7 +245,7 @@ def set_tags(obj, cvs):
 def tag_cv(obj, cv, h=None):
     """Tags one CV for moving; a fixed CV is refused with the reason (seed 003's Softimage
     could not refuse it at selection time)."""
-    h = h or hspline_of(obj)
+    h = h or _shared(obj)
     if not h.has_cv(*cv):
         raise ValueError("%s: there is no CV %s" % (obj.Label, tuple(cv)))
     if not h.movable(*cv):
@@ -231,7 +259,7 @@ def tag(obj, how, level=0, region=None, mode="set"):
     """Tags by a rule: "level", "movable", "region" ((u0, u1, v0, v1) at level), "along_u",
     "along_v", "neighbours" (of the tags), "non_zero", "untag_fixed", "none". mode "add"
     adds to the tags."""
-    h = hspline_of(obj)
+    h = _shared(obj)
     current = tags(obj)
     chosen = {
         "level": lambda: h.select_level(level),
@@ -252,13 +280,13 @@ def tag(obj, how, level=0, region=None, mode="set"):
 
 
 # -- edits (each one property change set: one undo step inside a transaction) --------------
-def _edited(obj, change):
+def _edited(obj, change, values_only=False):
     h = hspline_of(obj)
     try:
         result = change(h)
     except ValueError as e:
         raise ValueError("%s: %s" % (obj.Label, e)) from None
-    store(obj, h)
+    store(obj, h, values_only)
     return result
 
 
@@ -274,7 +302,8 @@ def refine(obj, cvs=None):
     """Refines around the given CVs (default: the tagged ones); tags move to the new CVs that
     may move, so the next drag works on the new detail."""
     cvs = _given_or_tagged(obj, cvs, "Refine")
-    before = {c for level in range(hspline_of(obj).level_count) for c in hspline_of(obj).cvs(level)}
+    old = _shared(obj)
+    before = {c for level in range(old.level_count) for c in old.cvs(level)}
 
     def change(h):
         h.refine_selection(cvs)
@@ -290,7 +319,7 @@ def zero_offsets(obj, cvs=None):
     if not cvs:
         raise ValueError("%s: Zero Offsets acts on CVs of level 1 and finer; level 0's CVs have "
                          "positions, not offsets" % obj.Label)
-    _edited(obj, lambda h: h.zero_offsets(cvs))
+    _edited(obj, lambda h: h.zero_offsets(cvs), values_only=True)
 
 
 def unrefine(obj):
@@ -300,7 +329,7 @@ def unrefine(obj):
 
 
 def move_cv(obj, cv, point):
-    _edited(obj, lambda h: h.move_cv(cv[0], cv[1], cv[2], tuple(point)))
+    _edited(obj, lambda h: h.move_cv(cv[0], cv[1], cv[2], tuple(point)), values_only=True)
 
 
 def nudge_cvs(obj, cvs, delta=(0, 0, 0), along_normal=0.0):
@@ -313,12 +342,12 @@ def nudge_cvs(obj, cvs, delta=(0, 0, 0), along_normal=0.0):
                 n = h.evaluate(u, v, level - 1 if level > 0 else 0)["normal"]
                 p += FreeCAD.Vector(*n) * along_normal
             h.move_cv(level, i, j, tuple(p))
-    _edited(obj, change)
+    _edited(obj, change, values_only=True)
 
 
 def set_make_solid(obj):
     """'To Solid': the closed hspline becomes (stays) a solid; an open one cannot."""
-    h = hspline_of(obj)
+    h = _shared(obj)
     if not h.closed:
         raise ValueError("%s: only a closed hspline (periodic in u and v, like a torus) bounds a "
                          "solid; this one is open along %s" % (
@@ -334,18 +363,18 @@ def import_hs(doc, path, name=None):
 
 
 def export_hs(obj, path, optimised=False):
-    hspline_of(obj).write_hs(path, optimised)
+    _shared(obj).write_hs(path, optimised)
 
 
 def export_step(obj, path):
     """STEP through OpenCASCADE (a solid when closed); returns its summary dict."""
-    return hspline_of(obj).write_step(path)
+    return _shared(obj).write_step(path)
 
 
 def export_mesh(obj, path, tolerance=0.01, force=False):
     """The surface tessellated within `tolerance`, checked by CGAL, written atomically only
     when printable (or with force). Returns the check report."""
-    mesh = hspline_of(obj).tessellate(tolerance)
+    mesh = _shared(obj).tessellate(tolerance)
     report = mesh.check()
     if not report["printable"] and not force:
         raise ValueError("%s: the mesh is not printable, nothing was written:\n%s" % (

@@ -47,6 +47,20 @@ py::dict summaryDict(const OccShapeSummary& s) {
   return d;
 }
 
+// A closed surface's enclosed volume, (1/3) of the integral of p . (du x dv), by the midpoint
+// rule on a 48 x 48 grid: enough for its sign, which says whether the normals point out.
+double enclosedVolume(const FlatBSpline& f) {
+  const int n = 48;
+  double sum = 0;
+  const double hu = (f.u.hi() - f.u.lo()) / n, hv = (f.v.hi() - f.v.lo()) / n;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const HsSurfacePoint p = f.evaluate(f.u.lo() + (i + 0.5) * hu, f.v.lo() + (j + 0.5) * hv);
+      sum += vdot(p.position, vcross(p.du, p.dv));
+    }
+  return sum * hu * hv / 3;
+}
+
 py::dict pointDict(const HsSurfacePoint& p) {
   py::dict d;
   d["point"] = p.position, d["normal"] = p.normal(), d["du"] = p.du, d["dv"] = p.dv;
@@ -104,9 +118,17 @@ void bindHSpline(py::module_& m) {
           py::arg("levels"), py::arg("i"), py::arg("j"), py::arg("values"),
           "The hierarchy from flat arrays, as to_arrays() gives them (how a FreeCAD feature stores "
           "it).")
-      .def("to_arrays",
-           [](const HSpline& h) {
+      .def(
+          "to_arrays",
+           [](const HSpline& h, bool valuesOnly) {
              py::dict d;
+             if (valuesOnly) {
+               std::vector<Vec3> values;
+               for (int l = 0; l < h.levelCount(); ++l)
+                 for (const HsCv& cv : h.level(l).cvs) values.push_back(cv.value);
+               d["values"] = values;
+               return d;
+             }
              const HsLevel& base = h.level(0);
              d["knots_u"] = base.u.knots(),
              d["period_u"] = base.u.isPeriodic() ? base.u.period() : 0.0;
@@ -120,7 +142,10 @@ void bindHSpline(py::module_& m) {
                      values.push_back(cv.value);
              d["levels"] = levels, d["i"] = is, d["j"] = js, d["values"] = values;
              return d;
-           })
+           },
+          py::arg("values_only") = false,
+          "The hierarchy as flat arrays (knots, periods, each CV's level, i, j, value); "
+          "values_only: the values alone.")
       .def("copy", [](const HSpline& h) { return HSpline(h); })
       .def_property_readonly("level_count", &HSpline::levelCount)
       .def_property_readonly("cv_count", &HSpline::cvCount)
@@ -255,6 +280,7 @@ void bindHSpline(py::module_& m) {
             py::dict d;
             d["poles"] = poles, d["uknots"] = u.knots, d["umults"] = u.mults, d["vknots"] = v.knots,
             d["vmults"] = v.mults, d["uperiodic"] = u.periodic, d["vperiodic"] = v.periodic;
+            d["inward"] = u.periodic && v.periodic && enclosedVolume(f) < 0;
             return d;
           },
           "The hierarchy as one exact B-spline, the way Part.BSplineSurface."
