@@ -38,6 +38,7 @@ int infoCommand(const Args& args);
 int deformCommand(const Args& args);
 int repairCommand(const Args& args);
 int compareCommand(const Args& args);
+int hsplineCommand(const Args& args);
 // Refuses an output that is a link, a folder, a device or the input itself (FileError).
 void checkOutputPath(const std::string& output, const std::string& input);
 // `export DOC.FCStd ...`: runs the export inside FreeCAD, headless (document_export.cpp).

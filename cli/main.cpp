@@ -22,6 +22,7 @@ const char* kUsage =
     "  frepcad repair IN -o OUT [--rebuild auto|never|always] [--voxel V] [--force] [--json]\n"
     "  frepcad compare A B [--json]\n"
     "  frepcad info [TYPE | FILE.vdb] [--json | --markdown]\n"
+    "  frepcad hspline new|info|refine|move|zero|unrefine|export ...   (hierarchical B-splines)\n"
     "  frepcad COMMAND --help   the options of one command\n"
     "exit status: 0 ok, 1 mesh not printable, 2 bad input, 3 internal error,\n"
     "130 cancelled (Ctrl-C)\n";
@@ -70,11 +71,12 @@ int main(int argc, char** argv) {
     if (command == "deform") return finish(deformCommand(args));
     if (command == "repair") return finish(repairCommand(args));
     if (command == "compare") return finish(compareCommand(args));
+    if (command == "hspline") return finish(hsplineCommand(args));
     if (command == "--version") {
       std::cout << "frepcad 0.1.0\n";
       return 0;
     }
-    throw UsageError("unknown command '" + command + "'; commands: export, deform, check, repair, compare, info");
+    throw UsageError("unknown command '" + command + "'; commands: export, deform, check, repair, compare, info, hspline");
   } catch (const UsageError& e) {
     std::cerr << "frepcad: " << e.what() << "\n" << kUsage;
   } catch (const frep::ModelError& e) {

@@ -15,6 +15,11 @@ FREECAD_USER_HOME="$home" FREPCORE_PATH="$(realpath "$build")/python" \
   /usr/bin/python3.11 bench/workbench_latency.py "$build/bench-workbench.json" 2>&1 \
   | grep -v '^ *#\|^$\|^FreeCAD\|^©\|wouldn.t be possible'
 
+# How fast an hspline drag updates the document (issue 15): build/bench-hspline.json.
+FREECAD_USER_HOME="$home" FREPCORE_PATH="$(realpath "$build")/python" \
+  /usr/bin/python3.11 bench/hspline_latency.py "$build/bench-hspline.json" 2>&1 \
+  | grep -v '^ *#\|^$\|^FreeCAD\|^©\|wouldn.t be possible'
+
 # The same in the GUI (under Xvfb with software OpenGL: an upper bound for a real display).
 FREP_BENCH_OUT="$(realpath "$build")/bench-workbench-gui.json" \
   bash scripts/run-freecad-gui.sh "$build" bench/workbench_latency_gui.FCMacro \

@@ -228,5 +228,24 @@ expect 0 '"overhang_area": [0-9.e-]+' -- "$frepcad" check "$work/s.stl" --print 
 expect 2 "unknown material 'cheese'" -- "$frepcad" check "$work/s.stl" --print --material cheese
 expect 2 "apply with --print" -- "$frepcad" check "$work/s.stl" --min-wall 1
 
+# hsplines: made, refined, edited, unrefined and exported (STEP solid, checked STL, .hs)
+expect 0 "wrote .*t.hs \(1 levels, 80 CVs\)" -- "$frepcad" hspline new torus -o "$work/t.hs"
+expect 0 "level 1: grid 20 x 16, 63 CVs, 3 movable" -- sh -c "\"$frepcad\" hspline refine \"$work/t.hs\" -o \"$work/t1.hs\" --level 0 --cv 2 2 --cv 3 2 && \"$frepcad\" hspline info \"$work/t1.hs\""
+expect 0 "wrote .*t2.hs" -- "$frepcad" hspline move "$work/t1.hs" -o "$work/t2.hs" --cv 1 7 6 --by 0 0 2
+expect 2 "CV \(level 1, i 4, j 4\) is fixed" -- "$frepcad" hspline move "$work/t1.hs" -o "$work/x.hs" --cv 1 4 4 --by 0 0 2
+[ ! -e "$work/x.hs" ] || { echo "FAIL: a refused move wrote a file"; failures=$((failures + 1)); }
+expect 0 "wrote .*t.step: a solid" -- "$frepcad" hspline export "$work/t2.hs" -o "$work/t.step"
+expect 0 "verdict: printable" -- "$frepcad" hspline export "$work/t2.hs" -o "$work/t.stl" --tolerance 0.02
+expect 0 "verdict: printable" -- "$frepcad" check "$work/t.stl"
+expect 0 "1 with an offset" -- "$frepcad" hspline info "$work/t2.hs"
+expect 0 "unrefine removed 63 CVs" -- sh -c "\"$frepcad\" hspline zero \"$work/t2.hs\" -o \"$work/t3.hs\" --level 1 --quiet && \"$frepcad\" hspline unrefine \"$work/t3.hs\" -o \"$work/t4.hs\""
+cmp -s "$work/t.hs" "$work/t4.hs" || { echo "FAIL: zero offsets + unrefine did not give back the torus"; failures=$((failures + 1)); }
+expect 1 "an open hspline is a sheet" -- sh -c "\"$frepcad\" hspline new plane -o \"$work/p.hs\" --quiet && \"$frepcad\" hspline export \"$work/p.hs\" -o \"$work/p.stl\""
+[ ! -e "$work/p.stl" ] || { echo "FAIL: a sheet was written as an STL without --force"; failures=$((failures + 1)); }
+printf 'hspline 2\n' > "$work/bad.hs"
+expect 2 "bad.hs, line 1: version 2 is not known" -- "$frepcad" hspline info "$work/bad.hs"
+expect 2 "unknown hspline verb 'grow'" -- "$frepcad" hspline grow "$work/t.hs"
+expect 2 "hspline refine needs --level L" -- "$frepcad" hspline refine "$work/t.hs" -o "$work/x.hs" --cv 1 1
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]
