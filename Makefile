@@ -57,7 +57,7 @@ examples: build
 # gallery (docs/gallery.md).
 screenshots: build
 	bash tests/gui/run_gui.sh $(BUILD_DIR) . $(BUILD_DIR)/gui
-	cp $(BUILD_DIR)/gui/workbench-*.png $(BUILD_DIR)/gui/lattice-*.png docs/images/
+	cp $(BUILD_DIR)/gui/workbench-*.png $(BUILD_DIR)/gui/lattice-*.png $(BUILD_DIR)/gui/hspline-*.png docs/images/
 	bash tests/gui/run_gallery.sh $(BUILD_DIR) . docs
 
 format:
