@@ -56,7 +56,8 @@ struct Options {
   bool all = false, json = false, optimised = false, force = false, quiet = false;
 };
 
-std::vector<double> numbers(const Args& args, std::size_t& i, std::size_t n, const std::string& option) {
+std::vector<double> numbers(const Args& args, std::size_t& i, std::size_t n,
+                            const std::string& option) {
   std::vector<double> out;
   for (std::size_t k = 0; k < n; ++k) {
     if (i + 1 >= args.size()) throw UsageError(option + " needs " + std::to_string(n) + " numbers");
@@ -66,18 +67,22 @@ std::vector<double> numbers(const Args& args, std::size_t& i, std::size_t n, con
 }
 
 int whole(double x, const std::string& what) {
-  if (x != static_cast<int>(x)) throw UsageError(what + " must be a whole number, got " + std::to_string(x));
+  if (x != static_cast<int>(x))
+    throw UsageError(what + " must be a whole number, got " + std::to_string(x));
   return static_cast<int>(x);
 }
 
 Options parse(const Args& args) {
   Options o;
-  if (args.empty()) throw UsageError("hspline needs a verb: new, info, refine, move, zero, unrefine, export");
+  if (args.empty())
+    throw UsageError("hspline needs a verb: new, info, refine, move, zero, unrefine, export");
   o.verb = args[0];
-  static const std::set<std::string> verbs{"new", "info", "refine", "move", "zero", "unrefine", "export"};
+  static const std::set<std::string> verbs{"new",  "info",     "refine", "move",
+                                           "zero", "unrefine", "export"};
   if (o.verb == "-h" || o.verb == "--help") return o;
   if (!verbs.count(o.verb))
-    throw UsageError("unknown hspline verb '" + o.verb + "'; verbs: new, info, refine, move, zero, unrefine, export");
+    throw UsageError("unknown hspline verb '" + o.verb +
+                     "'; verbs: new, info, refine, move, zero, unrefine, export");
   for (std::size_t i = 1; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto one = [&]() { return numbers(args, i, 1, a)[0]; };
@@ -120,7 +125,8 @@ Options parse(const Args& args) {
     else if (a == "--quiet")
       o.quiet = true;
     else if (!a.empty() && a[0] == '-' && a.size() > 1)
-      throw UsageError("unknown option '" + a + "' for hspline " + o.verb + " (see frepcad hspline --help)");
+      throw UsageError("unknown option '" + a + "' for hspline " + o.verb +
+                       " (see frepcad hspline --help)");
     else if (o.verb == "new" && o.shape.empty())
       o.shape = a;
     else if (o.input.empty())
@@ -143,7 +149,8 @@ HSpline make(const Options& o) {
   const int nv = o.counts.empty() ? 8 : whole(o.counts[1], "--cvs");
   if (o.shape == "plane")
     return hsplinePlane(nu, nv, o.size.empty() ? 100 : o.size[0], o.size.empty() ? 100 : o.size[1]);
-  if (o.shape == "cylinder") return hsplineCylinder(nu, nv, o.radius.value_or(20), o.height.value_or(60));
+  if (o.shape == "cylinder")
+    return hsplineCylinder(nu, nv, o.radius.value_or(20), o.height.value_or(60));
   return hsplineTorus(nu, nv, o.radius.value_or(30), o.tube.value_or(10));
 }
 
@@ -151,7 +158,8 @@ void writeHs(const HSpline& h, const Options& o) {
   checkOutputPath(o.output, o.input);
   writeHsFile(h, o.output, o.optimised);
   if (!o.quiet)
-    std::cout << "wrote " << o.output << " (" << h.levelCount() << " levels, " << h.cvCount() << " CVs)\n";
+    std::cout << "wrote " << o.output << " (" << h.levelCount() << " levels, " << h.cvCount()
+              << " CVs)\n";
 }
 
 int info(const HSpline& h, const Options& o) {
@@ -160,8 +168,8 @@ int info(const HSpline& h, const Options& o) {
   if (o.json) {
     std::cout << "{\"file\": \"" << o.input << "\", \"levels\": [";
     for (int l = 0; l < h.levelCount(); ++l)
-      std::cout << (l ? ", " : "") << "{\"level\": " << l << ", \"grid\": [" << h.level(l).u.count() << ", "
-                << h.level(l).v.count() << "], \"cvs\": " << h.level(l).cvs.size()
+      std::cout << (l ? ", " : "") << "{\"level\": " << l << ", \"grid\": [" << h.level(l).u.count()
+                << ", " << h.level(l).v.count() << "], \"cvs\": " << h.level(l).cvs.size()
                 << ", \"movable\": " << selectMovable(h, l).size()
                 << ", \"non_zero\": " << (l ? selectNonZeroOffsets(h, l).size() : 0) << "}";
     std::cout << "], \"cvs\": " << h.cvCount() << ", \"closed\": " << (closed ? "true" : "false")
@@ -171,22 +179,25 @@ int info(const HSpline& h, const Options& o) {
   std::cout << o.input << ": " << h.levelCount() << " levels, " << h.cvCount() << " CVs, "
             << (closed ? "closed (a solid)" : "open (a sheet)") << "\n";
   const HsLevel& base = h.level(0);
-  std::cout << "  u: " << (base.u.isPeriodic() ? "periodic" : "open") << ", domain [" << base.u.lo() << ", "
-            << base.u.hi() << "];  v: " << (base.v.isPeriodic() ? "periodic" : "open") << ", domain ["
-            << base.v.lo() << ", " << base.v.hi() << "]\n";
+  std::cout << "  u: " << (base.u.isPeriodic() ? "periodic" : "open") << ", domain [" << base.u.lo()
+            << ", " << base.u.hi() << "];  v: " << (base.v.isPeriodic() ? "periodic" : "open")
+            << ", domain [" << base.v.lo() << ", " << base.v.hi() << "]\n";
   for (int l = 0; l < h.levelCount(); ++l) {
-    std::cout << "  level " << l << ": grid " << h.level(l).u.count() << " x " << h.level(l).v.count() << ", "
-              << h.level(l).cvs.size() << " CVs, " << selectMovable(h, l).size() << " movable";
+    std::cout << "  level " << l << ": grid " << h.level(l).u.count() << " x "
+              << h.level(l).v.count() << ", " << h.level(l).cvs.size() << " CVs, "
+              << selectMovable(h, l).size() << " movable";
     if (l) std::cout << ", " << selectNonZeroOffsets(h, l).size() << " with an offset";
     std::cout << "\n";
   }
-  std::cout << "  flattened: one B-spline of " << flat.u.count() << " x " << flat.v.count() << " poles\n";
+  std::cout << "  flattened: one B-spline of " << flat.u.count() << " x " << flat.v.count()
+            << " poles\n";
   return 0;
 }
 
 std::vector<HsCvRef> refsOf(const Options& o) {
   std::vector<HsCvRef> out;
-  for (const auto& c : o.cvs) out.push_back({whole(c[0], "--cv level"), whole(c[1], "--cv i"), whole(c[2], "--cv j")});
+  for (const auto& c : o.cvs)
+    out.push_back({whole(c[0], "--cv level"), whole(c[1], "--cv i"), whole(c[2], "--cv j")});
   return out;
 }
 
@@ -197,8 +208,9 @@ int exportHs(const HSpline& h, const Options& o) {
   if (ext == "step" || ext == "stp") {
     const OccShapeSummary s = writeHsStep(h, o.output);
     if (!o.quiet)
-      std::cout << "wrote " << o.output << ": " << (s.solids ? "a solid" : "a face") << ", area " << s.area
-                << (s.solids ? ", volume " + std::to_string(s.volume) : std::string()) << "\n";
+      std::cout << "wrote " << o.output << ": " << (s.solids ? "a solid" : "a face") << ", area "
+                << s.area << (s.solids ? ", volume " + std::to_string(s.volume) : std::string())
+                << "\n";
     return 0;
   }
   const MeshFormat format = formatFromPath(o.output);
@@ -208,12 +220,14 @@ int exportHs(const HSpline& h, const Options& o) {
   if (!o.quiet || !report.printable()) std::cout << reportToText(report, o.output);
   if (!report.printable() && !o.force) {
     std::cerr << "frepcad: refusing to write " << o.output << ": the mesh is not printable"
-              << (t.closed ? "" : " (an open hspline is a sheet, not a solid: export .step, or --force)")
+              << (t.closed ? ""
+                           : " (an open hspline is a sheet, not a solid: export .step, or --force)")
               << "\n";
     return 1;
   }
   writeMesh(t.mesh, o.output, format);
-  if (!o.quiet) std::cout << "wrote " << o.output << " (" << t.mesh.triangles.size() << " triangles)\n";
+  if (!o.quiet)
+    std::cout << "wrote " << o.output << " (" << t.mesh.triangles.size() << " triangles)\n";
   return report.printable() ? 0 : 1;
 }
 
@@ -235,17 +249,22 @@ int hsplineCommand(const Args& args) {
     if (o.all)
       for (const HsCvRef& c : selectLevel(h, *o.level)) cvs.push_back({c.i, c.j});
     else if (!o.region.empty())
-      for (const HsCvRef& c : selectRegion(h, *o.level, o.region[0], o.region[1], o.region[2], o.region[3]))
+      for (const HsCvRef& c :
+           selectRegion(h, *o.level, o.region[0], o.region[1], o.region[2], o.region[3]))
         cvs.push_back({c.i, c.j});
     for (const auto& c : o.cvs) cvs.push_back({whole(c[0], "--cv i"), whole(c[1], "--cv j")});
-    if (cvs.empty()) throw UsageError("hspline refine needs --cv I J, --all or --region U0 U1 V0 V1 with CVs in it");
+    if (cvs.empty())
+      throw UsageError(
+          "hspline refine needs --cv I J, --all or --region U0 U1 V0 V1 with CVs in it");
     h.refine(*o.level, cvs);
   } else if (o.verb == "move") {
     const auto refs = refsOf(o);
     if (refs.size() != 1) throw UsageError("hspline move needs one --cv L I J");
-    if (o.to.empty() == o.by.empty()) throw UsageError("hspline move needs --to X Y Z or --by DX DY DZ");
+    if (o.to.empty() == o.by.empty())
+      throw UsageError("hspline move needs --to X Y Z or --by DX DY DZ");
     const HsCvRef& c = refs[0];
-    if (!h.find(c.level, c.i, c.j)) throw ModelError("hspline move: there is no " + hsCvName(c.level, c.i, c.j));
+    if (!h.find(c.level, c.i, c.j))
+      throw ModelError("hspline move: there is no " + hsCvName(c.level, c.i, c.j));
     Vec3 target = o.to.empty() ? h.position(c.level, c.i, c.j) : Vec3{o.to[0], o.to[1], o.to[2]};
     if (!o.by.empty()) target = vadd(target, {o.by[0], o.by[1], o.by[2]});
     h.moveCv(c.level, c.i, c.j, target);

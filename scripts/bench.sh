@@ -25,3 +25,9 @@ FREP_BENCH_OUT="$(realpath "$build")/bench-workbench-gui.json" \
   bash scripts/run-freecad-gui.sh "$build" bench/workbench_latency_gui.FCMacro \
   "$build/bench-workbench-gui.log"
 grep "csg," "$build/bench-workbench-gui.log"
+
+# The hspline drag in the GUI, with the 3D view taking and drawing the new face.
+FREP_BENCH_OUT="$(realpath "$build")/bench-hspline-gui.json" \
+  bash scripts/run-freecad-gui.sh "$build" bench/hspline_latency_gui.FCMacro \
+  "$build/bench-hspline-gui.log"
+grep "^hspline" "$build/bench-hspline-gui.log"

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <random>
+#include <tuple>
 
 #include "base/errors.h"
 #include "hspline/hspline.h"
@@ -230,6 +231,31 @@ TEST(HSpline, MovingALevelZeroCvCarriesLevelOneDetailAlong) {
   EXPECT_NEAR(vlength(h.displacement(1, k)), std::sqrt(0.01 + 0.04 + 0.49), 1e-12);
   EXPECT_GT(f.n[0] * f.n[0] + f.n[1] * f.n[1], 1e-4);    // the frame did turn
   EXPECT_GT(distance(detailAfter, detailBefore), 1e-3);  // not a mere translation
+}
+
+TEST(HSpline, AMoveRefreshesExactlyWhatAFullRebuildGives) {
+  // A move refreshes only the CVs whose frame it can reach; the rest must already be what a
+  // hierarchy built afresh from the same values has, to the bit.
+  for (HSpline h : {detailedPlane(), [] {
+                      HSpline t = hsplineTorus(8, 6, 5, 1.5);
+                      t.refine(0, {{0, 0}, {7, 5}, {3, 3}});  // across both seams
+                      for (const HsCv& cv : std::vector<HsCv>(t.level(1).cvs))
+                        t.setValue(1, cv.i, cv.j, {0.01 * cv.i, 0, 0.02 * cv.j});
+                      return t;
+                    }()}) {
+    for (const auto& [level, i, j] :
+         std::vector<std::tuple<int, int, int>>{{0, 0, 0}, {0, 3, 3}, {0, 7, 5}, {1, 6, 6}}) {
+      if (!h.find(level, i, j) || !h.movable(level, i, j)) continue;
+      h.moveCv(level, i, j, vadd(h.position(level, i, j), {0.3, -0.2, 0.5}));
+      std::vector<std::vector<HsCv>> levels;
+      for (int l = 0; l < h.levelCount(); ++l) levels.push_back(h.level(l).cvs);
+      const HSpline fresh = HSpline::fromLevels(h.level(0).u, h.level(0).v, levels);
+      for (int l = 0; l < h.levelCount(); ++l)
+        for (std::size_t k = 0; k < h.level(l).cvs.size(); ++k)
+          ASSERT_EQ(h.displacement(l, int(k)), fresh.displacement(l, int(k)))
+              << "level " << l << " CV " << k;
+    }
+  }
 }
 
 TEST(HSpline, AFixedCvRefusesToMove) {

@@ -109,8 +109,7 @@ class HSplineFeature(StatelessProxy):
         h = _shared(obj)
         flat = h.bspline()
         surface = Part.BSplineSurface()
-        poles = [[FreeCAD.Vector(*p) for p in row] for row in flat["poles"]]
-        surface.buildFromPolesMultsKnots(poles, flat["umults"], flat["vmults"], flat["uknots"],
+        surface.buildFromPolesMultsKnots(flat["poles"], flat["umults"], flat["vmults"], flat["uknots"],
                                          flat["vknots"], flat["uperiodic"], flat["vperiodic"], 3, 3)
         face = surface.toShape()
         shape = face
@@ -151,7 +150,7 @@ def store(obj, h, values_only=False):
     step) and drops tags of CVs it no longer has. values_only: the CVs are the same ones,
     only their values changed (a move, zero offsets): one property is written."""
     if values_only:
-        obj.CvValues = [FreeCAD.Vector(*v) for v in h.to_arrays(values_only=True)["values"]]
+        obj.CvValues = h.to_arrays(values_only=True)["values"]  # tuples, taken as they are
     else:
         a = h.to_arrays()
         obj.KnotsU, obj.PeriodU = a["knots_u"], a["period_u"]

@@ -47,6 +47,7 @@ class ViewProviderHSpline(StatelessProxy):
         self.edit_root = None
         self.draggers = []
         self.callback = None
+        self.preview = None
 
     def getIcon(self):
         return FRepPaths.icon("hspline")
@@ -191,6 +192,7 @@ class ViewProviderHSpline(StatelessProxy):
             sep.addChild(dragger)
             self.edit_root.addChild(sep)
             dragger.addStartCallback(lambda _d, _dr, cv=cv: self.drag_started(cv))
+            dragger.addMotionCallback(lambda _d, dr, cv=cv, s=size: self.drag_moved(cv, dr, s))
             dragger.addFinishCallback(lambda _d, dr, cv=cv, s=size: self.drag_finished(cv, dr, s))
             self.draggers.append((cv, dragger, size))
         vobj.RootNode.addChild(self.edit_root)
@@ -210,11 +212,81 @@ class ViewProviderHSpline(StatelessProxy):
 
     def drag_started(self, cv):
         self.Object.Document.openTransaction("Move hspline CV (%d, %d, %d)" % cv)
+        self.start_preview()
+
+    # While a CV is dragged the document does not change: the view shows a preview, the same
+    # vertices of our own tessellation moved (Part's tessellation of a large B-spline face takes
+    # far longer than a frame). The release makes the one document change.
+    def start_preview(self):
+        from pivy import coin
+        self.stop_preview()
+        obj = self.Object
+        b = obj.Shape.BoundBox
+        t = obj.Proxy.hspline(obj).tessellation(max(b.DiagonalLength, 1e-6) * 2e-4)
+        mesh = t["mesh"]
+        root = coin.SoSeparator()
+        colour = coin.SoMaterial()
+        colour.diffuseColor = (0.95, 0.75, 0.35)
+        hints = coin.SoShapeHints()
+        hints.vertexOrdering = coin.SoShapeHints.COUNTERCLOCKWISE
+        hints.shapeType = coin.SoShapeHints.UNKNOWN_SHAPE_TYPE
+        points, unit = obj.Proxy.hspline(obj).points_at(t["us"], t["vs"], normals=True)
+        coords = coin.SoCoordinate3()
+        coords.point.setValues(0, len(points), points)
+        # Normals from the surface itself, so Coin need not compute them every frame.
+        normals = coin.SoNormal()
+        normals.vector.setValues(0, len(unit), unit)
+        binding = coin.SoNormalBinding()
+        binding.value = coin.SoNormalBinding.PER_VERTEX_INDEXED
+        faces = coin.SoIndexedFaceSet()
+        index = []
+        for a, b_, c in mesh.triangles:
+            index.extend((a, b_, c, -1))
+        faces.coordIndex.setValues(0, len(index), index)
+        for n in (colour, hints, coords, normals, binding, faces):
+            root.addChild(n)
+        obj.ViewObject.RootNode.addChild(root)
+        # Part's drawing of the surface as it was steps aside (its display-mode switch) while
+        # the preview stands in for it; the CV overlay and the draggers stay.
+        switch = getattr(obj.ViewObject, "SwitchNode", None)
+        shown = switch.whichChild.getValue() if switch is not None else None
+        if switch is not None:
+            switch.whichChild = -1
+        self.preview = (root, (coords, normals), t["us"], t["vs"], shown)
+
+    def drag_moved(self, cv, dragger, size):
+        """One preview frame: the CV moved in a copy of the hierarchy, the preview's
+        vertices put where the new surface has them."""
+        if self.preview is None:
+            return
+        obj = self.Object
+        root, (coords, normals), us, vs, _ = self.preview
+        t = dragger.translation.getValue()
+        h = obj.Proxy.hspline(obj).copy()
+        p = FreeCAD.Vector(*h.position(*cv)) + FreeCAD.Vector(t[0], t[1], t[2]) * size
+        try:
+            h.move_cv(cv[0], cv[1], cv[2], tuple(p))
+        except ValueError:
+            return
+        points, unit = h.points_at(us, vs, normals=True)
+        coords.point.setValues(0, len(points), points)
+        normals.vector.setValues(0, len(unit), unit)
+
+    def stop_preview(self):
+        if self.preview is not None:
+            root, _, _, _, shown = self.preview
+            vobj = self.Object.ViewObject
+            vobj.RootNode.removeChild(root)
+            switch = getattr(vobj, "SwitchNode", None)
+            if switch is not None and shown is not None:
+                switch.whichChild = shown
+            self.preview = None
 
     def drag_finished(self, cv, dragger, size):
         """Moves the CV by the dragger's translation, recomputes and commits the undo step."""
         obj = self.Object
         doc = obj.Document
+        self.stop_preview()
         t = dragger.translation.getValue()
         try:
             obj.Proxy.nudge(obj, [cv], (t[0] * size, t[1] * size, t[2] * size))

@@ -34,6 +34,42 @@ HsFrame frameOf(const Vec3& du, const Vec3& dv) {
   return f;
 }
 
+// An interval of one parameter axis in extended coordinates (a periodic one may run past the
+// period's ends), or the whole axis.
+struct Span {
+  double lo = 0, hi = 0;
+  bool all = false;
+};
+
+Span supportOf(const SplineAxis& a, int i) {
+  return {a.knot(i), a.knot(i + 4), false};
+}
+
+bool holds(const SplineAxis& a, const Span& s, double t) {
+  if (s.all) return true;
+  if (a.isPeriodic()) t += std::round((0.5 * (s.lo + s.hi) - t) / a.period()) * a.period();
+  return t >= s.lo && t <= s.hi;
+}
+
+Span merged(const SplineAxis& a, const Span& s, Span t) {
+  if (s.all || t.all) return {0, 0, true};
+  if (a.isPeriodic()) {
+    const double shift =
+        std::round((0.5 * (s.lo + s.hi) - 0.5 * (t.lo + t.hi)) / a.period()) * a.period();
+    t.lo += shift, t.hi += shift;
+  }
+  Span m{std::min(s.lo, t.lo), std::max(s.hi, t.hi), false};
+  if (a.isPeriodic() && m.hi - m.lo >= a.period()) m.all = true;
+  return m;
+}
+
+Vec3 displacementOf(const HsFrame& f, const Vec3& o) {
+  Vec3 d = vscale(f.tu, o[0]);
+  vaxpy(d, o[1], f.tv);
+  vaxpy(d, o[2], f.n);
+  return d;
+}
+
 }  // namespace
 
 std::string hsCvName(int level, int i, int j) {
@@ -211,12 +247,34 @@ void HSpline::refreshFrom(int from) {
         c.displacement[k] = {0, 0, 0};  // exactly nothing, whatever the frame
         continue;
       }
-      const HsFrame f = frame(level, cv.i, cv.j);
-      Vec3 d = vscale(f.tu, cv.value[0]);
-      vaxpy(d, cv.value[1], f.tv);
-      vaxpy(d, cv.value[2], f.n);
-      c.displacement[k] = d;
+      c.displacement[k] = displacementOf(frame(level, cv.i, cv.j), cv.value);
     }
+  }
+}
+
+void HSpline::refreshAround(int level, int i, int j) {
+  const int s = slotOf(level, i, j);
+  const HsLevel& own = levels_[static_cast<std::size_t>(level)];
+  const HsCv& cv = own.cvs[static_cast<std::size_t>(s)];
+  Vec3& d = cache_[static_cast<std::size_t>(level)].displacement[static_cast<std::size_t>(s)];
+  d = level == 0                  ? cv.value
+      : cv.value == Vec3{0, 0, 0} ? Vec3{0, 0, 0}
+                                  : displacementOf(frame(level, i, j), cv.value);
+  Span su = supportOf(own.u, i), sv = supportOf(own.v, j);
+  for (int l = level + 1; l < levelCount(); ++l) {
+    const HsLevel& fine = levels_[static_cast<std::size_t>(l)];
+    Cache& c = cache_[static_cast<std::size_t>(l)];
+    Span gu = su, gv = sv;
+    for (std::size_t k = 0; k < fine.cvs.size(); ++k) {
+      const HsCv& f = fine.cvs[k];
+      if (!holds(fine.u, su, fine.u.reference(f.i)) || !holds(fine.v, sv, fine.v.reference(f.j)))
+        continue;
+      c.displacement[k] =
+          f.value == Vec3{0, 0, 0} ? Vec3{0, 0, 0} : displacementOf(frame(l, f.i, f.j), f.value);
+      gu = merged(fine.u, gu, supportOf(fine.u, f.i));
+      gv = merged(fine.v, gv, supportOf(fine.v, f.j));
+    }
+    su = gu, sv = gv;
   }
 }
 

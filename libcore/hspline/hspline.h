@@ -134,6 +134,9 @@ class HSpline {
   void rebuildIndex(int level);
   // Recomputes D for levels from..end, in order (each needs its parent's).
   void refreshFrom(int from);
+  // After one CV's value changed: its own D, then on each finer level only the CVs whose
+  // frame the change can reach (reference parameter inside the supports changed so far).
+  void refreshAround(int level, int i, int j);
   void checkLevelIndex(int level) const;
   std::vector<HsLevel> levels_;
   std::vector<Cache> cache_;

@@ -75,7 +75,7 @@ void HSpline::setValue(int level, int i, int j, const Vec3& value) {
   if (!(std::isfinite(value[0]) && std::isfinite(value[1]) && std::isfinite(value[2])))
     throw ModelError("hspline: the value of " + hsCvName(level, i, j) + " must be finite");
   levels_[static_cast<std::size_t>(level)].cvs[static_cast<std::size_t>(s)].value = value;
-  refreshFrom(level);
+  refreshAround(level, i, j);
 }
 
 void HSpline::moveCv(int level, int i, int j, const Vec3& target) {

@@ -120,29 +120,30 @@ void bindHSpline(py::module_& m) {
           "it).")
       .def(
           "to_arrays",
-           [](const HSpline& h, bool valuesOnly) {
-             py::dict d;
-             if (valuesOnly) {
-               std::vector<Vec3> values;
-               for (int l = 0; l < h.levelCount(); ++l)
-                 for (const HsCv& cv : h.level(l).cvs) values.push_back(cv.value);
-               d["values"] = values;
-               return d;
-             }
-             const HsLevel& base = h.level(0);
-             d["knots_u"] = base.u.knots(),
-             d["period_u"] = base.u.isPeriodic() ? base.u.period() : 0.0;
-             d["knots_v"] = base.v.knots(),
-             d["period_v"] = base.v.isPeriodic() ? base.v.period() : 0.0;
-             std::vector<int> levels, is, js;
-             std::vector<Vec3> values;
-             for (int l = 0; l < h.levelCount(); ++l)
-               for (const HsCv& cv : h.level(l).cvs)
-                 levels.push_back(l), is.push_back(cv.i), js.push_back(cv.j),
-                     values.push_back(cv.value);
-             d["levels"] = levels, d["i"] = is, d["j"] = js, d["values"] = values;
-             return d;
-           },
+          [](const HSpline& h, bool valuesOnly) {
+            py::dict d;
+            if (valuesOnly) {  // tuples: what a FreeCAD vector list property takes as it is
+              std::vector<std::tuple<double, double, double>> values;
+              for (int l = 0; l < h.levelCount(); ++l)
+                for (const HsCv& cv : h.level(l).cvs)
+                  values.emplace_back(cv.value[0], cv.value[1], cv.value[2]);
+              d["values"] = values;
+              return d;
+            }
+            const HsLevel& base = h.level(0);
+            d["knots_u"] = base.u.knots(),
+            d["period_u"] = base.u.isPeriodic() ? base.u.period() : 0.0;
+            d["knots_v"] = base.v.knots(),
+            d["period_v"] = base.v.isPeriodic() ? base.v.period() : 0.0;
+            std::vector<int> levels, is, js;
+            std::vector<Vec3> values;
+            for (int l = 0; l < h.levelCount(); ++l)
+              for (const HsCv& cv : h.level(l).cvs)
+                levels.push_back(l), is.push_back(cv.i), js.push_back(cv.j),
+                    values.push_back(cv.value);
+            d["levels"] = levels, d["i"] = is, d["j"] = js, d["values"] = values;
+            return d;
+          },
           py::arg("values_only") = false,
           "The hierarchy as flat arrays (knots, periods, each CV's level, i, j, value); "
           "values_only: the values alone.")
@@ -293,6 +294,47 @@ void bindHSpline(py::module_& m) {
           },
           py::arg("tolerance"),
           "A triangle mesh within about `tolerance` of the surface (closed for a torus).")
+      .def(
+          "tessellation",
+          [](const HSpline& h, double tolerance) {
+            HsTessellation t;
+            {
+              py::gil_scoped_release release;
+              t = tessellate(flatten(h), tolerance);
+            }
+            py::dict d;
+            d["mesh"] = t.mesh, d["us"] = t.us, d["vs"] = t.vs;
+            return d;
+          },
+          py::arg("tolerance"),
+          "dict(mesh, us, vs): the tessellation and its sample parameters (vertex i + len(us) * j "
+          "lies at us[i], vs[j]), for a display that moves the same vertices while a CV is "
+          "dragged.")
+      .def(
+          "points_at",
+          [](const HSpline& h, const std::vector<double>& us, const std::vector<double>& vs,
+             bool normals) {
+            std::vector<std::tuple<float, float, float>> points, unit;
+            {
+              py::gil_scoped_release release;
+              const FlatBSpline f = flatten(h);
+              points.reserve(us.size() * vs.size());
+              for (double v : vs)
+                for (double u : us) {
+                  const HsSurfacePoint p = f.evaluate(u, v);
+                  points.emplace_back(float(p.position[0]), float(p.position[1]),
+                                      float(p.position[2]));
+                  if (!normals) continue;
+                  const Vec3 n = p.normal();
+                  unit.emplace_back(float(n[0]), float(n[1]), float(n[2]));
+                }
+            }
+            return normals ? py::object(py::make_tuple(points, unit))
+                           : py::object(py::cast(points));
+          },
+          py::arg("us"), py::arg("vs"), py::arg("normals") = false,
+          "The surface's points at every (us[i], vs[j]), i fastest; with normals: (points, "
+          "unit normals).")
       .def("to_text", &hsText, py::arg("optimised") = false, "The .hs file's text.")
       .def("write_hs", &writeHsFile, py::arg("path"), py::arg("optimised") = false)
       .def(
