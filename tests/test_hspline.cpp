@@ -258,6 +258,36 @@ TEST(HSpline, AMoveRefreshesExactlyWhatAFullRebuildGives) {
   }
 }
 
+TEST(HSpline, AMoveChangesTheSurfaceOnlyWithinItsReach) {
+  HSpline h = hsplineTorus(8, 6, 5, 1.5);
+  h.refine(0, {{0, 0}, {1, 0}, {7, 5}});
+  for (const HsCv& cv : std::vector<HsCv>(h.level(1).cvs))
+    h.setValue(1, cv.i, cv.j, {0, 0.01 * cv.j, 0.02 * cv.i});
+  std::vector<double> us, vs;
+  for (int a = 0; a < 64; ++a) us.push_back(8.0 * a / 64);
+  for (int b = 0; b < 48; ++b) vs.push_back(6.0 * b / 48);
+  const std::vector<std::pair<std::size_t, std::size_t>> all{{0, us.size() * vs.size()}};
+  const auto before = h.evaluateGrid(us, vs, all);
+  // The grid evaluation is the point evaluation.
+  for (std::size_t k = 0; k < before.size(); k += 37)
+    EXPECT_EQ(before[k].position, h.evaluate(us[k % us.size()], vs[k / us.size()]).position);
+  const HsRegion r = h.reach(0, 0, 0);  // a CV whose support crosses both seams
+  h.moveCv(0, 0, 0, vadd(h.position(0, 0, 0), {0.5, 0.2, -0.4}));
+  const auto after = h.evaluateGrid(us, vs, all);
+  std::size_t inside = 0, moved = 0;
+  for (std::size_t k = 0; k < after.size(); ++k) {
+    const bool in = h.contains(r, us[k % us.size()], vs[k / us.size()]);
+    inside += in;
+    if (after[k].position != before[k].position) {
+      ++moved;
+      EXPECT_TRUE(in) << "a point outside the reach moved, at " << us[k % us.size()] << ", "
+                      << vs[k / us.size()];
+    }
+  }
+  EXPECT_GT(moved, 100u);
+  EXPECT_LT(inside, after.size());  // the reach is not the whole surface
+}
+
 TEST(HSpline, AFixedCvRefusesToMove) {
   HSpline h = hsplinePlane(12, 12, 10, 10);
   h.refine(0, {{5, 5}});

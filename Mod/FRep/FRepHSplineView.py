@@ -253,6 +253,7 @@ class ViewProviderHSpline(StatelessProxy):
         if switch is not None:
             switch.whichChild = -1
         self.preview = (root, (coords, normals), t["us"], t["vs"], shown)
+        self.preview_runs = {}  # per CV: the grid runs a drag of it can move
 
     def drag_moved(self, cv, dragger, size):
         """One preview frame: the CV moved in a copy of the hierarchy, the preview's
@@ -268,9 +269,12 @@ class ViewProviderHSpline(StatelessProxy):
             h.move_cv(cv[0], cv[1], cv[2], tuple(p))
         except ValueError:
             return
-        points, unit = h.points_at(us, vs, normals=True)
-        coords.point.setValues(0, len(points), points)
-        normals.vector.setValues(0, len(unit), unit)
+        if cv not in self.preview_runs:
+            self.preview_runs[cv] = h.reach_runs(us, vs, *cv)
+        runs = self.preview_runs[cv]
+        for (start, _), (points, unit) in zip(runs, h.points_in_runs(us, vs, runs)):
+            coords.point.setValues(start, len(points), points)
+            normals.vector.setValues(start, len(unit), unit)
 
     def stop_preview(self):
         if self.preview is not None:

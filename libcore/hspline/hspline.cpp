@@ -34,31 +34,24 @@ HsFrame frameOf(const Vec3& du, const Vec3& dv) {
   return f;
 }
 
-// An interval of one parameter axis in extended coordinates (a periodic one may run past the
-// period's ends), or the whole axis.
-struct Span {
-  double lo = 0, hi = 0;
-  bool all = false;
-};
-
-Span supportOf(const SplineAxis& a, int i) {
+HsInterval supportOf(const SplineAxis& a, int i) {
   return {a.knot(i), a.knot(i + 4), false};
 }
 
-bool holds(const SplineAxis& a, const Span& s, double t) {
+bool holds(const SplineAxis& a, const HsInterval& s, double t) {
   if (s.all) return true;
   if (a.isPeriodic()) t += std::round((0.5 * (s.lo + s.hi) - t) / a.period()) * a.period();
   return t >= s.lo && t <= s.hi;
 }
 
-Span merged(const SplineAxis& a, const Span& s, Span t) {
+HsInterval merged(const SplineAxis& a, const HsInterval& s, HsInterval t) {
   if (s.all || t.all) return {0, 0, true};
   if (a.isPeriodic()) {
     const double shift =
         std::round((0.5 * (s.lo + s.hi) - 0.5 * (t.lo + t.hi)) / a.period()) * a.period();
     t.lo += shift, t.hi += shift;
   }
-  Span m{std::min(s.lo, t.lo), std::max(s.hi, t.hi), false};
+  HsInterval m{std::min(s.lo, t.lo), std::max(s.hi, t.hi), false};
   if (a.isPeriodic() && m.hi - m.lo >= a.period()) m.all = true;
   return m;
 }
@@ -200,28 +193,63 @@ std::pair<double, double> HSpline::referenceParameter(int level, int i, int j) c
   return {l.u.reference(i), l.v.reference(j)};
 }
 
+void HSpline::addLevel(HsSurfacePoint& p, int level, const SpanBasis& bu,
+                       const SpanBasis& bv) const {
+  const HsLevel& l = levels_[static_cast<std::size_t>(level)];
+  const Cache& c = cache_[static_cast<std::size_t>(level)];
+  for (int b = 0; b < 4; ++b) {
+    const int j = l.v.wrap(bv.span - 3 + b) - c.j0;
+    if (j < 0 || j >= c.nj) continue;
+    for (int a = 0; a < 4; ++a) {
+      const int i = l.u.wrap(bu.span - 3 + a) - c.i0;
+      if (i < 0 || i >= c.ni) continue;
+      const int s = c.slot[static_cast<std::size_t>(i) +
+                           static_cast<std::size_t>(c.ni) * static_cast<std::size_t>(j)];
+      if (s < 0) continue;
+      p.add(bu, bv, a, b, c.displacement[static_cast<std::size_t>(s)]);
+    }
+  }
+}
+
 HsSurfacePoint HSpline::evaluate(double u, double v, int upTo) const {
   HsSurfacePoint p;
   const int last = upTo < 0 ? levelCount() - 1 : std::min(upTo, levelCount() - 1);
   for (int level = 0; level <= last; ++level) {
     const HsLevel& l = levels_[static_cast<std::size_t>(level)];
-    if (l.cvs.empty()) continue;
-    const Cache& c = cache_[static_cast<std::size_t>(level)];
-    const SpanBasis bu = l.u.basis(u), bv = l.v.basis(v);
-    for (int b = 0; b < 4; ++b) {
-      const int j = l.v.wrap(bv.span - 3 + b) - c.j0;
-      if (j < 0 || j >= c.nj) continue;
-      for (int a = 0; a < 4; ++a) {
-        const int i = l.u.wrap(bu.span - 3 + a) - c.i0;
-        if (i < 0 || i >= c.ni) continue;
-        const int s = c.slot[static_cast<std::size_t>(i) +
-                             static_cast<std::size_t>(c.ni) * static_cast<std::size_t>(j)];
-        if (s < 0) continue;
-        p.add(bu, bv, a, b, c.displacement[static_cast<std::size_t>(s)]);
-      }
-    }
+    if (!l.cvs.empty()) addLevel(p, level, l.u.basis(u), l.v.basis(v));
   }
   return p;
+}
+
+std::vector<HsSurfacePoint> HSpline::evaluateGrid(
+    const std::vector<double>& us, const std::vector<double>& vs,
+    const std::vector<std::pair<std::size_t, std::size_t>>& runs) const {
+  // Each level's basis once per column and per row that the runs touch, not once per point.
+  const std::size_t nu = us.size(), total = nu * vs.size();
+  std::vector<char> column(nu, 0), row(vs.size(), 0);
+  std::size_t count = 0;
+  for (const auto& [first, n] : runs)
+    for (std::size_t at = first; at < first + n && at < total; ++at)
+      column[at % nu] = row[at / nu] = 1, ++count;
+  std::vector<HsSurfacePoint> out;
+  out.reserve(count);
+  std::vector<std::vector<SpanBasis>> bu(levels_.size()), bv(levels_.size());
+  for (std::size_t l = 0; l < levels_.size(); ++l) {
+    if (levels_[l].cvs.empty()) continue;
+    bu[l].resize(nu), bv[l].resize(vs.size());
+    for (std::size_t a = 0; a < nu; ++a)
+      if (column[a]) bu[l][a] = levels_[l].u.basis(us[a]);
+    for (std::size_t b = 0; b < vs.size(); ++b)
+      if (row[b]) bv[l][b] = levels_[l].v.basis(vs[b]);
+  }
+  for (const auto& [first, n] : runs)
+    for (std::size_t at = first; at < first + n && at < total; ++at) {
+      HsSurfacePoint p;
+      for (std::size_t l = 0; l < levels_.size(); ++l)
+        if (!levels_[l].cvs.empty()) addLevel(p, int(l), bu[l][at % nu], bv[l][at / nu]);
+      out.push_back(p);
+    }
+  return out;
 }
 
 HsFrame HSpline::frame(int level, int i, int j) const {
@@ -252,30 +280,51 @@ void HSpline::refreshFrom(int from) {
   }
 }
 
+template <class Visit>
+HsRegion HSpline::walkReach(int level, int i, int j, Visit visit) const {
+  const HsLevel& own = levels_[static_cast<std::size_t>(level)];
+  HsRegion r{supportOf(own.u, i), supportOf(own.v, j)};
+  for (int l = level + 1; l < levelCount(); ++l) {
+    const HsLevel& fine = levels_[static_cast<std::size_t>(l)];
+    HsRegion grown = r;
+    for (std::size_t k = 0; k < fine.cvs.size(); ++k) {
+      const HsCv& f = fine.cvs[k];
+      if (!holds(fine.u, r.u, fine.u.reference(f.i)) || !holds(fine.v, r.v, fine.v.reference(f.j)))
+        continue;
+      visit(l, k);
+      grown.u = merged(fine.u, grown.u, supportOf(fine.u, f.i));
+      grown.v = merged(fine.v, grown.v, supportOf(fine.v, f.j));
+    }
+    r = grown;
+  }
+  return r;
+}
+
 void HSpline::refreshAround(int level, int i, int j) {
   const int s = slotOf(level, i, j);
-  const HsLevel& own = levels_[static_cast<std::size_t>(level)];
-  const HsCv& cv = own.cvs[static_cast<std::size_t>(s)];
+  const HsCv& cv = levels_[static_cast<std::size_t>(level)].cvs[static_cast<std::size_t>(s)];
   Vec3& d = cache_[static_cast<std::size_t>(level)].displacement[static_cast<std::size_t>(s)];
   d = level == 0                  ? cv.value
       : cv.value == Vec3{0, 0, 0} ? Vec3{0, 0, 0}
                                   : displacementOf(frame(level, i, j), cv.value);
-  Span su = supportOf(own.u, i), sv = supportOf(own.v, j);
-  for (int l = level + 1; l < levelCount(); ++l) {
-    const HsLevel& fine = levels_[static_cast<std::size_t>(l)];
-    Cache& c = cache_[static_cast<std::size_t>(l)];
-    Span gu = su, gv = sv;
-    for (std::size_t k = 0; k < fine.cvs.size(); ++k) {
-      const HsCv& f = fine.cvs[k];
-      if (!holds(fine.u, su, fine.u.reference(f.i)) || !holds(fine.v, sv, fine.v.reference(f.j)))
-        continue;
-      c.displacement[k] =
-          f.value == Vec3{0, 0, 0} ? Vec3{0, 0, 0} : displacementOf(frame(l, f.i, f.j), f.value);
-      gu = merged(fine.u, gu, supportOf(fine.u, f.i));
-      gv = merged(fine.v, gv, supportOf(fine.v, f.j));
-    }
-    su = gu, sv = gv;
-  }
+  // Finer CVs whose frame sits where the surface changed, level by level (each frame needs
+  // the levels below it refreshed first).
+  walkReach(level, i, j, [this](int l, std::size_t k) {
+    const HsCv& f = levels_[static_cast<std::size_t>(l)].cvs[k];
+    cache_[static_cast<std::size_t>(l)].displacement[k] =
+        f.value == Vec3{0, 0, 0} ? Vec3{0, 0, 0} : displacementOf(frame(l, f.i, f.j), f.value);
+  });
+}
+
+HsRegion HSpline::reach(int level, int i, int j) const {
+  checkLevelIndex(level);
+  if (!find(level, i, j)) throw ModelError("hspline: there is no " + hsCvName(level, i, j));
+  const HsLevel& l = levels_[static_cast<std::size_t>(level)];
+  return walkReach(level, l.u.wrap(i), l.v.wrap(j), [](int, std::size_t) {});
+}
+
+bool HSpline::contains(const HsRegion& r, double u, double v) const {
+  return holds(levels_[0].u, r.u, u) && holds(levels_[0].v, r.v, v);
 }
 
 std::vector<Vec3> HSpline::gridPositions(int level, std::vector<std::pair<int, int>> points) const {

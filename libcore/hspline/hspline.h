@@ -62,6 +62,16 @@ struct HsFrame {
   Vec3 tu{1, 0, 0}, tv{0, 1, 0}, n{0, 0, 1};
 };
 
+// An interval of one parameter axis in extended coordinates (a periodic one may run past the
+// period's ends), or the whole axis; a region is one on each axis.
+struct HsInterval {
+  double lo = 0, hi = 0;
+  bool all = false;
+};
+struct HsRegion {
+  HsInterval u, v;
+};
+
 // "CV (level 1, i 4, j 7)": how messages name a CV.
 std::string hsCvName(int level, int i, int j);
 
@@ -87,6 +97,11 @@ class HSpline {
 
   // The surface of the levels up to `upTo` (all when negative) at (u, v).
   HsSurfacePoint evaluate(double u, double v, int upTo = -1) const;
+  // The surface at the grid points (us[a], vs[b]), vertex a + len(us) * b, of each run (first
+  // vertex, count): each level's basis computed once per column and row, not per point.
+  std::vector<HsSurfacePoint> evaluateGrid(
+      const std::vector<double>& us, const std::vector<double>& vs,
+      const std::vector<std::pair<std::size_t, std::size_t>>& runs) const;
   // The frame a CV's offset is measured in: S_{l-1}'s at the CV's reference parameter.
   HsFrame frame(int level, int i, int j) const;
   // A CV's position in space (P + D); works for grid points that hold no CV too.
@@ -94,6 +109,11 @@ class HSpline {
   // D of the level's k-th CV (level(l).cvs order): its offset turned into space; level 0's
   // position.
   const Vec3& displacement(int level, int k) const;
+  // Where the surface can change when the CV's value changes: its basis function's support,
+  // grown by the supports of the finer CVs whose frame lies in it, level by level. A drag's
+  // preview re-evaluates only there.
+  HsRegion reach(int level, int i, int j) const;
+  bool contains(const HsRegion& r, double u, double v) const;
   // The positions of all of a level's CVs, in the order of level(l).cvs.
   std::vector<Vec3> positions(int level) const;
   // The reference parameter of a CV: where its frame is taken.
@@ -128,6 +148,8 @@ class HSpline {
     std::vector<int> childU, childV;          // child centres on the next level
   };
   int slotOf(int level, int i, int j) const;
+  // Adds one level's terms at a point whose bases on that level are given.
+  void addLevel(HsSurfacePoint& p, int level, const SpanBasis& bu, const SpanBasis& bv) const;
   // Positions (P + D) of grid points of a level, through the parents' nets.
   std::vector<Vec3> gridPositions(int level, std::vector<std::pair<int, int>> points) const;
   void addLevel();
@@ -137,6 +159,10 @@ class HSpline {
   // After one CV's value changed: its own D, then on each finer level only the CVs whose
   // frame the change can reach (reference parameter inside the supports changed so far).
   void refreshAround(int level, int i, int j);
+  // Walks the CVs a change of (level, i, j) can reach (visit(level, index)), finest last;
+  // returns the region of the surface that can change.
+  template <class Visit>
+  HsRegion walkReach(int level, int i, int j, Visit visit) const;
   void checkLevelIndex(int level) const;
   std::vector<HsLevel> levels_;
   std::vector<Cache> cache_;

@@ -335,6 +335,49 @@ void bindHSpline(py::module_& m) {
           py::arg("us"), py::arg("vs"), py::arg("normals") = false,
           "The surface's points at every (us[i], vs[j]), i fastest; with normals: (points, "
           "unit normals).")
+      .def(
+          "reach_runs",
+          [](const HSpline& h, const std::vector<double>& us, const std::vector<double>& vs,
+             int level, int i, int j) {
+            const HsRegion r = h.reach(level, i, j);
+            std::vector<std::pair<std::size_t, std::size_t>> runs;  // (first vertex, count)
+            for (std::size_t b = 0; b < vs.size(); ++b)
+              for (std::size_t a = 0; a < us.size(); ++a) {
+                if (!h.contains(r, us[a], vs[b])) continue;
+                const std::size_t at = a + us.size() * b;
+                if (!runs.empty() && runs.back().first + runs.back().second == at)
+                  ++runs.back().second;
+                else
+                  runs.push_back({at, 1});
+              }
+            return runs;
+          },
+          py::arg("us"), py::arg("vs"), py::arg("level"), py::arg("i"), py::arg("j"),
+          "The runs (first vertex, count) of a tessellation grid (vertex a + len(us) * b) that "
+          "a change of the CV can move: what a drag's preview re-evaluates.")
+      .def(
+          "points_in_runs",
+          [](const HSpline& h, const std::vector<double>& us, const std::vector<double>& vs,
+             const std::vector<std::pair<std::size_t, std::size_t>>& runs) {
+            using P = std::tuple<float, float, float>;
+            std::vector<std::pair<std::vector<P>, std::vector<P>>> out(runs.size());
+            {
+              py::gil_scoped_release release;
+              const std::vector<HsSurfacePoint> points = h.evaluateGrid(us, vs, runs);
+              std::size_t k = 0;
+              for (std::size_t r = 0; r < runs.size(); ++r)
+                for (std::size_t n = 0; n < runs[r].second && k < points.size(); ++n, ++k) {
+                  const HsSurfacePoint& p = points[k];
+                  const Vec3 u = p.normal();
+                  out[r].first.emplace_back(float(p.position[0]), float(p.position[1]),
+                                            float(p.position[2]));
+                  out[r].second.emplace_back(float(u[0]), float(u[1]), float(u[2]));
+                }
+            }
+            return out;
+          },
+          py::arg("us"), py::arg("vs"), py::arg("runs"),
+          "(points, normals) of each run's vertices.")
       .def("to_text", &hsText, py::arg("optimised") = false, "The .hs file's text.")
       .def("write_hs", &writeHsFile, py::arg("path"), py::arg("optimised") = false)
       .def(
