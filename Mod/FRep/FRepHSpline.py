@@ -105,20 +105,11 @@ class HSplineFeature(StatelessProxy):
             tag_cv(obj, cv)
 
     def execute(self, obj):
-        import Part
         h = _shared(obj)
-        flat = h.bspline()
-        surface = Part.BSplineSurface()
-        surface.buildFromPolesMultsKnots(flat["poles"], flat["umults"], flat["vmults"], flat["uknots"],
-                                         flat["vknots"], flat["uperiodic"], flat["vperiodic"], 3, 3)
-        face = surface.toShape()
-        shape = face
-        if h.closed and obj.MakeSolid:
-            solid = Part.Solid(Part.Shell([face]))
-            if flat["inward"]:  # the normals point in: a negative volume until reversed
-                solid.reverse()
-            shape = solid
-        obj.Shape = shape
+        # The exact B-spline face (a solid when closed), built by OpenCASCADE in frepcore with
+        # our tessellation attached as its triangulation, so the 3D view draws that instead of
+        # meshing a face of thousands of poles again (docs/performance.md).
+        obj.Shape = _shape_from_binary(h.brep_binary(bool(h.closed and obj.MakeSolid)))
         if obj.Levels != h.level_count:
             obj.Levels = h.level_count
         if obj.CvCount != h.cv_count:
@@ -137,6 +128,26 @@ def _shared(obj):
             raise ValueError("%s: %s" % (obj.Label, e)) from None
         _CACHE[_key(obj)] = h
     return h
+
+
+def _shape_from_binary(data):
+    """A Part shape from OpenCASCADE binary BRep (Part.Shape.importBinary reads files only; a
+    RAM-backed temporary file where there is one)."""
+    import os
+    import tempfile
+    import Part
+    folder = "/dev/shm" if os.path.isdir("/dev/shm") and os.access("/dev/shm", os.W_OK) else None
+    fd, path = tempfile.mkstemp(suffix=".brep", dir=folder)
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+        shape = Part.Shape()
+        shape.importBinary(path)
+    finally:
+        os.remove(path)
+    if shape.isNull():
+        raise RuntimeError("the hspline's shape could not be read back from OpenCASCADE")
+    return shape
 
 
 def hspline_of(obj):

@@ -95,6 +95,18 @@ FlatBSpline flatten(const HSpline& h) {
   return flat;
 }
 
+double enclosedVolume(const FlatBSpline& f) {
+  const int n = 48;
+  double sum = 0;
+  const double hu = (f.u.hi() - f.u.lo()) / n, hv = (f.v.hi() - f.v.lo()) / n;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const HsSurfacePoint p = f.evaluate(f.u.lo() + (i + 0.5) * hu, f.v.lo() + (j + 0.5) * hv);
+      sum += vdot(p.position, vcross(p.du, p.dv));
+    }
+  return sum * hu * hv / 3;
+}
+
 OccStyleAxis occStyle(const SplineAxis& a) {
   OccStyleAxis o;
   o.periodic = a.isPeriodic();

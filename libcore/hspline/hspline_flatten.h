@@ -25,6 +25,10 @@ struct FlatBSpline {
 
 FlatBSpline flatten(const HSpline& h);
 
+// A closed surface's enclosed volume, (1/3) of the integral of p . (du x dv), by the midpoint
+// rule on a 48 x 48 grid: enough for its sign, which says whether the normals point out.
+double enclosedVolume(const FlatBSpline& f);
+
 // An axis the way OpenCASCADE (and FreeCAD's Part.BSplineSurface) take it: distinct knots with
 // multiplicities, a periodic one closed by its first knot one period on. Its pole k (from 0)
 // is our CV ourPole(k): OpenCASCADE starts a periodic sequence three knots before the first.

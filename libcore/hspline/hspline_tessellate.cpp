@@ -33,30 +33,43 @@ std::vector<double> samples(const std::vector<double>& spans, const std::vector<
   return out;
 }
 
+// For each span of `along` (u when alongU), the largest |second derivative| along it.
+std::vector<double> spanCurvature(const FlatBSpline& f, const std::vector<double>& along,
+                                  const std::vector<double>& across, bool alongU) {
+  const SplineAxis& a = alongU ? f.u : f.v;
+  const SplineAxis& c = alongU ? f.v : f.u;
+  std::vector<SpanBasis> at;
+  for (std::size_t s = 0; s + 1 < along.size(); ++s)
+    for (double x : {0.0, 0.5, 1.0})
+      at.push_back(a.basis(along[s] + x * (along[s + 1] - along[s])));
+  std::vector<SpanBasis> lines;
+  const std::size_t stride = std::max<std::size_t>(1, across.size() / 64);
+  for (std::size_t t = 0; t + 1 < across.size(); t += stride)
+    lines.push_back(c.basis(0.5 * (across[t] + across[t + 1])));
+  std::vector<double> out(along.size() - 1, 0);
+  for (std::size_t k = 0; k < at.size(); ++k)
+    for (const SpanBasis& line : lines) {
+      Vec3 second{0, 0, 0};
+      for (int p = 0; p < 4; ++p)
+        for (int q = 0; q < 4; ++q) {
+          const int i = a.wrap(at[k].span - 3 + p), j = c.wrap(line.span - 3 + q);
+          vaxpy(second, at[k].second[p] * line.value[q], alongU ? f.pole(i, j) : f.pole(j, i));
+        }
+      out[k / 3] = std::max(out[k / 3], vlength(second));
+    }
+  return out;
+}
+
 }  // namespace
 
 HsTessellation tessellate(const FlatBSpline& f, double tolerance, std::size_t maxTriangles) {
   if (!(std::isfinite(tolerance) && tolerance > 0))
     throw ModelError("hspline tessellation: the tolerance must be a positive distance");
   const std::vector<double> bu = breakpoints(f.u), bv = breakpoints(f.v);
-  // The largest second derivative along each span, sampled across the other direction.
-  std::vector<double> cu(bu.size() - 1, 0), cv(bv.size() - 1, 0);
-  const std::size_t strideU = std::max<std::size_t>(1, bu.size() / 64),
-                    strideV = std::max<std::size_t>(1, bv.size() / 64);
-  for (std::size_t s = 0; s + 1 < bu.size(); ++s)
-    for (std::size_t t = 0; t + 1 < bv.size(); t += strideV)
-      for (double x : {0.0, 0.5, 1.0}) {
-        const HsSurfacePoint p =
-            f.evaluate(bu[s] + x * (bu[s + 1] - bu[s]), 0.5 * (bv[t] + bv[t + 1]));
-        cu[s] = std::max(cu[s], vlength(p.duu));
-      }
-  for (std::size_t t = 0; t + 1 < bv.size(); ++t)
-    for (std::size_t s = 0; s + 1 < bu.size(); s += strideU)
-      for (double x : {0.0, 0.5, 1.0}) {
-        const HsSurfacePoint p =
-            f.evaluate(0.5 * (bu[s] + bu[s + 1]), bv[t] + x * (bv[t + 1] - bv[t]));
-        cv[t] = std::max(cv[t], vlength(p.dvv));
-      }
+  // The largest second derivative along each span, sampled at its ends and middle across up
+  // to 64 lines of the other direction (bases computed once per sample parameter).
+  const std::vector<double> cu = spanCurvature(f, bu, bv, true),
+                            cv = spanCurvature(f, bv, bu, false);
   const std::vector<double> us = samples(bu, cu, tolerance, f.u.isPeriodic());
   const std::vector<double> vs = samples(bv, cv, tolerance, f.v.isPeriodic());
   const std::size_t nu = us.size(), nv = vs.size();
@@ -74,13 +87,34 @@ HsTessellation tessellate(const FlatBSpline& f, double tolerance, std::size_t ma
   TriangleMesh& m = out.mesh;
   m.positions.resize(nu * nv);
   m.normals.resize(nu * nv);
-  for (std::size_t j = 0; j < nv; ++j)
+  // The basis once per sample column and row, not once per vertex; each vertex then sums its
+  // 16 poles for the point and the two tangents.
+  std::vector<SpanBasis> basisU(nu), basisV(nv);
+  for (std::size_t i = 0; i < nu; ++i) basisU[i] = f.u.basis(us[i]);
+  for (std::size_t j = 0; j < nv; ++j) basisV[j] = f.v.basis(vs[j]);
+  for (std::size_t j = 0; j < nv; ++j) {
+    const SpanBasis& bv = basisV[j];
+    int rows[4];
+    for (int b = 0; b < 4; ++b) rows[b] = f.v.wrap(bv.span - 3 + b);
     for (std::size_t i = 0; i < nu; ++i) {
-      const HsSurfacePoint p = f.evaluate(us[i], vs[j]);
-      const Vec3 n = p.normal();
-      m.positions[i + nu * j] = {float(p.position[0]), float(p.position[1]), float(p.position[2])};
+      const SpanBasis& bu = basisU[i];
+      Vec3 p{0, 0, 0}, du{0, 0, 0}, dv{0, 0, 0};
+      for (int a = 0; a < 4; ++a) {
+        const int column = f.u.wrap(bu.span - 3 + a);
+        for (int b = 0; b < 4; ++b) {
+          const Vec3& c = f.pole(column, rows[b]);
+          vaxpy(p, bu.value[a] * bv.value[b], c);
+          vaxpy(du, bu.first[a] * bv.value[b], c);
+          vaxpy(dv, bu.value[a] * bv.first[b], c);
+        }
+      }
+      Vec3 n = vcross(du, dv);
+      const double l = vlength(n);
+      n = l > 0 ? vscale(n, 1 / l) : Vec3{0, 0, 0};
+      m.positions[i + nu * j] = {float(p[0]), float(p[1]), float(p[2])};
       m.normals[i + nu * j] = {float(n[0]), float(n[1]), float(n[2])};
     }
+  }
   m.triangles.reserve(2 * cellsU * cellsV);
   auto vertex = [&](std::size_t i, std::size_t j) {
     return static_cast<std::uint32_t>(i % nu + nu * (j % nv));

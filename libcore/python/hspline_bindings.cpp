@@ -47,20 +47,6 @@ py::dict summaryDict(const OccShapeSummary& s) {
   return d;
 }
 
-// A closed surface's enclosed volume, (1/3) of the integral of p . (du x dv), by the midpoint
-// rule on a 48 x 48 grid: enough for its sign, which says whether the normals point out.
-double enclosedVolume(const FlatBSpline& f) {
-  const int n = 48;
-  double sum = 0;
-  const double hu = (f.u.hi() - f.u.lo()) / n, hv = (f.v.hi() - f.v.lo()) / n;
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const HsSurfacePoint p = f.evaluate(f.u.lo() + (i + 0.5) * hu, f.v.lo() + (j + 0.5) * hv);
-      sum += vdot(p.position, vcross(p.du, p.dv));
-    }
-  return sum * hu * hv / 3;
-}
-
 py::dict pointDict(const HsSurfacePoint& p) {
   py::dict d;
   d["point"] = p.position, d["normal"] = p.normal(), d["du"] = p.du, d["dv"] = p.dv;
@@ -378,6 +364,20 @@ void bindHSpline(py::module_& m) {
           },
           py::arg("us"), py::arg("vs"), py::arg("runs"),
           "(points, normals) of each run's vertices.")
+      .def(
+          "brep_binary",
+          [](const HSpline& h, bool solid) {
+            std::string data;
+            {
+              py::gil_scoped_release release;
+              data = hsBrepBinary(h, solid);
+            }
+            return py::bytes(data);
+          },
+          py::arg("solid") = true,
+          "OpenCASCADE binary BRep of the exact face (a solid when closed and `solid`) with our "
+          "tessellation attached as its triangulation, for Part.Shape.importBinary: FreeCAD's "
+          "view then draws it without meshing the face again.")
       .def("to_text", &hsText, py::arg("optimised") = false, "The .hs file's text.")
       .def("write_hs", &writeHsFile, py::arg("path"), py::arg("optimised") = false)
       .def(

@@ -4,8 +4,9 @@
 #include <BRepBuilderAPI_MakeSolid.hxx>
 #include <BRepCheck_Analyzer.hxx>
 #include <BRepGProp.hxx>
-#include <BRepLib.hxx>
 #include <BRep_Builder.hxx>
+#include <BinTools.hxx>
+#include <BinTools_ShapeSet.hxx>
 #include <GProp_GProps.hxx>
 #include <Geom_BSplineSurface.hxx>
 #include <IFSelect_ReturnStatus.hxx>
@@ -13,6 +14,7 @@
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
 #include <Message_PrinterOStream.hxx>
+#include <Poly_Triangulation.hxx>
 #include <STEPControl_Reader.hxx>
 #include <STEPControl_Writer.hxx>
 #include <Standard_Failure.hxx>
@@ -24,11 +26,13 @@
 #include <TopoDS_Shell.hxx>
 #include <TopoDS_Solid.hxx>
 #include <algorithm>
+#include <sstream>
 #include <vector>
 
 #include "base/atomic_file.h"
 #include "base/errors.h"
 #include "hspline/hspline_flatten.h"
+#include "hspline/hspline_tessellate.h"
 
 namespace frep {
 
@@ -96,6 +100,30 @@ OccShapeSummary summarise(const TopoDS_Shape& shape) {
   return s;
 }
 
+// The face of the flattened surface, or the solid it bounds when it is closed both ways.
+TopoDS_Shape occShape(const FlatBSpline& f, TopoDS_Face* faceOut = nullptr) {
+  Handle(Geom_BSplineSurface) surface = occSurface(f);
+  try {
+    const TopoDS_Face face = BRepBuilderAPI_MakeFace(surface, 1e-7);
+    if (faceOut) *faceOut = face;
+    if (!(f.u.isPeriodic() && f.v.isPeriodic())) return face;
+    // A surface closed both ways bounds a solid on its own: one face, one shell.
+    BRep_Builder builder;
+    TopoDS_Shell shell;
+    builder.MakeShell(shell);
+    builder.Add(shell, face);
+    shell.Closed(true);
+    TopoDS_Solid solid = BRepBuilderAPI_MakeSolid(shell);
+    // Outward when the surface's own normals (du x dv) enclose a positive volume; our sign
+    // test is a 48 x 48 sum, where OpenCASCADE's OrientClosedSolid classifies points.
+    if (enclosedVolume(f) < 0) solid.Reverse();
+    return solid;
+  } catch (const Standard_Failure& e) {
+    throw ModelError(std::string("OpenCASCADE could not make a face or solid of the hspline: ") +
+                     e.GetMessageString());
+  }
+}
+
 }  // namespace
 
 double occSurfaceDeviation(const HSpline& h, int n) {
@@ -115,28 +143,46 @@ double occSurfaceDeviation(const HSpline& h, int n) {
   return worst;
 }
 
+std::string hsBrepBinary(const HSpline& h, bool solid) {
+  const FlatBSpline f = flatten(h);
+  Box3 box{f.poles[0], f.poles[0]};
+  for (const Vec3& p : f.poles) box = boxHull(box, {p, p});
+  const double side = (box.hi[0] - box.lo[0]) + (box.hi[1] - box.lo[1]) + (box.hi[2] - box.lo[2]);
+  const double tolerance = std::max(side / 300 * 0.5 * 0.25, 1e-6);
+  TopoDS_Face face;
+  TopoDS_Shape shape = occShape(f, &face);
+  if (!solid) shape = face;
+  const HsTessellation t = tessellate(f, tolerance);
+  Handle(Poly_Triangulation) mesh = new Poly_Triangulation(
+      static_cast<int>(t.mesh.positions.size()), static_cast<int>(t.mesh.triangles.size()), false);
+  for (std::size_t k = 0; k < t.mesh.positions.size(); ++k) {
+    const auto& p = t.mesh.positions[k];
+    mesh->SetNode(static_cast<int>(k) + 1, gp_Pnt(p[0], p[1], p[2]));
+  }
+  for (std::size_t k = 0; k < t.mesh.triangles.size(); ++k) {
+    const auto& tri = t.mesh.triangles[k];
+    mesh->SetTriangle(static_cast<int>(k) + 1,
+                      Poly_Triangle(int(tri[0]) + 1, int(tri[1]) + 1, int(tri[2]) + 1));
+  }
+  mesh->Deflection(tolerance);
+  BRep_Builder().UpdateFace(face, mesh);
+  // The layout Part.Shape.importBinary reads (FreeCAD's TopoShape::exportBinary): the shape
+  // set, then the shape's index, its location's index and its orientation.
+  BinTools_ShapeSet set;
+  set.SetWithTriangles(Standard_True);
+  const int shapeId = set.Add(shape);
+  const int locationId = set.Locations().Index(shape.Location());
+  std::ostringstream out(std::ios::binary);
+  set.Write(out);
+  BinTools::PutInteger(out, shapeId);
+  BinTools::PutInteger(out, locationId);
+  BinTools::PutInteger(out, static_cast<int>(shape.Orientation()));
+  return out.str();
+}
+
 OccShapeSummary writeHsStep(const HSpline& h, const std::string& path) {
   const FlatBSpline f = flatten(h);
-  Handle(Geom_BSplineSurface) surface = occSurface(f);
-  TopoDS_Shape shape;
-  try {
-    const TopoDS_Face face = BRepBuilderAPI_MakeFace(surface, 1e-7);
-    shape = face;
-    if (f.u.isPeriodic() && f.v.isPeriodic()) {
-      // A surface closed both ways bounds a solid on its own: one face, one shell.
-      BRep_Builder builder;
-      TopoDS_Shell shell;
-      builder.MakeShell(shell);
-      builder.Add(shell, face);
-      shell.Closed(true);
-      TopoDS_Solid solid = BRepBuilderAPI_MakeSolid(shell);
-      BRepLib::OrientClosedSolid(solid);
-      shape = solid;
-    }
-  } catch (const Standard_Failure& e) {
-    throw ModelError(std::string("OpenCASCADE could not make a face or solid of the hspline: ") +
-                     e.GetMessageString());
-  }
+  const TopoDS_Shape shape = occShape(f);
   const OccShapeSummary summary = summarise(shape);
   if (!summary.valid)
     throw ModelError("OpenCASCADE's check finds the hspline's shape invalid; nothing was written");

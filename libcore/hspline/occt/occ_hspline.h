@@ -25,6 +25,14 @@ double occSurfaceDeviation(const HSpline& h, int samplesPerAxis);
 // the shape and FileError when the file cannot be written.
 OccShapeSummary writeHsStep(const HSpline& h, const std::string& path);
 
+// The hspline as OpenCASCADE's binary BRep (a solid when closed and `solid`, else one face)
+// with our own tessellation attached to the face as its triangulation, within a quarter of
+// the deflection FreeCAD's 3D view asks at its default Deviation (0.5 % of the box's mean
+// side, / 3): FreeCAD reads it with Part.Shape.importBinary, and the view then keeps that
+// triangulation instead of meshing the face with BRepMesh (the better part of a second on a
+// face of thousands of poles). The geometry is the exact surface either way.
+std::string hsBrepBinary(const HSpline& h, bool solid);
+
 // Reads a STEP file with OpenCASCADE and describes what it holds (throws FileError).
 OccShapeSummary readStepSummary(const std::string& path);
 
