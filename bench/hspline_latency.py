@@ -28,7 +28,7 @@ REPEATS = 15
 
 def five_levels():
     h = frepcore.HSpline.torus(16, 12, 30, 10)
-    for level, limit in enumerate((1 << 20, 16, 24, 30)):
+    for level, limit in enumerate((1 << 20, 16, 26, 32)):
         h.refine(level, [(i, j) for _, i, j in h.cvs(level) if i < limit and j < limit])
     for level in range(1, h.level_count):
         for _, i, j in h.select_movable(level):

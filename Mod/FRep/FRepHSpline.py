@@ -28,6 +28,8 @@ from FRepProxy import StatelessProxy
 
 GROUP = "HSpline"
 DATA_GROUP = "HSpline data"
+CV_GROUP = "CVs"
+CV_PREFIX = "Cv_"
 DATA = ("KnotsU", "PeriodU", "KnotsV", "PeriodV", "CvLevels", "CvI", "CvJ", "CvValues")
 
 
@@ -87,7 +89,7 @@ class HSplineFeature(StatelessProxy):
         self.setup(obj)
 
     def onChanged(self, obj, prop):
-        if prop in DATA:
+        if prop in DATA or prop.startswith(CV_PREFIX):
             _CACHE.pop(_key(obj), None)
 
     # For the view provider and the panel, which do not import this module.
@@ -126,6 +128,12 @@ def _shared(obj):
                 list(obj.CvI), list(obj.CvJ), [tuple(v) for v in obj.CvValues])
         except ValueError as e:
             raise ValueError("%s: %s" % (obj.Label, e)) from None
+        for cv, name in exposed_cvs(obj).items():  # a CV's own property wins over CvValues
+            if h.has_cv(*cv):
+                try:
+                    h.set_value(cv[0], cv[1], cv[2], tuple(getattr(obj, name)))
+                except ValueError as e:
+                    raise ValueError("%s: property '%s': %s" % (obj.Label, name, e)) from None
         _CACHE[_key(obj)] = h
     return h
 
@@ -171,6 +179,11 @@ def store(obj, h, values_only=False):
         kept = [c for c in tags(obj) if h.has_cv(*c)]
         if kept != tags(obj):
             set_tags(obj, kept)
+    for cv, name in exposed_cvs(obj).items():  # a drag of an exposed CV moves its property
+        if h.has_cv(*cv):
+            value = FreeCAD.Vector(*h.value(*cv))
+            if (getattr(obj, name) - value).Length > 0:
+                setattr(obj, name, value)
     _CACHE[_key(obj)] = h
 
 
@@ -236,6 +249,47 @@ def hspline_from_surface(surface, label="the face"):
 def make_from_face(doc, face, label="the face", name="HSpline"):
     """An hspline whose level 0 is the (untrimmed) B-spline surface of a Part face."""
     return make_hspline(doc, hspline_from_surface(face.Surface, label), name)
+
+
+# -- CVs with a property of their own -------------------------------------------------------
+def cv_property(level, i, j):
+    """The name of a CV's own property (expose_cv)."""
+    return "%s%d_%d_%d" % (CV_PREFIX, level, i, j)
+
+
+def exposed_cvs(obj):
+    """{(level, i, j): property name} of the CVs with a property of their own."""
+    out = {}
+    for name in obj.PropertiesList:
+        if name.startswith(CV_PREFIX) and obj.getGroupOfProperty(name) == CV_GROUP:
+            try:
+                cv = tuple(int(v) for v in name[len(CV_PREFIX):].split("_"))
+            except ValueError:
+                continue
+            if len(cv) == 3:
+                out[cv] = name
+    return out
+
+
+def expose_cv(obj, cv):
+    """Gives a CV a vector property of its own (its value: level 0 a position, finer levels
+    the offset along the parent's u tangent, v tangent and normal), which the property view,
+    expressions and spreadsheets can drive; it takes the place of the CV's entry in CvValues.
+    A fixed CV is refused. Returns the property's name."""
+    h = _shared(obj)
+    if not h.has_cv(*cv):
+        raise ValueError("%s: there is no CV %s" % (obj.Label, tuple(cv)))
+    if not h.movable(*cv):
+        raise ValueError("%s: CV (level %d, i %d, j %d) is fixed, so it gets no property of its "
+                         "own; refine around it first" % ((obj.Label,) + tuple(cv)))
+    name = cv_property(*cv)
+    if name not in obj.PropertiesList:
+        doc = ("CV (level %d, i %d, j %d): " % tuple(cv)) + (
+            "its position" if cv[0] == 0 else
+            "its offset along the parent's u tangent, v tangent and normal")
+        obj.addProperty("App::PropertyVector", name, CV_GROUP, doc)
+        setattr(obj, name, FreeCAD.Vector(*h.value(*cv)))
+    return name
 
 
 # -- tags ----------------------------------------------------------------------------------

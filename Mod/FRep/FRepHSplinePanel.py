@@ -62,7 +62,8 @@ class HSplinePanel:
         row = QtGui.QHBoxLayout()
         for name, label, slot in (("Refine", "Refine", self.refine),
                                   ("ZeroOffsets", "Zero offsets", self.zero),
-                                  ("Unrefine", "Unrefine", self.unrefine)):
+                                  ("Unrefine", "Unrefine", self.unrefine),
+                                  ("OwnProperty", "Own property", self.expose)):
             b = QtGui.QPushButton(translate("FRep", label))
             b.setObjectName(name)
             b.clicked.connect(slot)
@@ -140,6 +141,19 @@ class HSplinePanel:
         if removed is not None:
             self.describe(translate("FRep", "Unrefine removed %d CVs; the surface is unchanged")
                           % removed)
+
+    def expose(self):
+        """Each tagged CV that may move gets a vector property of its own (group CVs), for the
+        property view, expressions and spreadsheets."""
+        def action():
+            cvs = [c for c in H.tags(self.obj) if H.hspline_of(self.obj).movable(*c)]
+            if not cvs:
+                raise ValueError(translate("FRep", "Tag CVs that may move first"))
+            return [H.expose_cv(self.obj, c) for c in cvs]
+        names = self.run("Expose hspline CVs", action)
+        if names:
+            self.describe(translate("FRep", "Added %s (group CVs): bind them to expressions")
+                          % ", ".join(names))
 
     def move_tagged(self):
         dx, dy, dz, dn = (b.value() for b in self.move)

@@ -8,6 +8,7 @@ module."""
 import FreeCAD
 
 import FRepPaths
+from FRepDraggers import DraggerHost
 from FRepProxy import StatelessProxy
 
 MOVABLE = (0.1, 0.6, 0.2)
@@ -20,7 +21,7 @@ def shown_level(vobj, h):
     return h.level_count - 1 if level < 0 or level >= h.level_count else level
 
 
-class ViewProviderHSpline(StatelessProxy):
+class ViewProviderHSpline(DraggerHost, StatelessProxy):
     def __init__(self, vobj):
         vobj.Proxy = self
         self.setup(vobj)
@@ -173,42 +174,14 @@ class ViewProviderHSpline(StatelessProxy):
         return max(b.DiagonalLength, 1e-6) / 60
 
     def build_draggers(self, vobj):
-        from pivy import coin
-        self.remove_draggers(vobj)
         obj = vobj.Object
         h = obj.Proxy.hspline(obj)
         size = self.dragger_size()
-        self.edit_root = coin.SoSeparator()
-        self.draggers = []
+        self.begin_draggers(vobj)
         for cv in _tags(obj):
-            if not (h.has_cv(*cv) and h.movable(*cv)):
-                continue
-            sep = coin.SoSeparator()
-            place = coin.SoTransform()
-            place.translation.setValue(*h.position(*cv))
-            place.scaleFactor.setValue(size, size, size)
-            dragger = coin.SoDragPointDragger()
-            sep.addChild(place)
-            sep.addChild(dragger)
-            self.edit_root.addChild(sep)
-            dragger.addStartCallback(lambda _d, _dr, cv=cv: self.drag_started(cv))
-            dragger.addMotionCallback(lambda _d, dr, cv=cv, s=size: self.drag_moved(cv, dr, s))
-            dragger.addFinishCallback(lambda _d, dr, cv=cv, s=size: self.drag_finished(cv, dr, s))
-            self.draggers.append((cv, dragger, size))
+            if h.has_cv(*cv) and h.movable(*cv):
+                self.add_dragger(cv, h.position(*cv), size)
         vobj.RootNode.addChild(self.edit_root)
-
-    def remove_draggers(self, vobj):
-        if self.edit_root is not None:
-            vobj.RootNode.removeChild(self.edit_root)
-        self.edit_root = None
-        self.draggers = []
-
-    def dragger(self, cv):
-        """The dragger of a tagged CV, for the GUI test and scripts."""
-        for c, dragger, size in self.draggers:
-            if c == tuple(cv):
-                return dragger, size
-        raise KeyError(cv)
 
     def drag_started(self, cv):
         self.Object.Document.openTransaction("Move hspline CV (%d, %d, %d)" % cv)
@@ -287,22 +260,11 @@ class ViewProviderHSpline(StatelessProxy):
             self.preview = None
 
     def drag_finished(self, cv, dragger, size):
-        """Moves the CV by the dragger's translation, recomputes and commits the undo step."""
-        obj = self.Object
-        doc = obj.Document
         self.stop_preview()
-        t = dragger.translation.getValue()
-        try:
-            obj.Proxy.nudge(obj, [cv], (t[0] * size, t[1] * size, t[2] * size))
-            doc.recompute()
-            doc.commitTransaction()
-        except Exception as e:  # a refused move leaves the document as it was
-            doc.abortTransaction()
-            FreeCAD.Console.PrintError("%s: %s\n" % (obj.Label, e))
-        from PySide import QtCore
-        vobj = obj.ViewObject
-        QtCore.QTimer.singleShot(0, lambda: self.build_draggers(vobj)
-                                 if self.edit_root is not None else None)
+        DraggerHost.drag_finished(self, cv, dragger, size)
+
+    def apply_drag(self, cv, delta):
+        self.Object.Proxy.nudge(self.Object, [cv], tuple(delta))
 
     def pick(self, view, position):
         """The drawn CV nearest the view ray through a screen position, within a few

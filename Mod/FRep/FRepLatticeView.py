@@ -4,13 +4,13 @@ transaction opens when the drag starts and commits when it ends, after the latti
 change and the document recomputes. A view provider asks its object: it never imports the
 feature module."""
 
-import FreeCAD
 
 import FRepPaths
+from FRepDraggers import DraggerHost
 from FRepProxy import StatelessProxy
 
 
-class ViewProviderLattice(StatelessProxy):
+class ViewProviderLattice(DraggerHost, StatelessProxy):
     def __init__(self, vobj):
         vobj.Proxy = self
         vobj.LineColor = (0.85, 0.35, 0.1)
@@ -60,67 +60,25 @@ class ViewProviderLattice(StatelessProxy):
         return 0.25 * min(cells)
 
     def build_draggers(self, vobj):
-        from pivy import coin
-        self.remove_draggers(vobj)
         obj = vobj.Object
         points = obj.Proxy.lattice(obj).points
         size = self.dragger_size()
-        self.edit_root = coin.SoSeparator()
-        self.draggers = []
+        self.begin_draggers(vobj)
         d = (obj.DivisionsX, obj.DivisionsY, obj.DivisionsZ)
         index = 0
         for i in range(d[0] + 1):
             for j in range(d[1] + 1):
                 for k in range(d[2] + 1):
-                    sep = coin.SoSeparator()
-                    place = coin.SoTransform()
-                    place.translation.setValue(*points[index])
-                    place.scaleFactor.setValue(size, size, size)
-                    dragger = coin.SoDragPointDragger()
-                    sep.addChild(place)
-                    sep.addChild(dragger)
-                    self.edit_root.addChild(sep)
-                    ijk = (i, j, k)
-                    dragger.addStartCallback(lambda _d, _dr, ijk=ijk: self.drag_started(ijk))
-                    dragger.addFinishCallback(
-                        lambda _d, dr, ijk=ijk, s=size: self.drag_finished(ijk, dr, s))
-                    self.draggers.append((ijk, dragger, size))
+                    self.add_dragger((i, j, k), points[index], size)
                     index += 1
         vobj.RootNode.addChild(self.edit_root)
-
-    def remove_draggers(self, vobj):
-        if self.edit_root is not None:
-            vobj.RootNode.removeChild(self.edit_root)
-        self.edit_root = None
-        self.draggers = []
-
-    def dragger(self, ijk):
-        """The dragger of control point (i, j, k), for the GUI test and scripts."""
-        for index, dragger, size in self.draggers:
-            if index == ijk:
-                return dragger, size
-        raise KeyError(ijk)
 
     def drag_started(self, ijk):
         self.Object.Document.openTransaction("Move lattice point (%d, %d, %d)" % ijk)
 
-    def drag_finished(self, ijk, dragger, size):
-        """Moves the point by the dragger's translation (in its scaled frame) as an offset
-        (divided by Amount, which scales every offset), recomputes and commits the step."""
+    def apply_drag(self, ijk, delta):
+        """Moves the point by delta as an offset (divided by Amount, which scales every
+        offset)."""
         obj = self.Object
-        doc = obj.Document
-        t = dragger.translation.getValue()
-        delta = FreeCAD.Vector(t[0] * size, t[1] * size, t[2] * size)
         amount = obj.Amount if abs(obj.Amount) > 1e-12 else 1.0
-        try:
-            obj.Proxy.nudge_point(obj, ijk, delta * (1.0 / amount))
-            doc.recompute()
-            doc.commitTransaction()
-        except Exception as e:  # a refused move leaves the document as it was
-            doc.abortTransaction()
-            FreeCAD.Console.PrintError("%s: %s\n" % (obj.Label, e))
-        # The draggers move to the new points once this callback has returned.
-        from PySide import QtCore
-        vobj = obj.ViewObject
-        QtCore.QTimer.singleShot(0, lambda: self.build_draggers(vobj)
-                                 if self.edit_root is not None else None)
+        obj.Proxy.nudge_point(obj, ijk, delta * (1.0 / amount))

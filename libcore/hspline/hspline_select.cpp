@@ -62,20 +62,23 @@ std::vector<HsCvRef> keepMovable(const HSpline& h, const std::vector<HsCvRef>& a
   return sorted(std::move(out));
 }
 
-std::vector<HsCvRef> selectAlongU(const HSpline& h, const std::vector<HsCvRef>& from) {
+// The CVs on the level of each selected CV that share its j (a u line) or its i (a v line).
+static std::vector<HsCvRef> selectAlong(const HSpline& h, const std::vector<HsCvRef>& from,
+                                        bool uLine) {
   std::vector<HsCvRef> out;
   for (const HsCvRef& c : from)
-    for (const HsCvRef& r : levelWhere(h, c.level, [&](const HsCv& cv) { return cv.j == c.j; }))
+    for (const HsCvRef& r :
+         levelWhere(h, c.level, [&](const HsCv& cv) { return uLine ? cv.j == c.j : cv.i == c.i; }))
       out.push_back(r);
   return sorted(std::move(out));
 }
 
+std::vector<HsCvRef> selectAlongU(const HSpline& h, const std::vector<HsCvRef>& from) {
+  return selectAlong(h, from, true);
+}
+
 std::vector<HsCvRef> selectAlongV(const HSpline& h, const std::vector<HsCvRef>& from) {
-  std::vector<HsCvRef> out;
-  for (const HsCvRef& c : from)
-    for (const HsCvRef& r : levelWhere(h, c.level, [&](const HsCv& cv) { return cv.i == c.i; }))
-      out.push_back(r);
-  return sorted(std::move(out));
+  return selectAlong(h, from, false);
 }
 
 std::vector<HsCvRef> selectNeighbours(const HSpline& h, const std::vector<HsCvRef>& from) {

@@ -144,3 +144,42 @@ def test_exports_hs_step_and_a_checked_stl(doc, tmp_path):
     report = H.export_mesh(obj, stl, tolerance=0.02)
     assert report["printable"]
     assert frepcore.read_mesh(stl).check()["printable"]
+
+
+def test_a_cv_of_its_own_is_driven_by_its_property_and_an_expression(doc, tmp_path):
+    obj = H.make_plane(doc, 12, 12, 100, 100)
+    doc.recompute()
+    H.set_tags(obj, [(0, 5, 5)])
+    H.refine(obj)
+    doc.recompute()
+    with pytest.raises(ValueError, match="is fixed, so it gets no property"):
+        H.expose_cv(obj, (1, 8, 9))
+    name = H.expose_cv(obj, (1, 9, 9))
+    assert name == "Cv_1_9_9" and obj.getGroupOfProperty(name) == "CVs"
+    u, v = H.hspline_of(obj).reference(1, 9, 9)
+    flat = H.hspline_of(obj).evaluate(u, v)["point"][2]
+    sheet = doc.addObject("Spreadsheet::Sheet", "Controls")
+    sheet.set("A1", "7")
+    sheet.setAlias("A1", "lift")
+    doc.recompute()
+    obj.setExpression(name + ".z", "Controls.lift")
+    doc.recompute()
+    lifted = H.hspline_of(obj).evaluate(u, v)["point"][2]
+    assert lifted > flat + 1.0  # the offset along the normal, driven by the spreadsheet
+    assert obj.Shape.BoundBox.ZMax > 1.0
+    # A move of the CV (a drag) lands in its property.
+    obj.setExpression(name + ".z", None)
+    H.nudge_cvs(obj, [(1, 9, 9)], (0, 0, 0), along_normal=2.0)
+    assert getattr(obj, name).z == pytest.approx(9.0)
+    path, feature = str(tmp_path / "exposed.FCStd"), obj.Name
+    doc.saveAs(path)
+    label = doc.Name
+    FreeCAD.closeDocument(label)
+    again = FreeCAD.openDocument(path)
+    try:
+        restored = again.getObject(feature)
+        again.recompute()
+        assert getattr(restored, name).z == pytest.approx(9.0)
+        assert H.hspline_of(restored).value(1, 9, 9)[2] == pytest.approx(9.0)
+    finally:
+        FreeCAD.closeDocument(again.Name)
