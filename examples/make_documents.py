@@ -8,6 +8,7 @@
                                     the reference models of the same names, imported from
                                     their .json files (File > Open does the same)
     examples/lattice.FCStd          lattices bending an FRep bar with holes and a mesh block
+    examples/hspline.FCStd          seed 003's hspline tutorial after its editing steps
 
 FREP_EXAMPLES=lattice,csg (names, comma-separated) writes only those documents.
 
@@ -90,6 +91,15 @@ def build():
         FRepExamples.build_lattice_bend(doc)
         doc.recompute()
         save(doc, "lattice")
+
+    if wanted("hspline"):
+        doc = new_document("hspline", "Seed 003's hspline tutorial (docs/hsplines.md) after "
+                           "step 4: a plane refined to level 3, a CV lifted at level 1 and "
+                           "two pushed in at level 3, which followed when level 1 moved "
+                           "again. Double-click the Tutorial to edit it; try Zero offsets on "
+                           "level 3, then Unrefine.")
+        FRepExamples.hspline_tutorial(doc, step=4)
+        save(doc, "hspline")
 
     if wanted("csg"):
         doc = new_document("csg", "Reference model csg (examples/csg.json): cube [-1,1]^3 "

@@ -134,8 +134,23 @@ def test_lattice_document_bends_a_part_and_a_mesh_printable(tmp_path):
         FreeCAD.closeDocument(doc.Name)
 
 
+def test_hspline_document_holds_the_tutorial_with_its_detail():
+    import FRepHSpline
+    doc = FreeCAD.openDocument(os.path.join(EXAMPLES, "hspline.FCStd"))
+    try:
+        obj = doc.getObject("Tutorial")
+        text = FRepHSpline.hspline_of(obj).to_text()
+        recompute_all(doc)
+        h = FRepHSpline.hspline_of(obj)
+        assert obj.isValid() and h.level_count == 4 and h.to_text() == text
+        assert sorted(c[0] for c in h.select_non_zero()) == [1, 3, 3]
+        assert obj.Shape.Faces and obj.Shape.BoundBox.ZMax > 8  # the lifted level-1 CV
+    finally:
+        FreeCAD.closeDocument(doc.Name)
+
+
 @pytest.mark.parametrize("name", ["csg", "csg_spreadsheet", "twist", "helix", "gyroid",
-                                  "showcase", "lattice"])
+                                  "showcase", "lattice", "hspline"])
 def test_examples_were_saved_from_the_gui(name):
     """Without GuiDocument.xml FreeCAD opens a document with every object shown, consumed
     inputs included; make_documents.py saves from the GUI so the inputs stay hidden."""
