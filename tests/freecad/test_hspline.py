@@ -115,6 +115,15 @@ def test_a_bspline_face_becomes_level_zero_exactly(doc):
     for a, b in ((0.1, 0.2), (0.45, 0.7), (0.9, 0.35), (1.0, 1.0)):
         u, v = u0 + a * (u1 - u0), v0 + b * (v1 - v0)
         assert (s.value(u, v) - mine.value(u, v)).Length < 1e-9
+    # A periodic face (an hspline torus's own) comes back as the same surface.
+    torus = H.make_torus(doc, 9, 7, 20, 6)
+    doc.recompute()
+    again = H.make_from_face(doc, torus.Shape.Faces[0], label="the torus")
+    doc.recompute()
+    a, b = torus.Shape.Faces[0].Surface, again.Shape.Faces[0].Surface
+    assert again.PeriodU > 0 and again.PeriodV > 0
+    for u, v in ((0.3, 0.2), (4.5, 3.3), (8.9, 6.9)):
+        assert (a.value(u, v) - b.value(u, v)).Length < 1e-9
     sphere = Part.makeSphere(5).Faces[0]
     with pytest.raises(ValueError, match="not a B-spline surface"):
         H.make_from_face(doc, sphere, label="the sphere")
