@@ -7,6 +7,12 @@ import FreeCAD
 
 
 class DraggerHost:
+    def doubleClicked(self, vobj):
+        """A double-click opens edit mode (setEdit puts the draggers up)."""
+        import FreeCADGui
+        FreeCADGui.ActiveDocument.setEdit(vobj.Object.Name, 0)
+        return True
+
     def begin_draggers(self, vobj):
         """Starts a new set of draggers (the old ones removed); returns its Coin root."""
         from pivy import coin

@@ -164,11 +164,6 @@ class ViewProviderHSpline(DraggerHost, StatelessProxy):
         FreeCADGui.Control.closeDialog()
         return True
 
-    def doubleClicked(self, vobj):
-        import FreeCADGui
-        FreeCADGui.ActiveDocument.setEdit(vobj.Object.Name, 0)
-        return True
-
     def dragger_size(self):
         b = self.Object.Shape.BoundBox
         return max(b.DiagonalLength, 1e-6) / 60

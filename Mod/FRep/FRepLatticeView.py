@@ -47,11 +47,6 @@ class ViewProviderLattice(DraggerHost, StatelessProxy):
         FreeCADGui.Control.closeDialog()
         return True
 
-    def doubleClicked(self, vobj):
-        import FreeCADGui
-        FreeCADGui.ActiveDocument.setEdit(vobj.Object.Name, 0)
-        return True
-
     def dragger_size(self):
         obj = self.Object
         lo, hi = obj.Proxy.rest_box(obj)
