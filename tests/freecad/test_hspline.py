@@ -192,3 +192,24 @@ def test_a_cv_of_its_own_is_driven_by_its_property_and_an_expression(doc, tmp_pa
         assert H.hspline_of(restored).value(1, 9, 9)[2] == pytest.approx(9.0)
     finally:
         FreeCAD.closeDocument(again.Name)
+
+
+def test_a_closed_hspline_is_an_frep_input(doc, tmp_path):
+    """A closed hspline is a Part solid, so FRep operations take it (as the signed distance
+    to its tessellation) and the result exports printable."""
+    import FRepFeatures as F
+    import FRepTree
+    torus = H.make_torus(doc, 10, 8, 30, 10)
+    doc.recompute()
+    H.set_tags(torus, [(0, 2, 2)])
+    H.refine(torus)
+    H.nudge_cvs(torus, H.tags(torus), (0, 0, 0), along_normal=4.0)
+    ball = F.make("sphere", doc, radius=12, center=(-30, 0, 0))
+    union = F.make("union", doc, inputs=[torus, ball])
+    doc.recompute()
+    assert union.isValid(), union.getStatusString()
+    shape = FRepTree.shape_of(union)
+    assert shape(-30, 0, 0) > 0 and shape(0, 0, 0) < 0  # inside the ball, in the torus's hole
+    assert shape(0, 30, 0) > 0 and shape(0, 30, 12) < 0  # on the tube's centre circle; above it
+    report = shape.export(str(tmp_path / "union.stl"), cells=80)
+    assert report["printable"], report["text"]
