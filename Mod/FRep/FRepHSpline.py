@@ -96,6 +96,15 @@ class HSplineFeature(StatelessProxy):
     def hspline(self, obj):
         return _shared(obj)
 
+    def solid_mesh(self, obj, tolerance):
+        """For FRep features (FRepSolids): the closed hspline's own tessellation within
+        `tolerance`, checked closed by construction; None (MeshPart then tessellates the Part
+        shape) when it is open, not a solid, or placed elsewhere than where it was modelled."""
+        h = _shared(obj)
+        if not (h.closed and obj.MakeSolid) or not obj.Placement.isIdentity():
+            return None
+        return h.tessellate(tolerance)
+
     def nudge(self, obj, cvs, delta):
         nudge_cvs(obj, cvs, delta)
 

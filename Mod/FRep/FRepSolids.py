@@ -129,10 +129,16 @@ def solid_shape(obj):
         source = as_frepcore_mesh(mesh)
         voxel = max(mesh.BoundBox.DiagonalLength / 400.0, MIN_TOLERANCE)
     else:
-        import MeshPart
-        tessellated = MeshPart.meshFromShape(Shape=shape, LinearDeflection=tolerance,
-                                             AngularDeflection=ANGULAR_DEFLECTION, Relative=False)
-        source = as_frepcore_mesh(tessellated)
+        # A feature that can tessellate its own solid faster and closer to it than MeshPart
+        # (an hspline: its exact surface, evaluated) offers solid_mesh(obj, tolerance).
+        own = getattr(getattr(obj, "Proxy", None), "solid_mesh", None)
+        source = own(obj, tolerance) if own is not None else None
+        if source is None:
+            import MeshPart
+            tessellated = MeshPart.meshFromShape(Shape=shape, LinearDeflection=tolerance,
+                                                 AngularDeflection=ANGULAR_DEFLECTION,
+                                                 Relative=False)
+            source = as_frepcore_mesh(tessellated)
         voxel = max(2 * tolerance, shape.BoundBox.DiagonalLength / 400.0)
     field = _distance_field(obj, source, voxel)
     BUILDS.append(key)

@@ -194,11 +194,16 @@ def test_a_cv_of_its_own_is_driven_by_its_property_and_an_expression(doc, tmp_pa
         FreeCAD.closeDocument(again.Name)
 
 
-def test_a_closed_hspline_is_an_frep_input(doc, tmp_path):
+def test_a_closed_hspline_is_an_frep_input(doc, tmp_path, monkeypatch):
     """A closed hspline is a Part solid, so FRep operations take it (as the signed distance
-    to its tessellation) and the result exports printable."""
+    to its own tessellation, not MeshPart's) and the result exports printable."""
     import FRepFeatures as F
     import FRepTree
+    import MeshPart
+
+    def refuse(**_):
+        raise AssertionError("MeshPart was asked to tessellate the hspline")
+    monkeypatch.setattr(MeshPart, "meshFromShape", refuse)
     torus = H.make_torus(doc, 10, 8, 30, 10)
     doc.recompute()
     H.set_tags(torus, [(0, 2, 2)])
