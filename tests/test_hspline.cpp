@@ -406,6 +406,20 @@ TEST(HsFlatten, TheFlattenedSurfaceIsTheHierarchy) {
   }
 }
 
+TEST(HsFlatten, ALevelOfDetailIsTheSurfaceOfTheLevelsUpToIt) {
+  const HSpline h = detailedPlane();
+  for (int level = 0; level < h.levelCount(); ++level) {
+    const FlatBSpline f = flatten(h, level);
+    for (const auto& [u, v] : samplesOf(h, 200, 43))
+      EXPECT_LE(distance(f.evaluate(u, v).position, h.evaluate(u, v, level).position), 1e-9)
+          << "level " << level;
+  }
+  // Level 0 of the plane is its bump alone; the finer levels' detail is not in it.
+  const auto [u, v] = h.referenceParameter(1, 6, 6);
+  EXPECT_GT(distance(flatten(h, 0).evaluate(u, v).position, flatten(h).evaluate(u, v).position),
+            0.1);
+}
+
 TEST(HsTessellation, ATorusClosesAndStaysWithinTheTolerance) {
   HSpline h = hsplineTorus(10, 8, 5, 1.5);
   h.refine(0, {{3, 3}});

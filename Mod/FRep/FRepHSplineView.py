@@ -33,6 +33,11 @@ class ViewProviderHSpline(DraggerHost, StatelessProxy):
             vobj.addProperty("App::PropertyInteger", "ShowLevel", "HSpline",
                              "The level whose CVs are drawn; -1: the finest.")
             vobj.ShowLevel = -1
+        if "SurfaceLevel" not in have:
+            vobj.addProperty("App::PropertyInteger", "SurfaceLevel", "HSpline",
+                             "Draw the surface at this level of detail (the levels up to it); "
+                             "-1: all levels, the exact surface. The Shape is always exact.")
+            vobj.SurfaceLevel = -1
         if "ShowCvs" not in have:
             vobj.addProperty("App::PropertyBool", "ShowCvs", "HSpline",
                              "Draw the CVs of ShowLevel and their control net.")
@@ -49,6 +54,7 @@ class ViewProviderHSpline(DraggerHost, StatelessProxy):
         self.draggers = []
         self.callback = None
         self.preview = None
+        self.detail = None
 
     def getIcon(self):
         return FRepPaths.icon("hspline")
@@ -58,7 +64,7 @@ class ViewProviderHSpline(DraggerHost, StatelessProxy):
             self.rebuild()
 
     def onChanged(self, vobj, prop):
-        if prop in ("ShowLevel", "ShowCvs", "Visibility"):
+        if prop in ("ShowLevel", "ShowCvs", "Visibility", "SurfaceLevel"):
             self.rebuild()
 
     # -- the CV overlay -------------------------------------------------------------------------
@@ -92,13 +98,14 @@ class ViewProviderHSpline(DraggerHost, StatelessProxy):
         if overlay is None:
             return
         overlay.removeAllChildren()
+        self.update_detail()
         obj = self.Object
         vobj = obj.ViewObject
         if not vobj.ShowCvs or not vobj.Visibility:
             return
         try:
             _, _, positions, colours, net = self.overlay_data()
-        except (ValueError, RuntimeError):
+        except (ValueError, RuntimeError, AttributeError):
             return  # a broken hierarchy shows the feature's error, not a half overlay
         pick = coin.SoPickStyle()
         pick.style = coin.SoPickStyle.UNPICKABLE
@@ -185,20 +192,23 @@ class ViewProviderHSpline(DraggerHost, StatelessProxy):
     # While a CV is dragged the document does not change: the view shows a preview, the same
     # vertices of our own tessellation moved (Part's tessellation of a large B-spline face takes
     # far longer than a frame). The release makes the one document change.
-    def start_preview(self):
+    def stand_in(self, level=-1):
+        """A Coin mesh of our own tessellation of the levels up to `level` put in place of
+        Part's drawing of the surface (its display-mode switch set aside): a drag's preview,
+        or a level of detail. Returns (root, (coords, normals), us, vs, switch state to
+        restore)."""
         from pivy import coin
-        self.stop_preview()
         obj = self.Object
+        h = obj.Proxy.hspline(obj)
         b = obj.Shape.BoundBox
-        t = obj.Proxy.hspline(obj).tessellation(max(b.DiagonalLength, 1e-6) * 2e-4)
-        mesh = t["mesh"]
+        t = h.tessellation(max(b.DiagonalLength, 1e-6) * 2e-4, level)
         root = coin.SoSeparator()
         colour = coin.SoMaterial()
         colour.diffuseColor = (0.95, 0.75, 0.35)
         hints = coin.SoShapeHints()
         hints.vertexOrdering = coin.SoShapeHints.COUNTERCLOCKWISE
         hints.shapeType = coin.SoShapeHints.UNKNOWN_SHAPE_TYPE
-        points, unit = obj.Proxy.hspline(obj).points_at(t["us"], t["vs"], normals=True)
+        points, unit = h.points_at(t["us"], t["vs"], normals=True, level=level)
         coords = coin.SoCoordinate3()
         coords.point.setValues(0, len(points), points)
         # Normals from the surface itself, so Coin need not compute them every frame.
@@ -208,19 +218,48 @@ class ViewProviderHSpline(DraggerHost, StatelessProxy):
         binding.value = coin.SoNormalBinding.PER_VERTEX_INDEXED
         faces = coin.SoIndexedFaceSet()
         index = []
-        for a, b_, c in mesh.triangles:
+        for a, b_, c in t["mesh"].triangles:
             index.extend((a, b_, c, -1))
         faces.coordIndex.setValues(0, len(index), index)
         for n in (colour, hints, coords, normals, binding, faces):
             root.addChild(n)
         obj.ViewObject.RootNode.addChild(root)
-        # Part's drawing of the surface as it was steps aside (its display-mode switch) while
-        # the preview stands in for it; the CV overlay and the draggers stay.
         switch = getattr(obj.ViewObject, "SwitchNode", None)
         shown = switch.whichChild.getValue() if switch is not None else None
         if switch is not None:
             switch.whichChild = -1
-        self.preview = (root, (coords, normals), t["us"], t["vs"], shown)
+        return root, (coords, normals), t["us"], t["vs"], shown
+
+    def remove_stand_in(self, stand_in):
+        root, _, _, _, shown = stand_in
+        vobj = self.Object.ViewObject
+        vobj.RootNode.removeChild(root)
+        switch = getattr(vobj, "SwitchNode", None)
+        if switch is not None and shown is not None:
+            switch.whichChild = shown
+
+    # A level of detail (view property SurfaceLevel): the surface of the levels up to it
+    # drawn in place of the exact one, which the feature's Shape stays.
+    def update_detail(self):
+        if getattr(self, "detail", None) is not None:
+            self.remove_stand_in(self.detail)
+            self.detail = None
+        vobj = self.Object.ViewObject
+        if self.preview is not None or not vobj.Visibility:
+            return
+        try:
+            levels = self.Object.Proxy.hspline(self.Object).level_count
+        except (ValueError, RuntimeError, AttributeError):  # not (yet) a whole hierarchy
+            return
+        if 0 <= vobj.SurfaceLevel < levels - 1:
+            self.detail = self.stand_in(vobj.SurfaceLevel)
+
+    def start_preview(self):
+        self.stop_preview()
+        if getattr(self, "detail", None) is not None:
+            self.remove_stand_in(self.detail)
+            self.detail = None
+        self.preview = self.stand_in()
         self.preview_runs = {}  # per CV: the grid runs a drag of it can move
 
     def drag_moved(self, cv, dragger, size):
@@ -246,12 +285,7 @@ class ViewProviderHSpline(DraggerHost, StatelessProxy):
 
     def stop_preview(self):
         if self.preview is not None:
-            root, _, _, _, shown = self.preview
-            vobj = self.Object.ViewObject
-            vobj.RootNode.removeChild(root)
-            switch = getattr(vobj, "SwitchNode", None)
-            if switch is not None and shown is not None:
-                switch.whichChild = shown
+            self.remove_stand_in(self.preview)
             self.preview = None
 
     def drag_finished(self, cv, dragger, size):

@@ -70,10 +70,11 @@ std::vector<Vec3> refineGrid(const std::vector<Vec3>& poles, const SplineAxis& f
   return out;
 }
 
-FlatBSpline flatten(const HSpline& h) {
+FlatBSpline flatten(const HSpline& h, int upTo) {
   const HsLevel& base = h.level(0);
   FlatBSpline flat{base.u, base.v, h.positions(0)};
-  for (int level = 1; level < h.levelCount(); ++level) {
+  const int last = upTo < 0 ? h.levelCount() - 1 : std::min(upTo, h.levelCount() - 1);
+  for (int level = 1; level <= last; ++level) {
     const HsLevel& l = h.level(level);
     if (l.cvs.empty()) continue;
     std::vector<int> is, js;

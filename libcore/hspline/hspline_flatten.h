@@ -23,7 +23,8 @@ struct FlatBSpline {
   HsSurfacePoint evaluate(double s, double t) const;
 };
 
-FlatBSpline flatten(const HSpline& h);
+// The levels up to `upTo` (all when negative): S_upTo, the surface at that level of detail.
+FlatBSpline flatten(const HSpline& h, int upTo = -1);
 
 // A closed surface's enclosed volume, (1/3) of the integral of p . (du x dv), by the midpoint
 // rule on a 48 x 48 grid: enough for its sign, which says whether the normals point out.

@@ -282,28 +282,28 @@ void bindHSpline(py::module_& m) {
           "A triangle mesh within about `tolerance` of the surface (closed for a torus).")
       .def(
           "tessellation",
-          [](const HSpline& h, double tolerance) {
+          [](const HSpline& h, double tolerance, int level) {
             HsTessellation t;
             {
               py::gil_scoped_release release;
-              t = tessellate(flatten(h), tolerance);
+              t = tessellate(flatten(h, level), tolerance);
             }
             py::dict d;
             d["mesh"] = t.mesh, d["us"] = t.us, d["vs"] = t.vs;
             return d;
           },
-          py::arg("tolerance"),
+          py::arg("tolerance"), py::arg("level") = -1,
           "dict(mesh, us, vs): the tessellation and its sample parameters (vertex i + len(us) * j "
           "lies at us[i], vs[j]), for a display that moves the same vertices while a CV is "
           "dragged.")
       .def(
           "points_at",
           [](const HSpline& h, const std::vector<double>& us, const std::vector<double>& vs,
-             bool normals) {
+             bool normals, int level) {
             std::vector<std::tuple<float, float, float>> points, unit;
             {
               py::gil_scoped_release release;
-              const FlatBSpline f = flatten(h);
+              const FlatBSpline f = flatten(h, level);
               points.reserve(us.size() * vs.size());
               for (double v : vs)
                 for (double u : us) {
@@ -318,7 +318,7 @@ void bindHSpline(py::module_& m) {
             return normals ? py::object(py::make_tuple(points, unit))
                            : py::object(py::cast(points));
           },
-          py::arg("us"), py::arg("vs"), py::arg("normals") = false,
+          py::arg("us"), py::arg("vs"), py::arg("normals") = false, py::arg("level") = -1,
           "The surface's points at every (us[i], vs[j]), i fastest; with normals: (points, "
           "unit normals).")
       .def(
