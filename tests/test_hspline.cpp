@@ -634,3 +634,77 @@ TEST(HsTags, SelectionsFollowTheirRules) {
   EXPECT_EQ(h.levelCount(), 3);
   EXPECT_EQ(h.level(2).cvs.size(), 49u);
 }
+
+// ---- attachments ----
+
+#include "hspline/hspline_attach.h"
+
+namespace {
+
+// A cylinder over the ring of plane CVs around [3, 6] x [3, 6]: 12 CVs around, CV k over ring
+// CV k, rising in rows of 10.
+HSpline cylinderOverRing(const HSpline& plane, int rows) {
+  std::vector<std::pair<int, int>> ring;
+  for (int i = 3; i < 6; ++i) ring.push_back({i, 3});
+  for (int j = 3; j < 6; ++j) ring.push_back({6, j});
+  for (int i = 6; i > 3; --i) ring.push_back({i, 6});
+  for (int j = 6; j > 3; --j) ring.push_back({3, j});
+  Vec3 centre{0, 0, 0};
+  for (const auto& [i, j] : ring)
+    centre = vadd(centre, vscale(plane.position(0, i, j), 1.0 / ring.size()));
+  std::vector<Vec3> p;
+  for (int r = 0; r < rows; ++r)
+    for (const auto& [i, j] : ring) {
+      const Vec3 q = plane.position(0, i, j);
+      p.push_back({centre[0] + 0.7 * (q[0] - centre[0]), centre[1] + 0.7 * (q[1] - centre[1]),
+                   10.0 * (r - 1)});
+    }
+  return HSpline(SplineAxis::periodicUniform(12), SplineAxis::clampedUniform(rows - 3), p);
+}
+
+}  // namespace
+
+TEST(HsAttachment, ACylinderJoinsAPlaneThroughFourExtraordinaryPoints) {
+  const HSpline plane = hsplinePlane(10, 10, 90, 90);
+  const HSpline cylinder = cylinderOverRing(plane, 5);
+  const HsAttachment a = attachCylinder(plane, 3, 6, 3, 6, cylinder, 3);
+  EXPECT_EQ(a.extraordinary, 4);  // the ring's corners: five edges each
+  EXPECT_EQ(a.boundaryLoops, 2);  // the plane's edge and the cylinder's top rim
+  EXPECT_EQ(a.controlFaces, 81u - 9u + 12u * 3u);
+  // A manifold, consistently oriented surface: every directed edge once.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+  for (const Triangle& t : a.mesh.triangles)
+    for (int e = 0; e < 3; ++e) ++edges[{t[e], t[(e + 1) % 3]}];
+  for (const auto& [e, n] : edges) EXPECT_EQ(n, 1);
+  // The surface rises from the plane (z 0) up the tube; the open rim keeps its row's height
+  // (the boundary rule), and nothing goes above it or below the plane's net.
+  float top = -1e9f, bottom = 1e9f;
+  std::size_t onTube = 0;
+  for (const auto& p : a.mesh.positions) {
+    top = std::max(top, p[2]), bottom = std::min(bottom, p[2]);
+    onTube += p[2] > 5 && p[2] < 25;
+  }
+  EXPECT_NEAR(top, 30.0f, 1e-4);
+  EXPECT_GT(bottom, -1e-4f);
+  EXPECT_GT(onTube, 100u);
+  EXPECT_GT(a.mesh.triangles.size(), 4000u);
+}
+
+TEST(HsAttachment, WhatDoesNotFitIsRefusedWithTheReason) {
+  const HSpline plane = hsplinePlane(10, 10, 90, 90);
+  auto message = [&](int i1, const HSpline& c, int subdivisions) {
+    try {
+      attachCylinder(plane, 3, i1, 3, 6, c, subdivisions);
+    } catch (const ModelError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const HSpline cylinder = cylinderOverRing(plane, 5);
+  EXPECT_NE(message(7, cylinder, 2).find("the ring around the rectangle has 14"),
+            std::string::npos);
+  EXPECT_NE(message(12, cylinder, 2).find("must lie inside the parent's 10 x 10 CVs"),
+            std::string::npos);
+  EXPECT_NE(message(6, cylinder, 9).find("subdivisions must be 0 to 6"), std::string::npos);
+  EXPECT_NE(message(6, plane, 2).find("periodic around"), std::string::npos);
+}

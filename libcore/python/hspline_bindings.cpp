@@ -8,6 +8,7 @@
 #include "base/errors.h"
 #include "hspline/hs_file.h"
 #include "hspline/hspline.h"
+#include "hspline/hspline_attach.h"
 #include "hspline/hspline_flatten.h"
 #include "hspline/hspline_select.h"
 #include "hspline/hspline_shapes.h"
@@ -387,6 +388,27 @@ void bindHSpline(py::module_& m) {
           },
           py::arg("path"),
           "STEP through OpenCASCADE: a solid when closed, else a face; returns a summary dict.");
+  m.def(
+      "attach_cylinder",
+      [](const HSpline& parent, int i0, int i1, int j0, int j1, const HSpline& cylinder,
+         int subdivisions) {
+        HsAttachment a;
+        {
+          py::gil_scoped_release release;
+          a = attachCylinder(parent, i0, i1, j0, j1, cylinder, subdivisions);
+        }
+        py::dict d;
+        d["mesh"] = a.mesh, d["extraordinary"] = a.extraordinary,
+        d["boundary_loops"] = a.boundaryLoops;
+        d["control_faces"] = a.controlFaces;
+        return d;
+      },
+      py::arg("parent"), py::arg("i0"), py::arg("i1"), py::arg("j0"), py::arg("j1"),
+      py::arg("cylinder"), py::arg("subdivisions") = 3,
+      "Seed 003's attachment: the cylinder's next-to-last row of CVs joined to the ring of "
+      "parent CVs around [i0, i1] x [j0, j1] (cylinder CV k over ring CV k, the ring running "
+      "+i, +j, -i, -j from (i0, j0)); the joined net as a Catmull-Clark surface subdivided "
+      "`subdivisions` times. dict(mesh, extraordinary, boundary_loops, control_faces).");
   m.def("parse_hs", &parseHs, py::arg("text"), py::arg("source") = "<text>");
   m.def("read_hs", &readHsFile, py::arg("path"));
   m.def(

@@ -348,3 +348,20 @@ def test_hsplines_refine_edit_and_leave_as_step_stl_and_hs(tmp_path):
     flat = h.bspline()
     assert flat["uperiodic"] and flat["vperiodic"]
     assert len(flat["poles"]) == sum(flat["umults"][:-1])
+
+
+def test_a_cylinder_attaches_to_a_plane_through_a_catmull_clark_seam():
+    plane = fc.HSpline.plane(10, 10, 90, 90)
+    ring = ([(i, 3) for i in range(3, 6)] + [(6, j) for j in range(3, 6)] +
+            [(i, 6) for i in range(6, 3, -1)] + [(3, j) for j in range(6, 3, -1)])
+    at = [plane.position(0, i, j) for i, j in ring]
+    cx, cy = sum(p[0] for p in at) / 12, sum(p[1] for p in at) / 12
+    knots_v = [0, 0, 0, 0, 1, 2, 2, 2, 2]
+    positions = [(cx + 0.7 * (p[0] - cx), cy + 0.7 * (p[1] - cy), 10.0 * (r - 1))
+                 for r in range(5) for p in at]
+    cylinder = fc.HSpline.from_grid(list(range(12)), 12.0, knots_v, 0.0, positions)
+    a = fc.attach_cylinder(plane, 3, 6, 3, 6, cylinder, 3)
+    assert a["extraordinary"] == 4 and a["boundary_loops"] == 2
+    assert len(a["mesh"].triangles) > 4000
+    with pytest.raises(ValueError, match="the ring around the rectangle has 14"):
+        fc.attach_cylinder(plane, 3, 7, 3, 6, cylinder, 3)

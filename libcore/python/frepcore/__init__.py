@@ -23,14 +23,14 @@ from ._frepcore import check_param, node_reference_markdown
 from ._frepcore import mesh_field, vdb_grids, vdb_to_mesh
 from ._frepcore import Lattice, deform_mesh, deform_vdb, read_lattice, parse_lattice
 from ._frepcore import read_3mf, write_3mf, materials
-from ._frepcore import HSpline, parse_hs, read_hs, read_step_summary
+from ._frepcore import HSpline, parse_hs, read_hs, read_step_summary, attach_cylinder
 from ._frepcore import DEFAULT_CELLS  # cells along the longest side when no resolution is given
 
 __all__ = ["Cancelled", "Mesh", "Node", "Shape", "node_types", "parse_model", "read_mesh",
            "load", "automatic_box", "NotPrintable", "from_mesh", "from_vdb", "vdb_grids",
            "vdb_to_mesh", "Lattice", "deform_mesh", "deform_vdb", "read_lattice",
            "parse_lattice", "read_3mf", "write_3mf", "materials", "HSpline", "parse_hs",
-           "read_hs", "read_step_summary"]
+           "read_hs", "read_step_summary", "attach_cylinder"]
 
 # Positional order of the parameters of the primitive functions, where the registry's order
 # (placement first) would be awkward to call: fc.cylinder(radius, length).
