@@ -218,3 +218,21 @@ def test_a_closed_hspline_is_an_frep_input(doc, tmp_path, monkeypatch):
     assert shape(0, 30, 0) > 0 and shape(0, 30, 12) < 0  # on the tube's centre circle; above it
     report = shape.export(str(tmp_path / "union.stl"), cells=80)
     assert report["printable"], report["text"]
+
+
+def test_an_attachment_joins_a_cylinder_and_follows_its_edits(doc):
+    import FRepHSplineAttach as A
+    body = H.make_plane(doc, 10, 10, 90, 90)
+    doc.recompute()
+    limb, joint = A.attach_new_cylinder(doc, body, (3, 6, 3, 6), rows=5, height=10)
+    doc.recompute()
+    assert joint.isValid(), joint.getStatusString()
+    assert joint.Mesh.CountFacets > 4000 and joint.Mesh.BoundBox.ZMax == pytest.approx(30, abs=1e-3)
+    # Raising the cylinder's top row raises the joined surface.
+    top = [(0, k, 4) for k in range(12)]
+    H.nudge_cvs(limb, top, (0, 0, 10.0))
+    doc.recompute()
+    assert joint.Mesh.BoundBox.ZMax == pytest.approx(40, abs=1e-3)
+    joint.I1 = 7  # the ring no longer has the cylinder's 12 CVs
+    doc.recompute()
+    assert "Invalid" in joint.State

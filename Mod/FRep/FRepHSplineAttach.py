@@ -1,0 +1,107 @@
+"""Attachments in FreeCAD (seed 003, 2.4): an Attachment feature (a Mesh feature) joining a
+cylinder hspline to a parent hspline around a rectangle of the parent's level-0 CVs, through
+a Catmull-Clark seam (frepcore.attach_cylinder). It links both hsplines, so editing either
+recomputes the joined surface.
+
+Scripting:
+    import FRepHSplineAttach as A
+    body = H.make_plane(doc, 10, 10, 90, 90)
+    limb, joint = A.attach_new_cylinder(doc, body, (3, 6, 3, 6), rows=5, height=10)
+    doc.recompute()
+"""
+
+import FreeCAD
+
+import FRepHSpline as H
+import FRepMeshing
+from FRepPaths import frepcore
+from FRepProxy import StatelessProxy
+
+GROUP = "Attachment"
+
+
+def ring(rect):
+    """The parent CVs around rectangle (i0, i1, j0, j1), in the order a cylinder's CVs go
+    around: +i, +j, -i, -j from (i0, j0)."""
+    i0, i1, j0, j1 = rect
+    return ([(i, j0) for i in range(i0, i1)] + [(i1, j) for j in range(j0, j1)] +
+            [(i, j1) for i in range(i1, i0, -1)] + [(i0, j) for j in range(j1, j0, -1)])
+
+
+def cylinder_over_ring(parent, rect, rows=5, height=10.0, taper=0.7):
+    """A cylinder hspline whose CV k stands over ring CV k: row 1 on the ring, the rows above
+    it `height` apart along the parent's normal there, drawn in by `taper` toward the ring's
+    centre; row 0 below (it is dropped by the attachment)."""
+    h = H._shared(parent)
+    points = [FreeCAD.Vector(*h.position(0, i, j)) for i, j in ring(rect)]
+    centre = sum(points, FreeCAD.Vector()) * (1.0 / len(points))
+    i0, i1, j0, j1 = rect
+    u, v = h.reference(0, (i0 + i1) // 2, (j0 + j1) // 2)
+    normal = FreeCAD.Vector(*h.evaluate(u, v, 0)["normal"])
+    positions = []
+    for r in range(rows):
+        for p in points:
+            q = centre + (p - centre) * (1.0 if r <= 1 else taper)
+            q = q + normal * (height * (r - 1))
+            positions.append((q.x, q.y, q.z))
+    n = len(points)
+    knots_v = [0, 0, 0] + list(range(rows - 2)) + [rows - 3] * 3
+    return frepcore.HSpline.from_grid(list(range(n)), float(n), knots_v, 0.0, positions)
+
+
+class AttachmentFeature(StatelessProxy):
+    def __init__(self, obj):
+        obj.Proxy = self
+        self.setup(obj)
+
+    def setup(self, obj):
+        have = obj.PropertiesList
+        for name, doc in (("Parent", "The hspline the cylinder attaches to."),
+                          ("Cylinder", "The cylinder hspline (periodic around), CV k over ring "
+                                       "CV k.")):
+            if name not in have:
+                obj.addProperty("App::PropertyLink", name, GROUP, doc)
+        for name, doc in (("I0", "The rectangle's first CV along u on the parent."),
+                          ("I1", "Its last CV along u."),
+                          ("J0", "Its first CV along v."), ("J1", "Its last CV along v.")):
+            if name not in have:
+                obj.addProperty("App::PropertyInteger", name, GROUP, doc)
+        if "Subdivisions" not in have:
+            obj.addProperty("App::PropertyIntegerConstraint", "Subdivisions", GROUP,
+                            "Catmull-Clark steps (0 to 6): each makes four times the faces.")
+            obj.Subdivisions = (3, 0, 6, 1)
+
+    def onDocumentRestored(self, obj):
+        self.setup(obj)
+
+    def execute(self, obj):
+        for name in ("Parent", "Cylinder"):
+            if not H.is_hspline(getattr(obj, name)):
+                raise ValueError("%s: property '%s' must link an HSpline" % (obj.Label, name))
+        try:
+            joined = frepcore.attach_cylinder(H._shared(obj.Parent), obj.I0, obj.I1, obj.J0,
+                                              obj.J1, H._shared(obj.Cylinder), obj.Subdivisions)
+        except ValueError as e:
+            raise ValueError("%s: %s" % (obj.Label, e)) from None
+        FRepMeshing.set_mesh(obj, FRepMeshing.to_freecad_mesh(joined["mesh"]))
+
+
+def make_attachment(doc, parent, cylinder, rect, subdivisions=3, name="Attachment"):
+    obj = doc.addObject("Mesh::FeaturePython", name)
+    AttachmentFeature(obj)
+    if FreeCAD.GuiUp:
+        import FRepViewProviders
+        FRepViewProviders.ViewProviderFRep(obj.ViewObject)
+    obj.Parent, obj.Cylinder = parent, cylinder
+    obj.I0, obj.I1, obj.J0, obj.J1 = rect
+    obj.Subdivisions = subdivisions
+    for o in (parent, cylinder):
+        o.Visibility = False
+    return obj
+
+
+def attach_new_cylinder(doc, parent, rect, rows=5, height=10.0, subdivisions=3):
+    """A new cylinder hspline standing on the ring around `rect` of the parent, and the
+    Attachment joining them. Returns (cylinder feature, attachment)."""
+    limb = H.make_hspline(doc, cylinder_over_ring(parent, rect, rows, height), name="Limb")
+    return limb, make_attachment(doc, parent, limb, rect, subdivisions)
