@@ -59,12 +59,19 @@ class ViewProviderHSpline(DraggerHost, StatelessProxy):
     def getIcon(self):
         return FRepPaths.icon("hspline")
 
+    # Every edit ends in a recompute that assigns the Shape (an undo restores it too), so the
+    # Shape stands for the data properties: one rebuild per edit, not one per property. A tag
+    # changes only the overlay's colours and the draggers, not the surface drawn.
     def updateData(self, obj, prop):
-        if prop in ("CvValues", "Tagged", "CvLevels", "Shape"):
+        if prop == "Shape":
             self.rebuild()
+        elif prop == "Tagged":
+            self.rebuild(surface=False)
 
     def onChanged(self, vobj, prop):
-        if prop in ("ShowLevel", "ShowCvs", "Visibility", "SurfaceLevel"):
+        if prop in ("ShowLevel", "ShowCvs"):
+            self.rebuild(surface=False)
+        elif prop in ("Visibility", "SurfaceLevel"):
             self.rebuild()
 
     # -- the CV overlay -------------------------------------------------------------------------
@@ -92,13 +99,16 @@ class ViewProviderHSpline(DraggerHost, StatelessProxy):
                     net.append((k, index[(a, b)]))
         return level, cvs, positions, colours, net
 
-    def rebuild(self):
+    def rebuild(self, surface=True):
+        """The CV overlay (and the draggers in edit mode) again; with `surface`, the level of
+        detail drawn too."""
         from pivy import coin
         overlay = getattr(self, "overlay", None)
         if overlay is None:
             return
         overlay.removeAllChildren()
-        self.update_detail()
+        if surface:
+            self.update_detail()
         obj = self.Object
         vobj = obj.ViewObject
         if not vobj.ShowCvs or not vobj.Visibility:
@@ -208,7 +218,7 @@ class ViewProviderHSpline(DraggerHost, StatelessProxy):
         hints = coin.SoShapeHints()
         hints.vertexOrdering = coin.SoShapeHints.COUNTERCLOCKWISE
         hints.shapeType = coin.SoShapeHints.UNKNOWN_SHAPE_TYPE
-        points, unit = h.points_at(t["us"], t["vs"], normals=True, level=level)
+        points, unit = t["points"], t["normals"]
         coords = coin.SoCoordinate3()
         coords.point.setValues(0, len(points), points)
         # Normals from the surface itself, so Coin need not compute them every frame.

@@ -268,7 +268,6 @@ void bindHSpline(py::module_& m) {
             py::dict d;
             d["poles"] = poles, d["uknots"] = u.knots, d["umults"] = u.mults, d["vknots"] = v.knots,
             d["vmults"] = v.mults, d["uperiodic"] = u.periodic, d["vperiodic"] = v.periodic;
-            d["inward"] = u.periodic && v.periodic && enclosedVolume(f) < 0;
             return d;
           },
           "The hierarchy as one exact B-spline, the way Part.BSplineSurface."
@@ -289,39 +288,24 @@ void bindHSpline(py::module_& m) {
               py::gil_scoped_release release;
               t = tessellate(flatten(h, level), tolerance);
             }
+            // Points and unit normals as tuples, for Coin (frepcore.Mesh carries no normals).
+            std::vector<std::tuple<float, float, float>> points, normals;
+            for (std::size_t k = 0; k < t.mesh.positions.size(); ++k) {
+              const auto& p = t.mesh.positions[k];
+              const auto& n = t.mesh.normals[k];
+              points.emplace_back(p[0], p[1], p[2]);
+              normals.emplace_back(n[0], n[1], n[2]);
+            }
             py::dict d;
-            d["mesh"] = t.mesh, d["us"] = t.us, d["vs"] = t.vs;
+            d["mesh"] = t.mesh, d["us"] = t.us, d["vs"] = t.vs, d["points"] = points,
+            d["normals"] = normals;
             return d;
           },
           py::arg("tolerance"), py::arg("level") = -1,
-          "dict(mesh, us, vs): the tessellation and its sample parameters (vertex i + len(us) * j "
-          "lies at us[i], vs[j]), for a display that moves the same vertices while a CV is "
-          "dragged.")
-      .def(
-          "points_at",
-          [](const HSpline& h, const std::vector<double>& us, const std::vector<double>& vs,
-             bool normals, int level) {
-            std::vector<std::tuple<float, float, float>> points, unit;
-            {
-              py::gil_scoped_release release;
-              const FlatBSpline f = flatten(h, level);
-              points.reserve(us.size() * vs.size());
-              for (double v : vs)
-                for (double u : us) {
-                  const HsSurfacePoint p = f.evaluate(u, v);
-                  points.emplace_back(float(p.position[0]), float(p.position[1]),
-                                      float(p.position[2]));
-                  if (!normals) continue;
-                  const Vec3 n = p.normal();
-                  unit.emplace_back(float(n[0]), float(n[1]), float(n[2]));
-                }
-            }
-            return normals ? py::object(py::make_tuple(points, unit))
-                           : py::object(py::cast(points));
-          },
-          py::arg("us"), py::arg("vs"), py::arg("normals") = false, py::arg("level") = -1,
-          "The surface's points at every (us[i], vs[j]), i fastest; with normals: (points, "
-          "unit normals).")
+          "dict(mesh, us, vs, points, normals): the tessellation of the levels up to `level` (all "
+          "by default), its sample parameters (vertex i + len(us) * j lies at us[i], vs[j]) and "
+          "its points and unit normals, for a display that moves the same vertices while a CV "
+          "is dragged.")
       .def(
           "reach_runs",
           [](const HSpline& h, const std::vector<double>& us, const std::vector<double>& vs,
