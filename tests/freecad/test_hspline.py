@@ -18,6 +18,13 @@ def _points(obj, n=7):
             for a in range(n) for b in range(n)]
 
 
+def _reopened(doc, path):
+    """The document saved to path, closed and opened again (the caller closes it)."""
+    doc.saveAs(path)
+    FreeCAD.closeDocument(doc.Name)
+    return FreeCAD.openDocument(path)
+
+
 def test_the_tutorial_refines_edits_zeroes_and_unrefines(doc):
     obj = FRepExamples.hspline_tutorial(doc)
     assert obj.isValid(), obj.getStatusString()
@@ -68,11 +75,7 @@ def test_the_hierarchy_saves_and_reopens(doc, tmp_path):
     doc.recompute()
     assert obj.Shape.ShapeType == "Solid" and obj.Shape.isValid()
     volume, text, name = obj.Shape.Volume, H.hspline_of(obj).to_text(), obj.Name
-    path = str(tmp_path / "hspline.FCStd")
-    doc.saveAs(path)
-    label = doc.Name
-    FreeCAD.closeDocument(label)
-    again = FreeCAD.openDocument(path)
+    again = _reopened(doc, str(tmp_path / "hspline.FCStd"))
     try:
         restored = again.getObject(name)
         again.recompute()
@@ -180,11 +183,8 @@ def test_a_cv_of_its_own_is_driven_by_its_property_and_an_expression(doc, tmp_pa
     obj.setExpression(name + ".z", None)
     H.nudge_cvs(obj, [(1, 9, 9)], (0, 0, 0), along_normal=2.0)
     assert getattr(obj, name).z == pytest.approx(9.0)
-    path, feature = str(tmp_path / "exposed.FCStd"), obj.Name
-    doc.saveAs(path)
-    label = doc.Name
-    FreeCAD.closeDocument(label)
-    again = FreeCAD.openDocument(path)
+    feature = obj.Name
+    again = _reopened(doc, str(tmp_path / "exposed.FCStd"))
     try:
         restored = again.getObject(feature)
         again.recompute()
