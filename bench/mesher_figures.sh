@@ -7,13 +7,8 @@
 # docs/performance.md.
 #   bench/mesher_figures.sh [CELLS] [MODELS...]
 set -euo pipefail
-here=$(cd "$(dirname "$0")/.." && pwd)
-frepcad=${FREPCAD:-$here/build/bin/frepcad}
-cells=${1:-256}
-shift || true
-models=${*:-sphere csg twist helix gyroid}
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
+source "$(dirname "$0")/export_figures.sh"
+figures_setup 256 "$@"
 echo "| model, $cells cells | mesher | triangles | meshing s | check s | export wall s | peak MB | bytes / triangle | Hausdorff cells | crease length |"
 echo "|---|---|---|---|---|---|---|---|---|---|"
 for m in $models; do
@@ -25,9 +20,7 @@ for m in $models; do
       cubes) args=() ;;
     esac
     text=$( { /usr/bin/time -f "TIME %e %M" "$frepcad" export "$model" -o "$out/$m.stl" --cells "$cells" "${args[@]}"; } 2>&1)
-    tri=$(sed -n 's/^meshed .*: \([0-9]*\) triangles.*/\1/p' <<<"$text")
-    mesh=$(sed -n 's/^meshed .*, \([0-9.e-]*\) s (check \([0-9.e-]*\) s)/\1/p' <<<"$text")
-    check=$(sed -n 's/^meshed .*, \([0-9.e-]*\) s (check \([0-9.e-]*\) s)/\2/p' <<<"$text")
+    export_fields "$text"
     read -r wall kb < <(sed -n 's/^TIME \([0-9.]*\) \([0-9]*\)/\1 \2/p' <<<"$text")
     stats=""
     [ "${STATS:-1}" = 1 ] && stats=$("$frepcad" export "$model" -o "$out/$m.stl" --cells "$cells" "${args[@]}" --stats)

@@ -4,13 +4,8 @@
 # the whole export's wall time, and the STL's size. Figures for docs/performance.md.
 #   bench/simplify_figures.sh [CELLS] [MODELS...]
 set -euo pipefail
-here=$(cd "$(dirname "$0")/.." && pwd)
-frepcad=${FREPCAD:-$here/build/bin/frepcad}
-cells=${1:-128}
-shift || true
-models=${*:-sphere csg twist helix gyroid}
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
+source "$(dirname "$0")/export_figures.sh"
+figures_setup 128 "$@"
 echo "| model, $cells cells | tolerance | triangles | meshing + simplifying s | of it simplifying s | check s | export wall s | STL MB |"
 echo "|---|---|---|---|---|---|---|---|"
 for m in $models; do
@@ -24,9 +19,7 @@ for m in $models; do
     start=$(date +%s.%N)
     text=$("$frepcad" export "$model" -o "$out/$m.stl" --cells "$cells" "${args[@]}")
     end=$(date +%s.%N)
-    tri=$(sed -n 's/^meshed .*: \([0-9]*\) triangles.*/\1/p' <<<"$text")
-    mesh=$(sed -n 's/^meshed .*, \([0-9.e-]*\) s (check \([0-9.e-]*\) s)/\1/p' <<<"$text")
-    check=$(sed -n 's/^meshed .*, \([0-9.e-]*\) s (check \([0-9.e-]*\) s)/\2/p' <<<"$text")
+    export_fields "$text"
     simp=$(sed -n 's/^simplified .* in \([0-9.e-]*\) s,.*/\1/p' <<<"$text")
     size=$(stat -c %s "$out/$m.stl")
     printf "| %s | %s | %s | %.2f | %s | %.2f | %.2f | %.1f |\n" "$m" "$t" "$tri" "$mesh" "${simp:--}" "$check" \
