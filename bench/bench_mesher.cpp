@@ -9,6 +9,8 @@
 #include <tbb/global_control.h>
 
 #include "frep/model_json.h"
+#include "base/process_memory.h"
+#include "check/mesh_check.h"
 #include "mesh/mesher.h"
 #include "simplify/simplify.h"
 
@@ -152,6 +154,27 @@ const bool kExtractionBenchmarks = [] {
           ->UseRealTime();
   return true;
 }();
+// The check alone (issue 12's fast check) on the mesher's mesh of each reference model at N
+// cells, 1 and 2 threads: BM_Check/csg/256/2. The mesh is made once, outside the loop.
+void checkBy(benchmark::State& state, const std::string& name) {
+  const auto [program, options] = across(name, state.range(0), false);
+  const frep::TriangleMesh mesh = frep::polygonize(program, options);
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
+                              static_cast<std::size_t>(state.range(1)));
+  bool printable = false;
+  for (auto _ : state) printable = frep::checkMesh(mesh).printable();
+  state.counters["triangles"] = static_cast<double>(mesh.triangleCount());
+  state.counters["printable"] = printable ? 1.0 : 0.0;
+}
+const bool kCheckBenchmarks = [] {
+  for (const char* model : {"sphere", "csg", "twist", "helix", "gyroid"})
+    benchmark::RegisterBenchmark((std::string("BM_Check/") + model).c_str(),
+                                 [m = std::string(model)](benchmark::State& st) { checkBy(st, m); })
+        ->ArgsProduct({{128, 256, 512}, {1, 2}})
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+  return true;
+}();
 BENCHMARK(BM_AcrossCsg)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_AcrossTwist)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_AcrossGyroid)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -168,4 +191,13 @@ BENCHMARK(BM_SimplifySphere)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTi
 BENCHMARK(BM_SimplifyCsg)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_SimplifyHelix)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-BENCHMARK_MAIN();
+// The benchmarks take memory as the command-line tool does (base/process_memory.h), so the
+// figures are the export's.
+int main(int argc, char** argv) {
+  frep::useLargePageHeap();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -6,6 +6,7 @@
 #include "cli/commands.h"
 #include "cli/terminal_progress.h"
 #include "base/errors.h"
+#include "base/process_memory.h"
 #include "volume/field_sources.h"
 
 namespace {
@@ -43,6 +44,7 @@ double parseNumber(const std::string& text, const std::string& option) {
 
 int main(int argc, char** argv) {
   using namespace frep::cli;
+  frep::useLargePageHeap();
   // A closed pipe on stdout makes writes fail (reported below), not kill the process.
   std::signal(SIGPIPE, SIG_IGN);
   // Models may name mesh and OpenVDB files (mesh_sdf, vdb_grid nodes).

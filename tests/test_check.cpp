@@ -7,6 +7,7 @@
 #include <random>
 
 #include "check/cgal_surface.h"
+#include "check/face_pair_test.h"
 #include "check/mesh_check.h"
 #include "check/self_intersections.h"
 #include "frep/tree.h"
@@ -277,6 +278,102 @@ TEST(Check, GridSelfIntersectionCountIsCgals) {
         << "ball " << i;
   }
   EXPECT_EQ(countSelfIntersections(ball.positions, faces), 0u);
+}
+
+// A fan proved embedded (face_pair_test.h) has no intersecting pair of faces by CGAL's own
+// count, on random fans round a vertex: neighbours in order or shuffled, winding once or
+// twice, flat, bent, folded over, and on integer lattice points (exact coplanar overlaps).
+TEST(Check, AFanIsProvedEmbeddedOnlyWhereCgalFindsNoIntersection) {
+  std::mt19937 g(5);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  int proved = 0, refusedWithIntersections = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const int n = 3 + static_cast<int>(g() % 7);
+    const bool lattice = i % 3 == 0;
+    const int winding = i % 11 == 0 ? 2 : 1;
+    std::vector<float> angles;
+    for (int k = 0; k < n; ++k)
+      angles.push_back(6.2831853f * winding * (static_cast<float>(k) + 0.8f * unit(g)) / n);
+    if (i % 7 == 0) std::swap(angles[0], angles[g() % n]);  // out of order: folds
+    std::vector<Vec3f> points = {{0, 0, 0}};
+    const float bend = i % 5 == 0 ? 2.0f : 0.3f;
+    for (int k = 0; k < n; ++k) {
+      const float r = 0.5f + unit(g);
+      Vec3f q = {r * std::cos(angles[k]), r * std::sin(angles[k]), bend * (unit(g) - 0.5f)};
+      if (lattice)
+        for (float& c : q) c = std::round(c * 2.0f);
+      points.push_back(q);
+    }
+    std::vector<FaceIndices> faces;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> sectors;
+    for (int k = 0; k < n; ++k) {
+      const std::uint32_t a = 1 + k, b = 1 + (k + 1) % n;
+      faces.push_back({0, a, b});
+      sectors.emplace_back(a, b);
+    }
+    // (a repeated lattice point makes a face repeat a vertex: not a fan of a polygon mesh)
+    std::vector<Vec3f> sorted(points.begin(), points.end());
+    std::sort(sorted.begin(), sorted.end());
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) continue;
+    const bool embedded = fanProvedEmbedded(points, 0, sectors.data(), sectors.size());
+    const std::size_t cgal = countSelfIntersectionsWithCgal(points, faces);
+    if (embedded) {
+      ASSERT_EQ(cgal, 0u) << "fan " << i;
+      ++proved;
+    } else if (cgal > 0) {
+      ++refusedWithIntersections;
+    }
+  }
+  EXPECT_GT(proved, 5000);
+  EXPECT_GT(refusedWithIntersections, 500);
+}
+
+// The whole check (which skips the pairs proved apart by embedded fans) counts what CGAL
+// counts on meshes broken by moved vertices: the lattice cubes and the jittered ball above.
+TEST(Check, CheckWithEmbeddedFansCountsAsCgal) {
+  std::mt19937 g(77);
+  int broken = 0;
+  auto compare = [&](const std::vector<Vec3f>& points, const std::vector<FaceIndices>& faces,
+                     int i) {
+    TriangleMesh m;
+    m.positions = points;
+    m.triangles.assign(faces.begin(), faces.end());
+    const CheckReport r = checkMesh(m);
+    if (r.nonManifoldEdges || r.misorientedEdges || r.nonManifoldVertices || r.degenerateFaces)
+      return;  // (the grid and the fans serve polygon meshes only)
+    std::vector<Vec3f> welded;
+    const std::vector<std::uint32_t> map = weldIdenticalVertices(points, welded);
+    std::vector<FaceIndices> indexed;
+    for (const FaceIndices& f : faces) indexed.push_back({map[f[0]], map[f[1]], map[f[2]]});
+    ASSERT_EQ(r.selfIntersections, countSelfIntersectionsWithCgal(welded, indexed)) << "mesh " << i;
+    broken += r.selfIntersections > 0;
+  };
+  for (int i = 0; i < 300; ++i) {
+    std::vector<Vec3f> points;
+    std::vector<FaceIndices> faces;
+    latticeCube(3 + i % 3, points, faces);
+    std::uniform_int_distribution<int> lattice(-1, 6), which(0, static_cast<int>(points.size()) - 1);
+    for (int k = 0; k < 1 + i % 4; ++k)
+      points[static_cast<std::size_t>(which(g))] = {float(lattice(g)), float(lattice(g)),
+                                                    float(lattice(g))};
+    compare(points, faces, i);
+  }
+  MeshingOptions o;
+  o.bbox = {{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}};
+  o.resolution = 0.15;
+  const TriangleMesh ball = polygonize(compile(makeNode("sphere", {}, {})), o);
+  std::vector<FaceIndices> faces(ball.triangles.begin(), ball.triangles.end());
+  for (int i = 0; i < 100; ++i) {
+    std::vector<Vec3f> points = ball.positions;
+    std::uniform_int_distribution<std::size_t> which(0, points.size() - 1);
+    std::uniform_real_distribution<float> jitter(-0.15f, 0.15f);
+    for (int k = 0; k < 1 + i % 20; ++k) {
+      Vec3f& q = points[which(g)];
+      for (float& c : q) c += jitter(g);
+    }
+    compare(points, faces, 1000 + i);
+  }
+  EXPECT_GT(broken, 100);
 }
 
 // Progress comes through the self-intersection pass too (it is most of a large check), in

@@ -103,8 +103,8 @@ bool provenOutside(const std::vector<Vec3f>& p, std::uint32_t e0, std::uint32_t 
 // Whether triangle t and the triangle or segment q (n = 3 or 2 points) are proved apart in
 // their projections along `drop` (an edge line of one separates them): then they are apart
 // in space too, since a common point would project to a common point.
-bool provenApartInProjection(const std::vector<Vec3f>& p, const Triangle& t,
-                             const std::uint32_t* q, int n, int drop) {
+bool provenApartInProjection(const std::vector<Vec3f>& p, const Triangle& t, const std::uint32_t* q,
+                             int n, int drop) {
   for (int k = 0; k < 3; ++k)
     if (provenOutside(p, t[k], t[(k + 1) % 3], t[(k + 2) % 3], q, n, drop)) return true;
   if (n == 3) {
@@ -158,12 +158,53 @@ bool facesIntersect(const std::vector<Vec3f>& points, const Triangle& f, const T
         const Segment sg(at(g[(j + 1) % 3]), at(g[(j + 2) % 3]));
         return CGAL::do_intersect(tf, sg) || CGAL::do_intersect(tg, sf);
       }
-  // one face proved strictly on one side of the other's plane: they cannot meet
-  if (provenApart(points, f, g.data(), 3) || provenApart(points, g, f.data(), 3) ||
-      provenApartInProjection(points, f, g.data(), 3, flattestAxis(points, f)))
+  // apart in a projection (an edge line separates them: most near neighbours on a smooth
+  // surface), or one face proved strictly on one side of the other's plane: they cannot meet
+  if (provenApartInProjection(points, f, g.data(), 3, flattestAxis(points, f)) ||
+      provenApart(points, f, g.data(), 3) || provenApart(points, g, f.data(), 3))
     return false;
   const TriangleK tf(at(f[0]), at(f[1]), at(f[2])), tg(at(g[0]), at(g[1]), at(g[2]));
   return CGAL::do_intersect(tf, tg);
+}
+
+bool fanProvedEmbedded(const std::vector<Vec3f>& points, std::uint32_t v,
+                       const std::pair<std::uint32_t, std::uint32_t>* sectors, std::size_t n) {
+  if (n < 3) return false;
+  // Project along the axis the fan's summed normal leans on most (any axis would be sound;
+  // this one keeps a smooth fan's faces proper triangles).
+  const Vec3f& c = points[v];
+  double normal[3] = {0.0, 0.0, 0.0};
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3f &a = points[sectors[k].first], &b = points[sectors[k].second];
+    double u[3], w[3];
+    for (int i = 0; i < 3; ++i) {
+      u[i] = double(a[i]) - c[i];
+      w[i] = double(b[i]) - c[i];
+    }
+    normal[0] += u[1] * w[2] - u[2] * w[1];
+    normal[1] += u[2] * w[0] - u[0] * w[2];
+    normal[2] += u[0] * w[1] - u[1] * w[0];
+  }
+  const int drop =
+      std::abs(normal[0]) >= std::abs(normal[1]) && std::abs(normal[0]) >= std::abs(normal[2])
+          ? 0
+          : (std::abs(normal[1]) >= std::abs(normal[2]) ? 1 : 2);
+  const int y = (drop + 2) % 3;
+  // Every face (v, w1, w2) turns the same way in the projection, each by less than half a
+  // turn; the sectors, chained into one cycle, then turn round v a whole number of times,
+  // counted as how many hold the direction +x (half-open, [w1, w2)): with counter-clockwise
+  // faces that is w1.y <= v.y < w2.y (w2.y <= v.y < w1.y clockwise): comparisons of floats,
+  // exact.
+  const int turn = provenOrientation2(c, points[sectors[0].first], points[sectors[0].second], drop);
+  if (turn == 0) return false;
+  int winding = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3f &a = points[sectors[k].first], &b = points[sectors[k].second];
+    if (k > 0 && provenOrientation2(c, a, b, drop) != turn) return false;
+    const float from = turn > 0 ? a[y] : b[y], to = turn > 0 ? b[y] : a[y];
+    winding += from <= c[y] && c[y] < to;
+  }
+  return winding == 1;
 }
 
 bool collinear(const Vec3f& a, const Vec3f& b, const Vec3f& c) {

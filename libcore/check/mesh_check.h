@@ -42,8 +42,9 @@ struct CheckReport {
 // triangles make 450 million, which took CGAL over a minute to count.
 constexpr std::size_t kSelfIntersectionLimit = 1000000;
 
-// The distinct coordinates of `positions`, sorted, appended to `welded`; returns each old
-// vertex's index there (STL shares no vertices: this is how its triangles meet).
+// The distinct coordinates of `positions`, in the order they first come, appended to
+// `welded`; returns each old vertex's index there (STL shares no vertices: this is how its
+// triangles meet).
 std::vector<std::uint32_t> weldIdenticalVertices(const std::vector<Vec3f>& positions,
                                                  std::vector<Vec3f>& welded);
 

@@ -26,15 +26,16 @@ bool overlap(const Box& a, const Box& b) {  // closed boxes, as CGAL's box inter
 }
 
 // Grid limits: beyond them the grid would not pay and CGAL's box tree is used.
-constexpr double kMaxEntriesPerFace = 12.0;     // cells a face's box covers, on average
-constexpr double kMaxPairsPerFace = 64.0;       // candidate pairs, on average
+constexpr double kMaxEntriesPerFace = 12.0;  // cells a face's box covers, on average
+constexpr double kMaxPairsPerFace = 64.0;    // candidate pairs, on average
 
 }  // namespace
 
 std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
                                    const std::vector<FaceIndices>& faces,
-                                   const std::function<void(double)>& progress,
-                                   std::size_t limit) {
+                                   const std::function<void(double)>& progress, std::size_t limit,
+                                   const FaceFacts& known) {
+  const std::vector<char>* const embeddedFans = known.embeddedFans;
   const std::vector<Vec3f>& p = points;
 
   // Degenerate faces count as a pair with themselves and take part in nothing else, as in CGAL.
@@ -46,7 +47,8 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
                     [&](const tbb::blocked_range<std::size_t>& range) {
                       for (std::size_t i = range.begin(); i != range.end(); ++i) {
                         const FaceIndices& f = faces[i];
-                        degenerate[i] = collinear(p[f[0]], p[f[1]], p[f[2]]);
+                        degenerate[i] = known.collinear ? (*known.collinear)[i]
+                                                        : collinear(p[f[0]], p[f[1]], p[f[2]]);
                         Box& b = boxes[i];
                         for (int k = 0; k < 3; ++k) {  // floats: exact
                           b.lo[k] = std::min({p[f[0]][k], p[f[1]][k], p[f[2]][k]});
@@ -57,8 +59,6 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
   std::size_t count = 0;
   std::vector<std::uint32_t> live;
   live.reserve(faces.size());
-  std::vector<double> extent;
-  extent.reserve(faces.size());
   Box all{{HUGE_VALF, HUGE_VALF, HUGE_VALF}, {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF}};
   for (std::uint32_t i = 0; i < faces.size(); ++i) {
     if (degenerate[i]) {
@@ -66,27 +66,32 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
       continue;
     }
     const Box& b = boxes[i];
-    double e = 0.0;
     for (int k = 0; k < 3; ++k) {
-      e = std::max(e, double(b.hi[k]) - b.lo[k]);
       all.lo[k] = std::min(all.lo[k], b.lo[k]);
       all.hi[k] = std::max(all.hi[k], b.hi[k]);
     }
     live.push_back(i);
-    extent.push_back(e);
   }
   std::vector<char>().swap(degenerate);
   if (live.size() < 2) return count;
   const double n = static_cast<double>(live.size());
 
-  // Cells about as large as nine faces in ten: a typical face's box then covers at most two
-  // cells per axis.
-  std::nth_element(extent.begin(), extent.begin() + static_cast<std::ptrdiff_t>(0.9 * (n - 1)),
+  // Cells about as large as nine faces in ten (judged on a sample of up to 65,536 faces): a
+  // typical face's box then covers at most two cells per axis.
+  std::vector<double> extent;
+  const std::size_t step = std::max<std::size_t>(1, live.size() / 65536);
+  for (std::size_t l = 0; l < live.size(); l += step) {
+    const Box& b = boxes[live[l]];
+    double e = 0.0;
+    for (int k = 0; k < 3; ++k) e = std::max(e, double(b.hi[k]) - b.lo[k]);
+    extent.push_back(e);
+  }
+  const std::size_t tenth = static_cast<std::size_t>(0.9 * static_cast<double>(extent.size() - 1));
+  std::nth_element(extent.begin(), extent.begin() + static_cast<std::ptrdiff_t>(tenth),
                    extent.end());
-  double cell = extent[static_cast<std::size_t>(0.9 * (n - 1))];
-  std::vector<double>().swap(extent);  // (its memory is needed for the grid's entries)
-  // An entry is one 64-bit word, cell above face, so the cells must number under 2^32: a
-  // grid finer than that (over 1,600 cells a side) gets larger cells.
+  double cell = extent[tenth];
+  // The cells must number under 2^32 (a cell index is 32 bits): a grid finer than that (over
+  // 1,600 cells a side) gets larger cells.
   double dims[3];
   bool grid = cell > 0.0 && std::isfinite(cell);
   for (int attempt = 0; grid; ++attempt) {
@@ -100,63 +105,87 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
     grid = attempt < 200;
   }
   auto index = [&](double v, int k) {
-    return static_cast<std::uint64_t>(std::floor((v - all.lo[k]) / cell));
+    return static_cast<std::uint32_t>(std::floor((v - all.lo[k]) / cell));
   };
-  auto key = [&](std::uint64_t i, std::uint64_t j, std::uint64_t k) {
-    return (k * static_cast<std::uint64_t>(dims[1]) + j) * static_cast<std::uint64_t>(dims[0]) + i;
+  const std::uint64_t dx = grid ? static_cast<std::uint64_t>(dims[0]) : 0;
+  const std::uint64_t dxy = grid ? dx * static_cast<std::uint64_t>(dims[1]) : 0;
+  // Each live face's cell range; the number of cells it covers, summed in place into the
+  // start of its entries.
+  struct CellRange {
+    std::uint32_t lo[3], hi[3];
   };
-  // (cell << 32 | face) for every cell a face's box covers: sorted, the cells' runs.
-  std::vector<std::uint64_t> entries;
-  auto cellOf = [&](std::size_t e) { return entries[e] >> 32; };
-  auto faceOf = [&](std::size_t e) { return static_cast<std::uint32_t>(entries[e]); };
-  // Each live face's cells, counted and then written in parallel at its place in `entries`.
+  std::vector<CellRange> ranges;
   std::vector<std::size_t> firstEntry;
   if (grid) {
+    ranges.resize(live.size());
     firstEntry.assign(live.size() + 1, 0);
     const double most = kMaxEntriesPerFace * n;
-    tbb::parallel_for(std::size_t(0), live.size(), [&](std::size_t l) {
-      const Box& b = boxes[live[l]];
-      double cells = 1.0;
-      for (int k = 0; k < 3; ++k)
-        cells *= static_cast<double>(index(b.hi[k], k) - index(b.lo[k], k) + 1);
-      firstEntry[l + 1] = static_cast<std::size_t>(std::min(cells, most + 1.0));
-    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, live.size(), 4096),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t l = range.begin(); l != range.end(); ++l) {
+                          const Box& b = boxes[live[l]];
+                          CellRange& c = ranges[l];
+                          double cells = 1.0;
+                          for (int k = 0; k < 3; ++k) {
+                            c.lo[k] = index(b.lo[k], k);
+                            c.hi[k] = index(b.hi[k], k);
+                            cells *= static_cast<double>(c.hi[k] - c.lo[k] + 1);
+                          }
+                          firstEntry[l + 1] = static_cast<std::size_t>(std::min(cells, most + 1.0));
+                        }
+                      });
     for (std::size_t l = 0; l < live.size(); ++l) firstEntry[l + 1] += firstEntry[l];
     grid = static_cast<double>(firstEntry.back()) <= most;
   }
-  if (grid) {
-    entries.resize(firstEntry.back());
-    tbb::parallel_for(std::size_t(0), live.size(), [&](std::size_t l) {
-      const std::uint32_t f = live[l];
-      const Box& b = boxes[f];
-      const std::uint64_t i0 = index(b.lo[0], 0), i1 = index(b.hi[0], 0);
-      const std::uint64_t j0 = index(b.lo[1], 1), j1 = index(b.hi[1], 1);
-      const std::uint64_t k0 = index(b.lo[2], 2), k1 = index(b.hi[2], 2);
-      std::size_t at = firstEntry[l];
-      for (std::uint64_t k = k0; k <= k1; ++k)
-        for (std::uint64_t j = j0; j <= j1; ++j)
-          for (std::uint64_t i = i0; i <= i1; ++i) entries[at++] = key(i, j, k) << 32 | f;
-    });
-    std::vector<std::size_t>().swap(firstEntry);
-    tbb::parallel_sort(entries.begin(), entries.end());
-  }
-  // The cells, as runs of entries; and the work their pairs make.
-  std::vector<std::size_t> runs;
-  if (grid) {
-    double pairs = 0.0;
-    for (std::size_t e = 0; e < entries.size();) {
-      std::size_t end = e + 1;
-      while (end < entries.size() && cellOf(end) == cellOf(e)) ++end;
-      runs.push_back(e);
-      const double m = static_cast<double>(end - e);
-      pairs += m * (m - 1) / 2;
-      e = end;
-    }
-    runs.push_back(entries.size());
-    grid = pairs <= kMaxPairsPerFace * n;
-  }
   if (!grid) return countSelfIntersectionsWithCgal(points, faces, true, limit);
 
+  // (cell << 32 | live index) for every cell a face's box covers, sorted by cell (a radix
+  // sort, two passes of 16 bits: the low word is in order already): the cells' runs.
+  std::vector<std::uint64_t> entries(firstEntry.back());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, live.size(), 4096),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t l = range.begin(); l != range.end(); ++l) {
+                        const CellRange& c = ranges[l];
+                        std::size_t at = firstEntry[l];
+                        for (std::uint64_t k = c.lo[2]; k <= c.hi[2]; ++k)
+                          for (std::uint64_t j = c.lo[1]; j <= c.hi[1]; ++j)
+                            for (std::uint64_t i = c.lo[0]; i <= c.hi[0]; ++i)
+                              entries[at++] = (k * dxy + j * dx + i) << 32 | l;
+                      }
+                    });
+  std::vector<std::size_t>().swap(firstEntry);
+  {
+    std::vector<std::uint64_t> sorted(entries.size());
+    for (int shift = 32; shift < 64; shift += 16) {
+      std::vector<std::size_t> at(65537, 0);
+      for (std::uint64_t e : entries) ++at[((e >> shift) & 0xffff) + 1];
+      for (std::size_t b = 1; b < at.size(); ++b) at[b] += at[b - 1];
+      for (std::uint64_t e : entries) sorted[at[(e >> shift) & 0xffff]++] = e;
+      entries.swap(sorted);
+    }
+  }
+  auto cellOf = [&](std::size_t e) { return entries[e] >> 32; };
+  // The cells, as runs of entries; and the work their pairs make.
+  std::vector<std::size_t> runs;
+  double pairs = 0.0;
+  for (std::size_t e = 0; e < entries.size();) {
+    std::size_t end = e + 1;
+    while (end < entries.size() && cellOf(end) == cellOf(e)) ++end;
+    runs.push_back(e);
+    const double m = static_cast<double>(end - e);
+    pairs += m * (m - 1) / 2;
+    e = end;
+  }
+  runs.push_back(entries.size());
+  if (pairs > kMaxPairsPerFace * n)
+    return countSelfIntersectionsWithCgal(points, faces, true, limit);
+
+  // Two faces with a common vertex whose fan is proved embedded cannot intersect.
+  auto shareEmbeddedFan = [&](const FaceIndices& f, const FaceIndices& g) {
+    for (std::uint32_t v : f)
+      if ((v == g[0] || v == g[1] || v == g[2]) && (*embeddedFans)[v]) return true;
+    return false;
+  };
   // Each pair of overlapping boxes is tested once: in the cell holding the lowest corner of
   // the two boxes' intersection (both boxes cover that cell).
   // In parts of about a twentieth each, so progress (and a cancel) comes between them.
@@ -168,24 +197,44 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
     for (std::size_t c : found) sofar += c;
     if (sofar >= limit) return limit;
     const std::size_t end = std::min(cells, begin + part);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 64),
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 256),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         std::size_t& local = found.local();
+                        // A cell's faces, copied together first: each pair then reads nearby
+                        // memory.
+                        struct Item {
+                          Box box;
+                          std::uint32_t lo[3];
+                          std::uint32_t face;
+                        };
+                        std::vector<Item> items;
                         for (std::size_t r = range.begin(); r != range.end(); ++r) {
                           const std::size_t from = runs[r], to = runs[r + 1];
+                          if (to - from < 2) continue;
                           const std::uint64_t here = cellOf(from);
-                          for (std::size_t a = from; a < to; ++a)
-                            for (std::size_t b = a + 1; b < to; ++b) {
-                              const std::uint32_t fa = faceOf(a), fb = faceOf(b);
-                              const Box &ba = boxes[fa], &bb = boxes[fb];
-                              if (!overlap(ba, bb)) continue;
-                              const std::uint64_t owner =
-                                  key(index(std::max(ba.lo[0], bb.lo[0]), 0),
-                                      index(std::max(ba.lo[1], bb.lo[1]), 1),
-                                      index(std::max(ba.lo[2], bb.lo[2]), 2));
-                              if (owner != here) continue;
-                              if (facesIntersect(points, faces[fa], faces[fb])) ++local;
+                          const std::uint32_t ci = static_cast<std::uint32_t>(here % dx),
+                                              cj = static_cast<std::uint32_t>(here % dxy / dx),
+                                              ck = static_cast<std::uint32_t>(here / dxy);
+                          items.clear();
+                          for (std::size_t e = from; e < to; ++e) {
+                            const std::uint32_t l = static_cast<std::uint32_t>(entries[e]);
+                            const CellRange& c = ranges[l];
+                            items.push_back({boxes[live[l]], {c.lo[0], c.lo[1], c.lo[2]}, live[l]});
+                          }
+                          for (std::size_t a = 0; a < items.size(); ++a) {
+                            const Item& ia = items[a];
+                            for (std::size_t b = a + 1; b < items.size(); ++b) {
+                              const Item& ib = items[b];
+                              if (!overlap(ia.box, ib.box)) continue;
+                              if (std::max(ia.lo[0], ib.lo[0]) != ci ||
+                                  std::max(ia.lo[1], ib.lo[1]) != cj ||
+                                  std::max(ia.lo[2], ib.lo[2]) != ck)
+                                continue;
+                              const FaceIndices &fa = faces[ia.face], &fb = faces[ib.face];
+                              if (embeddedFans && shareEmbeddedFan(fa, fb)) continue;
+                              if (facesIntersect(points, fa, fb)) ++local;
                             }
+                          }
                         }
                       });
   }

@@ -25,9 +25,19 @@ using FaceIndices = std::array<std::uint32_t, 3>;
 // progress(fraction) is called on the calling thread between parts of the work (it may throw
 // to stop there).
 // Counting stops soon after `limit` pairs, and returns `limit` then.
+// `known` passes what the caller has already found of the faces (the check's own passes),
+// so the count does not find it again.
+struct FaceFacts {
+  // By face: whether CGAL's collinear() holds for its corners (a degenerate face).
+  const std::vector<char>* collinear = nullptr;
+  // By vertex: whether fanProvedEmbedded (face_pair_test.h) proved its fan embedded; two
+  // faces sharing such a vertex are not tested (they cannot intersect).
+  const std::vector<char>* embeddedFans = nullptr;
+};
 std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
                                    const std::vector<FaceIndices>& faces,
                                    const std::function<void(double)>& progress = nullptr,
-                                   std::size_t limit = static_cast<std::size_t>(-1));
+                                   std::size_t limit = static_cast<std::size_t>(-1),
+                                   const FaceFacts& known = {});
 
 }  // namespace frep

@@ -1,0 +1,11 @@
+// How a process that does one job (the command-line tool, the benchmarks) takes memory from
+// the system: one heap, never trimmed, in transparent huge pages (process_memory.cpp says why).
+#pragma once
+
+namespace frep {
+
+// Call first thing in main, before any large allocation. Not for long-running processes
+// (FreeCAD, a Python session): freed memory stays with the process until it exits.
+void useLargePageHeap();
+
+}  // namespace frep
