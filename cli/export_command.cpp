@@ -12,8 +12,8 @@
 #include "frep/model_json.h"
 #include "frep/structural_bounds.h"
 #include "pipeline/export_pipeline.h"
-#include "volume/grid_set.h"
-#include "volume/level_sets.h"
+#include "base/file_names.h"
+#include "cli/heavy_module.h"
 
 namespace frep::cli {
 
@@ -128,21 +128,6 @@ ExportOptions parseExportOptions(const Args& args) {
   return o;
 }
 
-// The solid as an OpenVDB level set: the box policy as for a mesh, a voxel per cell.
-int exportLevelSet(const ExportOptions& opt, const Program& program, const MeshingBox& box) {
-  if (opt.tolerance || !opt.format.empty() || opt.stats)
-    throw UsageError("--tolerance, --format and --stats apply to meshes, not to a .vdb level set");
-  LevelSetOptions o;
-  o.voxel = box.resolution;
-  o.fog = opt.fog;
-  installInterruptHandlers();
-  o.progress = [](double) { return !interrupted(); };
-  const GridSet grids = sampleLevelSet(program, box.box, o);
-  writeVdb(grids, opt.output);
-  if (!opt.quiet) std::cout << "wrote " << opt.output << ": " << describeGrid(grids.info(0)) << "\n";
-  return 0;
-}
-
 int exportModel(const ExportOptions& opt) {
   const Model model = loadModel(opt.input);
   const Program program = compile(model.root);
@@ -184,7 +169,7 @@ int exportModel(const ExportOptions& opt) {
       text += " (frepcad export --bbox x0 y0 z0 x1 y1 z1, or export.bbox in the model)";
     throw ModelError(opt.input + ": " + text);
   }
-  if (vdb) return exportLevelSet(opt, program, chosen);
+  if (vdb) return heavyModule().exportLevelSet(opt, program, chosen);
 
   installInterruptHandlers();
   ExportResult r;

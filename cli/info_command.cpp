@@ -4,42 +4,10 @@
 
 #include "cli/commands.h"
 #include "frep/registry_docs.h"
-#include "volume/grid_set.h"
+#include "base/file_names.h"
+#include "cli/heavy_module.h"
 
 namespace frep::cli {
-
-namespace {
-
-// `frepcad info FILE.vdb`: the file's grids, to pick one for a vdb_grid node.
-int vdbInfo(const std::string& path, bool json) {
-  const GridSet grids = readVdb(path);
-  if (!json) {
-    std::cout << path << ": " << grids.size() << " grid" << (grids.size() == 1 ? "" : "s") << "\n";
-    for (std::size_t i = 0; i < grids.size(); ++i) {
-      const GridInfo g = grids.info(i);
-      std::cout << "  " << describeGrid(g) << "\n";
-      if (g.worldBox.lo[0] <= g.worldBox.hi[0])
-        std::cout << "    box [" << g.worldBox.lo[0] << ", " << g.worldBox.lo[1] << ", "
-                  << g.worldBox.lo[2] << "] - [" << g.worldBox.hi[0] << ", " << g.worldBox.hi[1]
-                  << ", " << g.worldBox.hi[2] << "]\n";
-    }
-    return 0;
-  }
-  nlohmann::json out = nlohmann::json::array();
-  for (std::size_t i = 0; i < grids.size(); ++i) {
-    const GridInfo g = grids.info(i);
-    out.push_back({{"name", g.name},
-                   {"value_type", g.valueType},
-                   {"grid_class", g.gridClass},
-                   {"voxel_size", {g.voxelSize[0], g.voxelSize[1], g.voxelSize[2]}},
-                   {"active_voxels", g.activeVoxels},
-                   {"metadata", g.metadata}});
-  }
-  std::cout << out.dump(2) << "\n";
-  return 0;
-}
-
-}  // namespace
 
 int infoCommand(const Args& args) {
   std::string type;
@@ -60,7 +28,7 @@ int infoCommand(const Args& args) {
   }
   if (isVdbPath(type)) {
     if (markdown) throw UsageError("--markdown lists node types, not a .vdb file's grids");
-    return vdbInfo(type, json);
+    return heavyModule().vdbInfo(type, json);
   }
   if (markdown) {
     std::cout << registryMarkdown();

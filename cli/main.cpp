@@ -7,7 +7,7 @@
 #include "cli/terminal_progress.h"
 #include "base/errors.h"
 #include "base/process_memory.h"
-#include "volume/field_sources.h"
+#include "cli/heavy_module.h"
 
 namespace {
 
@@ -47,8 +47,9 @@ int main(int argc, char** argv) {
   frep::useLargePageHeap();
   // A closed pipe on stdout makes writes fail (reported below), not kill the process.
   std::signal(SIGPIPE, SIG_IGN);
-  // Models may name mesh and OpenVDB files (mesh_sdf, vdb_grid nodes).
-  frep::registerVolumeSources();
+  // Models may name mesh and OpenVDB files (mesh_sdf, vdb_grid nodes): the first that does
+  // loads the module that reads them.
+  registerLazyVolumeSources();
   Args args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "-h" || args[0] == "--help" || args[0] == "help") {
     std::cout << kUsage;
@@ -70,10 +71,11 @@ int main(int argc, char** argv) {
     if (command == "export") return finish(exportCommand(args));
     if (command == "check") return finish(checkCommand(args));
     if (command == "info") return finish(infoCommand(args));
-    if (command == "deform") return finish(deformCommand(args));
-    if (command == "repair") return finish(repairCommand(args));
-    if (command == "compare") return finish(compareCommand(args));
-    if (command == "hspline") return finish(hsplineCommand(args));
+    // (in the module that links OpenVDB and OpenCASCADE, loaded now)
+    if (command == "deform") return finish(heavyModule().deform(args));
+    if (command == "repair") return finish(heavyModule().repair(args));
+    if (command == "compare") return finish(heavyModule().compare(args));
+    if (command == "hspline") return finish(heavyModule().hspline(args));
     if (command == "--version") {
       std::cout << "frepcad 0.1.0\n";
       return 0;

@@ -69,4 +69,8 @@ std::string readSmallFile(const std::string& path, const std::string& kind, std:
   return ss.str();
 }
 
+bool isVdbPath(const std::string& path) {
+  return path.size() > 4 && path.compare(path.size() - 4, 4, ".vdb") == 0;
+}
+
 }  // namespace frep

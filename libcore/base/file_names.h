@@ -9,6 +9,9 @@ namespace frep {
 
 std::string displayName(const std::string& path);
 
+// Whether `path` names an OpenVDB file (ends in .vdb).
+bool isVdbPath(const std::string& path);
+
 // Whether `path` names something that can be read as a file: a regular file, not a folder,
 // FIFO (which would block the reader), socket or device. Throws FileError naming the path
 // and what it is; `what` names the expected file ("the model file", "the mesh file").

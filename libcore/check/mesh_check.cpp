@@ -26,7 +26,11 @@ namespace {
 
 struct UnionFind {
   std::vector<std::uint32_t> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  explicit UnionFind(std::size_t n = 0) { reset(n); }
+  void reset(std::size_t n) {  // n singletons, keeping the storage
+    parent.resize(n);
+    std::iota(parent.begin(), parent.end(), 0u);
+  }
   std::uint32_t find(std::uint32_t x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
@@ -182,6 +186,7 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
         // (other vertex, local face, 1 when the face runs v -> other)
         std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint8_t>> neighbours;
         std::vector<std::pair<std::uint32_t, std::uint32_t>> sectors;
+        UnionFind fans;
         for (std::size_t v = range.begin(); v != range.end(); ++v) {
           const std::uint32_t b = start[v], e = start[v + 1];
           if (e == b) continue;
@@ -193,7 +198,7 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
             neighbours.emplace_back(static_cast<std::uint32_t>(f[(at + 2) % 3]), k - b, 0);
           }
           std::sort(neighbours.begin(), neighbours.end());
-          UnionFind fans(e - b);
+          fans.reset(e - b);
           bool sound = true;  // every edge at v in two faces, run opposite ways
           for (std::size_t i = 0; i < neighbours.size();) {
             std::size_t j = i, forward = 0;
@@ -240,8 +245,6 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
   r.nonManifoldVertices = counts.nonManifoldVertices;
   r.closed = r.borderEdges == 0 && !faces.empty();
 
-  {
-  }
   tick(0.3);
   // Connected components (through shared edges and vertices).
   UnionFind parts(pos.size());
@@ -251,6 +254,8 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
   }
   for (std::uint32_t v = 0; v < pos.size(); ++v)
     if (start[v + 1] > start[v] && parts.find(v) == v) ++r.components;
+  std::vector<std::uint32_t>().swap(incident);  // (16 bytes a face, not needed again)
+  std::vector<std::uint32_t>().swap(start);
 
   tick(0.35);
   // Self-intersections and orientation, CGAL's judgements. Whether the soup is a polygon

@@ -109,51 +109,54 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
   };
   const std::uint64_t dx = grid ? static_cast<std::uint64_t>(dims[0]) : 0;
   const std::uint64_t dxy = grid ? dx * static_cast<std::uint64_t>(dims[1]) : 0;
-  // Each live face's cell range; the number of cells it covers, summed in place into the
-  // start of its entries.
-  struct CellRange {
-    std::uint32_t lo[3], hi[3];
+  // Each live face's lowest cell (12 bytes a face: the highest is found again from its box
+  // when needed); the entries counted by blocks of faces, so no per-face offsets are kept.
+  using Cell = std::array<std::uint32_t, 3>;
+  std::vector<Cell> lows;
+  constexpr std::size_t kBlock = 4096;
+  const std::size_t blocks = (live.size() + kBlock - 1) / kBlock;
+  std::vector<std::size_t> blockStart(blocks + 1, 0);
+  auto highs = [&](std::size_t l) {
+    const Box& b = boxes[live[l]];
+    return Cell{index(b.hi[0], 0), index(b.hi[1], 1), index(b.hi[2], 2)};
   };
-  std::vector<CellRange> ranges;
-  std::vector<std::size_t> firstEntry;
   if (grid) {
-    ranges.resize(live.size());
-    firstEntry.assign(live.size() + 1, 0);
-    const double most = kMaxEntriesPerFace * n;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, live.size(), 4096),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                        for (std::size_t l = range.begin(); l != range.end(); ++l) {
-                          const Box& b = boxes[live[l]];
-                          CellRange& c = ranges[l];
-                          double cells = 1.0;
-                          for (int k = 0; k < 3; ++k) {
-                            c.lo[k] = index(b.lo[k], k);
-                            c.hi[k] = index(b.hi[k], k);
-                            cells *= static_cast<double>(c.hi[k] - c.lo[k] + 1);
-                          }
-                          firstEntry[l + 1] = static_cast<std::size_t>(std::min(cells, most + 1.0));
-                        }
-                      });
-    for (std::size_t l = 0; l < live.size(); ++l) firstEntry[l + 1] += firstEntry[l];
-    grid = static_cast<double>(firstEntry.back()) <= most;
+    lows.resize(live.size());
+    tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
+      double cells = 0.0;
+      for (std::size_t l = block * kBlock; l < std::min(live.size(), (block + 1) * kBlock); ++l) {
+        const Box& b = boxes[live[l]];
+        Cell& lo = lows[l];
+        const Cell hi = highs(l);
+        double covered = 1.0;
+        for (int k = 0; k < 3; ++k) {
+          lo[k] = index(b.lo[k], k);
+          covered *= static_cast<double>(hi[k] - lo[k] + 1);
+        }
+        cells += covered;
+      }
+      blockStart[block + 1] =
+          static_cast<std::size_t>(std::min(cells, kMaxEntriesPerFace * n + 1.0));
+    });
+    for (std::size_t block = 0; block < blocks; ++block) blockStart[block + 1] += blockStart[block];
+    grid = static_cast<double>(blockStart.back()) <= kMaxEntriesPerFace * n;
   }
   if (!grid) return countSelfIntersectionsWithCgal(points, faces, true, limit);
 
   // (cell << 32 | live index) for every cell a face's box covers, sorted by cell (a radix
   // sort, two passes of 16 bits: the low word is in order already): the cells' runs.
-  std::vector<std::uint64_t> entries(firstEntry.back());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, live.size(), 4096),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t l = range.begin(); l != range.end(); ++l) {
-                        const CellRange& c = ranges[l];
-                        std::size_t at = firstEntry[l];
-                        for (std::uint64_t k = c.lo[2]; k <= c.hi[2]; ++k)
-                          for (std::uint64_t j = c.lo[1]; j <= c.hi[1]; ++j)
-                            for (std::uint64_t i = c.lo[0]; i <= c.hi[0]; ++i)
-                              entries[at++] = (k * dxy + j * dx + i) << 32 | l;
-                      }
-                    });
-  std::vector<std::size_t>().swap(firstEntry);
+  std::vector<std::uint64_t> entries(blockStart.back());
+  tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
+    std::size_t at = blockStart[block];
+    for (std::size_t l = block * kBlock; l < std::min(live.size(), (block + 1) * kBlock); ++l) {
+      const Cell& lo = lows[l];
+      const Cell hi = highs(l);
+      for (std::uint64_t k = lo[2]; k <= hi[2]; ++k)
+        for (std::uint64_t j = lo[1]; j <= hi[1]; ++j)
+          for (std::uint64_t i = lo[0]; i <= hi[0]; ++i)
+            entries[at++] = (k * dxy + j * dx + i) << 32 | l;
+    }
+  });
   {
     std::vector<std::uint64_t> sorted(entries.size());
     for (int shift = 32; shift < 64; shift += 16) {
@@ -218,8 +221,8 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
                           items.clear();
                           for (std::size_t e = from; e < to; ++e) {
                             const std::uint32_t l = static_cast<std::uint32_t>(entries[e]);
-                            const CellRange& c = ranges[l];
-                            items.push_back({boxes[live[l]], {c.lo[0], c.lo[1], c.lo[2]}, live[l]});
+                            const Cell& c = lows[l];
+                            items.push_back({boxes[live[l]], {c[0], c[1], c[2]}, live[l]});
                           }
                           for (std::size_t a = 0; a < items.size(); ++a) {
                             const Item& ia = items[a];

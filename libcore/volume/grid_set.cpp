@@ -99,10 +99,6 @@ std::string describeGrid(const GridInfo& g) {
   return s.str();
 }
 
-bool isVdbPath(const std::string& path) {
-  return path.size() > 4 && path.compare(path.size() - 4, 4, ".vdb") == 0;
-}
-
 GridSet readVdb(const std::string& path) {
   initializeOpenVdb();
   requireRegularFile(path, "the OpenVDB file");

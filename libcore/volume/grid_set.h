@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "base/file_names.h"  // isVdbPath
 #include "base/vec.h"
 
 namespace frep {
@@ -41,8 +42,6 @@ class GridSet {
   std::shared_ptr<Impl> impl;
 };
 
-// Whether a file name is an OpenVDB file's (ends in ".vdb").
-bool isVdbPath(const std::string& path);
 
 // Reads every grid of a .vdb file. Throws FileError naming the file and what is wrong (not an
 // OpenVDB file, truncated, unknown value type, grids too large).
