@@ -3,6 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
@@ -38,54 +39,74 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
   const std::vector<char>* const embeddedFans = known.embeddedFans;
   const std::vector<Vec3f>& p = points;
 
-  // Degenerate faces count as a pair with themselves and take part in nothing else, as in CGAL.
-  // The faces' boxes and degeneracy in parallel (CGAL's exact collinearity test per face),
-  // then the live faces in order.
-  std::vector<Box> boxes(faces.size());
-  std::vector<char> degenerate(faces.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces.size(), 4096),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                        const FaceIndices& f = faces[i];
-                        degenerate[i] = known.collinear ? (*known.collinear)[i]
-                                                        : collinear(p[f[0]], p[f[1]], p[f[2]]);
-                        Box& b = boxes[i];
-                        for (int k = 0; k < 3; ++k) {  // floats: exact
-                          b.lo[k] = std::min({p[f[0]][k], p[f[1]][k], p[f[2]][k]});
-                          b.hi[k] = std::max({p[f[0]][k], p[f[1]][k], p[f[2]][k]});
-                        }
-                      }
-                    });
-  std::size_t count = 0;
-  std::vector<std::uint32_t> live;
-  live.reserve(faces.size());
-  Box all{{HUGE_VALF, HUGE_VALF, HUGE_VALF}, {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF}};
-  for (std::uint32_t i = 0; i < faces.size(); ++i) {
-    if (degenerate[i]) {
-      ++count;
-      continue;
+  // Memory: nothing is kept per face but one byte (degenerate or not) and the grid's
+  // entries; a face's box is found again from its corners wherever it is needed (on a large
+  // mesh the tables cost more, in time to fault their memory in, than the recomputing).
+  auto boxOf = [&](std::uint32_t face) {
+    const FaceIndices& f = faces[face];
+    Box b;
+    for (int k = 0; k < 3; ++k) {  // floats: exact
+      b.lo[k] = std::min({p[f[0]][k], p[f[1]][k], p[f[2]][k]});
+      b.hi[k] = std::max({p[f[0]][k], p[f[1]][k], p[f[2]][k]});
     }
-    const Box& b = boxes[i];
-    for (int k = 0; k < 3; ++k) {
-      all.lo[k] = std::min(all.lo[k], b.lo[k]);
-      all.hi[k] = std::max(all.hi[k], b.hi[k]);
-    }
-    live.push_back(i);
+    return b;
+  };
+  // Degenerate faces count as a pair with themselves and take part in nothing else, as in
+  // CGAL (CGAL's exact collinearity test per face, unless the caller has it).
+  std::vector<char> own;
+  if (!known.collinear) {
+    own.resize(faces.size());
+    tbb::parallel_for(std::size_t(0), faces.size(), [&](std::size_t i) {
+      const FaceIndices& f = faces[i];
+      own[i] = collinear(p[f[0]], p[f[1]], p[f[2]]);
+    });
   }
-  std::vector<char>().swap(degenerate);
-  if (live.size() < 2) return count;
-  const double n = static_cast<double>(live.size());
+  const std::vector<char>& dead = known.collinear ? *known.collinear : own;
+  struct Extent {
+    std::size_t dead = 0;
+    Box all{{HUGE_VALF, HUGE_VALF, HUGE_VALF}, {-HUGE_VALF, -HUGE_VALF, -HUGE_VALF}};
+  };
+  const Extent whole = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, faces.size(), 4096), Extent(),
+      [&](const tbb::blocked_range<std::size_t>& range, Extent e) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          if (dead[i]) {
+            ++e.dead;
+            continue;
+          }
+          const Box b = boxOf(static_cast<std::uint32_t>(i));
+          for (int k = 0; k < 3; ++k) {
+            e.all.lo[k] = std::min(e.all.lo[k], b.lo[k]);
+            e.all.hi[k] = std::max(e.all.hi[k], b.hi[k]);
+          }
+        }
+        return e;
+      },
+      [](Extent x, const Extent& y) {
+        x.dead += y.dead;
+        for (int k = 0; k < 3; ++k) {
+          x.all.lo[k] = std::min(x.all.lo[k], y.all.lo[k]);
+          x.all.hi[k] = std::max(x.all.hi[k], y.all.hi[k]);
+        }
+        return x;
+      });
+  std::size_t count = whole.dead;
+  const Box& all = whole.all;
+  if (faces.size() - count < 2) return count;
+  const double n = static_cast<double>(faces.size() - count);
 
   // Cells about as large as nine faces in ten (judged on a sample of up to 65,536 faces): a
   // typical face's box then covers at most two cells per axis.
   std::vector<double> extent;
-  const std::size_t step = std::max<std::size_t>(1, live.size() / 65536);
-  for (std::size_t l = 0; l < live.size(); l += step) {
-    const Box& b = boxes[live[l]];
+  const std::size_t step = std::max<std::size_t>(1, faces.size() / 65536);
+  for (std::size_t f = 0; f < faces.size(); f += step) {
+    if (dead[f]) continue;
+    const Box b = boxOf(static_cast<std::uint32_t>(f));
     double e = 0.0;
     for (int k = 0; k < 3; ++k) e = std::max(e, double(b.hi[k]) - b.lo[k]);
     extent.push_back(e);
   }
+  if (extent.empty()) extent.push_back(0.0);
   const std::size_t tenth = static_cast<std::size_t>(0.9 * static_cast<double>(extent.size() - 1));
   std::nth_element(extent.begin(), extent.begin() + static_cast<std::ptrdiff_t>(tenth),
                    extent.end());
@@ -107,66 +128,99 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
   auto index = [&](double v, int k) {
     return static_cast<std::uint32_t>(std::floor((v - all.lo[k]) / cell));
   };
+  using Cell = std::array<std::uint32_t, 3>;
+  auto cellsOf = [&](const Box& b, Cell& lo, Cell& hi) {
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = index(b.lo[k], k);
+      hi[k] = index(b.hi[k], k);
+    }
+  };
   const std::uint64_t dx = grid ? static_cast<std::uint64_t>(dims[0]) : 0;
   const std::uint64_t dxy = grid ? dx * static_cast<std::uint64_t>(dims[1]) : 0;
-  // Each live face's lowest cell (12 bytes a face: the highest is found again from its box
-  // when needed); the entries counted by blocks of faces, so no per-face offsets are kept.
-  using Cell = std::array<std::uint32_t, 3>;
-  std::vector<Cell> lows;
-  constexpr std::size_t kBlock = 4096;
-  const std::size_t blocks = (live.size() + kBlock - 1) / kBlock;
-  std::vector<std::size_t> blockStart(blocks + 1, 0);
-  auto highs = [&](std::size_t l) {
-    const Box& b = boxes[live[l]];
-    return Cell{index(b.hi[0], 0), index(b.hi[1], 1), index(b.hi[2], 2)};
-  };
-  if (grid) {
-    lows.resize(live.size());
-    tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
-      double cells = 0.0;
-      for (std::size_t l = block * kBlock; l < std::min(live.size(), (block + 1) * kBlock); ++l) {
-        const Box& b = boxes[live[l]];
-        Cell& lo = lows[l];
-        const Cell hi = highs(l);
-        double covered = 1.0;
-        for (int k = 0; k < 3; ++k) {
-          lo[k] = index(b.lo[k], k);
-          covered *= static_cast<double>(hi[k] - lo[k] + 1);
-        }
-        cells += covered;
-      }
-      blockStart[block + 1] =
-          static_cast<std::size_t>(std::min(cells, kMaxEntriesPerFace * n + 1.0));
-    });
-    for (std::size_t block = 0; block < blocks; ++block) blockStart[block + 1] += blockStart[block];
-    grid = static_cast<double>(blockStart.back()) <= kMaxEntriesPerFace * n;
-  }
-  if (!grid) return countSelfIntersectionsWithCgal(points, faces, true, limit);
-
-  // (cell << 32 | live index) for every cell a face's box covers, sorted by cell (a radix
-  // sort, two passes of 16 bits: the low word is in order already): the cells' runs.
-  std::vector<std::uint64_t> entries(blockStart.back());
-  tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
-    std::size_t at = blockStart[block];
-    for (std::size_t l = block * kBlock; l < std::min(live.size(), (block + 1) * kBlock); ++l) {
-      const Cell& lo = lows[l];
-      const Cell hi = highs(l);
+  // The entries, (cell << 32 | face) for every cell a face's box covers, grouped by cell:
+  // a counting sort on the cell's top 8 bits straight into place (each block of faces
+  // counts its entries per bucket, then writes them where its counts say), then each bucket
+  // sorted on the remaining bits in parallel, with a scratch the size of one bucket. (Two
+  // whole-array radix passes needed a second array as large as the entries: 105 MB on a
+  // 2.9 million triangle mesh.)
+  constexpr std::size_t kBlock = 4096, kBuckets = 256;
+  const std::size_t blocks = (faces.size() + kBlock - 1) / kBlock;
+  int keyBits = 1;
+  while (grid && keyBits < 32 &&
+         (std::uint64_t(1) << keyBits) < dxy * static_cast<std::uint64_t>(dims[2]))
+    ++keyBits;
+  const int topShift = std::max(0, keyBits - 8);
+  auto forEachEntry = [&](std::size_t block, auto&& use) {
+    for (std::size_t f = block * kBlock; f < std::min(faces.size(), (block + 1) * kBlock); ++f) {
+      if (dead[f]) continue;
+      Cell lo, hi;
+      cellsOf(boxOf(static_cast<std::uint32_t>(f)), lo, hi);
       for (std::uint64_t k = lo[2]; k <= hi[2]; ++k)
         for (std::uint64_t j = lo[1]; j <= hi[1]; ++j)
-          for (std::uint64_t i = lo[0]; i <= hi[0]; ++i)
-            entries[at++] = (k * dxy + j * dx + i) << 32 | l;
+          for (std::uint64_t i = lo[0]; i <= hi[0]; ++i) use(k * dxy + j * dx + i, f);
     }
-  });
-  {
-    std::vector<std::uint64_t> sorted(entries.size());
-    for (int shift = 32; shift < 64; shift += 16) {
-      std::vector<std::size_t> at(65537, 0);
-      for (std::uint64_t e : entries) ++at[((e >> shift) & 0xffff) + 1];
-      for (std::size_t b = 1; b < at.size(); ++b) at[b] += at[b - 1];
-      for (std::uint64_t e : entries) sorted[at[(e >> shift) & 0xffff]++] = e;
-      entries.swap(sorted);
-    }
+  };
+  std::vector<std::size_t> at;  // by block, then bucket: where the block writes next
+  std::size_t total = 0;
+  if (grid) {
+    at.assign(blocks * kBuckets, 0);
+    // (a face covers at most kMaxEntriesPerFace cells on average, or CGAL takes over: a
+    // block stops counting beyond what all faces together may have)
+    tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
+      std::size_t* mine = &at[block * kBuckets];
+      for (std::size_t f = block * kBlock; f < std::min(faces.size(), (block + 1) * kBlock); ++f) {
+        if (dead[f]) continue;
+        Cell lo, hi;
+        cellsOf(boxOf(static_cast<std::uint32_t>(f)), lo, hi);
+        double covered = 1.0;
+        for (int k = 0; k < 3; ++k) covered *= static_cast<double>(hi[k] - lo[k] + 1);
+        if (covered > kMaxEntriesPerFace * n) {
+          mine[0] = static_cast<std::size_t>(kMaxEntriesPerFace * n) + 1;
+          return;
+        }
+      }
+      forEachEntry(block, [&](std::uint64_t key, std::size_t) { ++mine[key >> topShift]; });
+    });
+    for (std::size_t bucket = 0; bucket < kBuckets; ++bucket)
+      for (std::size_t block = 0; block < blocks; ++block) {
+        const std::size_t c = at[block * kBuckets + bucket];
+        at[block * kBuckets + bucket] = total;
+        total += c;
+      }
+    grid = static_cast<double>(total) <= kMaxEntriesPerFace * n;
   }
+  if (!grid) return countSelfIntersectionsWithCgal(points, faces, true, limit);
+  std::vector<std::uint64_t> entries(total);
+  std::vector<std::size_t> bucketStart(kBuckets + 1, total);
+  for (std::size_t bucket = 0; bucket < kBuckets; ++bucket) bucketStart[bucket] = at[bucket];
+  tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
+    std::size_t* next = &at[block * kBuckets];
+    forEachEntry(block, [&](std::uint64_t key, std::size_t f) {
+      entries[next[key >> topShift]++] = key << 32 | f;
+    });
+  });
+  std::vector<std::size_t>().swap(at);
+  tbb::enumerable_thread_specific<std::vector<std::uint64_t>> scratch;
+  tbb::parallel_for(std::size_t(0), kBuckets, [&](std::size_t bucket) {
+    const std::size_t from = bucketStart[bucket], size = bucketStart[bucket + 1] - from;
+    if (size < 2) return;
+    std::vector<std::uint64_t>& temp = scratch.local();
+    temp.resize(size);
+    std::uint64_t* in = &entries[from];
+    std::uint64_t* out = temp.data();
+    // LSD passes of up to 12 bits over the cell bits below the top 8 (stable: a cell's faces
+    // stay in order)
+    for (int shift = 0; shift < topShift; shift += 12) {
+      const int width = std::min(12, topShift - shift);
+      std::vector<std::size_t> start((std::size_t(1) << width) + 1, 0);
+      const std::uint64_t mask = (std::uint64_t(1) << width) - 1;
+      for (std::size_t e = 0; e < size; ++e) ++start[((in[e] >> (32 + shift)) & mask) + 1];
+      for (std::size_t d = 1; d < start.size(); ++d) start[d] += start[d - 1];
+      for (std::size_t e = 0; e < size; ++e) out[start[(in[e] >> (32 + shift)) & mask]++] = in[e];
+      std::swap(in, out);
+    }
+    if (in != &entries[from]) std::copy(in, in + size, &entries[from]);
+  });
   auto cellOf = [&](std::size_t e) { return entries[e] >> 32; };
   // The cells, as runs of entries; and the work their pairs make.
   std::vector<std::size_t> runs;
@@ -207,7 +261,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
                         // memory.
                         struct Item {
                           Box box;
-                          std::uint32_t lo[3];
+                          Cell lo;
                           std::uint32_t face;
                         };
                         std::vector<Item> items;
@@ -220,9 +274,13 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
                                               ck = static_cast<std::uint32_t>(here / dxy);
                           items.clear();
                           for (std::size_t e = from; e < to; ++e) {
-                            const std::uint32_t l = static_cast<std::uint32_t>(entries[e]);
-                            const Cell& c = lows[l];
-                            items.push_back({boxes[live[l]], {c[0], c[1], c[2]}, live[l]});
+                            const std::uint32_t f = static_cast<std::uint32_t>(entries[e]);
+                            Item item;
+                            item.box = boxOf(f);
+                            Cell hi;
+                            cellsOf(item.box, item.lo, hi);
+                            item.face = f;
+                            items.push_back(item);
                           }
                           for (std::size_t a = 0; a < items.size(); ++a) {
                             const Item& ia = items[a];

@@ -155,7 +155,7 @@ std::optional<bool> boundsAVolumeByRays(const std::vector<Vec3f>& points,
       zhi = std::max(zhi, approx[a][2]);
     }
     // the start points in a grid over (y, z), about one per cell; a face is looked up in the
-    // cells its box covers and one more each way (the centroids' cells are rounded)
+    // cells its box covers, widened by the room the centroids' rounding is given
     const double side = std::max(1.0, std::ceil(std::sqrt(double(open.size()))));
     const double cy = std::max((yhi - ylo) / side, 1e-30), cz = std::max((zhi - zlo) / side, 1e-30);
     const long cells = static_cast<long>(side) + 1;
@@ -163,11 +163,33 @@ std::optional<bool> boundsAVolumeByRays(const std::vector<Vec3f>& points,
       *i = static_cast<long>(std::clamp(std::floor((y - ylo) / cy), -1.0, double(cells)));
       *j = static_cast<long>(std::clamp(std::floor((z - zlo) / cz), -1.0, double(cells)));
     };
-    std::unordered_multimap<long, std::uint32_t> grid;
+    // (cells -1 .. cells on each axis, as a dense table of each cell's starts: a face looks
+    // up nine cells, a hash map's lookups were most of this pass)
+    const long width = cells + 2;
+    auto cellIndex = [&](long i, long j) {
+      return static_cast<std::size_t>((i + 1) * width + (j + 1));
+    };
+    std::vector<std::uint32_t> cellStart(static_cast<std::size_t>(width * width) + 1, 0),
+        inCell(open.size());
     for (std::uint32_t a : open) {
       long i, j;
       cellOf(approx[a][1], approx[a][2], &i, &j);
-      grid.emplace(i * (cells + 2) + j, a);
+      ++cellStart[cellIndex(i, j) + 1];
+    }
+    for (std::size_t c = 1; c < cellStart.size(); ++c) cellStart[c] += cellStart[c - 1];
+    {
+      std::vector<std::uint32_t> fill(cellStart.begin(), cellStart.end() - 1);
+      for (std::uint32_t a : open) {
+        long i, j;
+        cellOf(approx[a][1], approx[a][2], &i, &j);
+        inCell[fill[cellIndex(i, j)]++] = a;
+      }
+    }
+    // the largest room any start is given below
+    double roomAll = 0.0;
+    for (std::uint32_t a : open) {
+      const std::array<double, 3>& q = approx[a];
+      roomAll = std::max(roomAll, 1e-9 * (1.0 + std::abs(q[0]) + std::abs(q[1]) + std::abs(q[2])));
     }
     struct Hits {
       std::unordered_map<std::uint64_t, int> parity;  // (asker << 32 | candidate) -> odd
@@ -178,17 +200,18 @@ std::optional<bool> boundsAVolumeByRays(const std::vector<Vec3f>& points,
       const std::uint32_t b = component[f];
       if (!isCandidate[b]) return;
       const Vec3f &p0 = points[faces[f][0]], &p1 = points[faces[f][1]], &p2 = points[faces[f][2]];
-      long i0, j0, i1, j1;
-      cellOf(std::min({p0[1], p1[1], p2[1]}), std::min({p0[2], p1[2], p2[2]}), &i0, &j0);
-      cellOf(std::max({p0[1], p1[1], p2[1]}), std::max({p0[2], p1[2], p2[2]}), &i1, &j1);
       const double xmax = std::max({p0[0], p1[0], p2[0]});
       const double ymin = std::min({p0[1], p1[1], p2[1]}), ymax = std::max({p0[1], p1[1], p2[1]});
       const double zmin = std::min({p0[2], p1[2], p2[2]}), zmax = std::max({p0[2], p1[2], p2[2]});
-      for (long i = std::max(i0 - 1, -1L); i <= std::min(i1 + 1, cells); ++i)
-        for (long j = std::max(j0 - 1, -1L); j <= std::min(j1 + 1, cells); ++j) {
-          const auto range = grid.equal_range(i * (cells + 2) + j);
-          for (auto it = range.first; it != range.second; ++it) {
-            const std::uint32_t a = it->second;
+      // (the cells of the starts the test below lets through: cellOf is monotone)
+      long i0, j0, i1, j1;
+      cellOf(ymin - roomAll, zmin - roomAll, &i0, &j0);
+      cellOf(ymax + roomAll, zmax + roomAll, &i1, &j1);
+      for (long i = i0; i <= i1; ++i)
+        for (long j = j0; j <= j1; ++j) {
+          const std::size_t cell = cellIndex(i, j);
+          for (std::uint32_t k = cellStart[cell]; k < cellStart[cell + 1]; ++k) {
+            const std::uint32_t a = inCell[k];
             if (a == b) continue;
             // wholly behind the start, or beside its line (with room for the centroid's
             // rounding): the exact test only where the ray may meet the face
