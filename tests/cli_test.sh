@@ -247,5 +247,13 @@ expect 2 "bad.hs, line 1: version 2 is not known" -- "$frepcad" hspline info "$w
 expect 2 "unknown hspline verb 'grow'" -- "$frepcad" hspline grow "$work/t.hs"
 expect 2 "hspline refine needs --level L" -- "$frepcad" hspline refine "$work/t.hs" -o "$work/x.hs" --cv 1 1
 
+# The OpenVDB and OpenCASCADE module is loaded only when asked for: frepcad alone (a copy
+# without libfrepcad_heavy.so beside it) still meshes, checks and writes a plain model, and a
+# command that needs the module says where it looked.
+mkdir -p "$work/alone" && cp "$frepcad" "$work/alone/frepcad"
+expect 0 "verdict: printable" -- "$work/alone/frepcad" export "$src/examples/csg.json" -o "$work/alone.stl" --resolution 0.1
+expect 2 "cannot load frepcad's OpenVDB and OpenCASCADE module \\(libfrepcad_heavy.so is neither in .*alone" -- "$work/alone/frepcad" hspline info "$work/t.hs"
+expect 0 "wrote .*l.vdb" -- "$frepcad" export "$src/examples/csg.json" -o "$work/l.vdb" --resolution 0.1
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]
