@@ -1,7 +1,7 @@
 // The checker finds each defect class on small hand-made meshes.
+#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <gtest/gtest.h>
 
-#include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <algorithm>
 #include <map>
 #include <random>
@@ -157,8 +157,8 @@ TEST(Check, UnusedVerticesDoNotMatter) {
 // soups made from two octahedra sharing vertices, with faces removed, flipped, repeated and
 // added at random.
 TEST(Check, PolygonMeshTestAgreesWithCgals) {
-  const std::vector<Vec3f> octahedron = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0},
-                                         {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  const std::vector<Vec3f> octahedron = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                         {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
   const std::vector<Triangle> faces = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
                                        {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
   std::mt19937 g(7);
@@ -175,11 +175,11 @@ TEST(Check, PolygonMeshTestAgreesWithCgals) {
     for (int copy = 0; copy < (second ? 2 : 1); ++copy)
       for (Triangle t : faces) {
         const int what = std::uniform_int_distribution<int>(0, 19)(g);
-        if (what == 0) continue;                         // removed
-        if (what == 1) std::swap(t[1], t[2]);            // flipped
+        if (what == 0) continue;               // removed
+        if (what == 1) std::swap(t[1], t[2]);  // flipped
         for (auto& v : t) v += 6 * copy;
         m.triangles.push_back(t);
-        if (what == 2) m.triangles.push_back(t);         // repeated
+        if (what == 2) m.triangles.push_back(t);  // repeated
       }
     const int extra = std::uniform_int_distribution<int>(0, 3)(g) == 0 ? 1 : 0;
     for (int e = 0; e < extra; ++e) {  // a random face over the first octahedron's vertices
@@ -189,8 +189,8 @@ TEST(Check, PolygonMeshTestAgreesWithCgals) {
     }
     if (m.triangles.empty()) continue;
     const CheckReport r = checkMesh(m);
-    const bool ours = r.nonManifoldEdges == 0 && r.misorientedEdges == 0 &&
-                      r.nonManifoldVertices == 0;
+    const bool ours =
+        r.nonManifoldEdges == 0 && r.misorientedEdges == 0 && r.nonManifoldVertices == 0;
     // CGAL's verdict on the same welded soup (unused points do not matter to it)
     std::vector<std::array<float, 3>> unique;
     std::vector<std::vector<std::size_t>> soup;
@@ -241,6 +241,37 @@ void latticeCube(int n, std::vector<Vec3f>& points, std::vector<FaceIndices>& fa
         }
 }
 
+// Broken meshes for the self-intersection tests: a lattice cube (3 to 5 units a side, by i)
+// with 1 to 4 vertices moved to other lattice points (exactly coplanar folds over shared
+// edges, shared-vertex crossings, collinear faces, piercings)...
+void movedLatticeCube(int i, std::mt19937& g, std::vector<Vec3f>& points,
+                      std::vector<FaceIndices>& faces) {
+  latticeCube(3 + i % 3, points, faces);
+  std::uniform_int_distribution<int> lattice(-1, 6), which(0, static_cast<int>(points.size()) - 1);
+  for (int k = 0; k < 1 + i % 4; ++k)
+    points[static_cast<std::size_t>(which(g))] = {float(lattice(g)), float(lattice(g)),
+                                                  float(lattice(g))};
+}
+
+// ... and a meshed ball's vertices with 1 to 20 of them (by i) jittered by up to `jitter`.
+std::vector<Vec3f> jitteredBall(const TriangleMesh& ball, int i, float jitter, std::mt19937& g) {
+  std::vector<Vec3f> points = ball.positions;
+  std::uniform_int_distribution<std::size_t> which(0, points.size() - 1);
+  std::uniform_real_distribution<float> shift(-jitter, jitter);
+  for (int k = 0; k < 1 + i % 20; ++k) {
+    Vec3f& q = points[which(g)];
+    for (float& c : q) c += shift(g);
+  }
+  return points;
+}
+
+TriangleMesh meshedBall(double cell) {
+  MeshingOptions o;
+  o.bbox = {{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}};
+  o.resolution = cell;
+  return polygonize(compile(makeNode("sphere", {}, {})), o);
+}
+
 // The grid count must be CGAL's count exactly: lattice cubes with vertices moved to other
 // lattice points (exactly coplanar folds over shared edges, shared-vertex crossings,
 // collinear faces, piercings), and a meshed ball with vertices jittered by a cell.
@@ -250,30 +281,16 @@ TEST(Check, GridSelfIntersectionCountIsCgals) {
   for (int i = 0; i < 400; ++i) {
     std::vector<Vec3f> points;
     std::vector<FaceIndices> faces;
-    latticeCube(3 + i % 3, points, faces);
-    std::uniform_int_distribution<int> lattice(-1, 6), which(0, static_cast<int>(points.size()) - 1);
-    const int moves = 1 + i % 4;
-    for (int k = 0; k < moves; ++k)
-      points[static_cast<std::size_t>(which(g))] = {float(lattice(g)), float(lattice(g)),
-                                                    float(lattice(g))};
+    movedLatticeCube(i, g, points, faces);
     const std::size_t ours = countSelfIntersections(points, faces);
     ASSERT_EQ(ours, countSelfIntersectionsWithCgal(points, faces)) << "cube " << i;
     withIntersections += ours > 0;
   }
   EXPECT_GT(withIntersections, 150);
-  MeshingOptions o;
-  o.bbox = {{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}};
-  o.resolution = 0.2;
-  const TriangleMesh ball = polygonize(compile(makeNode("sphere", {}, {})), o);
+  const TriangleMesh ball = meshedBall(0.2);
   std::vector<FaceIndices> faces(ball.triangles.begin(), ball.triangles.end());
   for (int i = 0; i < 60; ++i) {
-    std::vector<Vec3f> points = ball.positions;
-    std::uniform_int_distribution<std::size_t> which(0, points.size() - 1);
-    std::uniform_real_distribution<float> jitter(-0.2f, 0.2f);
-    for (int k = 0; k < 1 + i % 20; ++k) {
-      Vec3f& q = points[which(g)];
-      for (float& c : q) c += jitter(g);
-    }
+    const std::vector<Vec3f> points = jitteredBall(ball, i, 0.2f, g);
     ASSERT_EQ(countSelfIntersections(points, faces), countSelfIntersectionsWithCgal(points, faces))
         << "ball " << i;
   }
@@ -351,28 +368,12 @@ TEST(Check, CheckWithEmbeddedFansCountsAsCgal) {
   for (int i = 0; i < 300; ++i) {
     std::vector<Vec3f> points;
     std::vector<FaceIndices> faces;
-    latticeCube(3 + i % 3, points, faces);
-    std::uniform_int_distribution<int> lattice(-1, 6), which(0, static_cast<int>(points.size()) - 1);
-    for (int k = 0; k < 1 + i % 4; ++k)
-      points[static_cast<std::size_t>(which(g))] = {float(lattice(g)), float(lattice(g)),
-                                                    float(lattice(g))};
+    movedLatticeCube(i, g, points, faces);
     compare(points, faces, i);
   }
-  MeshingOptions o;
-  o.bbox = {{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}};
-  o.resolution = 0.15;
-  const TriangleMesh ball = polygonize(compile(makeNode("sphere", {}, {})), o);
-  std::vector<FaceIndices> faces(ball.triangles.begin(), ball.triangles.end());
-  for (int i = 0; i < 100; ++i) {
-    std::vector<Vec3f> points = ball.positions;
-    std::uniform_int_distribution<std::size_t> which(0, points.size() - 1);
-    std::uniform_real_distribution<float> jitter(-0.15f, 0.15f);
-    for (int k = 0; k < 1 + i % 20; ++k) {
-      Vec3f& q = points[which(g)];
-      for (float& c : q) c += jitter(g);
-    }
-    compare(points, faces, 1000 + i);
-  }
+  const TriangleMesh ball = meshedBall(0.15);
+  const std::vector<FaceIndices> faces(ball.triangles.begin(), ball.triangles.end());
+  for (int i = 0; i < 100; ++i) compare(jitteredBall(ball, i, 0.15f, g), faces, 1000 + i);
   EXPECT_GT(broken, 100);
 }
 
@@ -388,8 +389,8 @@ TEST(Check, ProgressCoversTheSelfIntersectionPassAndCanStopIt) {
   ASSERT_FALSE(ticks.empty());
   EXPECT_TRUE(std::is_sorted(ticks.begin(), ticks.end()));
   EXPECT_EQ(ticks.back(), 1.0);
-  const auto inPass = std::count_if(ticks.begin(), ticks.end(),
-                                    [](double f) { return f > 0.45 && f < 0.95; });
+  const auto inPass =
+      std::count_if(ticks.begin(), ticks.end(), [](double f) { return f > 0.45 && f < 0.95; });
   EXPECT_GE(inPass, 10);
   struct Stop {};
   double last = 0;
@@ -494,8 +495,9 @@ TEST(Check, NestingByRaysAgreesWithCgal) {
   o.resolution = 0.3;
   const TriangleMesh ball = polygonize(compile(makeNode("sphere", {}, {})), o);
   const TriangleMesh cube = polygonize(
-      compile(makeNode("box", {{"corner", vec3Value({-0.9, -0.9, -0.9})},
-                               {"size", vec3Value({1.8, 1.8, 1.8})}}, {})),
+      compile(makeNode(
+          "box", {{"corner", vec3Value({-0.9, -0.9, -0.9})}, {"size", vec3Value({1.8, 1.8, 1.8})}},
+          {})),
       o);
   std::mt19937 rng(12);
   std::uniform_real_distribution<float> u(0, 1);
