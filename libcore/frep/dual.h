@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "frep/scalar_math.h"
+
 namespace frep {
 
 struct Dual {
@@ -85,7 +87,8 @@ inline Dual powConst(const Dual& a, double k) {
 }
 // The branch the value takes; its derivatives are the branch's.
 inline Dual select(const Dual& a, const Dual& b, const Dual& c) { return a.v >= 0.0 ? b : c; }
-inline Dual sin(const Dual& a) { return chain(a, std::sin(a.v), std::cos(a.v)); }
-inline Dual cos(const Dual& a) { return chain(a, std::cos(a.v), -std::sin(a.v)); }
+// (frep::sin and cos, as the other modes evaluate them: scalar_math.h)
+inline Dual sin(const Dual& a) { return chain(a, frep::sin(a.v), frep::cos(a.v)); }
+inline Dual cos(const Dual& a) { return chain(a, frep::cos(a.v), -frep::sin(a.v)); }
 
 }  // namespace frep

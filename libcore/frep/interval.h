@@ -50,6 +50,9 @@ namespace interval_detail {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // Worst error of glibc's exp, log, sin, cos, tan, atan, atan2, pow on x86-64, plus one.
 constexpr int kLibmUlps = 3;
+// sin and cos are evaluated by glibc's vector library (scalar_math.h: 4 ulps from the exact
+// value) and bounded here through the scalar ones (1 ulp): 4 + 1, plus one.
+constexpr int kTrigUlps = 6;
 
 // The next double above v (std::nextafter towards +inf, without the library call: interval
 // evaluation runs for every cell of the mesher's octree and every sub-block of a brick).
@@ -154,7 +157,8 @@ namespace interval_detail {
 // (at maxAt + 2k pi) and -1 where a minimum (at minAt + 2k pi) lies inside. One ulp of
 // slack on the tests, so an extremum that rounding puts just outside still counts. +-inf
 // arguments give NaN.
-inline Interval periodicRange(Interval a, double (*f)(double), double maxAt, double minAt) {
+inline Interval periodicRange(Interval a, double (*f)(double), double maxAt, double minAt,
+                              int ulps) {
   constexpr double kTwoPi = 6.283185307179586476925286766559;
   const bool nan = a.nan || hasInfinity(a);
   // Over a period or more, or where the argument is so large that k*pi is not resolved.
@@ -166,7 +170,7 @@ inline Interval periodicRange(Interval a, double (*f)(double), double maxAt, dou
   if (maxAt + kMax * kTwoPi <= a.hi + slack) hi = 1.0;
   const double kMin = std::ceil((a.lo - minAt - slack) / kTwoPi);
   if (minAt + kMin * kTwoPi <= a.hi + slack) lo = -1.0;
-  const Interval r = outward(lo, hi, nan, kLibmUlps);
+  const Interval r = outward(lo, hi, nan, ulps);
   return {std::max(-1.0, r.lo), std::min(1.0, r.hi), nan};
 }
 }  // namespace interval_detail
@@ -175,13 +179,14 @@ inline Interval periodicRange(Interval a, double (*f)(double), double maxAt, dou
 inline Interval sin(Interval a) {
   constexpr double kHalfPi = 1.5707963267948966192313216916398;
   return interval_detail::periodicRange(a, [](double v) { return std::sin(v); }, kHalfPi,
-                                        -kHalfPi);
+                                        -kHalfPi, interval_detail::kTrigUlps);
 }
 
 // cos: maxima at 2k pi, minima at pi + 2k pi (not sin(a + pi/2): the shift would round).
 inline Interval cos(Interval a) {
   constexpr double kPi = 3.14159265358979323846;
-  return interval_detail::periodicRange(a, [](double v) { return std::cos(v); }, 0.0, kPi);
+  return interval_detail::periodicRange(a, [](double v) { return std::cos(v); }, 0.0, kPi,
+                                        interval_detail::kTrigUlps);
 }
 
 inline Interval floor(Interval a) { return {std::floor(a.lo), std::floor(a.hi), a.nan}; }

@@ -241,8 +241,20 @@ __attribute__((always_inline)) inline void runPlan(const Step* plan, std::size_t
       case Op::Min: FREP_KERNEL(min(A, B));
       case Op::Max: FREP_KERNEL(max(A, B));
       case Op::Exp: FREP_KERNEL(exp(A));
-      case Op::Sin: FREP_KERNEL(sin(A));
-      case Op::Cos: FREP_KERNEL(cos(A));
+      case Op::Sin:
+        if constexpr (std::is_same_v<V, double>) {
+          sinMany(a, n, o);  // two at a time, the same bits as sin(A)
+          break;
+        } else {
+          FREP_KERNEL(sin(A));
+        }
+      case Op::Cos:
+        if constexpr (std::is_same_v<V, double>) {
+          cosMany(a, n, o);
+          break;
+        } else {
+          FREP_KERNEL(cos(A));
+        }
       case Op::Affine: FREP_KERNEL(affine<V>(A, B, C, k));
       case Op::RUnion: FREP_KERNEL(rUnion<V>(A, B, k[0]));
       case Op::RIntersect: FREP_KERNEL(rIntersect<V>(A, B, k[0]));
