@@ -1,28 +1,30 @@
 // The check's passes; CGAL's predicates and routines stay in the check's few files that
 // include CGAL (slow to compile).
 #include "check/mesh_check.h"
-#include "check/volume_nesting.h"
-#include "check/cgal_surface.h"
-#include "check/face_pair_test.h"
-#include "check/self_intersections.h"
-#include "base/triangle_geometry.h"
-
 
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <numeric>
 #include <tuple>
-#include <cstring>
-#include <cstdio>
+
+#include "base/triangle_geometry.h"
+#include "check/cgal_surface.h"
+#include "check/face_pair_test.h"
+#include "check/self_intersections.h"
+#include "check/volume_nesting.h"
 
 namespace frep {
 
 namespace {
-
 
 struct UnionFind {
   std::vector<std::uint32_t> parent;
@@ -38,7 +40,43 @@ struct UnionFind {
   void join(std::uint32_t a, std::uint32_t b) { parent[find(a)] = find(b); }
 };
 
-std::string count(std::size_t n, const char* what) { return std::to_string(n) + " " + what; }
+// The same partition, joined from every thread at once: a root is linked below a smaller one
+// by compare-and-swap, and finds halve their paths the same way. Parents only ever move to
+// an ancestor with a smaller index, so no cycle can form, and a stale read costs a retry.
+class ConcurrentUnionFind {
+ public:
+  explicit ConcurrentUnionFind(std::size_t n) : parent_(n) {
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+      parent_[i].store(static_cast<std::uint32_t>(i), std::memory_order_relaxed);
+    });
+  }
+  std::uint32_t find(std::uint32_t x) {
+    for (;;) {
+      std::uint32_t p = parent_[x].load(std::memory_order_relaxed);
+      if (p == x) return x;
+      const std::uint32_t up = parent_[p].load(std::memory_order_relaxed);
+      if (up != p) parent_[x].compare_exchange_weak(p, up, std::memory_order_relaxed);
+      x = up;
+    }
+  }
+  void join(std::uint32_t a, std::uint32_t b) {
+    for (;;) {
+      a = find(a);
+      b = find(b);
+      if (a == b) return;
+      if (a < b) std::swap(a, b);
+      std::uint32_t expected = a;
+      if (parent_[a].compare_exchange_strong(expected, b, std::memory_order_acq_rel)) return;
+    }
+  }
+
+ private:
+  std::vector<std::atomic<std::uint32_t>> parent_;
+};
+
+std::string count(std::size_t n, const char* what) {
+  return std::to_string(n) + " " + what;
+}
 
 // Several closed components bound a volume, outward, when each is outward at an even depth
 // of nesting and inward at an odd one: ray parity with exact predicates
@@ -60,7 +98,8 @@ bool severalBoundAVolume(const std::vector<Vec3f>& pos, const std::vector<FaceIn
 
 }  // namespace
 
-std::vector<std::uint32_t> weldIdenticalVertices(const std::vector<Vec3f>& pos, std::vector<Vec3f>& welded) {
+std::vector<std::uint32_t> weldIdenticalVertices(const std::vector<Vec3f>& pos,
+                                                 std::vector<Vec3f>& welded) {
   // An open-addressing hash table of the distinct points (index into `welded`), twice as
   // many slots as points: one pass, in the order the points come (a sort took five times as
   // long). Equal means equal as floats, so -0 and +0 hash alike.
@@ -132,8 +171,24 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
         continue;
       }
       faces.push_back({a, b, c});
-      r.area += triangleArea(pos[a], pos[b], pos[c]);
-      r.volume += signedTetraVolume(pos[a], pos[b], pos[c]);
+    }
+  }
+  // Area and signed volume, summed by fixed blocks of faces in parallel and the blocks in
+  // order: the same sums on any number of threads.
+  {
+    constexpr std::size_t kBlock = 16384;
+    const std::size_t blocks = (faces.size() + kBlock - 1) / kBlock;
+    std::vector<std::array<double, 2>> partial(blocks, {0.0, 0.0});
+    tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
+      for (std::size_t i = block * kBlock; i < std::min(faces.size(), (block + 1) * kBlock); ++i) {
+        const FaceIndices& f = faces[i];
+        partial[block][0] += triangleArea(pos[f[0]], pos[f[1]], pos[f[2]]);
+        partial[block][1] += signedTetraVolume(pos[f[0]], pos[f[1]], pos[f[2]]);
+      }
+    });
+    for (const auto& [area, volume] : partial) {
+      r.area += area;
+      r.volume += volume;
     }
   }
   // Faces with collinear corners (CGAL's exact test), in parallel.
@@ -246,14 +301,22 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
   r.closed = r.borderEdges == 0 && !faces.empty();
 
   tick(0.3);
-  // Connected components (through shared edges and vertices).
+  // Connected components (through shared edges and vertices), joined in parallel, then each
+  // vertex pointed straight at its root.
   UnionFind parts(pos.size());
-  for (const auto& f : faces) {
-    parts.join(static_cast<std::uint32_t>(f[0]), static_cast<std::uint32_t>(f[1]));
-    parts.join(static_cast<std::uint32_t>(f[0]), static_cast<std::uint32_t>(f[2]));
+  {
+    ConcurrentUnionFind joined(pos.size());
+    tbb::parallel_for(std::size_t(0), faces.size(), [&](std::size_t i) {
+      const FaceIndices& f = faces[i];
+      joined.join(f[0], f[1]);
+      joined.join(f[0], f[2]);
+    });
+    tbb::parallel_for(std::size_t(0), pos.size(), [&](std::size_t v) {
+      parts.parent[v] = joined.find(static_cast<std::uint32_t>(v));
+    });
   }
   for (std::uint32_t v = 0; v < pos.size(); ++v)
-    if (start[v + 1] > start[v] && parts.find(v) == v) ++r.components;
+    if (start[v + 1] > start[v] && parts.parent[v] == v) ++r.components;
   std::vector<std::uint32_t>().swap(incident);  // (16 bytes a face, not needed again)
   std::vector<std::uint32_t>().swap(start);
 
@@ -272,30 +335,35 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
     // A polygon mesh (every export the mesher makes) through the hash grid; any other soup
     // through CGAL's own routine, once orient_polygon_soup has made it a polygon mesh.
     r.selfIntersections =
-        polygonMesh
-            ? countSelfIntersections(pos, indexed, [&](double f) { tick(0.45 + 0.5 * f); },
-                                     selfIntersectionLimit, FaceFacts{&collinearFace, &embeddedFan})
-            : countSelfIntersectionsWithCgal(pos, indexed, false, selfIntersectionLimit);
+        polygonMesh ? countSelfIntersections(
+                          pos, indexed, [&](double f) { tick(0.45 + 0.5 * f); },
+                          selfIntersectionLimit, FaceFacts{&collinearFace, &embeddedFan})
+                    : countSelfIntersectionsWithCgal(pos, indexed, false, selfIntersectionLimit);
     r.selfIntersectionsAtLeast = r.selfIntersections >= selfIntersectionLimit;
     tick(0.95);
     if (r.closed && polygonMesh && r.selfIntersections == 0)
       // One closed, consistently oriented, self-intersection-free component bounds a volume,
       // outward exactly when its signed volume is positive: CGAL's does_bound_a_volume (a
       // Surface_mesh, about 110 bytes a face, 0.5 s for a million) decides only nestings.
-      r.outward = r.components == 1 ? r.volume > 0 : severalBoundAVolume(pos, indexed, parts, r.volume);
+      r.outward =
+          r.components == 1 ? r.volume > 0 : severalBoundAVolume(pos, indexed, parts, r.volume);
   }
 
   tick(1.0);
   if (r.borderEdges)
     r.reasons.push_back(count(r.borderEdges, "border edges: the mesh is not closed (holes)"));
   if (r.nonManifoldEdges)
-    r.reasons.push_back(count(r.nonManifoldEdges, "non-manifold edges (shared by more than two triangles)"));
+    r.reasons.push_back(
+        count(r.nonManifoldEdges, "non-manifold edges (shared by more than two triangles)"));
   if (r.nonManifoldVertices)
-    r.reasons.push_back(count(r.nonManifoldVertices, "non-manifold vertices (triangles touching at a point)"));
+    r.reasons.push_back(
+        count(r.nonManifoldVertices, "non-manifold vertices (triangles touching at a point)"));
   if (r.misorientedEdges)
-    r.reasons.push_back(count(r.misorientedEdges, "edges where neighbouring triangles disagree on orientation"));
+    r.reasons.push_back(
+        count(r.misorientedEdges, "edges where neighbouring triangles disagree on orientation"));
   if (r.degenerateFaces)
-    r.reasons.push_back(count(r.degenerateFaces, "degenerate triangles (repeated or collinear vertices)"));
+    r.reasons.push_back(
+        count(r.degenerateFaces, "degenerate triangles (repeated or collinear vertices)"));
   if (r.selfIntersections)
     r.reasons.push_back((r.selfIntersectionsAtLeast ? "at least " : "") +
                         count(r.selfIntersections, "pairs of self-intersecting triangles") +
