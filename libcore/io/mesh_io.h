@@ -1,13 +1,16 @@
 // Mesh files: binary and ASCII STL, OBJ, binary PLY, 3MF (one object; io/mesh_3mf.h for
 // several), and FreeCAD's own binary mesh (.bms:
-// points, facets and facet neighbours, which FreeCAD reads without rebuilding topology). Writers go through AtomicFile (no partial
-// file on failure or cancel). Readers return the triangles exactly as stored; STL has no
-// indices, so its vertices come unwelded (the checker welds identical coordinates).
+// points, facets and facet neighbours, which FreeCAD reads without rebuilding topology). Writers go
+// through AtomicFile (no partial file on failure or cancel). Readers return the triangles exactly
+// as stored; STL has no indices, so its vertices come unwelded (the checker welds identical
+// coordinates).
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 
+#include "base/atomic_file.h"
 #include "base/triangle_mesh.h"
 
 namespace frep {
@@ -25,9 +28,16 @@ using WriteProgress = std::function<bool(double)>;
 
 void writeMesh(const TriangleMesh& mesh, const std::string& path, MeshFormat format,
                const WriteProgress& progress = {});
+// The same, left under its temporary name: commit() renames it into place, destroying it
+// removes it. The export writes while its check runs and renames only what the check
+// accepts. Not for 3MF (std::logic_error: write3mf packs and writes those).
+std::unique_ptr<AtomicFile> writeMeshUncommitted(const TriangleMesh& mesh, const std::string& path,
+                                                 MeshFormat format,
+                                                 const WriteProgress& progress = {});
 
 // Reads STL (binary or ASCII, detected from content), OBJ, PLY (ASCII or binary little
-// endian) or 3MF (every build item, merged: io/mesh_3mf.h reads them one by one). Polygons are fan-triangulated. Throws FileError with the file name and the problem.
+// endian) or 3MF (every build item, merged: io/mesh_3mf.h reads them one by one). Polygons are
+// fan-triangulated. Throws FileError with the file name and the problem.
 TriangleMesh readMesh(const std::string& path);
 
 }  // namespace frep

@@ -1,6 +1,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <memory>
+#include <stdexcept>
 #include <filesystem>
 
 #include "base/errors.h"
@@ -201,6 +203,23 @@ void writeFreecadBms(const TriangleMesh& m, AtomicFile& f, Ticker& tick) {
 
 }  // namespace
 
+std::unique_ptr<AtomicFile> writeMeshUncommitted(const TriangleMesh& mesh, const std::string& path,
+                                                 MeshFormat format, const WriteProgress& progress) {
+  if (format == MeshFormat::ThreeMf)
+    throw std::logic_error("writeMeshUncommitted: a 3MF package is written by write3mf");
+  auto file = std::make_unique<AtomicFile>(path);
+  Ticker tick(progress, mesh.triangles.size());
+  switch (format) {
+    case MeshFormat::StlBinary: writeStlBinary(mesh, *file, tick); break;
+    case MeshFormat::StlAscii: writeStlAscii(mesh, *file, tick); break;
+    case MeshFormat::Obj: writeObj(mesh, *file, tick); break;
+    case MeshFormat::Ply: writePly(mesh, *file, tick); break;
+    case MeshFormat::FreecadBms: writeFreecadBms(mesh, *file, tick); break;
+    case MeshFormat::ThreeMf: break;
+  }
+  return file;
+}
+
 void writeMesh(const TriangleMesh& mesh, const std::string& path, MeshFormat format,
                const WriteProgress& progress) {
   if (format == MeshFormat::ThreeMf) {
@@ -210,18 +229,9 @@ void writeMesh(const TriangleMesh& mesh, const std::string& path, MeshFormat for
     options.validate = false;
     return write3mf({{std::filesystem::path(path).stem().string(), mesh}}, path, options, progress);
   }
-  AtomicFile file(path);
-  Ticker tick(progress, mesh.triangles.size());
-  switch (format) {
-    case MeshFormat::StlBinary: writeStlBinary(mesh, file, tick); break;
-    case MeshFormat::StlAscii: writeStlAscii(mesh, file, tick); break;
-    case MeshFormat::Obj: writeObj(mesh, file, tick); break;
-    case MeshFormat::Ply: writePly(mesh, file, tick); break;
-    case MeshFormat::FreecadBms: writeFreecadBms(mesh, file, tick); break;
-    case MeshFormat::ThreeMf: break;
-  }
+  const std::unique_ptr<AtomicFile> file = writeMeshUncommitted(mesh, path, format, progress);
   if (progress && !progress(1.0)) throw Cancelled();
-  file.commit();
+  file->commit();
 }
 
 }  // namespace frep

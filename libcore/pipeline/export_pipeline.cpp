@@ -6,6 +6,8 @@
 #include <optional>
 #include <cmath>
 #include <fstream>
+#include <future>
+#include <memory>
 #include <sstream>
 
 #include "base/errors.h"
@@ -180,6 +182,28 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
   };
   pack();
 
+  // The file is written while the check runs, under its temporary name, on a thread of its
+  // own (writing is mostly handing pages to the file system): the check's verdict decides
+  // whether it is renamed into place, and a refusal or a cancel removes it. (A 3MF package,
+  // made above, is written after.)
+  using Pending = std::unique_ptr<AtomicFile>;
+  Pending pending;
+  std::future<Pending> writing;
+  struct Join {  // the writer reads `mesh`: wait for it before anything changes or unwinds
+    std::future<Pending>& f;
+    ~Join() {
+      if (!f.valid()) return;
+      try {
+        f.get();  // (and the temporary file is removed)
+      } catch (...) {
+      }
+    }
+  } join{writing};
+  if (request.check && !package)
+    writing = std::async(std::launch::async, [&mesh, &path, format] {
+      return writeMeshUncommitted(mesh, path, format);
+    });
+
   if (request.check) {
     t = Clock::now();
     report(ExportStage::Check, 0.0);
@@ -188,11 +212,13 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
       // next phase, before anything is written.
       report(ExportStage::Check, f);
     });
+    if (writing.valid()) pending = writing.get();  // (a write error is thrown here)
     // Every collapse was proved safe, so a refused simplification is a bug; the mesher's
     // own mesh is checked then and written if printable, and the result says so.
     if (!result.report.printable() && result.simplified) {
       CheckReport original = checkMesh(unsimplified);  // (progress stays at the end)
       if (original.printable()) {
+        pending.reset();  // (the file holds the refused mesh)
         mesh = std::move(unsimplified);
         pack();
         if (package) original = checkMesh(mesh);
@@ -218,6 +244,8 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
   report(ExportStage::Write, 0.0);
   if (package)
     writePackage(*package, path);
+  else if (pending)
+    pending->commit();
   else
     writeMesh(mesh, path, format, [&](double f) {
       return !request.progress || request.progress(ExportStage::Write, f);
