@@ -150,36 +150,31 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
          (std::uint64_t(1) << keyBits) < dxy * static_cast<std::uint64_t>(dims[2]))
     ++keyBits;
   const int topShift = std::max(0, keyBits - 8);
+  // Calls use(cell key, face) for every cell each live face of the block covers; false,
+  // stopping there, at a face that covers more cells than all faces together may have (a
+  // giant face: CGAL's box tree takes over).
   auto forEachEntry = [&](std::size_t block, auto&& use) {
     for (std::size_t f = block * kBlock; f < std::min(faces.size(), (block + 1) * kBlock); ++f) {
       if (dead[f]) continue;
       Cell lo, hi;
       cellsOf(boxOf(static_cast<std::uint32_t>(f)), lo, hi);
+      double covered = 1.0;
+      for (int k = 0; k < 3; ++k) covered *= static_cast<double>(hi[k] - lo[k] + 1);
+      if (covered > kMaxEntriesPerFace * n) return false;
       for (std::uint64_t k = lo[2]; k <= hi[2]; ++k)
         for (std::uint64_t j = lo[1]; j <= hi[1]; ++j)
           for (std::uint64_t i = lo[0]; i <= hi[0]; ++i) use(k * dxy + j * dx + i, f);
     }
+    return true;
   };
   std::vector<std::size_t> at;  // by block, then bucket: where the block writes next
   std::size_t total = 0;
   if (grid) {
     at.assign(blocks * kBuckets, 0);
-    // (a face covers at most kMaxEntriesPerFace cells on average, or CGAL takes over: a
-    // block stops counting beyond what all faces together may have)
     tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
       std::size_t* mine = &at[block * kBuckets];
-      for (std::size_t f = block * kBlock; f < std::min(faces.size(), (block + 1) * kBlock); ++f) {
-        if (dead[f]) continue;
-        Cell lo, hi;
-        cellsOf(boxOf(static_cast<std::uint32_t>(f)), lo, hi);
-        double covered = 1.0;
-        for (int k = 0; k < 3; ++k) covered *= static_cast<double>(hi[k] - lo[k] + 1);
-        if (covered > kMaxEntriesPerFace * n) {
-          mine[0] = static_cast<std::size_t>(kMaxEntriesPerFace * n) + 1;
-          return;
-        }
-      }
-      forEachEntry(block, [&](std::uint64_t key, std::size_t) { ++mine[key >> topShift]; });
+      if (!forEachEntry(block, [&](std::uint64_t key, std::size_t) { ++mine[key >> topShift]; }))
+        mine[0] += static_cast<std::size_t>(kMaxEntriesPerFace * n) + 1;  // (over the limit)
     });
     for (std::size_t bucket = 0; bucket < kBuckets; ++bucket)
       for (std::size_t block = 0; block < blocks; ++block) {
