@@ -20,7 +20,7 @@ import FRepMeshing
 import FRepPoints
 import FRepProperties as props
 import FRepTree
-from FRepProxy import StatelessProxy
+from FRepProxy import FeatureProxy
 from FRepPaths import frepcore
 
 NODE_TYPES = {t["type"]: t for t in frepcore.node_types()}
@@ -90,14 +90,10 @@ def set_inputs(obj, inputs):
         obj.Shapes = list(inputs)
 
 
-class FRepFeature(StatelessProxy):
+class FRepFeature(FeatureProxy):
     """Proxy of every FRep feature; subclasses only set FREP_TYPE."""
 
     FREP_TYPE = None
-
-    def __init__(self, obj):
-        obj.Proxy = self
-        self.setup(obj)
 
     def setup(self, obj):
         """Adds the properties the registry defines (also to documents saved before a
@@ -133,9 +129,6 @@ class FRepFeature(StatelessProxy):
     def parameters(self):
         """The registry's parameters of this type (dicts as frepcore.node_types gives)."""
         return NODE_TYPES[self.FREP_TYPE]["params"]
-
-    def onDocumentRestored(self, obj):
-        self.setup(obj)
 
     # -- the tree ------------------------------------------------------------------------------
     def local_shape(self, obj, builder):

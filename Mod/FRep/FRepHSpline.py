@@ -24,7 +24,7 @@ Scripting:
 import FreeCAD
 
 from FRepPaths import frepcore
-from FRepProxy import StatelessProxy
+from FRepProxy import FeatureProxy
 
 GROUP = "HSpline"
 DATA_GROUP = "HSpline data"
@@ -47,11 +47,7 @@ def is_hspline(obj):
     return isinstance(getattr(obj, "Proxy", None), HSplineFeature)
 
 
-class HSplineFeature(StatelessProxy):
-    def __init__(self, obj):
-        obj.Proxy = self
-        self.setup(obj)
-
+class HSplineFeature(FeatureProxy):
     def setup(self, obj):
         add = obj.addProperty
         have = obj.PropertiesList
@@ -84,9 +80,6 @@ class HSplineFeature(StatelessProxy):
             if name not in have:
                 add("App::PropertyInteger", name, GROUP, doc)
             obj.setEditorMode(name, 1)
-
-    def onDocumentRestored(self, obj):
-        self.setup(obj)
 
     def onChanged(self, obj, prop):
         if prop in DATA or prop.startswith(CV_PREFIX):

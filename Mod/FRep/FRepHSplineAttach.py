@@ -15,7 +15,7 @@ import FreeCAD
 import FRepHSpline as H
 import FRepMeshing
 from FRepPaths import frepcore
-from FRepProxy import StatelessProxy
+from FRepProxy import FeatureProxy
 
 GROUP = "Attachment"
 
@@ -49,11 +49,7 @@ def cylinder_over_ring(parent, rect, rows=5, height=10.0, taper=0.7):
     return frepcore.HSpline.from_grid(list(range(n)), float(n), knots_v, 0.0, positions)
 
 
-class AttachmentFeature(StatelessProxy):
-    def __init__(self, obj):
-        obj.Proxy = self
-        self.setup(obj)
-
+class AttachmentFeature(FeatureProxy):
     def setup(self, obj):
         have = obj.PropertiesList
         for name, doc in (("Parent", "The hspline the cylinder attaches to."),
@@ -70,9 +66,6 @@ class AttachmentFeature(StatelessProxy):
             obj.addProperty("App::PropertyIntegerConstraint", "Subdivisions", GROUP,
                             "Catmull-Clark steps (0 to 6): each makes four times the faces.")
             obj.Subdivisions = (3, 0, 6, 1)
-
-    def onDocumentRestored(self, obj):
-        self.setup(obj)
 
     def execute(self, obj):
         for name in ("Parent", "Cylinder"):

@@ -32,7 +32,7 @@ import FRepProperties as props
 import FRepSolids
 import FRepTree
 from FRepPaths import frepcore
-from FRepProxy import StatelessProxy
+from FRepProxy import FeatureProxy
 
 GROUP = "Lattice"
 MAX_DIVISIONS = 64
@@ -98,11 +98,7 @@ def point_index(obj, i, j, k):
     return (i * (d[1] + 1) + j) * (d[2] + 1) + k
 
 
-class LatticeFeature(StatelessProxy):
-    def __init__(self, obj):
-        obj.Proxy = self
-        self.setup(obj)
-
+class LatticeFeature(FeatureProxy):
     def setup(self, obj):
         add = obj.addProperty
         have = obj.PropertiesList
@@ -137,9 +133,6 @@ class LatticeFeature(StatelessProxy):
                 "Scales every offset: 0 the rest lattice, 1 the lattice as edited. Drive it "
                 "with an expression or a spreadsheet to animate the deformation.")
             obj.Amount = 1.0
-
-    def onDocumentRestored(self, obj):
-        self.setup(obj)
 
     def onChanged(self, obj, prop):
         if "Restore" in obj.State:

@@ -9,7 +9,7 @@ import FreeCAD
 
 import FRepMeshing
 import FRepTree
-from FRepProxy import StatelessProxy
+from FRepProxy import FeatureProxy
 from FRepPaths import frepcore
 
 GROUP = "Polygonize"
@@ -20,11 +20,7 @@ METHODS = ["Cubes", "Marching tetrahedra"]
 MESHER_OF_METHOD = {"Cubes": "cubes", "Marching tetrahedra": "tetra"}
 
 
-class Polygonize(StatelessProxy):
-    def __init__(self, obj):
-        obj.Proxy = self
-        self.setup(obj)
-
+class Polygonize(FeatureProxy):
     def setup(self, obj):
         def add(kind, name, doc, value=None):
             if name not in obj.PropertiesList:
@@ -61,9 +57,6 @@ class Polygonize(StatelessProxy):
                             "Triangles in the mesh (read-only).")
             obj.setEditorMode("Triangles", 1)
         self.show_box_mode(obj)
-
-    def onDocumentRestored(self, obj):
-        self.setup(obj)
 
     def onChanged(self, obj, prop):
         if prop == "AutoBounds":

@@ -15,3 +15,15 @@ class StatelessProxy:
 
     def loads(self, state):
         return None
+
+
+class FeatureProxy(StatelessProxy):
+    """Base of the workbench's document features: setup(obj) adds the properties, both when
+    the feature is made and when a document saved before a property existed is reopened."""
+
+    def __init__(self, obj):
+        obj.Proxy = self
+        self.setup(obj)
+
+    def onDocumentRestored(self, obj):
+        self.setup(obj)
