@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <random>
 
 #include "base/errors.h"
@@ -287,6 +289,50 @@ TEST(Accuracy, TheMeshersSharpFeaturesPlaceTheCubesEdges) {
   EXPECT_LT(std::abs(s.volume - 1.0), std::abs(c.volume - 1.0));
   EXPECT_LT(std::abs(s.creaseLength - 12.0), std::abs(c.creaseLength - 12.0))
       << s.creaseLength << " against " << c.creaseLength;
+}
+
+// The distance from the mesh to the surface is an upper bound that stays tight where the
+// gradient does not point at the nearest surface: on the gyroid's thin sheets, Newton's steps
+// from a point near one side can cross to the far side (they overstated the distance 4 times
+// over). Measured against a brute-force one: each vertex's distance to the nearest vertex of
+// a mesh six times finer (whose vertices lie on the surface).
+TEST(Accuracy, MeshToSurfaceIsTightOnThinSheets) {
+  const Model m = loadModel(std::string(FREP_SOURCE_DIR) + "/examples/gyroid.json");
+  const Program p = compile(m.root);
+  const Box3 box{{0.35, 0.35, 0.0}, {1.05, 1.05, 0.7}};
+  const double cell = 0.7 / 40;
+  const TriangleMesh mesh = meshOf(p, box, cell);
+  const TriangleMesh fine = meshOf(p, box, cell / 6);
+  ASSERT_GT(mesh.triangleCount(), 1000u);
+  // the fine vertices bucketed by coarse cell, searched in the 5^3 cells around a vertex
+  auto cellOf = [&](const Vec3f& v, int a) {
+    return static_cast<long>(std::floor((v[a] - box.lo[a]) / cell));
+  };
+  std::map<std::array<long, 3>, std::vector<Vec3f>> buckets;
+  for (const Vec3f& v : fine.positions) buckets[{cellOf(v, 0), cellOf(v, 1), cellOf(v, 2)}].push_back(v);
+  double brute = 0.0;
+  for (const Vec3f& v : mesh.positions) {
+    double best = 1e9;
+    for (long i = -2; i <= 2; ++i)
+      for (long j = -2; j <= 2; ++j)
+        for (long k = -2; k <= 2; ++k) {
+          const auto it = buckets.find({cellOf(v, 0) + i, cellOf(v, 1) + j, cellOf(v, 2) + k});
+          if (it == buckets.end()) continue;
+          for (const Vec3f& f : it->second) {
+            const double dx = v[0] - f[0], dy = v[1] - f[1], dz = v[2] - f[2];
+            best = std::min(best, std::sqrt(dx * dx + dy * dy + dz * dz));
+          }
+        }
+    brute = std::max(brute, best);
+  }
+  AccuracyOptions o;
+  o.bbox = box;
+  o.cell = cell;
+  const AccuracyReport r = measureAccuracy(mesh, p, o);
+  // nearest fine vertex: at most the true distance plus a fine cell's spacing
+  EXPECT_GT(r.meshToSurface, brute - cell / 6) << "brute force " << brute / cell << " cells";
+  EXPECT_LT(r.meshToSurface, brute + 0.2 * cell)
+      << r.meshToSurface / cell << " cells, brute force " << brute / cell;
 }
 
 TEST(Simplify, RefusesBadOptions) {

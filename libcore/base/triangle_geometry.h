@@ -36,8 +36,9 @@ inline double signedTetraVolume(const Vec3f& a, const Vec3f& b, const Vec3f& c) 
          6.0;
 }
 
-// The distance from p to the triangle abc (its closest point found by the triangle's Voronoi
-// regions: Ericson, Real-Time Collision Detection, 5.1.5).
+// The point of the triangle abc nearest to p, found by the triangle's Voronoi regions
+// (Ericson, Real-Time Collision Detection, 5.1.5), and its distance from p.
+Vec3d closestPointOnTriangle(const Vec3d& p, const Vec3d& a, const Vec3d& b, const Vec3d& c);
 double pointTriangleDistance(const Vec3d& p, const Vec3d& a, const Vec3d& b, const Vec3d& c);
 
 // Enclosed signed volume and surface area of a mesh (no welding, no checks).

@@ -21,9 +21,10 @@ struct AccuracyOptions {
 
 struct AccuracyReport {
   // the largest and the mean distance from the mesh (its vertices and face centres) to the
-  // surface: how far the point is that Newton's steps along the gradient reach (an upper
-  // bound), or, where they do not reach it within two cells of path (`unreached` such
-  // points: the gradient vanishes near them), the distance to the sampled surface below
+  // surface: an upper bound, the distance to the nearer of the surface points Newton's steps
+  // along the gradient reach from the point and from the nearest point of a finer mesh; where
+  // neither reaches it (`unreached` points: the gradient vanishes near them), the distance to
+  // the finer mesh
   double meshToSurface = 0.0, meshToSurfaceMean = 0.0;
   std::size_t unreached = 0;
   // the largest distance from a point of the surface (sampled) to the mesh
