@@ -28,7 +28,27 @@ bool wellShaped(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
 
 }  // namespace
 
-void flipCreases(TriangleMesh& mesh, const std::vector<std::uint32_t>& flippable) {
+bool flipCrease(const Triangle& first, const Triangle& second, const std::vector<Vec3f>& P,
+                Triangle* newFirst, Triangle* newSecond) {
+  // the pair in a fixed order, whichever triangle was met first
+  const bool swap = P[second[0]] < P[first[0]];
+  const Triangle& t1 = swap ? second : first;
+  const Triangle& t2 = swap ? first : second;
+  const std::uint32_t v1 = t1[0], a = t1[1], b = t1[2], v2 = t2[0];
+  if (!wellShaped(P[v1], P[a], P[v2]) || !wellShaped(P[v1], P[v2], P[b])) return false;
+  const Vec3d before1 = triangleCross(P[v1], P[a], P[b]),
+              before2 = triangleCross(P[v2], P[b], P[a]);
+  const Vec3d was = {before1[0] + before2[0], before1[1] + before2[1], before1[2] + before2[2]};
+  if (!(dot(triangleCross(P[v1], P[a], P[v2]), was) > 0.0) ||
+      !(dot(triangleCross(P[v1], P[v2], P[b]), was) > 0.0))
+    return false;
+  *(swap ? newSecond : newFirst) = {v1, a, v2};
+  *(swap ? newFirst : newSecond) = {v1, v2, b};
+  return true;
+}
+
+std::vector<std::uint32_t> flipCreases(TriangleMesh& mesh,
+                                       const std::vector<std::uint32_t>& flippable) {
   // directed edge a -> b of each listed triangle (apex, a, b), sorted for lookups
   std::vector<std::pair<std::uint64_t, std::uint32_t>> byEdge;
   byEdge.reserve(flippable.size());
@@ -36,26 +56,27 @@ void flipCreases(TriangleMesh& mesh, const std::vector<std::uint32_t>& flippable
   for (std::uint32_t t : flippable)
     byEdge.emplace_back(key(mesh.triangles[t][1], mesh.triangles[t][2]), t);
   std::sort(byEdge.begin(), byEdge.end());
-  const std::vector<Vec3f>& P = mesh.positions;
+  // each listed triangle's partner, found before any flip changes a triangle
+  std::vector<std::uint32_t> unpaired;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   for (std::uint32_t t1 : flippable) {
-    const Triangle first = mesh.triangles[t1];
-    const std::uint32_t v1 = first[0], a = first[1], b = first[2];
-    const auto at =
-        std::lower_bound(byEdge.begin(), byEdge.end(), std::make_pair(key(b, a), std::uint32_t(0)));
-    if (at == byEdge.end() || at->first != key(b, a)) continue;
-    const std::uint32_t t2 = at->second;
-    if (t2 < t1) continue;  // each pair once
-    const std::uint32_t v2 = mesh.triangles[t2][0];
-    if (!wellShaped(P[v1], P[a], P[v2]) || !wellShaped(P[v1], P[v2], P[b])) continue;
-    const Vec3d before1 = triangleCross(P[v1], P[a], P[b]),
-                before2 = triangleCross(P[v2], P[b], P[a]);
-    const Vec3d was = {before1[0] + before2[0], before1[1] + before2[1], before1[2] + before2[2]};
-    if (!(dot(triangleCross(P[v1], P[a], P[v2]), was) > 0.0) ||
-        !(dot(triangleCross(P[v1], P[v2], P[b]), was) > 0.0))
+    const Triangle& t = mesh.triangles[t1];
+    const auto at = std::lower_bound(byEdge.begin(), byEdge.end(),
+                                     std::make_pair(key(t[2], t[1]), std::uint32_t(0)));
+    if (at == byEdge.end() || at->first != key(t[2], t[1])) {
+      unpaired.push_back(t1);
       continue;
-    mesh.triangles[t1] = {v1, a, v2};
-    mesh.triangles[t2] = {v1, v2, b};
+    }
+    if (at->second > t1) pairs.emplace_back(t1, at->second);  // each pair once
   }
+  for (const auto& [t1, t2] : pairs) {
+    Triangle f1, f2;
+    if (flipCrease(mesh.triangles[t1], mesh.triangles[t2], mesh.positions, &f1, &f2)) {
+      mesh.triangles[t1] = f1;
+      mesh.triangles[t2] = f2;
+    }
+  }
+  return unpaired;
 }
 
 }  // namespace frep

@@ -20,7 +20,16 @@ namespace frep {
 // crosses it, on to b), which meets no other line of the loop since the face holds one, so
 // each cube's fan stays a cone over a simple loop on its boundary, embedded as before.
 // A flip is skipped where a new triangle would be (nearly) degenerate or face against the
-// two it replaces.
-void flipCreases(TriangleMesh& mesh, const std::vector<std::uint32_t>& flippable);
+// two it replaces. Returns the listed triangles that found no partner (brick jobs: their
+// partner may lie in a neighbouring job's piece).
+std::vector<std::uint32_t> flipCreases(TriangleMesh& mesh,
+                                       const std::vector<std::uint32_t>& flippable);
+
+// The decision for one pair, first = (v1, a, b) and second = (v2, b, a): the two triangles
+// that replace them, or false to keep them. It depends on the four positions alone, and the
+// pair is taken in a fixed order (the apex with the smaller coordinates first), so a pair
+// decided in one piece, in the merge or in one process comes out bit for bit the same.
+bool flipCrease(const Triangle& first, const Triangle& second, const std::vector<Vec3f>& positions,
+                Triangle* newFirst, Triangle* newSecond);
 
 }  // namespace frep

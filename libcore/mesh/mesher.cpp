@@ -989,8 +989,11 @@ TriangleMesh weld(const Grid& g, int bc, const std::int64_t bricksPerAxis[3],
 
 }  // namespace
 
-TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingStats* stats) {
-  const auto start = std::chrono::steady_clock::now();
+namespace {
+
+// The grid for the options: validated (box, resolution, brick size, float32 steps), with its
+// cells (the outer layer included) and bricks per axis.
+Grid makeGrid(const MeshingOptions& opt, CellRange* cells, std::int64_t bricks[3]) {
   const Box3& box = opt.bbox;
   for (int a = 0; a < 3; ++a)
     if (!std::isfinite(box.lo[a]) || !std::isfinite(box.hi[a]) || !(box.lo[a] < box.hi[a]))
@@ -1003,7 +1006,6 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
   Grid g;
   g.lo = box.lo;
   g.hi = box.hi;
-  CellRange cells;
   for (int a = 0; a < 3; ++a) {
     const double extent = box.hi[a] - box.lo[a];
     const double want = std::ceil(extent / opt.resolution - 1e-9);
@@ -1017,72 +1019,72 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
     const std::int64_t n = std::max<std::int64_t>(1, static_cast<std::int64_t>(want));
     g.h[a] = extent / static_cast<double>(n);
     g.points[a] = n + 2;
-    cells.lo[a] = 0;
-    cells.hi[a] = n + 1;
+    cells->lo[a] = 0;
+    cells->hi[a] = n + 1;
+    bricks[a] = (cells->hi[a] + opt.brickCells - 1) / opt.brickCells;
   }
 
   // Vertices are float32 (as STL stores them) and are kept kEdgeMargin of an edge away from
   // its grid points: a cell must span enough float steps at the box's coordinates for that
   // margin to survive rounding, or triangles collapse (a fine grid far from the origin).
-  {
-    double far = 0.0, h = g.h[0];
-    for (int a = 0; a < 3; ++a) {
-      far = std::max({far, std::abs(box.lo[a]), std::abs(box.hi[a])});
-      h = std::min(h, g.h[a]);
-    }
-    const float f = static_cast<float>(far);
-    const double step =
-        static_cast<double>(std::nextafter(f, std::numeric_limits<float>::infinity())) - f;
-    if (h < kMinCellFloatSteps * step) {
-      std::ostringstream os;
-      os << "mesher: cells of " << h << " at coordinates up to " << far << " span only "
-         << std::floor(h / step) << " float32 steps (meshes store float32 coordinates, as STL "
-         << "does); allowed here: cells of at least " << kMinCellFloatSteps * step
-         << ": use a larger cell size or move the model nearer the origin";
-      throw ModelError(os.str());
-    }
+  double far = 0.0, h = g.h[0];
+  for (int a = 0; a < 3; ++a) {
+    far = std::max({far, std::abs(box.lo[a]), std::abs(box.hi[a])});
+    h = std::min(h, g.h[a]);
   }
+  const float f = static_cast<float>(far);
+  const double step =
+      static_cast<double>(std::nextafter(f, std::numeric_limits<float>::infinity())) - f;
+  if (h < kMinCellFloatSteps * step) {
+    std::ostringstream os;
+    os << "mesher: cells of " << h << " at coordinates up to " << far << " span only "
+       << std::floor(h / step) << " float32 steps (meshes store float32 coordinates, as STL "
+       << "does); allowed here: cells of at least " << kMinCellFloatSteps * step
+       << ": use a larger cell size or move the model nearer the origin";
+    throw ModelError(os.str());
+  }
+  return g;
+}
 
+// Memory guard: an ordinary surface makes about 6 triangles per cell of a brick's face by
+// tetrahedra, a third by cubes (calibrated on the reference models; a gyroid's dense sheets
+// make more, so the estimate never refuses a mesh that would fit).
+void refuseOverBudget(const MeshingOptions& opt, const Grid& g, std::size_t activeBricks) {
+  if (opt.memoryBudget == 0) return;
   const int bc = opt.brickCells;
-  std::int64_t b0[3] = {0, 0, 0}, b1[3];
-  for (int a = 0; a < 3; ++a) b1[a] = (cells.hi[a] + bc - 1) / bc;
-  std::vector<ActiveBrick> bricks;
-  collectBricks(field, nullptr, g, cells, bc, b0, b1, bricks);
+  const double triangles =
+      static_cast<double>(activeBricks) * bc * bc *
+      (opt.extraction == Extraction::Cubes ? kCubeTrianglesPerFaceCell : kTrianglesPerFaceCell);
+  const double bytes = triangles * opt.bytesPerTriangle;
+  if (bytes <= static_cast<double>(opt.memoryBudget)) return;
+  double h = g.h[0];
+  for (int a = 1; a < 3; ++a) h = std::max(h, g.h[a]);
+  std::ostringstream os;
+  os.precision(3);
+  // three significant digits, but whole numbers from 1,000 on (no 1.13e+04)
+  auto readable = [](double v) {
+    std::ostringstream t;
+    t.precision(3);
+    if (v >= 1000.0)
+      t << std::llround(v);
+    else
+      t << v;
+    return t.str();
+  };
+  os << "mesher: at cell size " << opt.resolution << " the mesh would have about "
+     << readable(triangles / 1e6) << " million triangles, needing about "
+     << readable(bytes / 1e9) << " GB, and " << static_cast<double>(opt.memoryBudget) / 1e9
+     << " GB is available: use a cell size of at least "
+     << h * std::sqrt(bytes / static_cast<double>(opt.memoryBudget)) * 1.1
+     << " (or a smaller box)";
+  throw ModelError(os.str());
+}
 
-  // Memory guard: an ordinary surface makes about 6 triangles per cell of a brick's face by
-  // tetrahedra, a third by cubes (calibrated on the reference models; a gyroid's dense
-  // sheets make more, so the estimate never refuses a mesh that would fit).
-  if (opt.memoryBudget > 0) {
-    const double triangles =
-        static_cast<double>(bricks.size()) * bc * bc *
-        (opt.extraction == Extraction::Cubes ? kCubeTrianglesPerFaceCell : kTrianglesPerFaceCell);
-    const double bytes = triangles * opt.bytesPerTriangle;
-    if (bytes > static_cast<double>(opt.memoryBudget)) {
-      double h = g.h[0];
-      for (int a = 1; a < 3; ++a) h = std::max(h, g.h[a]);
-      std::ostringstream os;
-      os.precision(3);
-      // three significant digits, but whole numbers from 1,000 on (no 1.13e+04)
-      auto readable = [](double v) {
-        std::ostringstream t;
-        t.precision(3);
-        if (v >= 1000.0)
-          t << std::llround(v);
-        else
-          t << v;
-        return t.str();
-      };
-      os << "mesher: at cell size " << opt.resolution << " the mesh would have about "
-         << readable(triangles / 1e6) << " million triangles, needing about "
-         << readable(bytes / 1e9) << " GB, and " << static_cast<double>(opt.memoryBudget) / 1e9
-         << " GB is available: use a cell size of at least "
-         << h * std::sqrt(bytes / static_cast<double>(opt.memoryBudget)) * 1.1
-         << " (or a smaller box)";
-      throw ModelError(os.str());
-    }
-  }
-
-  std::vector<BrickResult> results(bricks.size());
+// Meshes every brick in parallel, with progress (to 95 %) and cancel; returns the points
+// evaluated.
+std::size_t meshBricks(const Field& field, const Grid& g, const MeshingOptions& opt,
+                       const std::vector<ActiveBrick>& bricks, std::vector<BrickResult>& results) {
+  results.resize(bricks.size());
   tbb::enumerable_thread_specific<Scratch> scratch;
   BrickMesher mesher(g, opt);
   std::atomic<std::size_t> done{0}, evaluated{0};
@@ -1102,7 +1104,63 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
     }
   });
   if (cancelled) throw Cancelled();
+  return evaluated;
+}
 
+// A brick job's bricks welded by key (each key once, sorted), positions from any brick that
+// made the vertex (all make it bit-identically); the fan triangles crease flips may pair.
+MeshPiece weldPiece(std::vector<BrickResult>& results, std::vector<std::uint32_t>* flippable) {
+  std::vector<std::size_t> first(results.size() + 1, 0);
+  for (std::size_t i = 0; i < results.size(); ++i) first[i + 1] = first[i] + results[i].keys.size();
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> order(first.back());
+  tbb::parallel_for(std::size_t(0), results.size(), [&](std::size_t i) {
+    for (std::size_t v = 0; v < results[i].keys.size(); ++v)
+      order[first[i] + v] = {results[i].keys[v], static_cast<std::uint32_t>(first[i] + v)};
+  });
+  tbb::parallel_sort(order.begin(), order.end());
+  std::vector<std::uint32_t> unique(order.size());
+  MeshPiece piece;
+  std::vector<std::size_t> brickOf(order.size());
+  for (std::size_t i = 0; i < results.size(); ++i)
+    for (std::size_t v = first[i]; v < first[i + 1]; ++v) brickOf[v] = i;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    if (i == 0 || order[i].first != order[i - 1].first) {
+      const std::size_t entry = order[i].second;
+      piece.keys.push_back(order[i].first);
+      piece.positions.push_back(results[brickOf[entry]].positions[entry - first[brickOf[entry]]]);
+    }
+    unique[order[i].second] = static_cast<std::uint32_t>(piece.keys.size() - 1);
+  }
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const std::uint32_t base = static_cast<std::uint32_t>(first[i]);
+    const std::uint32_t offset = static_cast<std::uint32_t>(piece.triangles.size());
+    for (std::uint32_t t : results[i].flippable) flippable->push_back(offset + t);
+    for (const Triangle& t : results[i].triangles)
+      piece.triangles.push_back({unique[base + t[0]], unique[base + t[1]], unique[base + t[2]]});
+    results[i] = BrickResult();
+  }
+  return piece;
+}
+
+}  // namespace
+
+void brickGrid(const MeshingOptions& opt, std::int64_t bricks[3]) {
+  CellRange cells;
+  makeGrid(opt, &cells, bricks);
+}
+
+TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingStats* stats) {
+  const auto start = std::chrono::steady_clock::now();
+  CellRange cells;
+  std::int64_t b0[3] = {0, 0, 0}, b1[3];
+  const Grid g = makeGrid(opt, &cells, b1);
+  const int bc = opt.brickCells;
+  std::vector<ActiveBrick> bricks;
+  collectBricks(field, nullptr, g, cells, bc, b0, b1, bricks);
+  refuseOverBudget(opt, g, bricks.size());
+
+  std::vector<BrickResult> results;
+  const std::size_t evaluated = meshBricks(field, g, opt, bricks, results);
   bool bySorting = false;
   std::vector<std::uint32_t> flippable;
   TriangleMesh mesh = weld(g, bc, b1, bricks, results, opt.normals, &bySorting, &flippable);
@@ -1119,6 +1177,62 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   return mesh;
+}
+
+MeshPiece polygonizePiece(const Field& field, const MeshingOptions& opt,
+                          const std::int64_t brickLo[3], const std::int64_t brickHi[3],
+                          MeshingStats* stats) {
+  const auto start = std::chrono::steady_clock::now();
+  CellRange cells;
+  std::int64_t all[3];
+  const Grid g = makeGrid(opt, &cells, all);
+  for (int a = 0; a < 3; ++a)
+    if (brickLo[a] < 0 || brickHi[a] > all[a] || brickLo[a] >= brickHi[a]) {
+      std::ostringstream os;
+      os << "mesher: a brick job's bricks must lie in [0, " << all[a] << ") on axis " << a
+         << " with lo < hi; got [" << brickLo[a] << ", " << brickHi[a] << ")";
+      throw ModelError(os.str());
+    }
+  const int bc = opt.brickCells;
+  std::vector<ActiveBrick> bricks;
+  collectBricks(field, nullptr, g, cells, bc, brickLo, brickHi, bricks);
+  refuseOverBudget(opt, g, bricks.size());
+
+  MeshingOptions withoutNormals = opt;
+  withoutNormals.normals = false;  // a piece carries positions only (STL and 3MF need no more)
+  std::vector<BrickResult> results;
+  const std::size_t evaluated = meshBricks(field, g, withoutNormals, bricks, results);
+  std::vector<std::uint32_t> flippable;
+  MeshPiece piece = weldPiece(results, &flippable);
+  for (int a = 0; a < 3; ++a) {
+    piece.gridCells[a] = cells.hi[a];
+    piece.cellLo[a] = brickLo[a] * bc;
+    piece.cellHi[a] = std::min(brickHi[a] * bc, cells.hi[a]);
+  }
+  // Pairs inside the job are decided here; a fan triangle left without its partner may pair
+  // with one of a neighbouring job across their shared face (its edge then lies there).
+  TriangleMesh mesh;
+  mesh.positions = std::move(piece.positions);
+  mesh.triangles = std::move(piece.triangles);
+  for (std::uint32_t t : flipCreases(mesh, flippable)) {
+    const Triangle& tr = mesh.triangles[t];
+    if (onJobSeam(piece, piece.keys[tr[1]]) && onJobSeam(piece, piece.keys[tr[2]]))
+      piece.pendingFlips.push_back(t);
+  }
+  piece.positions = std::move(mesh.positions);
+  piece.triangles = std::move(mesh.triangles);
+  if (opt.progress) opt.progress(1.0);
+  if (stats) {
+    for (int a = 0; a < 3; ++a) stats->cells[a] = static_cast<std::size_t>(cells.hi[a]);
+    stats->bricksTotal = static_cast<std::size_t>((brickHi[0] - brickLo[0]) *
+                                                  (brickHi[1] - brickLo[1]) *
+                                                  (brickHi[2] - brickLo[2]));
+    stats->bricksActive = bricks.size();
+    stats->pointsEvaluated = evaluated;
+    stats->seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  return piece;
 }
 
 }  // namespace frep

@@ -15,6 +15,7 @@
 
 #include "frep/field.h"
 #include "base/vec.h"
+#include "base/mesh_piece.h"
 #include "base/triangle_mesh.h"
 
 namespace frep {
@@ -65,6 +66,19 @@ struct MeshingStats {
 // Throws ModelError on bad options (empty box, resolution <= 0, grid too large), Cancelled.
 TriangleMesh polygonize(const Field& field, const MeshingOptions& options,
                         MeshingStats* stats = nullptr);
+
+// Brick jobs (issue 17): the mesh of a box of the mesher's bricks, made anywhere, welded with
+// its neighbours' by key (mesh/piece_merge.h) into exactly the mesh polygonize makes.
+//
+// The bricks per axis of the grid polygonize makes for these options (validated as
+// polygonize does: ModelError).
+void brickGrid(const MeshingOptions& options, std::int64_t bricks[3]);
+// The bricks [brickLo, brickHi) alone, as a piece: vertices keyed by grid edge, crease flips
+// inside the job made, those across its faces left to the merge; no normals. Throws as
+// polygonize does, and ModelError for bricks outside the grid.
+MeshPiece polygonizePiece(const Field& field, const MeshingOptions& options,
+                          const std::int64_t brickLo[3], const std::int64_t brickHi[3],
+                          MeshingStats* stats = nullptr);
 
 // Largest grid polygonize accepts, in cells per axis.
 constexpr std::size_t kMaxCellsPerAxis = 1u << 16;

@@ -1,0 +1,198 @@
+#include "pipeline/brick_jobs.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <optional>
+#include <sstream>
+
+#include "base/errors.h"
+#include "io/mesh_3mf.h"
+#include "io/mesh_io.h"
+#include "io/mesh_piece_file.h"
+#include "mesh/piece_merge.h"
+
+namespace frep {
+
+namespace {
+
+MeshingOptions meshingOptions(const BrickJobPlan& plan) {
+  MeshingOptions o;
+  o.bbox = plan.box.box;
+  o.resolution = plan.box.resolution;
+  o.sharpFeatures = plan.sharpFeatures;
+  o.extraction = plan.extraction;
+  o.normals = false;
+  return o;
+}
+
+void mix(std::uint64_t& h, const void* data, std::size_t bytes) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (std::size_t i = 0; i < bytes; ++i) {
+    h ^= p[i];
+    h *= 0x100000001b3ull;
+  }
+}
+
+}  // namespace
+
+std::uint64_t textFingerprint(const std::string& text) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  mix(h, text.data(), text.size());
+  return h;
+}
+
+BrickJobPlan planBrickJobs(const MeshingBox& box, bool sharpFeatures, Extraction extraction,
+                           std::uint32_t jobs, std::uint64_t model) {
+  if (jobs < 1 || jobs > kMaxBrickJobs)
+    throw ModelError("bricks: the number of brick jobs must be 1 to " +
+                     std::to_string(kMaxBrickJobs) + ", got " + std::to_string(jobs));
+  BrickJobPlan plan;
+  plan.box = box;
+  plan.sharpFeatures = sharpFeatures;
+  plan.extraction = extraction;
+  plan.jobs = jobs;
+  brickGrid(meshingOptions(plan), plan.bricks);
+  // the job count's prime factors, largest first, each to the axis with the most bricks per
+  // job that can still take it
+  std::vector<std::uint32_t> primes;
+  for (std::uint32_t n = jobs, f = 2; n > 1;) {
+    if (f * f > n) {
+      primes.push_back(n);
+      break;
+    }
+    if (n % f == 0) {
+      primes.push_back(f);
+      n /= f;
+    } else {
+      ++f;
+    }
+  }
+  std::sort(primes.rbegin(), primes.rend());
+  for (std::uint32_t p : primes) {
+    int best = -1;
+    for (int a = 0; a < 3; ++a) {
+      if (plan.split[a] * p > plan.bricks[a]) continue;
+      if (best < 0 || plan.bricks[a] * plan.split[best] > plan.bricks[best] * plan.split[a])
+        best = a;
+    }
+    if (best < 0) {
+      std::ostringstream os;
+      os << "bricks: " << jobs << " jobs cannot be cut from the mesher's " << plan.bricks[0]
+         << " x " << plan.bricks[1] << " x " << plan.bricks[2]
+         << " bricks (a job holds whole bricks of 16 cells): use fewer jobs or finer cells";
+      throw ModelError(os.str());
+    }
+    plan.split[best] *= p;
+  }
+  std::uint64_t h = model;
+  const double numbers[7] = {box.box.lo[0], box.box.lo[1], box.box.lo[2], box.box.hi[0],
+                             box.box.hi[1], box.box.hi[2], box.resolution};
+  mix(h, numbers, sizeof(numbers));
+  const std::uint32_t flags[3] = {sharpFeatures ? 1u : 0u, static_cast<std::uint32_t>(extraction),
+                                  jobs};
+  mix(h, flags, sizeof(flags));
+  plan.runId = h;
+  return plan;
+}
+
+void jobBricks(const BrickJobPlan& plan, std::uint32_t job, std::int64_t lo[3],
+               std::int64_t hi[3]) {
+  if (job >= plan.jobs)
+    throw ModelError("bricks: job " + std::to_string(job) + " of a run of " +
+                     std::to_string(plan.jobs) + " jobs (numbered from 0)");
+  std::int64_t at[3] = {job % plan.split[0], (job / plan.split[0]) % plan.split[1],
+                        job / (plan.split[0] * plan.split[1])};
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = at[a] * plan.bricks[a] / plan.split[a];
+    hi[a] = (at[a] + 1) * plan.bricks[a] / plan.split[a];
+  }
+}
+
+MeshPiece runBrickJob(const Field& field, const BrickJobPlan& plan, std::uint32_t job,
+                      const std::function<bool(double)>& progress) {
+  std::int64_t lo[3], hi[3];
+  jobBricks(plan, job, lo, hi);
+  MeshingOptions o = meshingOptions(plan);
+  o.progress = progress;
+  MeshPiece piece = polygonizePiece(field, o, lo, hi);
+  piece.runId = plan.runId;
+  piece.job = job;
+  piece.jobs = plan.jobs;
+  return piece;
+}
+
+ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::string>& pieceFiles,
+                          const ExportRequest& request, const std::string& path) {
+  using Clock = std::chrono::steady_clock;
+  auto report = [&](ExportStage s, double f) {
+    if (request.progress && !request.progress(s, f)) throw Cancelled();
+  };
+  auto since = [](Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+  };
+  const MeshFormat format = request.format ? *request.format : formatFromPath(path);
+  if (pieceFiles.size() != plan.jobs)
+    throw ModelError("bricks: the run has " + std::to_string(plan.jobs) + " jobs but " +
+                     std::to_string(pieceFiles.size()) + " piece files were given");
+  ExportResult result;
+  result.box = plan.box;
+
+  // the merge: each piece read, welded in and dropped
+  auto t = Clock::now();
+  struct Sink : PieceMerger::Sink {
+    TriangleMesh mesh;
+    void vertex(const Vec3f& p) override { mesh.positions.push_back(p); }
+    void triangle(const Triangle& v, const Vec3f&, const Vec3f&, const Vec3f&) override {
+      mesh.triangles.push_back(v);
+    }
+  } sink;
+  PieceMerger merger(sink);
+  for (std::size_t i = 0; i < pieceFiles.size(); ++i) {
+    const MeshPiece piece = readPieceFile(pieceFiles[i]);
+    if (piece.runId != plan.runId)
+      throw FileError(pieceFiles[i] +
+                      ": a piece of another run (model, box, options or job count)");
+    merger.add(piece);
+    report(ExportStage::Mesh, static_cast<double>(i + 1) / static_cast<double>(pieceFiles.size()));
+  }
+  merger.finish();
+  TriangleMesh mesh = std::move(sink.mesh);
+  result.triangles = mesh.triangleCount();
+  result.seconds[1] = since(t);
+
+  std::optional<ThreeMfPackage> package;
+  if (format == MeshFormat::ThreeMf) {
+    ThreeMfOptions threeMf = request.threeMf;
+    threeMf.validate = false;  // the check below is the judge
+    package = pack3mf({{request.objectName.empty() ? std::filesystem::path(path).stem().string()
+                                                   : request.objectName,
+                        mesh}},
+                      threeMf);
+    mesh = package->objects[0].mesh;
+  }
+  if (request.check) {
+    t = Clock::now();
+    report(ExportStage::Check, 0.0);
+    result.report = checkMesh(mesh, [&](double f) { report(ExportStage::Check, f); });
+    result.checked = true;
+    result.seconds[2] = since(t);
+    if (!result.report.printable() && !request.force) return result;
+  }
+  t = Clock::now();
+  report(ExportStage::Write, 0.0);
+  if (package)
+    writePackage(*package, path);
+  else
+    writeMesh(mesh, path, format, [&](double f) {
+      return !request.progress || request.progress(ExportStage::Write, f);
+    });
+  result.written = true;
+  result.seconds[3] = since(t);
+  report(ExportStage::Write, 1.0);
+  return result;
+}
+
+}  // namespace frep

@@ -1,0 +1,58 @@
+// Brick jobs (issue 17): an export cut into jobs that any process or machine can run, each
+// meshing a box of the mesher's bricks into a piece file (io/mesh_piece_file.h), and a merge
+// that welds the pieces by key, checks the mesh and writes it atomically. The mesh is the one
+// exportField writes for the same box and options, up to the order of its vertices and
+// triangles. The scheduling (Dask distributed) is frepcore.distributed's.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "base/mesh_piece.h"
+#include "frep/field.h"
+#include "mesh/mesher.h"
+#include "pipeline/export_pipeline.h"
+
+namespace frep {
+
+// At most this many jobs in one run.
+constexpr std::uint32_t kMaxBrickJobs = 1u << 16;
+
+struct BrickJobPlan {
+  MeshingBox box;
+  bool sharpFeatures = true;
+  Extraction extraction = Extraction::Cubes;
+  std::uint32_t jobs = 1;
+  std::int64_t bricks[3] = {1, 1, 1};  // the mesher's bricks per axis
+  std::int64_t split[3] = {1, 1, 1};   // jobs per axis (their product is `jobs`)
+  std::uint64_t runId = 0;             // what every piece of the run carries
+};
+
+// A 64-bit fingerprint of a text (FNV-1a): the model's part of a run's id.
+std::uint64_t textFingerprint(const std::string& text);
+
+// Splits the box's bricks into `jobs` boxes of bricks, as even and as cubic as the job
+// count's factors allow. `model` is a fingerprint of the model (textFingerprint of its JSON).
+// Throws ModelError for a job count below 1, above kMaxBrickJobs or above what the bricks
+// allow (naming the bricks per axis).
+BrickJobPlan planBrickJobs(const MeshingBox& box, bool sharpFeatures, Extraction extraction,
+                           std::uint32_t jobs, std::uint64_t model);
+
+// Job `job`'s bricks [lo, hi). Throws ModelError for a job out of range.
+void jobBricks(const BrickJobPlan& plan, std::uint32_t job, std::int64_t lo[3], std::int64_t hi[3]);
+
+// Meshes one job. progress(fraction) false cancels (Cancelled).
+MeshPiece runBrickJob(const Field& field, const BrickJobPlan& plan, std::uint32_t job,
+                      const std::function<bool(double)>& progress = nullptr);
+
+// Reads the run's piece files one by one and welds them, checks the mesh (unless
+// request.check is false) and writes `path` atomically as exportField does: nothing written
+// when the check refuses (unless request.force) or on a cancel. request.box, tolerance, stats
+// and normals do not apply (the plan fixed the box; pieces carry positions only). Throws
+// FileError for a missing or foreign piece, ModelError, Cancelled.
+ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::string>& pieceFiles,
+                          const ExportRequest& request, const std::string& path);
+
+}  // namespace frep
