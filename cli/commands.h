@@ -3,6 +3,7 @@
 // 3 internal error (a bug), 130 cancelled (SIGINT, SIGTERM).
 #pragma once
 
+#include <filesystem>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -29,6 +30,10 @@ struct ExportOptions {
   bool fog = false;                 // --fog: a .vdb fog volume instead of a level set
   std::vector<std::string> sets;  // --set Object.Property=VALUE (documents only)
   bool force = false, quiet = false, help = false;
+  // --bricks N: the export as N brick jobs on Dask (frepcore.distributed), on the scheduler
+  // at --scheduler ADDRESS or a LocalCluster; piece files in --work-dir DIR
+  std::optional<int> bricks;
+  std::string scheduler, workDir;
 };
 extern const char* const kExportHelp;
 
@@ -44,6 +49,12 @@ void checkOutputPath(const std::string& output, const std::string& input);
 // `export DOC.FCStd ...`: runs the export inside FreeCAD, headless (document_export.cpp).
 bool isDocumentPath(const std::string& path);
 int exportDocument(const ExportOptions& options);
+// The workbench folder (with frepcore inside it when installed; *installed says so), else
+// the source tree's (frepcore then in the build).
+std::filesystem::path workbenchDir(bool* installed);
+// `export MODEL.json --bricks N`: the box chosen here, the run by frepcore.distributed in a
+// Python child (distributed_export.cpp).
+int exportDistributed(const ExportOptions& options, const Box3& box, double resolution);
 
 // Thrown for a usage error: main prints it as one line and exits 2.
 struct UsageError : std::runtime_error {

@@ -13,6 +13,7 @@ packages=(
   admesh      # the repair comparison's reference (bench/repair_comparison.py)
   libgtest-dev libgmock-dev libbenchmark-dev
   freecad freecad-python3 python3-dev pybind11-dev python3-pytest
+  python3-distributed  # Dask: brick jobs across processes and machines (frepcore.distributed)
   xvfb xauth libgl1-mesa-dri  # the GUI test: a display server and software OpenGL
 )
 

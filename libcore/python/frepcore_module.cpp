@@ -31,6 +31,8 @@
 #include "mesh/mesher.h"
 #include "base/triangle_geometry.h"
 #include "pipeline/export_pipeline.h"
+#include "pipeline/brick_jobs.h"
+#include "io/mesh_piece_file.h"
 #include "volume/field_sources.h"
 #include "volume/grid_set.h"
 #include "volume/level_sets.h"
@@ -229,6 +231,16 @@ PyNode makePyNode(const std::string& typeId, const py::dict& params,
   return PyNode{makeNode(typeId, std::move(values), std::move(in), path), nullptr};
 }
 
+// A brick-job run of this solid (pipeline/brick_jobs.h); the run's id fingerprints the
+// tree's canonical JSON, so the driver and every worker agree on it.
+BrickJobPlan brickPlanOf(PyNode& n, const py::object& bbox, double resolution, bool sharp,
+                         const std::string& mesher, std::uint32_t jobs) {
+  MeshingBox box{toBox(bbox.cast<py::sequence>()), resolution};
+  Model model;
+  model.root = n.node;
+  return planBrickJobs(box, sharp, parseMesher(mesher), jobs, textFingerprint(modelToJson(model)));
+}
+
 py::dict nodeParams(const PyNode& n) {
   py::dict d;
   for (const auto& p : n.node->type->params)
@@ -291,6 +303,26 @@ py::dict gridInfoDict(const GridInfo& g) {
 // (registry_docs.cpp, check_report_format.cpp): one description, two front ends.
 py::object fromJson(const std::string& text) {
   return py::module_::import("json").attr("loads")(text);
+}
+
+// The export's report dict: the check's report (with 'text'), or printable None when there
+// was no check; 'written', 'triangles', 'box', 'resolution', 'seconds' per stage.
+py::dict exportResultDict(const ExportResult& result, const std::string& path) {
+  py::dict d;
+  if (result.checked) {
+    d = fromJson(reportToJson(result.report, path)).cast<py::dict>();
+    d["text"] = reportToText(result.report, path);
+  } else {
+    d["printable"] = py::none();
+    d["text"] = "";
+  }
+  d["written"] = result.written;
+  d["triangles"] = result.triangles;
+  d["box"] = fromBox(result.box.box);
+  d["resolution"] = result.box.resolution;
+  d["seconds"] = py::make_tuple(result.seconds[0], result.seconds[1], result.seconds[2],
+                                result.seconds[3]);
+  return d;
 }
 
 }  // namespace
@@ -452,24 +484,11 @@ PYBIND11_MODULE(_frepcore, m) {
                   return exportField(*program, r, path, path);
                 },
                 progress);
-            py::dict d;
-            if (result.checked) {
-              d = fromJson(reportToJson(result.report, path)).cast<py::dict>();
-              d["text"] = reportToText(result.report, path);
-            } else {
-              d["printable"] = py::none();
-              d["text"] = "";
-            }
-            d["written"] = result.written;
-            d["triangles"] = result.triangles;
+            py::dict d = exportResultDict(result, path);
             if (result.simplified) {
               d["triangles_before_simplify"] = result.simplify.trianglesBefore;
               d["largest_distance"] = result.simplify.largestDistance;
             }
-            d["box"] = fromBox(result.box.box);
-            d["resolution"] = result.box.resolution;
-            d["seconds"] = py::make_tuple(result.seconds[0], result.seconds[1],
-                                          result.seconds[2], result.seconds[3]);
             return d;
           },
           py::arg("path"), py::arg("bbox") = py::none(), py::arg("resolution") = py::none(),
@@ -480,6 +499,73 @@ PYBIND11_MODULE(_frepcore, m) {
           "corners placed unless sharp=False), (simplify within `tolerance` of the surface), "
           "CGAL check, atomic write. Returns the check "
           "report dict plus 'written'; a refused mesh is not written unless force.")
+      .def(
+          "brick_plan",
+          [](PyNode& n, py::object bbox, double resolution, bool sharp, const std::string& mesher,
+             std::uint32_t jobs) {
+            const BrickJobPlan plan = brickPlanOf(n, bbox, resolution, sharp, mesher, jobs);
+            py::dict d;
+            d["jobs"] = plan.jobs;
+            d["bricks"] = py::make_tuple(plan.bricks[0], plan.bricks[1], plan.bricks[2]);
+            d["split"] = py::make_tuple(plan.split[0], plan.split[1], plan.split[2]);
+            d["run_id"] = plan.runId;
+            return d;
+          },
+          py::arg("bbox"), py::arg("resolution"), py::arg("sharp") = true,
+          py::arg("mesher") = "cubes", py::arg("jobs") = 1,
+          "A brick-job run (issue 17): the mesher's bricks per axis, the jobs per axis and the "
+          "run's id. ValueError for a job count the bricks cannot take.")
+      .def(
+          "brick_job",
+          [](PyNode& n, py::object bbox, double resolution, bool sharp, const std::string& mesher,
+             std::uint32_t jobs, std::uint32_t job, const std::string& path) {
+            const BrickJobPlan plan = brickPlanOf(n, bbox, resolution, sharp, mesher, jobs);
+            const auto start = std::chrono::steady_clock::now();
+            MeshPiece piece;
+            {
+              py::gil_scoped_release release;
+              piece = runBrickJob(n.compiled(), plan, job);
+              writePieceFile(piece, path);
+            }
+            py::dict d;
+            d["job"] = job;
+            d["path"] = path;
+            d["vertices"] = piece.keys.size();
+            d["triangles"] = piece.triangles.size();
+            d["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            return d;
+          },
+          py::arg("bbox"), py::arg("resolution"), py::arg("sharp"), py::arg("mesher"),
+          py::arg("jobs"), py::arg("job"), py::arg("path"),
+          "Meshes job `job` of the run into a piece file at `path` (written atomically).")
+      .def(
+          "merge_bricks",
+          [](PyNode& n, py::object bbox, double resolution, bool sharp, const std::string& mesher,
+             std::uint32_t jobs, const std::vector<std::string>& pieces, const std::string& path,
+             const std::string& format, bool check, bool force, py::object progress) {
+            const BrickJobPlan plan = brickPlanOf(n, bbox, resolution, sharp, mesher, jobs);
+            ExportRequest r;
+            if (!format.empty()) r.format = parseFormat(format);
+            r.check = check;
+            r.force = force;
+            // merging to 30 %, checking to 95 %, writing the rest
+            const double from[4] = {0.0, 0.0, 0.3, 0.95}, to[4] = {0.0, 0.3, 0.95, 1.0};
+            ExportResult result = runWithProgress<ExportResult>(
+                [&](std::function<bool(double)> tick) {
+                  r.progress = [&](ExportStage s, double f) {
+                    const int i = static_cast<int>(s);
+                    return tick(from[i] + (to[i] - from[i]) * f);
+                  };
+                  return exportPieces(plan, pieces, r, path);
+                },
+                progress);
+            return exportResultDict(result, path);
+          },
+          py::arg("bbox"), py::arg("resolution"), py::arg("sharp"), py::arg("mesher"),
+          py::arg("jobs"), py::arg("pieces"), py::arg("path"), py::arg("format") = "",
+          py::arg("check") = true, py::arg("force") = false, py::arg("progress") = py::none(),
+          "Welds the run's piece files (one per job, in job order), checks the mesh and "
+          "writes `path` atomically: the export's report dict plus 'written'.")
       .def(
           "mesh",
           [](PyNode& n, py::object bbox, double resolution, py::object progress, bool normals,
