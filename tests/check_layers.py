@@ -59,7 +59,8 @@ LIBRARIES = {
              "check/volume_nesting.cpp",
              "check/printability.cpp",
              "volume/grid_ffd.cpp",
-             "pipeline/accuracy.cpp", "volume/level_sets.cpp"},
+             "pipeline/accuracy.cpp", "volume/level_sets.cpp",
+             "python/frepcore_module.cpp"},
     "nlohmann/": {"frep", "check", "lattice/lattice_file.cpp"},
     "nanoflann": {"frep/instances.cpp"},
     "Model/COM/": {"io/mesh_3mf.cpp"},  # lib3mf

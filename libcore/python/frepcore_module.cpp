@@ -5,6 +5,7 @@
 #include <pybind11/functional.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <tbb/global_control.h>
 
 #include <atomic>
 #include <chrono>
@@ -32,6 +33,7 @@
 #include "base/triangle_geometry.h"
 #include "pipeline/export_pipeline.h"
 #include "pipeline/brick_jobs.h"
+#include "base/process_memory.h"
 #include "io/mesh_piece_file.h"
 #include "volume/field_sources.h"
 #include "volume/grid_set.h"
@@ -348,6 +350,22 @@ PYBIND11_MODULE(_frepcore, m) {
     }
   });
 
+  m.def(
+      "set_threads",
+      [](int threads) {
+        static std::unique_ptr<tbb::global_control> limit;
+        limit.reset();
+        if (threads > 0)
+          limit = std::make_unique<tbb::global_control>(
+              tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+      },
+      py::arg("threads"),
+      "The most threads meshing and checking use in this process (0: every core). Brick "
+      "jobs set it so that several workers on one machine share its cores.");
+  m.def("use_one_job_memory_policy", &useLargePageHeap,
+        "frepcad's memory policy (base/process_memory.h): one heap, never trimmed, a huge-page "
+        "reserve. For a process that runs one export and exits (frepcad export --bricks), "
+        "never for FreeCAD.");
   m.def(
       "node_types", [] { return fromJson(registryJson()); },
       "Every registered node type, as `frepcad info --json` lists them: type, category, doc, "

@@ -24,6 +24,7 @@ from ._frepcore import mesh_field, vdb_grids, vdb_to_mesh
 from ._frepcore import Lattice, deform_mesh, deform_vdb, read_lattice, parse_lattice
 from ._frepcore import read_3mf, write_3mf, materials
 from ._frepcore import HSpline, parse_hs, read_hs, read_step_summary, attach_cylinder
+from ._frepcore import set_threads, use_one_job_memory_policy
 from ._frepcore import DEFAULT_CELLS  # cells along the longest side when no resolution is given
 
 __all__ = ["Cancelled", "Mesh", "Node", "Shape", "node_types", "parse_model", "read_mesh",

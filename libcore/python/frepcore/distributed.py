@@ -32,16 +32,39 @@ import frepcore
 RETRIES = 3
 
 
-def mesh_job(model_text, base_dir, bbox, resolution, sharp, mesher, jobs, job, path):
-    """On a worker: meshes job `job` of the run into the piece file `path`; returns the
-    job's figures (triangles, seconds, the worker's peak memory in MB)."""
-    import resource
+_policy_set = False
 
+
+def mesh_job(model_text, base_dir, bbox, resolution, sharp, mesher, jobs, job, path,
+             threads=0):
+    """On a worker: meshes job `job` of the run into the piece file `path` on `threads`
+    threads (0: every core); returns the job's figures (triangles, seconds, the worker's
+    peak memory in MB)."""
+    global _policy_set
+    if not _policy_set:
+        # A worker process runs brick jobs one after another: the heap the first job grew is
+        # reused by the next, without the page faults of fresh memory (base/process_memory.h).
+        frepcore.use_one_job_memory_policy()
+        _policy_set = True
+    frepcore.set_threads(threads)
     model = frepcore.parse_model(model_text, "model", base_dir)
     result = model["root"].brick_job(bbox, resolution, sharp, mesher, jobs, job, path)
-    result["peak_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    result["peak_mb"] = peak_memory_mb()
     result["pid"] = os.getpid()
     return result
+
+
+def peak_memory_mb():
+    """This process's resident peak (VmHWM; getrusage's ru_maxrss would count a forking
+    parent's peak too: Linux keeps it across exec), in MB, or None where unknown."""
+    try:
+        with open("/proc/self/status", encoding="ascii") as f:
+            for line in f:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) / 1024.0
+    except OSError:
+        pass
+    return None
 
 
 def local_cluster(workers=None):
@@ -58,7 +81,7 @@ def local_cluster(workers=None):
 def export_distributed(shape, path, bricks, scheduler=None, client=None, resolution=None,
                        bbox=None, cells=None, sharp=True, mesher="cubes", format="",
                        check=True, force=False, work_dir=None, progress=None, workers=None,
-                       base_dir=None):
+                       base_dir=None, threads_per_job=None):
     """Meshes `shape` as `bricks` jobs on Dask, welds, checks and writes `path` atomically.
 
     scheduler: a Dask scheduler's address; client: a distributed.Client to use as is;
@@ -68,6 +91,8 @@ def export_distributed(shape, path, bricks, scheduler=None, client=None, resolut
     progress(stage, done, total) -> False cancels: stage 'bricks' counts jobs done,
     'merge' goes from 0 to 1 over the merge, check and write.
     base_dir: where relative file names in the model (mesh_sdf, vdb_grid) are found.
+    threads_per_job: the threads a job meshes on (0: every core of its worker's machine);
+    default: the machine's cores shared out among a LocalCluster's workers, else 0.
 
     Returns the export's report dict (as Shape.export) plus 'jobs' (each job's figures) and
     'split'. Raises NotPrintable (nothing written) when the check refuses and force is not
@@ -93,10 +118,14 @@ def export_distributed(shape, path, bricks, scheduler=None, client=None, resolut
             else:
                 own_cluster = local_cluster(workers)
                 client = own_client = Client(own_cluster)
+                if threads_per_job is None:
+                    cores = os.cpu_count() or 1
+                    threads_per_job = max(1, cores // len(own_cluster.workers))
         pieces = [os.path.join(folder, "job-%05d.piece" % j) for j in range(bricks)]
         run = "%016x" % plan["run_id"]
         futures = [client.submit(mesh_job, model_text, base_dir, box, cell, sharp, mesher,
-                                 bricks, j, pieces[j], key="frepcad-%s-%d" % (run, j),
+                                 bricks, j, pieces[j], threads_per_job or 0,
+                                 key="frepcad-%s-%d" % (run, j),
                                  retries=RETRIES, pure=False)
                    for j in range(bricks)]
         jobs = _gather(client, futures, progress)
@@ -161,6 +190,8 @@ def main():
     args = json.loads(os.environ["FREPCAD_EXPORT_ARGS"])
     # a SIGTERM (frepcad passes on Ctrl-C so) cancels like Ctrl-C: jobs stopped, nothing left
     signal.signal(signal.SIGTERM, signal.default_int_handler)
+    # this process runs one export and exits, as frepcad does: its memory policy
+    frepcore.use_one_job_memory_policy()
     quiet = args.get("quiet", False)
     show = None
     try:
