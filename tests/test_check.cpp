@@ -4,14 +4,18 @@
 
 #include <algorithm>
 #include <map>
+#include <optional>
 #include <random>
 
 #include "check/cgal_surface.h"
 #include "check/face_pair_test.h"
 #include "check/mesh_check.h"
+#include "check/partitioned_check.h"
 #include "check/self_intersections.h"
 #include "frep/tree.h"
 #include "mesh/mesher.h"
+#include "frep/model_json.h"
+#include "frep/program.h"
 
 namespace frep {
 namespace {
@@ -530,6 +534,132 @@ TEST(Check, NestingByRaysAgreesWithCgal) {
   }
   EXPECT_GT(outward, 40);
   EXPECT_GT(not_outward, 40);
+}
+
+// The mesh cut into splits^3 parts by its faces' centroids, each part with the box of its
+// own vertices, checked part by part (partitioned_check.h); nothing where the parts cannot
+// decide.
+std::optional<CheckReport> checkInParts(const TriangleMesh& m, int splits) {
+  Box3 all;
+  for (int a = 0; a < 3; ++a) {
+    all.lo[a] = HUGE_VAL;
+    all.hi[a] = -HUGE_VAL;
+  }
+  for (const Vec3f& p : m.positions)
+    for (int a = 0; a < 3; ++a) {
+      all.lo[a] = std::min(all.lo[a], double(p[a]));
+      all.hi[a] = std::max(all.hi[a], double(p[a]));
+    }
+  const std::size_t n = static_cast<std::size_t>(splits * splits * splits);
+  std::vector<TriangleMesh> parts(n);
+  std::vector<std::map<std::uint32_t, std::uint32_t>> index(n);
+  for (const Triangle& t : m.triangles) {
+    std::size_t cell = 0;
+    for (int a = 2; a >= 0; --a) {
+      const double c = (double(m.positions[t[0]][a]) + m.positions[t[1]][a] + m.positions[t[2]][a]) / 3;
+      const int i = std::clamp(static_cast<int>((c - all.lo[a]) / (all.hi[a] - all.lo[a] + 1e-30) * splits), 0, splits - 1);
+      cell = cell * static_cast<std::size_t>(splits) + static_cast<std::size_t>(i);
+    }
+    Triangle local;
+    for (int k = 0; k < 3; ++k) {
+      const auto [at, fresh] = index[cell].try_emplace(t[k], static_cast<std::uint32_t>(parts[cell].positions.size()));
+      if (fresh) parts[cell].positions.push_back(m.positions[t[k]]);
+      local[k] = at->second;
+    }
+    parts[cell].triangles.push_back(local);
+  }
+  std::vector<Box3> boxes(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    boxes[i] = Box3{{0, 0, 0}, {0, 0, 0}};  // an empty part: a point
+    for (std::size_t v = 0; v < parts[i].positions.size(); ++v)
+      for (int a = 0; a < 3; ++a) {
+        const double x = parts[i].positions[v][a];
+        boxes[i].lo[a] = v ? std::min(boxes[i].lo[a], x) : x;
+        boxes[i].hi[a] = v ? std::max(boxes[i].hi[a], x) : x;
+      }
+  }
+  PartitionedCheck check(boxes);
+  for (std::size_t i = 0; i < n; ++i)
+    if (!check.addPart(i, parts[i])) return std::nullopt;
+  return check.finish(m.positions.size(), [&](std::size_t i) { return parts[i]; });
+}
+
+void expectSameReport(const CheckReport& parts, const CheckReport& whole, const std::string& what) {
+  EXPECT_EQ(parts.vertices, whole.vertices) << what;
+  EXPECT_EQ(parts.faces, whole.faces) << what;
+  EXPECT_EQ(parts.borderEdges, whole.borderEdges) << what;
+  EXPECT_EQ(parts.nonManifoldEdges, whole.nonManifoldEdges) << what;
+  EXPECT_EQ(parts.nonManifoldVertices, whole.nonManifoldVertices) << what;
+  EXPECT_EQ(parts.misorientedEdges, whole.misorientedEdges) << what;
+  EXPECT_EQ(parts.degenerateFaces, whole.degenerateFaces) << what;
+  EXPECT_EQ(parts.selfIntersections, whole.selfIntersections) << what;
+  EXPECT_EQ(parts.components, whole.components) << what;
+  EXPECT_EQ(parts.closed, whole.closed) << what;
+  EXPECT_EQ(parts.outward, whole.outward) << what;
+  EXPECT_EQ(parts.reasons, whole.reasons) << what;
+  EXPECT_NEAR(parts.volume, whole.volume, 1e-9 * (1 + std::abs(whole.volume))) << what;
+  EXPECT_NEAR(parts.area, whole.area, 1e-9 * (1 + whole.area)) << what;
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_EQ(parts.bbox.lo[a], whole.bbox.lo[a]) << what;
+    EXPECT_EQ(parts.bbox.hi[a], whole.bbox.hi[a]) << what;
+  }
+}
+
+// Checked in parts, a mesh gets the report checked whole gives: broken lattice cubes
+// (crossings, folds, coplanar overlaps cut across parts), jittered balls, nests of solids
+// (orientation by rays counted part by part) and the mesher's meshes.
+TEST(Check, CheckInPartsAgreesWithTheWholeCheck) {
+  std::mt19937 g(91);
+  int decided = 0, polygonMeshes = 0, broken = 0;
+  auto compare = [&](const TriangleMesh& m, const std::string& what) {
+    const CheckReport whole = checkMesh(m);
+    const bool polygonMesh =
+        !whole.nonManifoldEdges && !whole.misorientedEdges && !whole.nonManifoldVertices;
+    polygonMeshes += polygonMesh;
+    for (int splits : {2, 3}) {
+      const std::optional<CheckReport> parts = checkInParts(m, splits);
+      if (polygonMesh) EXPECT_TRUE(parts.has_value()) << what << " in " << splits;
+      if (!parts) continue;
+      ++decided;
+      broken += !whole.printable();
+      expectSameReport(*parts, whole, what + " in " + std::to_string(splits * splits * splits));
+    }
+  };
+  for (int i = 0; i < 150; ++i) {
+    TriangleMesh m;
+    std::vector<FaceIndices> faces;
+    movedLatticeCube(i, g, m.positions, faces);
+    m.triangles.assign(faces.begin(), faces.end());
+    compare(m, "lattice cube " + std::to_string(i));
+  }
+  const TriangleMesh ball = meshedBall(0.15);
+  for (int i = 0; i < 40; ++i) {
+    TriangleMesh m = ball;
+    m.positions = jitteredBall(ball, i, 0.15f, g);
+    compare(m, "ball " + std::to_string(i));
+  }
+  for (const char* name : {"csg", "gyroid", "twist"}) {
+    const Model model = loadModel(std::string(FREP_SOURCE_DIR) + "/examples/" + name + ".json");
+    MeshingOptions o;
+    o.bbox = *model.bbox;
+    o.resolution = 2.4 / 48;
+    o.normals = false;
+    const TriangleMesh m = polygonize(compile(model.root), o);
+    compare(m, name);
+    TriangleMesh inside = m;  // turned inside out
+    for (Triangle& t : inside.triangles) std::swap(t[1], t[2]);
+    compare(inside, std::string(name) + " inside out");
+    for (int k = 0; k < 4; ++k) {  // holes, some across the parts' seams
+      TriangleMesh holed = m;
+      for (int j = 0; j < 30; ++j)
+        holed.triangles.erase(holed.triangles.begin() +
+                              static_cast<long>(g() % holed.triangles.size()));
+      compare(holed, std::string(name) + " holed " + std::to_string(k));
+    }
+  }
+  EXPECT_GT(polygonMeshes, 60);
+  EXPECT_GT(broken, 60);
+  EXPECT_GT(decided, 150);
 }
 
 }  // namespace

@@ -19,6 +19,7 @@
 #include "base/triangle_geometry.h"
 #include "check/cgal_surface.h"
 #include "check/face_pair_test.h"
+#include "check/mesh_check_passes.h"
 #include "check/self_intersections.h"
 #include "check/volume_nesting.h"
 
@@ -132,6 +133,162 @@ std::vector<std::uint32_t> weldIdenticalVertices(const std::vector<Vec3f>& pos,
   return map;
 }
 
+void sumAreaAndVolume(const std::vector<Vec3f>& pos, const std::vector<FaceIndices>& faces,
+                      double* area, double* volume) {
+  // Summed by fixed blocks of faces in parallel and the blocks in order: the same sums on
+  // any number of threads.
+  constexpr std::size_t kBlock = 16384;
+  const std::size_t blocks = (faces.size() + kBlock - 1) / kBlock;
+  std::vector<std::array<double, 2>> partial(blocks, {0.0, 0.0});
+  tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
+    for (std::size_t i = block * kBlock; i < std::min(faces.size(), (block + 1) * kBlock); ++i) {
+      const FaceIndices& f = faces[i];
+      partial[block][0] += triangleArea(pos[f[0]], pos[f[1]], pos[f[2]]);
+      partial[block][1] += signedTetraVolume(pos[f[0]], pos[f[1]], pos[f[2]]);
+    }
+  });
+  for (const auto& [a, v] : partial) {
+    *area += a;
+    *volume += v;
+  }
+}
+
+std::size_t collinearFaces(const std::vector<Vec3f>& pos, const std::vector<FaceIndices>& faces,
+                           std::vector<char>* collinearFace) {
+  // CGAL's exact test, in parallel.
+  collinearFace->assign(faces.size(), 0);
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, faces.size(), 4096), std::size_t(0),
+      [&](const tbb::blocked_range<std::size_t>& range, std::size_t n) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          const FaceIndices& f = faces[i];
+          (*collinearFace)[i] = collinear(pos[f[0]], pos[f[1]], pos[f[2]]);
+          n += (*collinearFace)[i];
+        }
+        return n;
+      },
+      std::plus<std::size_t>());
+}
+
+void judgeVertices(const std::vector<Vec3f>& pos, const std::vector<FaceIndices>& faces,
+                   const std::vector<char>* judged, bool edgesToOthers, CheckReport* r,
+                   std::vector<char>* fans,
+                   std::vector<std::uint32_t>* startOut, std::vector<std::uint32_t>* incidentOut) {
+  std::vector<std::uint32_t>& start = *startOut;
+  std::vector<std::uint32_t>& incident = *incidentOut;
+  std::vector<char>& embeddedFan = *fans;
+  // Edges and vertices, in one pass over every vertex's incident faces (no table of all 3F
+  // edges to sort): an edge {v, w}, w > v, lies in exactly the faces round v that hold w, so
+  // the run of w among v's neighbours gives its face count (1: a border edge, over 2:
+  // non-manifold) and its directions (two faces must run it opposite ways); and the faces
+  // round v that share a neighbour must join into a single fan (else a non-manifold vertex).
+  start.assign(pos.size() + 1, 0);
+  incident.resize(faces.size() * 3);
+  for (const auto& f : faces)
+    for (std::size_t v : f) ++start[v + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t fi = 0; fi < faces.size(); ++fi)
+      for (std::size_t v : faces[fi]) incident[fill[v]++] = static_cast<std::uint32_t>(fi);
+  }
+  // Vertices whose fan of faces is proved embedded (face_pair_test.h): the self-intersection
+  // pass need not test two faces that share one of them.
+  embeddedFan.assign(pos.size(), 0);
+  struct Counts {
+    std::size_t border = 0, nonManifoldEdges = 0, misoriented = 0, nonManifoldVertices = 0;
+  };
+  const Counts counts = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, pos.size(), 4096), Counts(),
+      [&](const tbb::blocked_range<std::size_t>& range, Counts c) {
+        // (other vertex, local face, 1 when the face runs v -> other)
+        std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint8_t>> neighbours;
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> sectors;
+        UnionFind fans;
+        for (std::size_t v = range.begin(); v != range.end(); ++v) {
+          const std::uint32_t b = start[v], e = start[v + 1];
+          if (e == b || (judged && !(*judged)[v])) continue;
+          neighbours.clear();
+          for (std::uint32_t k = b; k < e; ++k) {
+            const FaceIndices& f = faces[incident[k]];
+            const int at = f[0] == v ? 0 : f[1] == v ? 1 : 2;
+            neighbours.emplace_back(static_cast<std::uint32_t>(f[(at + 1) % 3]), k - b, 1);
+            neighbours.emplace_back(static_cast<std::uint32_t>(f[(at + 2) % 3]), k - b, 0);
+          }
+          std::sort(neighbours.begin(), neighbours.end());
+          fans.reset(e - b);
+          bool sound = true;  // every edge at v in two faces, run opposite ways
+          for (std::size_t i = 0; i < neighbours.size();) {
+            std::size_t j = i, forward = 0;
+            const std::uint32_t w = std::get<0>(neighbours[i]);
+            for (; j < neighbours.size() && std::get<0>(neighbours[j]) == w; ++j) {
+              forward += std::get<2>(neighbours[j]);
+              if (j > i) fans.join(std::get<1>(neighbours[j]), std::get<1>(neighbours[i]));
+            }
+            sound = sound && j - i == 2 && forward == 1;
+            const bool wJudged = !judged || (*judged)[w];
+            if (wJudged ? w > v : edgesToOthers) {
+              const std::size_t n = j - i;
+              c.border += n == 1;
+              c.nonManifoldEdges += n > 2;
+              c.misoriented += n == 2 && forward != 1;
+            }
+            i = j;
+          }
+          std::size_t roots = 0;
+          for (std::uint32_t k = 0; k < e - b; ++k) roots += fans.find(k) == k;
+          c.nonManifoldVertices += roots > 1;
+          if (sound && roots == 1) {  // one closed fan: is it embedded?
+            sectors.clear();
+            for (std::uint32_t k = b; k < e; ++k) {
+              const FaceIndices& f = faces[incident[k]];
+              const int at = f[0] == v ? 0 : f[1] == v ? 1 : 2;
+              sectors.emplace_back(f[(at + 1) % 3], f[(at + 2) % 3]);
+            }
+            embeddedFan[v] = fanProvedEmbedded(pos, static_cast<std::uint32_t>(v), sectors.data(),
+                                               sectors.size());
+          }
+        }
+        return c;
+      },
+      [](Counts x, const Counts& y) {
+        x.border += y.border;
+        x.nonManifoldEdges += y.nonManifoldEdges;
+        x.misoriented += y.misoriented;
+        x.nonManifoldVertices += y.nonManifoldVertices;
+        return x;
+      });
+  r->borderEdges += counts.border;
+  r->nonManifoldEdges += counts.nonManifoldEdges;
+  r->misorientedEdges += counts.misoriented;
+  r->nonManifoldVertices += counts.nonManifoldVertices;
+}
+
+void addReasons(CheckReport& r) {
+  if (r.borderEdges)
+    r.reasons.push_back(count(r.borderEdges, "border edges: the mesh is not closed (holes)"));
+  if (r.nonManifoldEdges)
+    r.reasons.push_back(
+        count(r.nonManifoldEdges, "non-manifold edges (shared by more than two triangles)"));
+  if (r.nonManifoldVertices)
+    r.reasons.push_back(
+        count(r.nonManifoldVertices, "non-manifold vertices (triangles touching at a point)"));
+  if (r.misorientedEdges)
+    r.reasons.push_back(
+        count(r.misorientedEdges, "edges where neighbouring triangles disagree on orientation"));
+  if (r.degenerateFaces)
+    r.reasons.push_back(
+        count(r.degenerateFaces, "degenerate triangles (repeated or collinear vertices)"));
+  if (r.selfIntersections)
+    r.reasons.push_back((r.selfIntersectionsAtLeast ? "at least " : "") +
+                        count(r.selfIntersections, "pairs of self-intersecting triangles") +
+                        (r.selfIntersectionsAtLeast ? " (counting stops there)" : ""));
+  if (!r.outward && r.closed && r.nonManifoldEdges == 0 && r.misorientedEdges == 0 &&
+      r.selfIntersections == 0 && r.nonManifoldVertices == 0)
+    r.reasons.push_back("not outward-oriented: the triangles face into the solid");
+}
+
+
 CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)>& progress,
                       std::size_t selfIntersectionLimit) {
   auto tick = [&](double f) {
@@ -173,37 +330,9 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
       faces.push_back({a, b, c});
     }
   }
-  // Area and signed volume, summed by fixed blocks of faces in parallel and the blocks in
-  // order: the same sums on any number of threads.
-  {
-    constexpr std::size_t kBlock = 16384;
-    const std::size_t blocks = (faces.size() + kBlock - 1) / kBlock;
-    std::vector<std::array<double, 2>> partial(blocks, {0.0, 0.0});
-    tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
-      for (std::size_t i = block * kBlock; i < std::min(faces.size(), (block + 1) * kBlock); ++i) {
-        const FaceIndices& f = faces[i];
-        partial[block][0] += triangleArea(pos[f[0]], pos[f[1]], pos[f[2]]);
-        partial[block][1] += signedTetraVolume(pos[f[0]], pos[f[1]], pos[f[2]]);
-      }
-    });
-    for (const auto& [area, volume] : partial) {
-      r.area += area;
-      r.volume += volume;
-    }
-  }
-  // Faces with collinear corners (CGAL's exact test), in parallel.
-  std::vector<char> collinearFace(faces.size());
-  r.degenerateFaces += tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, faces.size(), 4096), std::size_t(0),
-      [&](const tbb::blocked_range<std::size_t>& range, std::size_t n) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-          const FaceIndices& f = faces[i];
-          collinearFace[i] = collinear(pos[f[0]], pos[f[1]], pos[f[2]]);
-          n += collinearFace[i];
-        }
-        return n;
-      },
-      std::plus<std::size_t>());
+  sumAreaAndVolume(pos, faces, &r.area, &r.volume);
+  std::vector<char> collinearFace;
+  r.degenerateFaces += collinearFaces(pos, faces, &collinearFace);
   if (!pos.empty()) {
     r.bbox.lo = {pos[0][0], pos[0][1], pos[0][2]};
     r.bbox.hi = r.bbox.lo;
@@ -215,89 +344,9 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
   }
 
   tick(0.1);
-  // Edges and vertices, in one pass over every vertex's incident faces (no table of all 3F
-  // edges to sort): an edge {v, w}, w > v, lies in exactly the faces round v that hold w, so
-  // the run of w among v's neighbours gives its face count (1: a border edge, over 2:
-  // non-manifold) and its directions (two faces must run it opposite ways); and the faces
-  // round v that share a neighbour must join into a single fan (else a non-manifold vertex).
-  std::vector<std::uint32_t> start(pos.size() + 1, 0), incident(faces.size() * 3);
-  for (const auto& f : faces)
-    for (std::size_t v : f) ++start[v + 1];
-  std::partial_sum(start.begin(), start.end(), start.begin());
-  {
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t fi = 0; fi < faces.size(); ++fi)
-      for (std::size_t v : faces[fi]) incident[fill[v]++] = static_cast<std::uint32_t>(fi);
-  }
-  // Vertices whose fan of faces is proved embedded (face_pair_test.h): the self-intersection
-  // pass need not test two faces that share one of them.
-  std::vector<char> embeddedFan(pos.size(), 0);
-  struct Counts {
-    std::size_t border = 0, nonManifoldEdges = 0, misoriented = 0, nonManifoldVertices = 0;
-  };
-  const Counts counts = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, pos.size(), 4096), Counts(),
-      [&](const tbb::blocked_range<std::size_t>& range, Counts c) {
-        // (other vertex, local face, 1 when the face runs v -> other)
-        std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint8_t>> neighbours;
-        std::vector<std::pair<std::uint32_t, std::uint32_t>> sectors;
-        UnionFind fans;
-        for (std::size_t v = range.begin(); v != range.end(); ++v) {
-          const std::uint32_t b = start[v], e = start[v + 1];
-          if (e == b) continue;
-          neighbours.clear();
-          for (std::uint32_t k = b; k < e; ++k) {
-            const FaceIndices& f = faces[incident[k]];
-            const int at = f[0] == v ? 0 : f[1] == v ? 1 : 2;
-            neighbours.emplace_back(static_cast<std::uint32_t>(f[(at + 1) % 3]), k - b, 1);
-            neighbours.emplace_back(static_cast<std::uint32_t>(f[(at + 2) % 3]), k - b, 0);
-          }
-          std::sort(neighbours.begin(), neighbours.end());
-          fans.reset(e - b);
-          bool sound = true;  // every edge at v in two faces, run opposite ways
-          for (std::size_t i = 0; i < neighbours.size();) {
-            std::size_t j = i, forward = 0;
-            const std::uint32_t w = std::get<0>(neighbours[i]);
-            for (; j < neighbours.size() && std::get<0>(neighbours[j]) == w; ++j) {
-              forward += std::get<2>(neighbours[j]);
-              if (j > i) fans.join(std::get<1>(neighbours[j]), std::get<1>(neighbours[i]));
-            }
-            sound = sound && j - i == 2 && forward == 1;
-            if (w > v) {
-              const std::size_t n = j - i;
-              c.border += n == 1;
-              c.nonManifoldEdges += n > 2;
-              c.misoriented += n == 2 && forward != 1;
-            }
-            i = j;
-          }
-          std::size_t roots = 0;
-          for (std::uint32_t k = 0; k < e - b; ++k) roots += fans.find(k) == k;
-          c.nonManifoldVertices += roots > 1;
-          if (sound && roots == 1) {  // one closed fan: is it embedded?
-            sectors.clear();
-            for (std::uint32_t k = b; k < e; ++k) {
-              const FaceIndices& f = faces[incident[k]];
-              const int at = f[0] == v ? 0 : f[1] == v ? 1 : 2;
-              sectors.emplace_back(f[(at + 1) % 3], f[(at + 2) % 3]);
-            }
-            embeddedFan[v] = fanProvedEmbedded(pos, static_cast<std::uint32_t>(v), sectors.data(),
-                                               sectors.size());
-          }
-        }
-        return c;
-      },
-      [](Counts x, const Counts& y) {
-        x.border += y.border;
-        x.nonManifoldEdges += y.nonManifoldEdges;
-        x.misoriented += y.misoriented;
-        x.nonManifoldVertices += y.nonManifoldVertices;
-        return x;
-      });
-  r.borderEdges = counts.border;
-  r.nonManifoldEdges = counts.nonManifoldEdges;
-  r.misorientedEdges = counts.misoriented;
-  r.nonManifoldVertices = counts.nonManifoldVertices;
+  std::vector<char> embeddedFan;
+  std::vector<std::uint32_t> start, incident;
+  judgeVertices(pos, faces, nullptr, true, &r, &embeddedFan, &start, &incident);
   r.closed = r.borderEdges == 0 && !faces.empty();
 
   tick(0.3);
@@ -350,27 +399,7 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
   }
 
   tick(1.0);
-  if (r.borderEdges)
-    r.reasons.push_back(count(r.borderEdges, "border edges: the mesh is not closed (holes)"));
-  if (r.nonManifoldEdges)
-    r.reasons.push_back(
-        count(r.nonManifoldEdges, "non-manifold edges (shared by more than two triangles)"));
-  if (r.nonManifoldVertices)
-    r.reasons.push_back(
-        count(r.nonManifoldVertices, "non-manifold vertices (triangles touching at a point)"));
-  if (r.misorientedEdges)
-    r.reasons.push_back(
-        count(r.misorientedEdges, "edges where neighbouring triangles disagree on orientation"));
-  if (r.degenerateFaces)
-    r.reasons.push_back(
-        count(r.degenerateFaces, "degenerate triangles (repeated or collinear vertices)"));
-  if (r.selfIntersections)
-    r.reasons.push_back((r.selfIntersectionsAtLeast ? "at least " : "") +
-                        count(r.selfIntersections, "pairs of self-intersecting triangles") +
-                        (r.selfIntersectionsAtLeast ? " (counting stops there)" : ""));
-  if (!r.outward && r.closed && r.nonManifoldEdges == 0 && r.misorientedEdges == 0 &&
-      r.selfIntersections == 0 && r.nonManifoldVertices == 0)
-    r.reasons.push_back("not outward-oriented: the triangles face into the solid");
+  addReasons(r);
   return r;
 }
 

@@ -111,15 +111,48 @@ std::optional<bool> boundsAVolumeByRays(const std::vector<Vec3f>& points,
                                         std::uint32_t components) {
   // The boxes are compared pair by pair: many components (an array of parts) go to CGAL.
   if (components > kMostComponents) return std::nullopt;
-  std::vector<Bounds> box(components);
-  std::vector<double> volume(components, 0.0);
-  std::vector<std::vector<std::uint32_t>> someFaces(components);  // where rays may start
+  std::vector<ComponentFacts> facts(components);
   for (std::size_t f = 0; f < faces.size(); ++f) {
-    const std::uint32_t c = component[f];
-    for (std::uint32_t v : faces[f]) box[c].add(points[v]);
-    volume[c] += signedTetraVolume(points[faces[f][0]], points[faces[f][1]], points[faces[f][2]]);
-    if (someFaces[c].size() < 8) someFaces[c].push_back(static_cast<std::uint32_t>(f));
+    const Vec3f &a = points[faces[f][0]], &b = points[faces[f][1]], &c = points[faces[f][2]];
+    facts[component[f]].add(a, b, c);
   }
+  return nestingByRays(facts, [&](const FaceVisitor& visit) {
+    tbb::parallel_for(std::size_t(0), faces.size(), [&](std::size_t f) {
+      visit(points[faces[f][0]], points[faces[f][1]], points[faces[f][2]], component[f]);
+    });
+  });
+}
+
+void ComponentFacts::add(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
+  for (const Vec3f* p : {&a, &b, &c})
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], (*p)[k]);
+      hi[k] = std::max(hi[k], (*p)[k]);
+    }
+  volume += signedTetraVolume(a, b, c);
+  if (someFaces.size() < 8) someFaces.push_back({a, b, c});
+}
+
+void ComponentFacts::merge(const ComponentFacts& o) {
+  for (int k = 0; k < 3; ++k) {
+    lo[k] = std::min(lo[k], o.lo[k]);
+    hi[k] = std::max(hi[k], o.hi[k]);
+  }
+  volume += o.volume;
+  for (const auto& f : o.someFaces)
+    if (someFaces.size() < 8) someFaces.push_back(f);
+}
+
+std::optional<bool> nestingByRays(const std::vector<ComponentFacts>& facts,
+                                  const std::function<void(const FaceVisitor&)>& forEachFace) {
+  const std::uint32_t components = static_cast<std::uint32_t>(facts.size());
+  if (components > kMostComponents) return std::nullopt;
+  std::vector<Bounds> box(components);
+  for (std::uint32_t c = 0; c < components; ++c)
+    for (int k = 0; k < 3; ++k) {
+      box[c].lo[k] = facts[c].lo[k];
+      box[c].hi[k] = facts[c].hi[k];
+    }
   // Which components may enclose which: a surface inside another lies in its box.
   std::vector<std::vector<std::uint32_t>> mayEnclose(components);
   std::vector<std::uint32_t> asking;
@@ -144,11 +177,10 @@ std::optional<bool> boundsAVolumeByRays(const std::vector<Vec3f>& points,
   while (!open.empty()) {
     double ylo = HUGE_VAL, yhi = -HUGE_VAL, zlo = HUGE_VAL, zhi = -HUGE_VAL;
     for (std::uint32_t a : open) {
-      if (attempt[a] >= someFaces[a].size()) return std::nullopt;
-      const FaceIndices& f = faces[someFaces[a][attempt[a]]];
-      for (int i = 0; i < 3; ++i) start[a].s[i] = points[f[i]];
-      for (int k = 0; k < 3; ++k)
-        approx[a][k] = (double(points[f[0]][k]) + points[f[1]][k] + points[f[2]][k]) / 3.0;
+      if (attempt[a] >= facts[a].someFaces.size()) return std::nullopt;
+      const std::array<Vec3f, 3>& f = facts[a].someFaces[attempt[a]];
+      for (int i = 0; i < 3; ++i) start[a].s[i] = f[i];
+      for (int k = 0; k < 3; ++k) approx[a][k] = (double(f[0][k]) + f[1][k] + f[2][k]) / 3.0;
       ylo = std::min(ylo, approx[a][1]);
       yhi = std::max(yhi, approx[a][1]);
       zlo = std::min(zlo, approx[a][2]);
@@ -196,10 +228,8 @@ std::optional<bool> boundsAVolumeByRays(const std::vector<Vec3f>& points,
       std::vector<std::uint32_t> grazed;
     };
     tbb::enumerable_thread_specific<Hits> hits;
-    tbb::parallel_for(std::size_t(0), faces.size(), [&](std::size_t f) {
-      const std::uint32_t b = component[f];
+    forEachFace([&](const Vec3f& p0, const Vec3f& p1, const Vec3f& p2, std::uint32_t b) {
       if (!isCandidate[b]) return;
-      const Vec3f &p0 = points[faces[f][0]], &p1 = points[faces[f][1]], &p2 = points[faces[f][2]];
       const double xmax = std::max({p0[0], p1[0], p2[0]});
       const double ymin = std::min({p0[1], p1[1], p2[1]}), ymax = std::max({p0[1], p1[1], p2[1]});
       const double zmin = std::min({p0[2], p1[2], p2[2]}), zmax = std::max({p0[2], p1[2], p2[2]});
@@ -249,7 +279,7 @@ std::optional<bool> boundsAVolumeByRays(const std::vector<Vec3f>& points,
     open.swap(again);
   }
   for (std::uint32_t c = 0; c < components; ++c)
-    if ((volume[c] > 0) != (depth[c] % 2 == 0)) return false;
+    if ((facts[c].volume > 0) != (depth[c] % 2 == 0)) return false;
   return true;
 }
 

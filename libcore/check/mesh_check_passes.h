@@ -1,0 +1,32 @@
+// The check's passes (mesh_check.cpp), shared by checkMesh and the check of a mesh in parts
+// (partitioned_check.h). Internal to check/.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "check/mesh_check.h"
+#include "check/self_intersections.h"
+
+namespace frep {
+
+// Area and signed volume of the faces, added to *area and *volume (summed by fixed blocks:
+// the same sums on any number of threads).
+void sumAreaAndVolume(const std::vector<Vec3f>& pos, const std::vector<FaceIndices>& faces,
+                      double* area, double* volume);
+// CGAL's collinear test per face; returns how many are.
+std::size_t collinearFaces(const std::vector<Vec3f>& pos, const std::vector<FaceIndices>& faces,
+                           std::vector<char>* collinearFace);
+// The edges and vertex fans of the vertices `judged` marks (all when null), added to r's
+// border, non-manifold and misoriented counts. An edge {v, w} is counted once, at the lower
+// of two judged ends, or at its judged end when `edgesToOthers` (else not at all: the other
+// end's judge counts it). Fills *fans (by vertex: proved embedded) and the vertex -> faces
+// table (*start, *incident).
+void judgeVertices(const std::vector<Vec3f>& pos, const std::vector<FaceIndices>& faces,
+                   const std::vector<char>* judged, bool edgesToOthers, CheckReport* r,
+                   std::vector<char>* fans, std::vector<std::uint32_t>* start,
+                   std::vector<std::uint32_t>* incident);
+// The reasons a report's counts give (its `reasons`, appended).
+void addReasons(CheckReport& r);
+
+}  // namespace frep
