@@ -140,6 +140,9 @@ class PieceFiles : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
   std::string file(const std::string& name) const { return (dir_ / name).string(); }
+  std::size_t others() const {
+    return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
+  }
   static std::string bytes(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
@@ -177,12 +180,62 @@ TEST_F(PieceFiles, RoundTripAndExportAsOneProcess) {
   exportField(p, single, file("one.stl"), "csg");
   const TriangleMesh a = readMesh(file("csg.stl")), b = readMesh(file("one.stl"));
   EXPECT_TRUE(sortedTriangles(a) == sortedTriangles(b));
+  EXPECT_TRUE(r.checkedInParts);
   // a piece of another run is refused, and nothing is written
   const BrickJobPlan other =
       planBrickJobs(box, false, Extraction::Cubes, 8, textFingerprint("csg"));
   writePieceFile(runBrickJob(p, other, 3), files[3]);
   EXPECT_THROW(exportPieces(plan, files, request, file("mixed.stl")), FileError);
   EXPECT_FALSE(fs::exists(file("mixed.stl")));
+}
+
+// A binary STL export of pieces streams the file while merging and checks the pieces one
+// at a time: the report is the whole mesh's (the gyroid: over a hundred components, nested
+// boxes, rays counted piece by piece), and a piece with a hole is refused, nothing written.
+TEST_F(PieceFiles, TheCheckPieceByPieceIsTheWholeChecksReport) {
+  for (const char* name : {"gyroid", "helix"}) {
+    const Model m = loadModel(std::string(FREP_SOURCE_DIR) + "/examples/" + name + ".json");
+    const Program p = compile(m.root);
+    const MeshingBox box{*m.bbox, (m.bbox->hi[0] - m.bbox->lo[0]) / 80};
+    for (std::uint32_t jobs : {8u, 27u}) {
+      const BrickJobPlan plan = planBrickJobs(box, true, Extraction::Cubes, jobs, 5);
+      std::vector<std::string> files;
+      std::vector<MeshPiece> pieces;
+      for (std::uint32_t j = 0; j < plan.jobs; ++j) {
+        pieces.push_back(runBrickJob(p, plan, j));
+        files.push_back(file(std::string(name) + std::to_string(j)));
+        writePieceFile(pieces.back(), files.back());
+      }
+      const std::string out = file(std::string(name) + ".stl");
+      const ExportResult r = exportPieces(plan, files, ExportRequest(), out);
+      ASSERT_TRUE(r.written) << name;
+      EXPECT_TRUE(r.checkedInParts) << name;
+      const CheckReport whole = checkMesh(mergePieces(pieces));
+      EXPECT_EQ(r.report.vertices, whole.vertices);
+      EXPECT_EQ(r.report.inputVertices, whole.inputVertices);
+      EXPECT_EQ(r.report.components, whole.components);
+      EXPECT_EQ(r.report.selfIntersections, 0u);
+      EXPECT_TRUE(r.report.outward);
+      EXPECT_NEAR(r.report.volume, whole.volume, 1e-9 * whole.volume);
+      EXPECT_NEAR(r.report.area, whole.area, 1e-9 * whole.area);  // (the flips across jobs too)
+      EXPECT_EQ(r.report.reasons, whole.reasons);
+      EXPECT_GT(whole.components, std::string(name) == "gyroid" ? 20u : 0u);
+      EXPECT_TRUE(sortedTriangles(readMesh(out)) == sortedTriangles(mergePieces(pieces)));
+      // a hole in one piece: refused, nothing written
+      MeshPiece holed = pieces[jobs / 2];
+      ASSERT_GT(holed.triangles.size(), 10u);
+      holed.triangles.erase(holed.triangles.begin() + 5);
+      holed.pendingFlips.clear();  // (its numbers moved)
+      writePieceFile(holed, files[jobs / 2]);
+      const std::size_t before = others();
+      const ExportResult refused = exportPieces(plan, files, ExportRequest(), file("holed.stl"));
+      EXPECT_FALSE(refused.written);
+      EXPECT_TRUE(refused.checkedInParts);
+      EXPECT_EQ(refused.report.borderEdges, 3u);
+      EXPECT_FALSE(fs::exists(file("holed.stl")));
+      EXPECT_EQ(others(), before) << "a temporary was left";
+    }
+  }
 }
 
 TEST_F(PieceFiles, HostileFilesAreRefusedBeforeTheyCostMemory) {

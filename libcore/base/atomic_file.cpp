@@ -49,6 +49,12 @@ void AtomicFile::write(const void* data, std::size_t bytes) {
     throw FileError(path_ + ": write failed: " + std::strerror(errno));
 }
 
+void AtomicFile::writeAt(std::size_t offset, const void* data, std::size_t bytes) {
+  if (std::fseek(file_, static_cast<long>(offset), SEEK_SET) != 0 ||
+      std::fwrite(data, 1, bytes, file_) != bytes || std::fseek(file_, 0, SEEK_END) != 0)
+    throw FileError(path_ + ": write failed: " + std::strerror(errno));
+}
+
 void AtomicFile::print(const char* fmt, ...) {
   va_list args;
   va_start(args, fmt);

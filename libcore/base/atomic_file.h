@@ -17,6 +17,9 @@ class AtomicFile {
 
   void write(const void* data, std::size_t bytes);  // throws FileError
   void print(const char* fmt, ...);                 // printf-style, throws FileError
+  // Overwrites bytes already written at `offset` (a header whose counts are known only at
+  // the end), then goes on writing at the end; throws FileError.
+  void writeAt(std::size_t offset, const void* data, std::size_t bytes);
   void commit();                                    // flush, close, rename; throws FileError
   // For a library that writes files only by name (OpenVDB): it writes this path, then
   // commit() renames it over the target as usual.

@@ -45,4 +45,14 @@ double pointTriangleDistance(const Vec3d& p, const Vec3d& a, const Vec3d& b, con
 double meshVolume(const TriangleMesh& mesh);
 double meshArea(const TriangleMesh& mesh);
 
+// The unit normal of triangle abc (right-hand rule) in float32, zero for a degenerate one:
+// what STL's facet records hold.
+inline Vec3f unitNormal(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
+  Vec3d n = triangleCross(a, b, c);
+  const double len = norm(n);
+  if (len > 0)
+    for (double& x : n) x /= len;
+  return {float(n[0]), float(n[1]), float(n[2])};
+}
+
 }  // namespace frep

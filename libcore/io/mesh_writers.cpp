@@ -49,11 +49,7 @@ MeshFormat formatFromPath(const std::string& path) {
 namespace {
 
 Vec3f facetNormal(const TriangleMesh& m, const Triangle& t) {
-  Vec3d n = triangleCross(m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]);
-  const double len = norm(n);
-  if (len > 0)
-    for (double& x : n) x /= len;
-  return {float(n[0]), float(n[1]), float(n[2])};
+  return unitNormal(m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]);
 }
 
 // Reports progress every 64k items; throws Cancelled when the callback says so.

@@ -72,7 +72,8 @@ void PieceMerger::add(const MeshPiece& p) {
     // (apex, a, b): its partner is (apex2, b, a), from another job
     const auto partner = waiting_.find((std::uint64_t(ids[2]) << 32) | ids[1]);
     if (partner == waiting_.end()) {
-      waiting_.emplace((std::uint64_t(ids[1]) << 32) | ids[2], Waiting{ids, {a, b, c}});
+      waiting_.emplace((std::uint64_t(ids[1]) << 32) | ids[2],
+                       Waiting{ids, {a, b, c}, p.job, static_cast<std::uint32_t>(t)});
       continue;
     }
     // the pair's four corners, numbered locally for the flip's decision
@@ -80,10 +81,15 @@ void PieceMerger::add(const MeshPiece& p) {
     const std::vector<Vec3f> corners = {a, b, c, w.corners[0]};
     const Triangle mine = {0, 1, 2}, theirs = {3, 2, 1};
     Triangle f1 = mine, f2 = theirs;
-    flipCrease(mine, theirs, corners, &f1, &f2);
+    const bool flip = flipCrease(mine, theirs, corners, &f1, &f2);
     const std::uint32_t global[4] = {ids[0], ids[1], ids[2], w.ids[0]};
     for (const Triangle& f : {f1, f2})
       emit({global[f[0]], global[f[1]], global[f[2]]}, corners[f[0]], corners[f[1]], corners[f[2]]);
+    if (flip) {
+      flipped_[(std::uint64_t(p.job) << 32) | t] = {corners[f1[0]], corners[f1[1]], corners[f1[2]]};
+      flipped_[(std::uint64_t(w.job) << 32) | w.triangle] = {corners[f2[0]], corners[f2[1]],
+                                                              corners[f2[2]]};
+    }
     waiting_.erase(partner);
   }
 }

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstddef>
+#include <array>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
@@ -35,6 +36,12 @@ class PieceMerger {
   void finish();
 
   std::size_t vertices() const { return vertices_; }
+  // The crease flips made across jobs: by (job << 32 | the piece's triangle number), the
+  // corners that triangle has in the merged mesh (a check of the mesh piece by piece puts
+  // these in place of the piece's own).
+  const std::unordered_map<std::uint64_t, std::array<Vec3f, 3>>& flipped() const {
+    return flipped_;
+  }
   std::size_t triangles() const { return triangles_; }
   std::size_t seamVertices() const { return seam_.size(); }
 
@@ -46,6 +53,7 @@ class PieceMerger {
   struct Waiting {
     Triangle ids;
     Vec3f corners[3];
+    std::uint32_t job, triangle;  // where it came from
   };
   void emit(const Triangle& t, const Vec3f& a, const Vec3f& b, const Vec3f& c);
 
@@ -55,6 +63,7 @@ class PieceMerger {
   std::vector<bool> seen_;
   std::unordered_map<std::uint64_t, SeamVertex> seam_;
   std::unordered_map<std::uint64_t, Waiting> waiting_;  // by directed edge (a << 32 | b)
+  std::unordered_map<std::uint64_t, std::array<Vec3f, 3>> flipped_;
   std::size_t vertices_ = 0, triangles_ = 0;
 };
 

@@ -12,6 +12,8 @@
 #include "io/mesh_3mf.h"
 #include "io/mesh_io.h"
 #include "io/mesh_piece_file.h"
+#include "io/stl_stream.h"
+#include "check/partitioned_check.h"
 #include "mesh/piece_merge.h"
 
 namespace frep {
@@ -124,6 +126,31 @@ MeshPiece runBrickJob(const Field& field, const BrickJobPlan& plan, std::uint32_
   return piece;
 }
 
+namespace {
+
+// The box of a job's vertices in model units: its cells' grid points, widened by a cell on
+// every side, so that a crease flip the merge made across a job's face (a triangle reaching
+// one cell into the neighbour) stays in the box of the job it is given to.
+Box3 jobBox(const BrickJobPlan& plan, const MeshPiece& piece) {
+  Box3 b;
+  for (int a = 0; a < 3; ++a) {
+    const double lo = plan.box.box.lo[a], hi = plan.box.box.hi[a];
+    const double h = (hi - lo) / static_cast<double>(piece.gridCells[a] - 1);
+    b.lo[a] = lo + (static_cast<double>(piece.cellLo[a]) - 1.5) * h;
+    b.hi[a] = lo + (static_cast<double>(piece.cellHi[a]) + 0.5) * h;
+  }
+  return b;
+}
+
+MeshPiece readRunPiece(const BrickJobPlan& plan, const std::string& file) {
+  MeshPiece piece = readPieceFile(file);
+  if (piece.runId != plan.runId)
+    throw FileError(file + ": a piece of another run (model, box, options or job count)");
+  return piece;
+}
+
+}  // namespace
+
 ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::string>& pieceFiles,
                           const ExportRequest& request, const std::string& path) {
   using Clock = std::chrono::steady_clock;
@@ -139,27 +166,99 @@ ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::strin
                      std::to_string(pieceFiles.size()) + " piece files were given");
   ExportResult result;
   result.box = plan.box;
+  const double count = static_cast<double>(pieceFiles.size());
 
-  // the merge: each piece read, welded in and dropped
-  auto t = Clock::now();
-  struct Sink : PieceMerger::Sink {
-    TriangleMesh mesh;
-    void vertex(const Vec3f& p) override { mesh.positions.push_back(p); }
-    void triangle(const Triangle& v, const Vec3f&, const Vec3f&, const Vec3f&) override {
-      mesh.triangles.push_back(v);
+  // The whole mesh in memory: each piece read, welded in and dropped.
+  auto mergeInMemory = [&](bool withProgress) {
+    struct Sink : PieceMerger::Sink {
+      TriangleMesh mesh;
+      void vertex(const Vec3f& p) override { mesh.positions.push_back(p); }
+      void triangle(const Triangle& v, const Vec3f&, const Vec3f&, const Vec3f&) override {
+        mesh.triangles.push_back(v);
+      }
+    } sink;
+    PieceMerger merger(sink);
+    for (std::size_t i = 0; i < pieceFiles.size(); ++i) {
+      merger.add(readRunPiece(plan, pieceFiles[i]));
+      if (withProgress) report(ExportStage::Mesh, static_cast<double>(i + 1) / count);
     }
-  } sink;
-  PieceMerger merger(sink);
-  for (std::size_t i = 0; i < pieceFiles.size(); ++i) {
-    const MeshPiece piece = readPieceFile(pieceFiles[i]);
-    if (piece.runId != plan.runId)
-      throw FileError(pieceFiles[i] +
-                      ": a piece of another run (model, box, options or job count)");
-    merger.add(piece);
-    report(ExportStage::Mesh, static_cast<double>(i + 1) / static_cast<double>(pieceFiles.size()));
+    merger.finish();
+    return std::move(sink.mesh);
+  };
+
+  if (format == MeshFormat::StlBinary && request.check) {
+    // Binary STL, checked: the mesh never sits in memory whole. The merge streams the file
+    // (uncommitted); then the check reads the pieces one at a time (check/partitioned_check.h),
+    // each with the crease flips the merge made across its faces, and judges the zone where
+    // they meet once. Where the parts cannot decide, the whole mesh is checked after all.
+    auto t = Clock::now();
+    StlStreamWriter stl(path);
+    struct Sink : PieceMerger::Sink {
+      StlStreamWriter* out;
+      void vertex(const Vec3f&) override {}
+      void triangle(const Triangle&, const Vec3f& a, const Vec3f& b, const Vec3f& c) override {
+        out->add(a, b, c);
+      }
+    } sink;
+    sink.out = &stl;
+    PieceMerger merger(sink);
+    std::vector<std::size_t> fileOf(plan.jobs, 0);
+    std::vector<Box3> boxes(plan.jobs);
+    for (std::size_t i = 0; i < pieceFiles.size(); ++i) {
+      const MeshPiece piece = readRunPiece(plan, pieceFiles[i]);
+      merger.add(piece);  // (refuses a job twice)
+      fileOf[piece.job] = i;
+      boxes[piece.job] = jobBox(plan, piece);
+      report(ExportStage::Mesh, static_cast<double>(i + 1) / count);
+    }
+    merger.finish();
+    std::unique_ptr<AtomicFile> pending = stl.finish();
+    result.triangles = stl.triangles();
+    result.seconds[1] = since(t);
+
+    t = Clock::now();
+    report(ExportStage::Check, 0.0);
+    auto part = [&](std::size_t job) {
+      MeshPiece piece = readRunPiece(plan, pieceFiles[fileOf[job]]);
+      TriangleMesh m;
+      m.positions = std::move(piece.positions);
+      m.triangles = std::move(piece.triangles);
+      for (std::size_t k = 0; k < m.triangles.size(); ++k) {
+        const auto at = merger.flipped().find((std::uint64_t(job) << 32) | k);
+        if (at == merger.flipped().end()) continue;
+        for (int c = 0; c < 3; ++c) {
+          m.triangles[k][c] = static_cast<std::uint32_t>(m.positions.size());
+          m.positions.push_back(at->second[c]);
+        }
+      }
+      return m;
+    };
+    PartitionedCheck check(boxes);
+    bool inParts = true;
+    for (std::uint32_t job = 0; job < plan.jobs && inParts; ++job) {
+      inParts = check.addPart(job, part(job));
+      report(ExportStage::Check, 0.9 * (job + 1) / count);
+    }
+    std::optional<CheckReport> checked;
+    if (inParts) checked = check.finish(merger.vertices(), part);
+    result.checkedInParts = checked.has_value();
+    if (!checked) checked = checkMesh(mergeInMemory(false));
+    result.report = std::move(*checked);
+    result.checked = true;
+    result.seconds[2] = since(t);
+    report(ExportStage::Check, 1.0);
+    if (!result.report.printable() && !request.force) return result;
+    t = Clock::now();
+    report(ExportStage::Write, 0.0);
+    pending->commit();
+    result.written = true;
+    result.seconds[3] = since(t);
+    report(ExportStage::Write, 1.0);
+    return result;
   }
-  merger.finish();
-  TriangleMesh mesh = std::move(sink.mesh);
+
+  auto t = Clock::now();
+  TriangleMesh mesh = mergeInMemory(true);
   result.triangles = mesh.triangleCount();
   result.seconds[1] = since(t);
 
@@ -167,8 +266,9 @@ ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::strin
   if (format == MeshFormat::ThreeMf) {
     ThreeMfOptions threeMf = request.threeMf;
     threeMf.validate = false;  // the check below is the judge
-    package = pack3mf({{request.objectName.empty() ? std::filesystem::path(path).stem().string()
-                                                   : request.objectName,
+    package = pack3mf({{request.objectName.empty()
+                            ? std::filesystem::path(path).stem().string()
+                            : request.objectName,
                         mesh}},
                       threeMf);
     mesh = package->objects[0].mesh;

@@ -100,6 +100,9 @@ struct ExportResult {
   // printable, was written instead.
   bool simplificationRefused = false;
   std::optional<AccuracyReport> accuracy;  // when stats were asked for
+  // exportPieces (brick jobs): the check judged the pieces one by one and the zone where
+  // they meet (check/partitioned_check.h), never holding the whole mesh
+  bool checkedInParts = false;
   double seconds[4] = {0, 0, 0, 0};  // per ExportStage
 };
 
