@@ -54,11 +54,13 @@ def main():
         t = time.time()
         run = subprocess.run(["/usr/bin/time", "-f", "%M", frepcad, "export", a.model, "-o", out,
                               "--cells", str(a.cells), "--quiet"],
-                             capture_output=True, text=True, check=True)
+                             capture_output=True, text=True)
         rows.append({"workers": 0, "bricks": 0, "wall": time.time() - t,
-                     "peak_mb": int(run.stderr.split()[-1]) / 1024.0})
-        print("one process (frepcad export): %.2f s, peak %.0f MB"
-              % (rows[-1]["wall"], rows[-1]["peak_mb"]), flush=True)
+                     "peak_mb": int(run.stderr.split()[-1]) / 1024.0,
+                     "refused": run.stderr.strip().splitlines()[0] if run.returncode else None})
+        print("one process (frepcad export): %.2f s, peak %.0f MB%s"
+              % (rows[-1]["wall"], rows[-1]["peak_mb"],
+                 ", refused: " + rows[-1]["refused"] if run.returncode else ""), flush=True)
         for workers in [int(w) for w in a.workers.split(",")]:
             cluster = fd.local_cluster(workers)
             client = Client(cluster)

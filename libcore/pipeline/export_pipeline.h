@@ -25,9 +25,10 @@ constexpr int kDefaultCells = 128;
 // The automatic box is the solid's own box grown by this many cells (and 1/1000 of its
 // size), so the surface never touches the meshing box.
 constexpr double kPaddingCells = 1.5;
-// Memory per triangle of meshing and of the CGAL check (measured: docs/performance.md).
+// Memory per triangle of meshing and of the check (measured: docs/performance.md; the whole
+// export peaks at 146 to 190 bytes a triangle on the reference models since issue 12).
 constexpr double kMesherBytesPerTriangle = 70.0;
-constexpr double kCheckBytesPerTriangle = 750.0;
+constexpr double kCheckBytesPerTriangle = 130.0;
 // and of the simplifier (per triangle of the mesher's mesh: a quadric per vertex, the faces)
 constexpr double kSimplifyBytesPerTriangle = 100.0;
 // Cells along the longest side that `cells` may ask for.

@@ -320,6 +320,7 @@ py::dict exportResultDict(const ExportResult& result, const std::string& path) {
   }
   d["written"] = result.written;
   d["triangles"] = result.triangles;
+  d["checked_in_parts"] = result.checkedInParts;
   d["box"] = fromBox(result.box.box);
   d["resolution"] = result.box.resolution;
   d["seconds"] = py::make_tuple(result.seconds[0], result.seconds[1], result.seconds[2],

@@ -53,6 +53,7 @@ def test_one_eight_and_sixty_four_jobs_give_the_one_process_mesh(client, tmp_pat
         out = str(tmp_path / ("jobs%d.stl" % bricks))
         report = fd.export_distributed(shape, out, bricks, client=client, cells=80)
         assert report["printable"] and report["written"]
+        assert report["checked_in_parts"]  # (a binary STL: the mesh never whole in memory)
         assert len(report["jobs"]) == bricks
         assert sorted_triangles(out) == expected, "%d jobs" % bricks
     # the pieces' folder is gone

@@ -224,9 +224,10 @@ def main():
         workers = len({j["pid"] for j in report["jobs"]})
         split = "x".join(str(s) for s in report["split"])
         print("meshed %s as %d brick jobs (%s) on %d workers: %d triangles, jobs %.2f-%.2f s "
-              "(merge %.2f s, check %.2f s)"
+              "(merge %.2f s, check %.2f s%s)"
               % (args["model"], len(seconds), split, workers, report["triangles"],
-                 min(seconds), max(seconds), report["seconds"][1], report["seconds"][2]))
+                 min(seconds), max(seconds), report["seconds"][1], report["seconds"][2],
+                 ", piece by piece" if report.get("checked_in_parts") else ""))
         print(report["text"], end="")
         print("wrote %s" % args["output"])
     return 1 if report["printable"] is False else 0
