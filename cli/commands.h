@@ -3,6 +3,8 @@
 // 3 internal error (a bug), 130 cancelled (SIGINT, SIGTERM).
 #pragma once
 
+#include <sys/types.h>
+
 #include <filesystem>
 #include <optional>
 #include <stdexcept>
@@ -49,6 +51,9 @@ void checkOutputPath(const std::string& output, const std::string& input);
 // `export DOC.FCStd ...`: runs the export inside FreeCAD, headless (document_export.cpp).
 bool isDocumentPath(const std::string& path);
 int exportDocument(const ExportOptions& options);
+// Waits for a child process, passing a Ctrl-C or SIGTERM on to it as a SIGTERM; its wait
+// status.
+int waitPassingOnInterrupts(pid_t pid);
 // The workbench folder (with frepcore inside it when installed; *installed says so), else
 // the source tree's (frepcore then in the build).
 std::filesystem::path workbenchDir(bool* installed);

@@ -27,23 +27,25 @@ int exportDistributed(const ExportOptions& o, const Box3& box, double resolution
   const std::filesystem::path workbench = workbenchDir(&installed);
   // An installed workbench holds frepcore; the source tree's is in the build folder.
   const char* given = std::getenv("FREPCORE_PATH");
-  const std::string frepcorePath =
-      given && *given ? given : installed ? workbench.string() : FREPCORE_BUILD_DIR;
+  const std::string frepcorePath = given && *given ? given
+                                   : installed     ? workbench.string()
+                                                   : FREPCORE_BUILD_DIR;
   const char* python = std::getenv("FREPCAD_PYTHON");
   const std::string interpreter = python && *python ? python : FREP_PYTHON;
 
-  nlohmann::json args = {{"model", std::filesystem::absolute(o.input).string()},
-                         {"output", o.output},
-                         {"bricks", *o.bricks},
-                         {"bbox", {box.lo[0], box.lo[1], box.lo[2], box.hi[0], box.hi[1], box.hi[2]}},
-                         {"resolution", resolution},
-                         {"sharp", o.sharp},
-                         {"mesher", o.tetra ? "tetra" : "cubes"},
-                         {"format", o.format},
-                         {"force", o.force},
-                         {"quiet", o.quiet},
-                         {"scheduler", o.scheduler.empty() ? nullptr : nlohmann::json(o.scheduler)},
-                         {"work_dir", o.workDir.empty() ? nullptr : nlohmann::json(o.workDir)}};
+  nlohmann::json args = {
+      {"model", std::filesystem::absolute(o.input).string()},
+      {"output", o.output},
+      {"bricks", *o.bricks},
+      {"bbox", {box.lo[0], box.lo[1], box.lo[2], box.hi[0], box.hi[1], box.hi[2]}},
+      {"resolution", resolution},
+      {"sharp", o.sharp},
+      {"mesher", o.tetra ? "tetra" : "cubes"},
+      {"format", o.format},
+      {"force", o.force},
+      {"quiet", o.quiet},
+      {"scheduler", o.scheduler.empty() ? nullptr : nlohmann::json(o.scheduler)},
+      {"work_dir", o.workDir.empty() ? nullptr : nlohmann::json(o.workDir)}};
   setenv("FREPCAD_EXPORT_ARGS", args.dump().c_str(), 1);
   const char* old = std::getenv("PYTHONPATH");
   setenv("PYTHONPATH", (frepcorePath + (old && *old ? ":" + std::string(old) : "")).c_str(), 1);
@@ -60,15 +62,7 @@ int exportDistributed(const ExportOptions& o, const Box3& box, double resolution
     throw FileError("frepcad: cannot run " + interpreter + " for --bricks (set FREPCAD_PYTHON)");
   // Ctrl-C reaches the child too (one process group); a SIGTERM to us is passed on, and the
   // child cancels its jobs and removes its pieces.
-  installInterruptHandlers();
-  bool forwarded = false;
-  while (waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) break;
-    if (interrupted() && !forwarded) {
-      kill(pid, SIGTERM);
-      forwarded = true;
-    }
-  }
+  status = waitPassingOnInterrupts(pid);
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   if (interrupted()) return kExitCancelled;
   throw FileError("frepcad: the brick run's Python process stopped abnormally");

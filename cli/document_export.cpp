@@ -36,6 +36,22 @@ std::string envOr(const char* name, const std::string& fallback) {
 
 }  // namespace
 
+int waitPassingOnInterrupts(pid_t pid) {
+  // Ctrl-C and SIGTERM reach us (the handler only sets a flag): pass a SIGTERM on to the
+  // child, which cancels and cleans up, and wait for it.
+  installInterruptHandlers();
+  bool forwarded = false;
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) break;
+    if (interrupted() && !forwarded) {
+      kill(pid, SIGTERM);
+      forwarded = true;
+    }
+  }
+  return status;
+}
+
 bool isDocumentPath(const std::string& path) {
   if (path.size() < 6) return false;
   std::string ext = path.substr(path.size() - 6);
@@ -104,19 +120,8 @@ int exportDocument(const ExportOptions& o) {
   int status = 0;
   const int err = posix_spawnp(&pid, freecadcmd.c_str(), &files, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&files);
-  if (err == 0) {
-    // Ctrl-C and SIGTERM reach us (the handler only sets a flag): pass a SIGTERM on to
-    // FreeCAD, whose export script cancels and removes its temporary file, and wait for it.
-    installInterruptHandlers();
-    bool forwarded = false;
-    while (waitpid(pid, &status, 0) < 0) {
-      if (errno != EINTR) break;
-      if (interrupted() && !forwarded) {
-        kill(pid, SIGTERM);
-        forwarded = true;
-      }
-    }
-  }
+  // (FreeCAD's export script cancels on a SIGTERM and removes its temporary file)
+  if (err == 0) status = waitPassingOnInterrupts(pid);
   std::error_code ignored;
   fs::remove_all(home, ignored);
   if (err != 0)

@@ -45,16 +45,6 @@ TriangleMesh inJobs(const Field& f, const BrickJobPlan& plan) {
   return mergePieces(pieces);
 }
 
-MeshingOptions optionsOf(const BrickJobPlan& plan) {
-  MeshingOptions o;
-  o.bbox = plan.box.box;
-  o.resolution = plan.box.resolution;
-  o.sharpFeatures = plan.sharpFeatures;
-  o.extraction = plan.extraction;
-  o.normals = false;
-  return o;
-}
-
 void expectSameMesh(const TriangleMesh& a, const TriangleMesh& b, const std::string& what) {
   ASSERT_EQ(a.triangleCount(), b.triangleCount()) << what;
   EXPECT_EQ(a.vertexCount(), b.vertexCount()) << what;
@@ -68,7 +58,7 @@ TEST(BrickJobs, ReferenceModelsInOneEightAndSixtyFourJobsAreTheOneProcessMesh) {
     const MeshingBox box{*m.bbox, 2.4 / 72};  // 5 bricks of 16 cells per axis
     for (bool sharp : {true, false}) {
       const TriangleMesh whole =
-          polygonize(p, optionsOf(planBrickJobs(box, sharp, Extraction::Cubes, 1, 0)));
+          polygonize(p, brickMeshingOptions(planBrickJobs(box, sharp, Extraction::Cubes, 1, 0)));
       ASSERT_GT(whole.triangleCount(), 1000u);
       for (std::uint32_t jobs : {1u, 8u, 64u}) {
         const BrickJobPlan plan = planBrickJobs(box, sharp, Extraction::Cubes, jobs, 7);
@@ -93,7 +83,8 @@ TEST(BrickJobs, RandomTreesInJobsAreTheOneProcessMesh) {
     const MeshingBox box{{{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}}, 2.4 / (40 + rng.integer(0, 30))};
     const Extraction how = rng.integer(0, 3) == 0 ? Extraction::Tetrahedra : Extraction::Cubes;
     const bool sharp = rng.integer(0, 1) == 0;
-    const TriangleMesh whole = polygonize(p, optionsOf(planBrickJobs(box, sharp, how, 1, 0)));
+    const TriangleMesh whole =
+        polygonize(p, brickMeshingOptions(planBrickJobs(box, sharp, how, 1, 0)));
     if (whole.triangleCount() > 0) ++nonEmpty;
     const std::uint32_t jobs = std::vector<std::uint32_t>{2, 6, 8, 12, 27}[rng.integer(0, 4)];
     const BrickJobPlan plan = planBrickJobs(box, sharp, how, jobs, 1);
@@ -141,7 +132,8 @@ class PieceFiles : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
   std::string file(const std::string& name) const { return (dir_ / name).string(); }
   std::size_t others() const {
-    return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
+    return static_cast<std::size_t>(
+        std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
   }
   static std::string bytes(const std::string& path) {
     std::ifstream in(path, std::ios::binary);

@@ -16,7 +16,7 @@ namespace frep {
 
 class StlStreamWriter {
  public:
-  explicit StlStreamWriter(const std::string& path);  // throws FileError
+  explicit StlStreamWriter(const std::string& path);         // throws FileError
   void add(const Vec3f& a, const Vec3f& b, const Vec3f& c);  // throws FileError
   // Writes what is buffered and the count; the file stays uncommitted.
   std::unique_ptr<AtomicFile> finish();

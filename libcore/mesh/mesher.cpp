@@ -824,24 +824,40 @@ void collectBricks(const Field& field, const std::shared_ptr<const Field>& holde
   }
 }
 
+// Every brick's vertices numbered in one row (brick by brick: `first` of each brick) and
+// sorted by global edge key, with the brick each entry came from.
+struct KeyOrder {
+  std::vector<std::size_t> first, brickOf;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> order;  // (key, entry)
+};
+KeyOrder sortByKey(const std::vector<BrickResult>& results) {
+  KeyOrder k;
+  k.first.assign(results.size() + 1, 0);
+  for (std::size_t i = 0; i < results.size(); ++i)
+    k.first[i + 1] = k.first[i] + results[i].keys.size();
+  k.order.resize(k.first.back());
+  k.brickOf.resize(k.first.back());
+  tbb::parallel_for(std::size_t(0), results.size(), [&](std::size_t i) {
+    for (std::size_t v = 0; v < results[i].keys.size(); ++v) {
+      k.order[k.first[i] + v] = {results[i].keys[v], static_cast<std::uint32_t>(k.first[i] + v)};
+      k.brickOf[k.first[i] + v] = i;
+    }
+  });
+  tbb::parallel_sort(k.order.begin(), k.order.end());
+  return k;
+}
+
 // Weld, the reference way: sort every brick's vertices by global edge key and merge equal
 // keys. Used where the ownership weld below cannot place a vertex (it never should).
 TriangleMesh weldBySorting(std::vector<BrickResult>& results, bool normals,
                            std::vector<std::uint32_t>* flippable) {
-  std::vector<std::size_t> first(results.size() + 1, 0);
-  for (std::size_t i = 0; i < results.size(); ++i) first[i + 1] = first[i] + results[i].keys.size();
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> order(first.back());
-  tbb::parallel_for(std::size_t(0), results.size(), [&](std::size_t i) {
-    for (std::size_t v = 0; v < results[i].keys.size(); ++v)
-      order[first[i] + v] = {results[i].keys[v], static_cast<std::uint32_t>(first[i] + v)};
-  });
-  tbb::parallel_sort(order.begin(), order.end());
+  KeyOrder sorted = sortByKey(results);
+  const std::vector<std::size_t>& first = sorted.first;
+  const std::vector<std::size_t>& brickOf = sorted.brickOf;
+  const auto& order = sorted.order;
   std::vector<std::uint32_t> unique(order.size());
   std::vector<std::uint32_t> owner;  // unique vertex -> its first entry
   owner.reserve(order.size());
-  std::vector<std::size_t> brickOf(order.size());
-  for (std::size_t i = 0; i < results.size(); ++i)
-    for (std::size_t v = first[i]; v < first[i + 1]; ++v) brickOf[v] = i;
   auto owned = [&](std::size_t entry) {
     return results[brickOf[entry]].owner[entry - first[brickOf[entry]]] != Ownership::Other;
   };
@@ -1110,19 +1126,12 @@ std::size_t meshBricks(const Field& field, const Grid& g, const MeshingOptions& 
 // A brick job's bricks welded by key (each key once, sorted), positions from any brick that
 // made the vertex (all make it bit-identically); the fan triangles crease flips may pair.
 MeshPiece weldPiece(std::vector<BrickResult>& results, std::vector<std::uint32_t>* flippable) {
-  std::vector<std::size_t> first(results.size() + 1, 0);
-  for (std::size_t i = 0; i < results.size(); ++i) first[i + 1] = first[i] + results[i].keys.size();
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> order(first.back());
-  tbb::parallel_for(std::size_t(0), results.size(), [&](std::size_t i) {
-    for (std::size_t v = 0; v < results[i].keys.size(); ++v)
-      order[first[i] + v] = {results[i].keys[v], static_cast<std::uint32_t>(first[i] + v)};
-  });
-  tbb::parallel_sort(order.begin(), order.end());
+  KeyOrder sorted = sortByKey(results);
+  const std::vector<std::size_t>& first = sorted.first;
+  const std::vector<std::size_t>& brickOf = sorted.brickOf;
+  const auto& order = sorted.order;
   std::vector<std::uint32_t> unique(order.size());
   MeshPiece piece;
-  std::vector<std::size_t> brickOf(order.size());
-  for (std::size_t i = 0; i < results.size(); ++i)
-    for (std::size_t v = first[i]; v < first[i + 1]; ++v) brickOf[v] = i;
   for (std::size_t i = 0; i < order.size(); ++i) {
     if (i == 0 || order[i].first != order[i - 1].first) {
       const std::size_t entry = order[i].second;

@@ -88,7 +88,7 @@ void PieceMerger::add(const MeshPiece& p) {
     if (flip) {
       flipped_[(std::uint64_t(p.job) << 32) | t] = {corners[f1[0]], corners[f1[1]], corners[f1[2]]};
       flipped_[(std::uint64_t(w.job) << 32) | w.triangle] = {corners[f2[0]], corners[f2[1]],
-                                                              corners[f2[2]]};
+                                                             corners[f2[2]]};
     }
     waiting_.erase(partner);
   }

@@ -9,18 +9,16 @@
 #include <sstream>
 
 #include "base/errors.h"
+#include "check/partitioned_check.h"
 #include "io/mesh_3mf.h"
 #include "io/mesh_io.h"
 #include "io/mesh_piece_file.h"
 #include "io/stl_stream.h"
-#include "check/partitioned_check.h"
 #include "mesh/piece_merge.h"
 
 namespace frep {
 
-namespace {
-
-MeshingOptions meshingOptions(const BrickJobPlan& plan) {
+MeshingOptions brickMeshingOptions(const BrickJobPlan& plan) {
   MeshingOptions o;
   o.bbox = plan.box.box;
   o.resolution = plan.box.resolution;
@@ -29,6 +27,8 @@ MeshingOptions meshingOptions(const BrickJobPlan& plan) {
   o.normals = false;
   return o;
 }
+
+namespace {
 
 void mix(std::uint64_t& h, const void* data, std::size_t bytes) {
   const auto* p = static_cast<const unsigned char*>(data);
@@ -56,7 +56,7 @@ BrickJobPlan planBrickJobs(const MeshingBox& box, bool sharpFeatures, Extraction
   plan.sharpFeatures = sharpFeatures;
   plan.extraction = extraction;
   plan.jobs = jobs;
-  brickGrid(meshingOptions(plan), plan.bricks);
+  brickGrid(brickMeshingOptions(plan), plan.bricks);
   // the job count's prime factors, largest first, each to the axis with the most bricks per
   // job that can still take it
   std::vector<std::uint32_t> primes;
@@ -117,7 +117,7 @@ MeshPiece runBrickJob(const Field& field, const BrickJobPlan& plan, std::uint32_
                       const std::function<bool(double)>& progress) {
   std::int64_t lo[3], hi[3];
   jobBricks(plan, job, lo, hi);
-  MeshingOptions o = meshingOptions(plan);
+  MeshingOptions o = brickMeshingOptions(plan);
   o.progress = progress;
   MeshPiece piece = polygonizePiece(field, o, lo, hi);
   piece.runId = plan.runId;
@@ -266,9 +266,8 @@ ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::strin
   if (format == MeshFormat::ThreeMf) {
     ThreeMfOptions threeMf = request.threeMf;
     threeMf.validate = false;  // the check below is the judge
-    package = pack3mf({{request.objectName.empty()
-                            ? std::filesystem::path(path).stem().string()
-                            : request.objectName,
+    package = pack3mf({{request.objectName.empty() ? std::filesystem::path(path).stem().string()
+                                                   : request.objectName,
                         mesh}},
                       threeMf);
     mesh = package->objects[0].mesh;

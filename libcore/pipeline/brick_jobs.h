@@ -40,6 +40,9 @@ std::uint64_t textFingerprint(const std::string& text);
 BrickJobPlan planBrickJobs(const MeshingBox& box, bool sharpFeatures, Extraction extraction,
                            std::uint32_t jobs, std::uint64_t model);
 
+// The mesher's options every job of the run uses (no normals: pieces carry positions).
+MeshingOptions brickMeshingOptions(const BrickJobPlan& plan);
+
 // Job `job`'s bricks [lo, hi). Throws ModelError for a job out of range.
 void jobBricks(const BrickJobPlan& plan, std::uint32_t job, std::int64_t lo[3], std::int64_t hi[3]);
 
