@@ -204,7 +204,15 @@ int exportModel(const ExportOptions& opt) {
   {
     TerminalProgress bar(!opt.quiet && isatty(STDERR_FILENO));
     request.progress = [&bar](ExportStage s, double f) { return bar(s, f); };
-    r = exportField(program, request, opt.output, opt.input);
+    try {
+      r = exportField(program, request, opt.output, opt.input);
+    } catch (const ModelError& e) {
+      // too large for this process: brick jobs keep every process small
+      const std::string text = e.what();
+      if (text.find("GB is available") == std::string::npos) throw;
+      throw ModelError(text + "; or mesh it as brick jobs across processes or machines: "
+                              "--bricks 64 (docs/distributed.md)");
+    }
   }
   if (!opt.quiet)
     std::cout << "meshed " << opt.input << ": " << r.triangles << " triangles, grid "
