@@ -201,6 +201,17 @@ TEST_F(PieceFiles, TheCheckPieceByPieceIsTheWholeChecksReport) {
       const std::string out = file(std::string(name) + ".stl");
       const ExportResult r = exportPieces(plan, files, ExportRequest(), out);
       ASSERT_TRUE(r.written) << name;
+      // the same with each piece judged by its job (a summary file beside it)
+      std::vector<std::string> summaries;
+      for (const MeshPiece& piece : pieces) {
+        summaries.push_back(files[piece.job] + ".check");
+        const std::vector<char> bytes = judgeBrickPiece(plan, piece);
+        std::ofstream(summaries.back(), std::ios::binary)
+            .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+      }
+      const ExportResult byJobs = exportPieces(plan, files, ExportRequest(), out, summaries);
+      EXPECT_TRUE(byJobs.checkedInParts);
+      EXPECT_EQ(reportToText(byJobs.report, "x"), reportToText(r.report, "x"));
       EXPECT_TRUE(r.checkedInParts) << name;
       const CheckReport whole = checkMesh(mergePieces(pieces));
       EXPECT_EQ(r.report.vertices, whole.vertices);

@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
+#include <type_traits>
 
+#include "base/errors.h"
 #include "check/mesh_check_passes.h"
 #include "check/self_intersections.h"
 #include "check/volume_nesting.h"
@@ -102,6 +105,8 @@ struct PartitionedCheck::State {
   std::vector<Vec3f> zonePoints;
   std::vector<std::uint32_t> zoneNode;  // by zone point: its part's component node
   std::vector<FaceIndices> zoneFaces;
+  std::vector<std::size_t> lateFaces;  // zone faces given by addZoneFaces
+  bool escaped = false;                // a part's vertex outside its box
 };
 
 PartitionedCheck::PartitionedCheck(std::vector<Box3> boxes) : s_(new State) {
@@ -122,20 +127,35 @@ std::size_t PartitionedCheck::zoneFaces() const {
   return s_->zoneFaces.size();
 }
 
-bool PartitionedCheck::addPart(std::size_t index, const TriangleMesh& mesh) {
-  State& s = *s_;
-  const Box3& box = s.boxes.at(index);
-  s.added.at(index) = 1;
+namespace {
+
+// What judging one part leaves for the rest: its own share of the counts, its components'
+// facts, and its zone (faces reaching where boxes overlap, their points, each point's
+// component in the part or UINT32_MAX).
+struct Contribution {
+  CheckReport sum;
+  bool escaped = false, undecidable = false;
+  std::uint64_t zonePairs = 0;
+  std::vector<ComponentFacts> nodes;
+  std::vector<Vec3f> zonePoints;
+  std::vector<std::uint32_t> zoneNode;
+  std::vector<FaceIndices> zoneFaces;
+};
+
+Contribution judge(const std::vector<Box3>& boxes, std::size_t index, const TriangleMesh& mesh) {
+  Contribution out;
+  const Box3& box = boxes.at(index);
   for (const Vec3f& p : mesh.positions)
-    if (!holds(box, p)) return false;  // (a non-finite point is outside every box too)
+    if (!holds(box, p)) out.escaped = true;  // (a non-finite point is outside every box too)
   for (const Triangle& t : mesh.triangles)
     for (std::uint32_t v : t)
-      if (v >= mesh.positions.size()) return false;
+      if (v >= mesh.positions.size()) out.escaped = true;
+  if (out.escaped) return out;
   // where this part meets the others
   std::vector<Box3> meets;
-  for (std::size_t k = 0; k < s.boxes.size(); ++k) {
+  for (std::size_t k = 0; k < boxes.size(); ++k) {
     Box3 both;
-    if (k != index && overlap(box, s.boxes[k], &both)) meets.push_back(both);
+    if (k != index && overlap(box, boxes[k], &both)) meets.push_back(both);
   }
   auto inZone = [&](const Vec3f& p) {
     for (const Box3& b : meets)
@@ -144,10 +164,14 @@ bool PartitionedCheck::addPart(std::size_t index, const TriangleMesh& mesh) {
   };
 
   const WeldedPart w = weldPart(mesh);
-  CheckReport& r = s.sum;
-  r.faces += mesh.triangles.size();
-  r.vertices += w.pos.size();
-  r.degenerateFaces += w.repeated;
+  CheckReport& r = out.sum;
+  for (int a = 0; a < 3; ++a) {
+    r.bbox.lo[a] = HUGE_VAL;
+    r.bbox.hi[a] = -HUGE_VAL;
+  }
+  r.faces = mesh.triangles.size();
+  r.vertices = w.pos.size();
+  r.degenerateFaces = w.repeated;
   sumAreaAndVolume(w.pos, w.faces, &r.area, &r.volume);
   std::vector<char> collinear;
   r.degenerateFaces += collinearFaces(w.pos, w.faces, &collinear);
@@ -160,35 +184,28 @@ bool PartitionedCheck::addPart(std::size_t index, const TriangleMesh& mesh) {
   // the vertices whose faces all lie in this part: outside the zone
   std::vector<char> own(w.pos.size());
   for (std::size_t v = 0; v < w.pos.size(); ++v) own[v] = !inZone(w.pos[v]);
-  CheckReport topology;
   std::vector<char> fans;
   {
     std::vector<std::uint32_t> start, incident;
-    judgeVertices(w.pos, w.faces, &own, true, &topology, &fans, &start, &incident);
+    judgeVertices(w.pos, w.faces, &own, true, &r, &fans, &start, &incident);
   }
-  r.borderEdges += topology.borderEdges;
-  r.nonManifoldEdges += topology.nonManifoldEdges;
-  r.misorientedEdges += topology.misorientedEdges;
-  r.nonManifoldVertices += topology.nonManifoldVertices;
-  if (topology.nonManifoldEdges || topology.misorientedEdges || topology.nonManifoldVertices) {
-    s.undecidable = true;  // not a polygon mesh: CGAL counts its crossings on the whole
-    return true;
+  if (r.nonManifoldEdges || r.misorientedEdges || r.nonManifoldVertices) {
+    out.undecidable = true;  // not a polygon mesh: CGAL counts its crossings on the whole
+    return out;
   }
 
   // components, and what the nesting rays need of them
-  s.firstNode[index] = static_cast<std::uint32_t>(s.nodes.size());
-  s.nodes.resize(s.nodes.size() + w.components);
-  ComponentFacts* facts = s.nodes.data() + s.firstNode[index];
+  out.nodes.resize(w.components);
   for (const FaceIndices& f : w.faces)
-    facts[w.component[f[0]]].add(w.pos[f[0]], w.pos[f[1]], w.pos[f[2]]);
+    out.nodes[w.component[f[0]]].add(w.pos[f[0]], w.pos[f[1]], w.pos[f[2]]);
 
-  r.selfIntersections += countSelfIntersections(w.pos, w.faces, nullptr, kSelfIntersectionLimit,
-                                                FaceFacts{&collinear, &fans});
+  r.selfIntersections = countSelfIntersections(w.pos, w.faces, nullptr, kSelfIntersectionLimit,
+                                               FaceFacts{&collinear, &fans});
 
   // the faces reaching into the zone, kept for the zone's judgement
   std::vector<std::uint32_t> zoneIndex(w.pos.size(), UINT32_MAX);
-  std::vector<Vec3f> points;
-  std::vector<FaceIndices> faces;
+  std::vector<Vec3f>& points = out.zonePoints;
+  std::vector<FaceIndices>& faces = out.zoneFaces;
   for (const FaceIndices& f : w.faces) {
     Box3 fb;
     for (int a = 0; a < 3; ++a) {
@@ -212,7 +229,7 @@ bool PartitionedCheck::addPart(std::size_t index, const TriangleMesh& mesh) {
   }
   // pairs among this part's own zone faces are in its count already: the zone's count of
   // all its pairs less these is the pairs across parts
-  s.partZonePairs += countSelfIntersections(points, faces, nullptr, kSelfIntersectionLimit);
+  out.zonePairs = countSelfIntersections(points, faces, nullptr, kSelfIntersectionLimit);
   // every vertex in the zone (another part may have it too: it is counted once), also one
   // only degenerate faces use
   for (std::size_t v = 0; v < w.pos.size(); ++v)
@@ -220,15 +237,208 @@ bool PartitionedCheck::addPart(std::size_t index, const TriangleMesh& mesh) {
       zoneIndex[v] = static_cast<std::uint32_t>(points.size());
       points.push_back(w.pos[v]);
     }
-  const std::uint32_t base = static_cast<std::uint32_t>(s.zonePoints.size());
-  s.zoneNode.resize(base + points.size());
+  out.zoneNode.assign(points.size(), UINT32_MAX);
   for (std::size_t v = 0; v < w.pos.size(); ++v)
-    if (zoneIndex[v] != UINT32_MAX)
-      s.zoneNode[base + zoneIndex[v]] =
-          w.component[v] == UINT32_MAX ? UINT32_MAX : s.firstNode[index] + w.component[v];
-  s.zonePoints.insert(s.zonePoints.end(), points.begin(), points.end());
-  for (const FaceIndices& f : faces) s.zoneFaces.push_back({f[0] + base, f[1] + base, f[2] + base});
-  return true;
+    if (zoneIndex[v] != UINT32_MAX) out.zoneNode[zoneIndex[v]] = w.component[v];
+  return out;
+}
+
+// A contribution as bytes (a summary a worker hands back), and back; little-endian, the
+// counts checked against the size.
+constexpr char kSummaryMagic[8] = {'F', 'R', 'E', 'P', 'J', 'D', 'G', '1'};
+
+template <class T>
+void put(std::vector<char>& out, const T& value) {
+  const char* p = reinterpret_cast<const char*>(&value);
+  out.insert(out.end(), p, p + sizeof(T));
+}
+template <class T>
+void putArray(std::vector<char>& out, const std::vector<T>& values) {
+  put(out, static_cast<std::uint64_t>(values.size()));
+  const char* p = reinterpret_cast<const char*>(values.data());
+  out.insert(out.end(), p, p + values.size() * sizeof(T));
+}
+
+std::vector<char> serialize(const Contribution& c) {
+  std::vector<char> out(kSummaryMagic, kSummaryMagic + 8);
+  const CheckReport& r = c.sum;
+  const std::uint64_t counts[9] = {r.faces,
+                                   r.vertices,
+                                   r.degenerateFaces,
+                                   r.borderEdges,
+                                   r.nonManifoldEdges,
+                                   r.nonManifoldVertices,
+                                   r.misorientedEdges,
+                                   r.selfIntersections,
+                                   c.zonePairs};
+  for (std::uint64_t n : counts) put(out, n);
+  const double numbers[8] = {r.area,       r.volume,     r.bbox.lo[0], r.bbox.lo[1],
+                             r.bbox.lo[2], r.bbox.hi[0], r.bbox.hi[1], r.bbox.hi[2]};
+  for (double x : numbers) put(out, x);
+  put(out, static_cast<std::uint8_t>((c.escaped ? 1 : 0) | (c.undecidable ? 2 : 0)));
+  put(out, static_cast<std::uint64_t>(c.nodes.size()));
+  for (const ComponentFacts& f : c.nodes) {
+    for (int a = 0; a < 3; ++a) put(out, f.lo[a]);
+    for (int a = 0; a < 3; ++a) put(out, f.hi[a]);
+    put(out, f.volume);
+    putArray(out, f.someFaces);
+  }
+  putArray(out, c.zonePoints);
+  putArray(out, c.zoneNode);
+  putArray(out, c.zoneFaces);
+  return out;
+}
+
+Contribution deserialize(const std::vector<char>& in) {
+  std::size_t at = 0;
+  auto take = [&](void* to, std::size_t bytes) {
+    if (bytes > in.size() - at) throw FileError("check summary: truncated");
+    std::memcpy(to, in.data() + at, bytes);
+    at += bytes;
+  };
+  auto count = [&](std::size_t itemBytes) {
+    std::uint64_t n;
+    take(&n, 8);
+    if (n > (in.size() - at) / itemBytes) throw FileError("check summary: a count beyond its size");
+    return static_cast<std::size_t>(n);
+  };
+  auto array = [&](auto& values) {
+    using T = typename std::decay_t<decltype(values)>::value_type;
+    values.resize(count(sizeof(T)));
+    take(values.data(), values.size() * sizeof(T));
+  };
+  char magic[8];
+  take(magic, 8);
+  if (std::memcmp(magic, kSummaryMagic, 8) != 0) throw FileError("check summary: not one");
+  Contribution c;
+  std::uint64_t counts[9];
+  take(counts, sizeof(counts));
+  CheckReport& r = c.sum;
+  r.faces = counts[0];
+  r.vertices = counts[1];
+  r.degenerateFaces = counts[2];
+  r.borderEdges = counts[3];
+  r.nonManifoldEdges = counts[4];
+  r.nonManifoldVertices = counts[5];
+  r.misorientedEdges = counts[6];
+  r.selfIntersections = counts[7];
+  c.zonePairs = counts[8];
+  double numbers[8];
+  take(numbers, sizeof(numbers));
+  r.area = numbers[0];
+  r.volume = numbers[1];
+  for (int a = 0; a < 3; ++a) {
+    r.bbox.lo[a] = numbers[2 + a];
+    r.bbox.hi[a] = numbers[5 + a];
+  }
+  std::uint8_t flags;
+  take(&flags, 1);
+  c.escaped = flags & 1;
+  c.undecidable = flags & 2;
+  c.nodes.resize(count(3 * 4 * 2 + 8 + 8));
+  for (ComponentFacts& f : c.nodes) {
+    take(f.lo, sizeof(f.lo));
+    take(f.hi, sizeof(f.hi));
+    take(&f.volume, 8);
+    array(f.someFaces);
+  }
+  array(c.zonePoints);
+  array(c.zoneNode);
+  array(c.zoneFaces);
+  if (at != in.size() || c.zoneNode.size() != c.zonePoints.size())
+    throw FileError("check summary: inconsistent");
+  for (const FaceIndices& f : c.zoneFaces)
+    for (std::uint32_t v : f)
+      if (v >= c.zonePoints.size()) throw FileError("check summary: a face past its points");
+  for (std::uint32_t n : c.zoneNode)
+    if (n != UINT32_MAX && n >= c.nodes.size()) throw FileError("check summary: a bad component");
+  return c;
+}
+
+}  // namespace
+
+void PartitionedCheck::absorb(std::size_t index, const void* contribution) {
+  const Contribution& c = *static_cast<const Contribution*>(contribution);
+  State& s = *s_;
+  s.added.at(index) = 1;
+  if (c.escaped) {
+    s.escaped = true;
+    return;
+  }
+  if (c.undecidable) s.undecidable = true;
+  CheckReport& r = s.sum;
+  r.faces += c.sum.faces;
+  r.vertices += c.sum.vertices;
+  r.degenerateFaces += c.sum.degenerateFaces;
+  r.borderEdges += c.sum.borderEdges;
+  r.nonManifoldEdges += c.sum.nonManifoldEdges;
+  r.nonManifoldVertices += c.sum.nonManifoldVertices;
+  r.misorientedEdges += c.sum.misorientedEdges;
+  r.selfIntersections += c.sum.selfIntersections;
+  r.area += c.sum.area;
+  r.volume += c.sum.volume;
+  for (int a = 0; a < 3; ++a) {
+    r.bbox.lo[a] = std::min(r.bbox.lo[a], c.sum.bbox.lo[a]);
+    r.bbox.hi[a] = std::max(r.bbox.hi[a], c.sum.bbox.hi[a]);
+  }
+  s.partZonePairs += c.zonePairs;
+  const std::uint32_t first = static_cast<std::uint32_t>(s.nodes.size());
+  s.firstNode[index] = first;
+  s.nodes.insert(s.nodes.end(), c.nodes.begin(), c.nodes.end());
+  const std::uint32_t base = static_cast<std::uint32_t>(s.zonePoints.size());
+  s.zonePoints.insert(s.zonePoints.end(), c.zonePoints.begin(), c.zonePoints.end());
+  for (std::uint32_t n : c.zoneNode) s.zoneNode.push_back(n == UINT32_MAX ? n : first + n);
+  for (const FaceIndices& f : c.zoneFaces)
+    s.zoneFaces.push_back({f[0] + base, f[1] + base, f[2] + base});
+}
+
+bool PartitionedCheck::addPart(std::size_t index, const TriangleMesh& part) {
+  const Contribution c = judge(s_->boxes, index, part);
+  absorb(index, &c);
+  return !c.escaped;
+}
+
+std::vector<char> PartitionedCheck::judgePart(const std::vector<Box3>& boxes, std::size_t index,
+                                              const TriangleMesh& part) {
+  return serialize(judge(boxes, index, part));
+}
+
+bool PartitionedCheck::addSummary(std::size_t index, const std::vector<char>& summary) {
+  const Contribution c = deserialize(summary);
+  absorb(index, &c);
+  return !c.escaped;
+}
+
+void PartitionedCheck::addZoneFaces(std::size_t index, const TriangleMesh& faces) {
+  State& s = *s_;
+  // each corner must lie where two boxes overlap: then every face the part's own judgement
+  // saw at that corner is in the zone too, and these faces change nothing it decided
+  for (const Vec3f& p : faces.positions) {
+    int in = 0;
+    for (const Box3& b : s.boxes) in += holds(b, p);
+    if (in < 2) s.undecidable = true;
+  }
+  for (const Triangle& t : faces.triangles)
+    for (std::uint32_t v : t)
+      if (v >= faces.positions.size()) s.undecidable = true;
+  if (s.undecidable) return;
+  // their own counts (no vertex of theirs is new: each is welded with the zone's points)
+  const WeldedPart w = weldPart(faces);
+  CheckReport& r = s.sum;
+  r.faces += faces.triangles.size();
+  r.vertices += w.pos.size();
+  r.degenerateFaces += w.repeated;
+  sumAreaAndVolume(w.pos, w.faces, &r.area, &r.volume);
+  std::vector<char> collinear;
+  r.degenerateFaces += collinearFaces(w.pos, w.faces, &collinear);
+  const std::uint32_t base = static_cast<std::uint32_t>(s.zonePoints.size());
+  s.zonePoints.insert(s.zonePoints.end(), w.pos.begin(), w.pos.end());
+  s.zoneNode.insert(s.zoneNode.end(), w.pos.size(), UINT32_MAX);
+  for (const FaceIndices& f : w.faces) {
+    s.zoneFaces.push_back({f[0] + base, f[1] + base, f[2] + base});
+    s.lateFaces.push_back(s.zoneFaces.size() - 1);
+  }
+  (void)index;
 }
 
 std::optional<CheckReport> PartitionedCheck::finish(
@@ -236,7 +446,7 @@ std::optional<CheckReport> PartitionedCheck::finish(
   State& s = *s_;
   for (char a : s.added)
     if (!a) return std::nullopt;
-  if (s.undecidable) return std::nullopt;
+  if (s.undecidable || s.escaped) return std::nullopt;
   CheckReport r = s.sum;
   r.inputVertices = inputVertices;
   if (r.faces == 0) return std::nullopt;  // (checkMesh's own words for an empty mesh)
@@ -267,32 +477,42 @@ std::optional<CheckReport> PartitionedCheck::finish(
   r.selfIntersectionsAtLeast = r.selfIntersections >= kSelfIntersectionLimit;
   if (r.selfIntersectionsAtLeast) r.selfIntersections = kSelfIntersectionLimit;
 
-  // components: the parts' own, joined through the zone's shared points
-  SimpleUnionFind nodes(s.nodes.size());
-  {
-    std::vector<std::uint32_t> first(pos.size(), UINT32_MAX);
-    for (std::size_t i = 0; i < s.zonePoints.size(); ++i) {
-      if (s.zoneNode[i] == UINT32_MAX) continue;  // in no face
-      std::uint32_t& f = first[map[i]];
-      if (f == UINT32_MAX)
-        f = s.zoneNode[i];
-      else
-        nodes.join(f, s.zoneNode[i]);
-    }
+  // components: the parts' own, joined through the zone's shared points and across the
+  // faces given late (whose points carry no component of their own)
+  std::vector<ComponentFacts> nodeFacts = s.nodes;
+  std::vector<std::uint32_t> first(pos.size(), UINT32_MAX);  // a node at each zone vertex
+  for (std::size_t i = 0; i < s.zonePoints.size(); ++i)
+    if (s.zoneNode[i] != UINT32_MAX && first[map[i]] == UINT32_MAX) first[map[i]] = s.zoneNode[i];
+  for (std::size_t f : s.lateFaces)
+    for (std::uint32_t v : faces[f])
+      if (first[v] == UINT32_MAX) {  // (a vertex of late faces only: a node of its own)
+        first[v] = static_cast<std::uint32_t>(nodeFacts.size());
+        nodeFacts.emplace_back();
+      }
+  SimpleUnionFind nodes(nodeFacts.size());
+  for (std::size_t i = 0; i < s.zonePoints.size(); ++i)
+    if (s.zoneNode[i] != UINT32_MAX) nodes.join(first[map[i]], s.zoneNode[i]);
+  for (std::size_t f : s.lateFaces) {
+    nodes.join(first[faces[f][0]], first[faces[f][1]]);
+    nodes.join(first[faces[f][0]], first[faces[f][2]]);
   }
-  std::vector<std::uint32_t> global(s.nodes.size());
+  std::vector<std::uint32_t> global(nodeFacts.size());
   std::vector<ComponentFacts> components;
   {
-    std::vector<std::uint32_t> label(s.nodes.size(), UINT32_MAX);
-    for (std::uint32_t n = 0; n < s.nodes.size(); ++n) {
+    std::vector<std::uint32_t> label(nodeFacts.size(), UINT32_MAX);
+    for (std::uint32_t n = 0; n < nodeFacts.size(); ++n) {
       std::uint32_t& l = label[nodes.find(n)];
       if (l == UINT32_MAX) {
         l = static_cast<std::uint32_t>(components.size());
         components.emplace_back();
       }
       global[n] = l;
-      components[l].merge(s.nodes[n]);
+      components[l].merge(nodeFacts[n]);
     }
+  }
+  for (std::size_t f : s.lateFaces) {
+    const FaceIndices& t = faces[f];
+    components[global[first[t[0]]]].add(pos[t[0]], pos[t[1]], pos[t[2]]);
   }
   r.components = components.size();
 
@@ -308,6 +528,10 @@ std::optional<CheckReport> PartitionedCheck::finish(
             const FaceIndices& t = w.faces[f];
             visit(w.pos[t[0]], w.pos[t[1]], w.pos[t[2]], global[base + w.component[t[0]]]);
           });
+        }
+        for (std::size_t f : s.lateFaces) {
+          const FaceIndices& t = faces[f];
+          visit(pos[t[0]], pos[t[1]], pos[t[2]], global[first[t[0]]]);
         }
       });
       if (!nested) return std::nullopt;  // CGAL decides on the whole mesh

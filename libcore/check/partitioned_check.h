@@ -39,6 +39,16 @@ class PartitionedCheck {
 
   // Judges part `index` (each once, any order); false when a vertex lies outside its box.
   bool addPart(std::size_t index, const TriangleMesh& part);
+  // The same judgement made where the part is (a brick job's worker), as a summary of a few
+  // per cent of the part (its counts, its components' facts, its zone faces), and taken in
+  // here. addSummary throws FileError for a summary that is not one.
+  static std::vector<char> judgePart(const std::vector<Box3>& boxes, std::size_t index,
+                                     const TriangleMesh& part);
+  bool addSummary(std::size_t index, const std::vector<char>& summary);
+  // Faces of part `index` made after its judgement (the merge's crease flips across brick
+  // jobs), judged with the zone: every corner must lie where two boxes overlap (else finish
+  // decides nothing). part(i) in finish gives the parts without them.
+  void addZoneFaces(std::size_t index, const TriangleMesh& faces);
 
   // The report for the whole mesh. `inputVertices`: the whole mesh's vertex count (the parts
   // repeat their shared vertices). `part(i)` gives part i again (the nesting rays count
@@ -51,6 +61,7 @@ class PartitionedCheck {
   std::size_t zoneFaces() const;  // faces kept for the zone so far
 
  private:
+  void absorb(std::size_t index, const void* contribution);
   struct State;
   State* s_;
 };

@@ -81,15 +81,13 @@ void PieceMerger::add(const MeshPiece& p) {
     const std::vector<Vec3f> corners = {a, b, c, w.corners[0]};
     const Triangle mine = {0, 1, 2}, theirs = {3, 2, 1};
     Triangle f1 = mine, f2 = theirs;
-    const bool flip = flipCrease(mine, theirs, corners, &f1, &f2);
+    flipCrease(mine, theirs, corners, &f1, &f2);  // (or f1, f2 stay as they were)
     const std::uint32_t global[4] = {ids[0], ids[1], ids[2], w.ids[0]};
     for (const Triangle& f : {f1, f2})
       emit({global[f[0]], global[f[1]], global[f[2]]}, corners[f[0]], corners[f[1]], corners[f[2]]);
-    if (flip) {
-      flipped_[(std::uint64_t(p.job) << 32) | t] = {corners[f1[0]], corners[f1[1]], corners[f1[2]]};
-      flipped_[(std::uint64_t(w.job) << 32) | w.triangle] = {corners[f2[0]], corners[f2[1]],
-                                                             corners[f2[2]]};
-    }
+    settled_[(std::uint64_t(p.job) << 32) | t] = {corners[f1[0]], corners[f1[1]], corners[f1[2]]};
+    settled_[(std::uint64_t(w.job) << 32) | w.triangle] = {corners[f2[0]], corners[f2[1]],
+                                                           corners[f2[2]]};
     waiting_.erase(partner);
   }
 }
@@ -107,7 +105,11 @@ void PieceMerger::finish() {
     throw ModelError("brick merge: " + std::to_string(count) + " of " +
                      std::to_string(seen_.size()) + " jobs have no piece (jobs " + missing.str() +
                      (count > 8 ? ", ..." : "") + ")");
-  for (const auto& [edge, w] : waiting_) emit(w.ids, w.corners[0], w.corners[1], w.corners[2]);
+  for (const auto& [edge, w] : waiting_) {
+    emit(w.ids, w.corners[0], w.corners[1], w.corners[2]);
+    settled_[(std::uint64_t(w.job) << 32) | w.triangle] = {w.corners[0], w.corners[1],
+                                                           w.corners[2]};
+  }
   waiting_.clear();
 }
 

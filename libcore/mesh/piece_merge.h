@@ -36,13 +36,12 @@ class PieceMerger {
   void finish();
 
   std::size_t vertices() const { return vertices_; }
-  // The crease flips made across jobs: by (job << 32 | the piece's triangle number), the
-  // corners that triangle has in the merged mesh (a check of the mesh piece by piece puts
-  // these in place of the piece's own).
-  const std::unordered_map<std::uint64_t, std::array<Vec3f, 3>>& flipped() const {
-    return flipped_;
+  // The fan triangles pieces left to the merge (pendingFlips), as the merged mesh has them
+  // (flipped or not): by (job << 32 | the piece's triangle number), their corners. A check of
+  // the mesh piece by piece takes these with the zone where pieces meet.
+  const std::unordered_map<std::uint64_t, std::array<Vec3f, 3>>& settled() const {
+    return settled_;
   }
-  std::size_t triangles() const { return triangles_; }
   std::size_t seamVertices() const { return seam_.size(); }
 
  private:
@@ -63,7 +62,7 @@ class PieceMerger {
   std::vector<bool> seen_;
   std::unordered_map<std::uint64_t, SeamVertex> seam_;
   std::unordered_map<std::uint64_t, Waiting> waiting_;  // by directed edge (a << 32 | b)
-  std::unordered_map<std::uint64_t, std::array<Vec3f, 3>> flipped_;
+  std::unordered_map<std::uint64_t, std::array<Vec3f, 3>> settled_;
   std::size_t vertices_ = 0, triangles_ = 0;
 };
 

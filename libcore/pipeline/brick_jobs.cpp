@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <optional>
 #include <sstream>
 
@@ -131,15 +133,27 @@ namespace {
 // The box of a job's vertices in model units: its cells' grid points, widened by a cell on
 // every side, so that a crease flip the merge made across a job's face (a triangle reaching
 // one cell into the neighbour) stays in the box of the job it is given to.
-Box3 jobBox(const BrickJobPlan& plan, const MeshPiece& piece) {
-  Box3 b;
-  for (int a = 0; a < 3; ++a) {
-    const double lo = plan.box.box.lo[a], hi = plan.box.box.hi[a];
-    const double h = (hi - lo) / static_cast<double>(piece.gridCells[a] - 1);
-    b.lo[a] = lo + (static_cast<double>(piece.cellLo[a]) - 1.5) * h;
-    b.hi[a] = lo + (static_cast<double>(piece.cellHi[a]) + 0.5) * h;
+std::vector<Box3> jobBoxes(const BrickJobPlan& plan, const std::int64_t gridCells[3]) {
+  std::vector<Box3> boxes(plan.jobs);
+  const int bc = brickMeshingOptions(plan).brickCells;
+  for (std::uint32_t j = 0; j < plan.jobs; ++j) {
+    std::int64_t lo[3], hi[3];
+    jobBricks(plan, j, lo, hi);
+    for (int a = 0; a < 3; ++a) {
+      const double from = plan.box.box.lo[a], to = plan.box.box.hi[a];
+      const double h = (to - from) / static_cast<double>(gridCells[a] - 1);
+      const std::int64_t cellLo = lo[a] * bc, cellHi = std::min(hi[a] * bc, gridCells[a]);
+      boxes[j].lo[a] = from + (static_cast<double>(cellLo) - 1.5) * h;
+      boxes[j].hi[a] = from + (static_cast<double>(cellHi) + 0.5) * h;
+    }
   }
-  return b;
+  return boxes;
+}
+
+std::vector<char> readBytes(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw FileError(file + ": cannot open the check summary");
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 MeshPiece readRunPiece(const BrickJobPlan& plan, const std::string& file) {
@@ -151,8 +165,25 @@ MeshPiece readRunPiece(const BrickJobPlan& plan, const std::string& file) {
 
 }  // namespace
 
+TriangleMesh pieceCheckedPart(const MeshPiece& piece) {
+  TriangleMesh m;
+  m.positions = piece.positions;
+  std::vector<char> left(piece.triangles.size(), 0);
+  for (std::uint32_t t : piece.pendingFlips) left.at(t) = 1;
+  m.triangles.reserve(piece.triangles.size());
+  for (std::size_t t = 0; t < piece.triangles.size(); ++t)
+    if (!left[t]) m.triangles.push_back(piece.triangles[t]);
+  return m;
+}
+
+std::vector<char> judgeBrickPiece(const BrickJobPlan& plan, const MeshPiece& piece) {
+  return PartitionedCheck::judgePart(jobBoxes(plan, piece.gridCells), piece.job,
+                                     pieceCheckedPart(piece));
+}
+
 ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::string>& pieceFiles,
-                          const ExportRequest& request, const std::string& path) {
+                          const ExportRequest& request, const std::string& path,
+                          const std::vector<std::string>& summaryFiles) {
   using Clock = std::chrono::steady_clock;
   auto report = [&](ExportStage s, double f) {
     if (request.progress && !request.progress(s, f)) throw Cancelled();
@@ -164,6 +195,8 @@ ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::strin
   if (pieceFiles.size() != plan.jobs)
     throw ModelError("bricks: the run has " + std::to_string(plan.jobs) + " jobs but " +
                      std::to_string(pieceFiles.size()) + " piece files were given");
+  if (!summaryFiles.empty() && summaryFiles.size() != pieceFiles.size())
+    throw ModelError("bricks: one check summary per piece file, or none");
   ExportResult result;
   result.box = plan.box;
   const double count = static_cast<double>(pieceFiles.size());
@@ -203,12 +236,12 @@ ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::strin
     sink.out = &stl;
     PieceMerger merger(sink);
     std::vector<std::size_t> fileOf(plan.jobs, 0);
-    std::vector<Box3> boxes(plan.jobs);
+    std::int64_t gridCells[3] = {0, 0, 0};
     for (std::size_t i = 0; i < pieceFiles.size(); ++i) {
       const MeshPiece piece = readRunPiece(plan, pieceFiles[i]);
       merger.add(piece);  // (refuses a job twice)
       fileOf[piece.job] = i;
-      boxes[piece.job] = jobBox(plan, piece);
+      for (int a = 0; a < 3; ++a) gridCells[a] = piece.gridCells[a];
       report(ExportStage::Mesh, static_cast<double>(i + 1) / count);
     }
     merger.finish();
@@ -218,26 +251,28 @@ ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::strin
 
     t = Clock::now();
     report(ExportStage::Check, 0.0);
+    // each piece as its job judged it (without the triangles it left to the merge), and
+    // those, as the merged mesh has them, with the zone
     auto part = [&](std::size_t job) {
-      MeshPiece piece = readRunPiece(plan, pieceFiles[fileOf[job]]);
-      TriangleMesh m;
-      m.positions = std::move(piece.positions);
-      m.triangles = std::move(piece.triangles);
-      for (std::size_t k = 0; k < m.triangles.size(); ++k) {
-        const auto at = merger.flipped().find((std::uint64_t(job) << 32) | k);
-        if (at == merger.flipped().end()) continue;
-        for (int c = 0; c < 3; ++c) {
-          m.triangles[k][c] = static_cast<std::uint32_t>(m.positions.size());
-          m.positions.push_back(at->second[c]);
-        }
-      }
-      return m;
+      return pieceCheckedPart(readRunPiece(plan, pieceFiles[fileOf[job]]));
     };
-    PartitionedCheck check(boxes);
+    PartitionedCheck check(jobBoxes(plan, gridCells));
     bool inParts = true;
     for (std::uint32_t job = 0; job < plan.jobs && inParts; ++job) {
-      inParts = check.addPart(job, part(job));
+      inParts = summaryFiles.empty() ? check.addPart(job, part(job))
+                                     : check.addSummary(job, readBytes(summaryFiles[fileOf[job]]));
       report(ExportStage::Check, 0.9 * (job + 1) / count);
+    }
+    {
+      std::vector<TriangleMesh> settled(plan.jobs);
+      for (const auto& [key, corners] : merger.settled()) {
+        TriangleMesh& m = settled.at(key >> 32);
+        const auto base = static_cast<std::uint32_t>(m.positions.size());
+        m.positions.insert(m.positions.end(), corners.begin(), corners.end());
+        m.triangles.push_back({base, base + 1, base + 2});
+      }
+      for (std::uint32_t job = 0; job < plan.jobs; ++job)
+        if (!settled[job].triangles.empty()) check.addZoneFaces(job, settled[job]);
     }
     std::optional<CheckReport> checked;
     if (inParts) checked = check.finish(merger.vertices(), part);

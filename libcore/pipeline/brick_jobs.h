@@ -50,12 +50,22 @@ void jobBricks(const BrickJobPlan& plan, std::uint32_t job, std::int64_t lo[3], 
 MeshPiece runBrickJob(const Field& field, const BrickJobPlan& plan, std::uint32_t job,
                       const std::function<bool(double)>& progress = nullptr);
 
+// The part of a piece a check judges where the piece was made: its triangles but those it
+// left to the merge (pendingFlips), which the merge's check takes with the zone instead.
+TriangleMesh pieceCheckedPart(const MeshPiece& piece);
+// That judgement (check/partitioned_check.h), made by the job itself: the summary the merge
+// takes instead of reading the piece for its check.
+std::vector<char> judgeBrickPiece(const BrickJobPlan& plan, const MeshPiece& piece);
+
 // Reads the run's piece files one by one and welds them, checks the mesh (unless
 // request.check is false) and writes `path` atomically as exportField does: nothing written
 // when the check refuses (unless request.force) or on a cancel. request.box, tolerance, stats
-// and normals do not apply (the plan fixed the box; pieces carry positions only). Throws
-// FileError for a missing or foreign piece, ModelError, Cancelled.
+// and normals do not apply (the plan fixed the box; pieces carry positions only). A binary
+// STL is streamed and checked piece by piece; `summaryFiles` (one per piece, in the same
+// order: judgeBrickPiece's bytes) save the merge that judgement. Throws FileError for a
+// missing or foreign piece or summary, ModelError, Cancelled.
 ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::string>& pieceFiles,
-                          const ExportRequest& request, const std::string& path);
+                          const ExportRequest& request, const std::string& path,
+                          const std::vector<std::string>& summaryFiles = {});
 
 }  // namespace frep
