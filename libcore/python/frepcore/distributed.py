@@ -147,11 +147,22 @@ def export_distributed(shape, path, bricks, scheduler=None, client=None, resolut
             own_client.close()
         if own_cluster is not None:
             own_cluster.close()
-        shutil.rmtree(folder, ignore_errors=True)
+        _remove_folder(folder)
     if check and not report["printable"] and not force:
         raise frepcore.NotPrintable("%s: not written, the mesh is not printable: %s"
                                     % (path, "; ".join(report["reasons"])), report)
     return report
+
+
+def _remove_folder(folder):
+    """Removes the pieces' folder. A cancelled job still running may write into it while it
+    goes (Dask does not stop a running task), so this tries again until the folder is gone;
+    a job that finishes later cannot write (the folder is not made again)."""
+    for _ in range(100):
+        shutil.rmtree(folder, ignore_errors=True)
+        if not os.path.exists(folder):
+            return
+        time.sleep(0.1)
 
 
 def _gather(client, futures, progress):
