@@ -212,6 +212,12 @@ TEST_F(PieceFiles, TheCheckPieceByPieceIsTheWholeChecksReport) {
       const ExportResult byJobs = exportPieces(plan, files, ExportRequest(), out, summaries);
       EXPECT_TRUE(byJobs.checkedInParts);
       EXPECT_EQ(reportToText(byJobs.report, "x"), reportToText(r.report, "x"));
+      // a summary of another job is refused, nothing written
+      std::vector<std::string> swapped = summaries;
+      std::swap(swapped[0], swapped[1]);
+      EXPECT_THROW(exportPieces(plan, files, ExportRequest(), file("swapped.stl"), swapped),
+                   FileError);
+      EXPECT_FALSE(fs::exists(file("swapped.stl")));
       EXPECT_TRUE(r.checkedInParts) << name;
       const CheckReport whole = checkMesh(mergePieces(pieces));
       EXPECT_EQ(r.report.vertices, whole.vertices);

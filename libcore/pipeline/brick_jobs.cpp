@@ -176,10 +176,41 @@ TriangleMesh pieceCheckedPart(const MeshPiece& piece) {
   return m;
 }
 
+// A job's check summary starts with the run's id and the job, so a summary is only ever
+// taken with its own piece.
+constexpr char kJudgedMagic[8] = {'F', 'R', 'E', 'P', 'C', 'H', 'K', '1'};
+constexpr std::size_t kJudgedHeader = 8 + 8 + 4;
+
 std::vector<char> judgeBrickPiece(const BrickJobPlan& plan, const MeshPiece& piece) {
-  return PartitionedCheck::judgePart(jobBoxes(plan, piece.gridCells), piece.job,
-                                     pieceCheckedPart(piece));
+  const std::vector<char> judged = PartitionedCheck::judgePart(jobBoxes(plan, piece.gridCells),
+                                                               piece.job, pieceCheckedPart(piece));
+  std::vector<char> out(kJudgedMagic, kJudgedMagic + 8);
+  out.resize(kJudgedHeader);
+  std::memcpy(out.data() + 8, &plan.runId, 8);
+  std::memcpy(out.data() + 16, &piece.job, 4);
+  out.insert(out.end(), judged.begin(), judged.end());
+  return out;
 }
+
+namespace {
+
+// A job's summary, checked to be of this run and this job, without its header.
+std::vector<char> readJudged(const BrickJobPlan& plan, std::uint32_t job, const std::string& file) {
+  std::vector<char> bytes = readBytes(file);
+  std::uint64_t run = 0;
+  std::uint32_t of = 0;
+  if (bytes.size() < kJudgedHeader || std::memcmp(bytes.data(), kJudgedMagic, 8) != 0)
+    throw FileError(file + ": not a brick job's check summary");
+  std::memcpy(&run, bytes.data() + 8, 8);
+  std::memcpy(&of, bytes.data() + 16, 4);
+  if (run != plan.runId || of != job)
+    throw FileError(file + ": the check summary of another run or job (job " + std::to_string(of) +
+                    ", expected " + std::to_string(job) + ")");
+  bytes.erase(bytes.begin(), bytes.begin() + kJudgedHeader);
+  return bytes;
+}
+
+}  // namespace
 
 ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::string>& pieceFiles,
                           const ExportRequest& request, const std::string& path,
@@ -259,8 +290,9 @@ ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::strin
     PartitionedCheck check(jobBoxes(plan, gridCells));
     bool inParts = true;
     for (std::uint32_t job = 0; job < plan.jobs && inParts; ++job) {
-      inParts = summaryFiles.empty() ? check.addPart(job, part(job))
-                                     : check.addSummary(job, readBytes(summaryFiles[fileOf[job]]));
+      inParts = summaryFiles.empty()
+                    ? check.addPart(job, part(job))
+                    : check.addSummary(job, readJudged(plan, job, summaryFiles[fileOf[job]]));
       report(ExportStage::Check, 0.9 * (job + 1) / count);
     }
     {
