@@ -206,12 +206,10 @@ int exportModel(const ExportOptions& opt) {
     request.progress = [&bar](ExportStage s, double f) { return bar(s, f); };
     try {
       r = exportField(program, request, opt.output, opt.input);
-    } catch (const ModelError& e) {
+    } catch (const TooLargeError& e) {
       // too large for this process: brick jobs keep every process small
-      const std::string text = e.what();
-      if (text.find("GB is available") == std::string::npos) throw;
-      throw ModelError(text + "; or mesh it as brick jobs across processes or machines: "
-                              "--bricks 64 (docs/distributed.md)");
+      throw ModelError(std::string(e.what()) + "; or mesh it as brick jobs across processes "
+                                               "or machines: --bricks 64 (docs/distributed.md)");
     }
   }
   if (!opt.quiet)

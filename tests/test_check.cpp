@@ -612,7 +612,7 @@ std::optional<CheckReport> checkInParts(const TriangleMesh& m, int splits, int m
     const bool inside = mode == 0 ? check.addPart(i, parts[i])
                                   : check.addSummary(i, PartitionedCheck::judgePart(boxes, i, parts[i]));
     if (!inside) return std::nullopt;
-    if (!late[i].triangles.empty()) check.addZoneFaces(i, late[i]);
+    if (!late[i].triangles.empty()) check.addZoneFaces(late[i]);
   }
   return check.finish(m.positions.size(), [&](std::size_t i) { return parts[i]; });
 }

@@ -12,6 +12,12 @@ struct ModelError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A mesh estimated too large for the memory there is, refused before any work: a model
+// error a caller may answer another way (frepcad points to --bricks).
+struct TooLargeError : ModelError {
+  using ModelError::ModelError;
+};
+
 // A file that cannot be read, parsed or written.
 struct FileError : std::runtime_error {
   using std::runtime_error::runtime_error;

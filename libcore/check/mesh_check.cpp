@@ -27,20 +27,6 @@ namespace frep {
 
 namespace {
 
-struct UnionFind {
-  std::vector<std::uint32_t> parent;
-  explicit UnionFind(std::size_t n = 0) { reset(n); }
-  void reset(std::size_t n) {  // n singletons, keeping the storage
-    parent.resize(n);
-    std::iota(parent.begin(), parent.end(), 0u);
-  }
-  std::uint32_t find(std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void join(std::uint32_t a, std::uint32_t b) { parent[find(a)] = find(b); }
-};
-
 // The same partition, joined from every thread at once: a root is linked below a smaller one
 // by compare-and-swap, and finds halve their paths the same way. Parents only ever move to
 // an ancestor with a smaller index, so no cycle can form, and a stale read costs a retry.

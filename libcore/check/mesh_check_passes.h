@@ -3,12 +3,28 @@
 #pragma once
 
 #include <cstdint>
+#include <numeric>
 #include <vector>
 
 #include "check/mesh_check.h"
 #include "check/self_intersections.h"
 
 namespace frep {
+
+// A partition of 0 .. n-1 (union-find with path halving).
+struct UnionFind {
+  std::vector<std::uint32_t> parent;
+  explicit UnionFind(std::size_t n = 0) { reset(n); }
+  void reset(std::size_t n) {  // n singletons, keeping the storage
+    parent.resize(n);
+    std::iota(parent.begin(), parent.end(), 0u);
+  }
+  std::uint32_t find(std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void join(std::uint32_t a, std::uint32_t b) { parent[find(a)] = find(b); }
+};
 
 // Area and signed volume of the faces, added to *area and *volume (summed by fixed blocks:
 // the same sums on any number of threads).

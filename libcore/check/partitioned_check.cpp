@@ -17,28 +17,17 @@ namespace frep {
 
 namespace {
 
-struct SimpleUnionFind {
-  std::vector<std::uint32_t> parent;
-  explicit SimpleUnionFind(std::size_t n) : parent(n) {
-    std::iota(parent.begin(), parent.end(), 0u);
-  }
-  std::uint32_t find(std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  bool join(std::uint32_t a, std::uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a == b) return false;
-    parent[std::max(a, b)] = std::min(a, b);
-    return true;
-  }
-};
-
 bool holds(const Box3& b, const Vec3f& p) {
   for (int a = 0; a < 3; ++a)
     if (!(p[a] >= b.lo[a] && p[a] <= b.hi[a])) return false;
   return true;
+}
+
+// How many of the boxes hold p: two or more, and p lies in the zone.
+int boxesHolding(const std::vector<Box3>& boxes, const Vec3f& p) {
+  int in = 0;
+  for (const Box3& b : boxes) in += holds(b, p);
+  return in;
 }
 
 bool overlap(const Box3& a, const Box3& b, Box3* both) {
@@ -72,7 +61,7 @@ WeldedPart weldPart(const TriangleMesh& mesh) {
     }
     w.faces.push_back({a, b, c});
   }
-  SimpleUnionFind parts(w.pos.size());
+  UnionFind parts(w.pos.size());
   for (const FaceIndices& f : w.faces) {
     parts.join(f[0], f[1]);
     parts.join(f[0], f[2]);
@@ -89,6 +78,22 @@ WeldedPart weldPart(const TriangleMesh& mesh) {
     w.component[v] = l;
   }
   return w;
+}
+
+// A part's (or late faces') own counts, added to r: faces, welded vertices, degenerate
+// faces (repeated or collinear corners: *collinear by face), area, volume, bounding box.
+void countOwnFaces(const WeldedPart& w, std::size_t triangles, CheckReport* r,
+                   std::vector<char>* collinear) {
+  r->faces += triangles;
+  r->vertices += w.pos.size();
+  r->degenerateFaces += w.repeated;
+  sumAreaAndVolume(w.pos, w.faces, &r->area, &r->volume);
+  r->degenerateFaces += collinearFaces(w.pos, w.faces, collinear);
+  for (const Vec3f& p : w.pos)
+    for (int a = 0; a < 3; ++a) {
+      r->bbox.lo[a] = std::min(r->bbox.lo[a], double(p[a]));
+      r->bbox.hi[a] = std::max(r->bbox.hi[a], double(p[a]));
+    }
 }
 
 }  // namespace
@@ -121,10 +126,6 @@ PartitionedCheck::PartitionedCheck(std::vector<Box3> boxes) : s_(new State) {
 
 PartitionedCheck::~PartitionedCheck() {
   delete s_;
-}
-
-std::size_t PartitionedCheck::zoneFaces() const {
-  return s_->zoneFaces.size();
 }
 
 namespace {
@@ -169,17 +170,8 @@ Contribution judge(const std::vector<Box3>& boxes, std::size_t index, const Tria
     r.bbox.lo[a] = HUGE_VAL;
     r.bbox.hi[a] = -HUGE_VAL;
   }
-  r.faces = mesh.triangles.size();
-  r.vertices = w.pos.size();
-  r.degenerateFaces = w.repeated;
-  sumAreaAndVolume(w.pos, w.faces, &r.area, &r.volume);
   std::vector<char> collinear;
-  r.degenerateFaces += collinearFaces(w.pos, w.faces, &collinear);
-  for (const Vec3f& p : w.pos)
-    for (int a = 0; a < 3; ++a) {
-      r.bbox.lo[a] = std::min(r.bbox.lo[a], double(p[a]));
-      r.bbox.hi[a] = std::max(r.bbox.hi[a], double(p[a]));
-    }
+  countOwnFaces(w, mesh.triangles.size(), &r, &collinear);
 
   // the vertices whose faces all lie in this part: outside the zone
   std::vector<char> own(w.pos.size());
@@ -409,28 +401,20 @@ bool PartitionedCheck::addSummary(std::size_t index, const std::vector<char>& su
   return !c.escaped;
 }
 
-void PartitionedCheck::addZoneFaces(std::size_t index, const TriangleMesh& faces) {
+void PartitionedCheck::addZoneFaces(const TriangleMesh& faces) {
   State& s = *s_;
   // each corner must lie where two boxes overlap: then every face the part's own judgement
   // saw at that corner is in the zone too, and these faces change nothing it decided
-  for (const Vec3f& p : faces.positions) {
-    int in = 0;
-    for (const Box3& b : s.boxes) in += holds(b, p);
-    if (in < 2) s.undecidable = true;
-  }
+  for (const Vec3f& p : faces.positions)
+    if (boxesHolding(s.boxes, p) < 2) s.undecidable = true;
   for (const Triangle& t : faces.triangles)
     for (std::uint32_t v : t)
       if (v >= faces.positions.size()) s.undecidable = true;
   if (s.undecidable) return;
   // their own counts (no vertex of theirs is new: each is welded with the zone's points)
   const WeldedPart w = weldPart(faces);
-  CheckReport& r = s.sum;
-  r.faces += faces.triangles.size();
-  r.vertices += w.pos.size();
-  r.degenerateFaces += w.repeated;
-  sumAreaAndVolume(w.pos, w.faces, &r.area, &r.volume);
   std::vector<char> collinear;
-  r.degenerateFaces += collinearFaces(w.pos, w.faces, &collinear);
+  countOwnFaces(w, faces.triangles.size(), &s.sum, &collinear);
   const std::uint32_t base = static_cast<std::uint32_t>(s.zonePoints.size());
   s.zonePoints.insert(s.zonePoints.end(), w.pos.begin(), w.pos.end());
   s.zoneNode.insert(s.zoneNode.end(), w.pos.size(), UINT32_MAX);
@@ -438,7 +422,6 @@ void PartitionedCheck::addZoneFaces(std::size_t index, const TriangleMesh& faces
     s.zoneFaces.push_back({f[0] + base, f[1] + base, f[2] + base});
     s.lateFaces.push_back(s.zoneFaces.size() - 1);
   }
-  (void)index;
 }
 
 std::optional<CheckReport> PartitionedCheck::finish(
@@ -459,11 +442,7 @@ std::optional<CheckReport> PartitionedCheck::finish(
   for (std::size_t f = 0; f < faces.size(); ++f)
     for (int i = 0; i < 3; ++i) faces[f][i] = map[s.zoneFaces[f][i]];
   std::vector<char> inZone(pos.size(), 0);  // in two boxes or more: the zone's own vertices
-  for (std::size_t v = 0; v < pos.size(); ++v) {
-    int in = 0;
-    for (const Box3& b : s.boxes) in += holds(b, pos[v]);
-    inZone[v] = in > 1;
-  }
+  for (std::size_t v = 0; v < pos.size(); ++v) inZone[v] = boxesHolding(s.boxes, pos[v]) > 1;
   std::vector<char> fans;
   {
     std::vector<std::uint32_t> start, incident;
@@ -489,7 +468,7 @@ std::optional<CheckReport> PartitionedCheck::finish(
         first[v] = static_cast<std::uint32_t>(nodeFacts.size());
         nodeFacts.emplace_back();
       }
-  SimpleUnionFind nodes(nodeFacts.size());
+  UnionFind nodes(nodeFacts.size());
   for (std::size_t i = 0; i < s.zonePoints.size(); ++i)
     if (s.zoneNode[i] != UINT32_MAX) nodes.join(first[map[i]], s.zoneNode[i]);
   for (std::size_t f : s.lateFaces) {

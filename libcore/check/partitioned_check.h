@@ -45,10 +45,10 @@ class PartitionedCheck {
   static std::vector<char> judgePart(const std::vector<Box3>& boxes, std::size_t index,
                                      const TriangleMesh& part);
   bool addSummary(std::size_t index, const std::vector<char>& summary);
-  // Faces of part `index` made after its judgement (the merge's crease flips across brick
-  // jobs), judged with the zone: every corner must lie where two boxes overlap (else finish
-  // decides nothing). part(i) in finish gives the parts without them.
-  void addZoneFaces(std::size_t index, const TriangleMesh& faces);
+  // Faces made after the parts were judged (the merge's crease flips across brick jobs),
+  // judged with the zone: every corner must lie where two boxes overlap (else finish decides
+  // nothing). part(i) in finish gives the parts without them.
+  void addZoneFaces(const TriangleMesh& faces);
 
   // The report for the whole mesh. `inputVertices`: the whole mesh's vertex count (the parts
   // repeat their shared vertices). `part(i)` gives part i again (the nesting rays count
@@ -57,8 +57,6 @@ class PartitionedCheck {
   // nesting the rays cannot settle): the caller checks the whole mesh then.
   std::optional<CheckReport> finish(std::size_t inputVertices,
                                     const std::function<TriangleMesh(std::size_t)>& part);
-
-  std::size_t zoneFaces() const;  // faces kept for the zone so far
 
  private:
   void absorb(std::size_t index, const void* contribution);

@@ -1093,7 +1093,7 @@ void refuseOverBudget(const MeshingOptions& opt, const Grid& g, std::size_t acti
      << " GB is available: use a cell size of at least "
      << h * std::sqrt(bytes / static_cast<double>(opt.memoryBudget)) * 1.1
      << " (or a smaller box)";
-  throw ModelError(os.str());
+  throw TooLargeError(os.str());
 }
 
 // Meshes every brick in parallel, with progress (to 95 %) and cancel; returns the points

@@ -113,20 +113,8 @@ void PieceMerger::finish() {
   waiting_.clear();
 }
 
-namespace {
-
-struct MeshSink : PieceMerger::Sink {
-  TriangleMesh mesh;
-  void vertex(const Vec3f& p) override { mesh.positions.push_back(p); }
-  void triangle(const Triangle& t, const Vec3f&, const Vec3f&, const Vec3f&) override {
-    mesh.triangles.push_back(t);
-  }
-};
-
-}  // namespace
-
 TriangleMesh mergePieces(const std::vector<MeshPiece>& pieces) {
-  MeshSink sink;
+  PieceMerger::MeshCollector sink;
   std::size_t vertices = 0, triangles = 0;
   for (const MeshPiece& p : pieces) {
     vertices += p.positions.size();

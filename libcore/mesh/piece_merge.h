@@ -27,6 +27,15 @@ class PieceMerger {
                           const Vec3f& c) = 0;
   };
 
+  // The sink that keeps the merged mesh in memory.
+  struct MeshCollector : Sink {
+    TriangleMesh mesh;
+    void vertex(const Vec3f& p) override { mesh.positions.push_back(p); }
+    void triangle(const Triangle& t, const Vec3f&, const Vec3f&, const Vec3f&) override {
+      mesh.triangles.push_back(t);
+    }
+  };
+
   explicit PieceMerger(Sink& sink) : sink_(sink) {}
   // Throws ModelError for a piece of another run or grid, a job given twice, or a piece whose
   // triangles name vertices it does not have.
@@ -42,7 +51,6 @@ class PieceMerger {
   const std::unordered_map<std::uint64_t, std::array<Vec3f, 3>>& settled() const {
     return settled_;
   }
-  std::size_t seamVertices() const { return seam_.size(); }
 
  private:
   struct SeamVertex {

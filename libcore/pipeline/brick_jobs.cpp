@@ -234,13 +234,7 @@ ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::strin
 
   // The whole mesh in memory: each piece read, welded in and dropped.
   auto mergeInMemory = [&](bool withProgress) {
-    struct Sink : PieceMerger::Sink {
-      TriangleMesh mesh;
-      void vertex(const Vec3f& p) override { mesh.positions.push_back(p); }
-      void triangle(const Triangle& v, const Vec3f&, const Vec3f&, const Vec3f&) override {
-        mesh.triangles.push_back(v);
-      }
-    } sink;
+    PieceMerger::MeshCollector sink;
     PieceMerger merger(sink);
     for (std::size_t i = 0; i < pieceFiles.size(); ++i) {
       merger.add(readRunPiece(plan, pieceFiles[i]));
@@ -296,15 +290,13 @@ ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::strin
       report(ExportStage::Check, 0.9 * (job + 1) / count);
     }
     {
-      std::vector<TriangleMesh> settled(plan.jobs);
+      TriangleMesh settled;
       for (const auto& [key, corners] : merger.settled()) {
-        TriangleMesh& m = settled.at(key >> 32);
-        const auto base = static_cast<std::uint32_t>(m.positions.size());
-        m.positions.insert(m.positions.end(), corners.begin(), corners.end());
-        m.triangles.push_back({base, base + 1, base + 2});
+        const auto base = static_cast<std::uint32_t>(settled.positions.size());
+        settled.positions.insert(settled.positions.end(), corners.begin(), corners.end());
+        settled.triangles.push_back({base, base + 1, base + 2});
       }
-      for (std::uint32_t job = 0; job < plan.jobs; ++job)
-        if (!settled[job].triangles.empty()) check.addZoneFaces(job, settled[job]);
+      check.addZoneFaces(settled);
     }
     std::optional<CheckReport> checked;
     if (inParts) checked = check.finish(merger.vertices(), part);

@@ -160,6 +160,8 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
       std::swap(mesh, unsimplified);
       result.simplified = true;
     }
+  } catch (const TooLargeError& e) {
+    throw TooLargeError(name + ": " + e.what());
   } catch (const ModelError& e) {
     throw ModelError(name + ": " + e.what());
   }
