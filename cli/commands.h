@@ -9,6 +9,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "base/vec.h"
@@ -58,8 +59,9 @@ int waitPassingOnInterrupts(pid_t pid);
 // the source tree's (frepcore then in the build).
 std::filesystem::path workbenchDir(bool* installed);
 // `export MODEL.json --bricks N`: the box chosen here, the run by frepcore.distributed in a
-// Python child (distributed_export.cpp).
-int exportDistributed(const ExportOptions& options, const Box3& box, double resolution);
+// Python child (distributed_export.cpp); `metadata` goes into a 3MF.
+int exportDistributed(const ExportOptions& options, const Box3& box, double resolution,
+                      const std::vector<std::pair<std::string, std::string>>& metadata);
 
 // Thrown for a usage error: main prints it as one line and exits 2.
 struct UsageError : std::runtime_error {

@@ -22,7 +22,8 @@ extern char** environ;
 
 namespace frep::cli {
 
-int exportDistributed(const ExportOptions& o, const Box3& box, double resolution) {
+int exportDistributed(const ExportOptions& o, const Box3& box, double resolution,
+                      const std::vector<std::pair<std::string, std::string>>& metadata) {
   bool installed = false;
   const std::filesystem::path workbench = workbenchDir(&installed);
   // An installed workbench holds frepcore; the source tree's is in the build folder.
@@ -42,6 +43,8 @@ int exportDistributed(const ExportOptions& o, const Box3& box, double resolution
       {"sharp", o.sharp},
       {"mesher", o.tetra ? "tetra" : "cubes"},
       {"format", o.format},
+      {"units", o.units},
+      {"metadata", metadata},
       {"force", o.force},
       {"quiet", o.quiet},
       {"scheduler", o.scheduler.empty() ? nullptr : nlohmann::json(o.scheduler)},

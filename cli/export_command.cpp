@@ -197,7 +197,8 @@ int exportModel(const ExportOptions& opt) {
     throw ModelError(opt.input + ": " + text);
   }
   if (vdb) return heavyModule().exportLevelSet(opt, program, chosen);
-  if (opt.bricks) return exportDistributed(opt, chosen.box, chosen.resolution);
+  if (opt.bricks)
+    return exportDistributed(opt, chosen.box, chosen.resolution, request.threeMf.metadata);
 
   installInterruptHandlers();
   ExportResult r;

@@ -8,6 +8,7 @@ packages=(
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev libeigen3-dev
   libopenmesh-dev libtbb-dev nlohmann-json3-dev libnanoflann-dev libopenvdb-dev
   lib3mf-dev  # 3MF files (io/mesh_3mf.cpp)
+  libminizip-dev  # the streamed 3MF package's zip (io/three_mf_stream.cpp)
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
   libocct-data-exchange-dev  # OpenCASCADE: hspline surfaces, solids, STEP (hspline/occt/)
   admesh      # the repair comparison's reference (bench/repair_comparison.py)

@@ -12,6 +12,7 @@
 #include "check/mesh_check.h"
 #include "frep/model_json.h"
 #include "frep/program.h"
+#include "io/mesh_3mf.h"
 #include "io/mesh_io.h"
 #include "io/mesh_piece_file.h"
 #include "mesh/piece_merge.h"
@@ -173,6 +174,23 @@ TEST_F(PieceFiles, RoundTripAndExportAsOneProcess) {
   const TriangleMesh a = readMesh(file("csg.stl")), b = readMesh(file("one.stl"));
   EXPECT_TRUE(sortedTriangles(a) == sortedTriangles(b));
   EXPECT_TRUE(r.checkedInParts);
+  // a 3MF streams too (vertices as they are numbered, triangles spilled until the last
+  // vertex): the same triangles, every coordinate exact, one object named as asked
+  const std::size_t before = others();
+  ExportRequest threeMf;
+  threeMf.objectName = "csg part";
+  threeMf.threeMf.unit = LengthUnit::Centimeter;
+  const ExportResult r3 = exportPieces(plan, files, threeMf, file("csg.3mf"));
+  ASSERT_TRUE(r3.written);
+  EXPECT_TRUE(r3.checkedInParts);
+  EXPECT_EQ(reportToText(r3.report, "x"), reportToText(r.report, "x"));
+  const ThreeMfContents c = read3mf(file("csg.3mf"));
+  ASSERT_EQ(c.objects.size(), 1u);
+  EXPECT_EQ(c.objects[0].name, "csg part");
+  EXPECT_EQ(c.unit, LengthUnit::Centimeter);
+  EXPECT_EQ(c.objects[0].mesh.triangles.size(), r3.triangles);
+  EXPECT_TRUE(sortedTriangles(c.objects[0].mesh) == sortedTriangles(b));
+  EXPECT_EQ(others(), before + 1) << "a temporary or the spill was left";
   // a piece of another run is refused, and nothing is written
   const BrickJobPlan other =
       planBrickJobs(box, false, Extraction::Cubes, 8, textFingerprint("csg"));
@@ -243,6 +261,10 @@ TEST_F(PieceFiles, TheCheckPieceByPieceIsTheWholeChecksReport) {
       EXPECT_EQ(refused.report.borderEdges, 3u);
       EXPECT_FALSE(fs::exists(file("holed.stl")));
       EXPECT_EQ(others(), before) << "a temporary was left";
+      const ExportResult refused3 = exportPieces(plan, files, ExportRequest(), file("holed.3mf"));
+      EXPECT_FALSE(refused3.written);
+      EXPECT_EQ(refused3.report.borderEdges, 3u);
+      EXPECT_EQ(others(), before) << "a temporary or the spill was left";
     }
   }
 }

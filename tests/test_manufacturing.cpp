@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <random>
 
 #include "base/errors.h"
@@ -17,6 +18,7 @@
 #include "frep/tree.h"
 #include "io/mesh_3mf.h"
 #include "io/mesh_io.h"
+#include "io/three_mf_stream.h"
 #include "mesh/mesher.h"
 #include "repair/repair.h"
 
@@ -99,7 +101,7 @@ TriangleMesh gridBox(Vec3 lo, Vec3 hi, int n, bool inward = false) {
 TEST(ThreeMf, WrittenObjectsReadBackWithTheSameGeometryUnitAndMetadata) {
   const TriangleMesh a = sphereMesh(1.0, {0, 0, 0});
   TriangleMesh b = gridBox({3, 0, 0}, {4.123456789, 1.5, 2.25}, 3);
-  // Coordinates of every size, so that the six decimals lib3mf writes are exercised.
+  // Coordinates of every size, to the float's last bit.
   for (auto& p : b.positions) p[2] += 1234.56789f;
   const std::string path = tempPath("two.3mf");
   ThreeMfOptions o;
@@ -114,29 +116,115 @@ TEST(ThreeMf, WrittenObjectsReadBackWithTheSameGeometryUnitAndMetadata) {
   bool title = false;
   for (const auto& [k, v] : c.metadata) title = title || (k == "Title" && v == "two objects");
   EXPECT_TRUE(title);
-  // The file holds what the package read back in memory held, bit for bit, and that is the
-  // written mesh within lib3mf's six decimals (a float's ulp for large coordinates).
-  const ThreeMfPackage package = pack3mf({{"sphere", a}, {"block", b}}, o);
+  // The file holds the written meshes bit for bit (lib3mf's own writer rounded to six
+  // decimals, so the 1234.56789 offsets moved).
   const TriangleMesh* written[] = {&a, &b};
   for (int k = 0; k < 2; ++k) {
-    const TriangleMesh& w = *written[k];
-    const TriangleMesh& r = c.objects[k].mesh;
-    ASSERT_EQ(r.positions.size(), w.positions.size());
-    EXPECT_EQ(r.triangles, w.triangles);
-    EXPECT_EQ(r.positions, package.objects[k].mesh.positions);
-    std::size_t rounded = 0;
-    for (std::size_t i = 0; i < w.positions.size(); ++i)
-      for (int d = 0; d < 3; ++d) {
-        const float x = w.positions[i][d], y = r.positions[i][d];
-        EXPECT_LE(std::abs(x - y), std::max(2e-6f, 2 * std::abs(std::nextafter(x, 2 * x) - x)));
-        rounded += x != y;
-      }
-    EXPECT_GT(rounded, 0u);  // the rounding is real: hence the read-back
+    EXPECT_EQ(c.objects[k].mesh.triangles, written[k]->triangles);
+    EXPECT_EQ(c.objects[k].mesh.positions, written[k]->positions);
   }
   // readMesh merges the build: both objects, still printable.
   const CheckReport r = checkMesh(readMesh(path));
   EXPECT_TRUE(r.printable()) << reasons(r);
   EXPECT_EQ(r.components, 2u);
+}
+
+// The streamed package (io/three_mf_stream.h), as a brick merge writes it: vertices and
+// triangles interleaved (the triangles spilled until the vertices close), and a whole mesh;
+// with and without the zip64 headers. lib3mf reads it back bit for bit.
+TEST(ThreeMf, AStreamedPackageHoldsEveryCoordinateExactly) {
+  const TriangleMesh a = sphereMesh(1.0, {0, 0, 0});
+  TriangleMesh b = gridBox({3, 0, 0}, {4.123456789, 1.5, 2.25}, 3);
+  for (auto& p : b.positions) p[2] += 1234.56789f;
+  b.positions[0][0] = 1e-7f;  // (an exponent in the text)
+  b.positions[1][1] = -0.0f;
+  for (const bool zip64 : {false, true}) {
+    const std::string path = tempPath(zip64 ? "stream64.3mf" : "stream.3mf");
+    ThreeMfOptions o;
+    o.unit = LengthUnit::Inch;
+    // (lib3mf 1.8 reads a metadata value's text without decoding entities: the escaping is
+    // tested through the object's name)
+    o.metadata = {{"Title", "streamed, exactly"}};
+    ThreeMfStreamWriter w(path, o, zip64 ? std::uint64_t(8) << 30 : 1000);
+    w.beginObject("sphere & <\"co\">");
+    // each triangle as soon as its last corner is out, as the merge gives them
+    std::vector<std::size_t> order(a.triangles.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+      const auto& tx = a.triangles[x];
+      const auto& ty = a.triangles[y];
+      return std::max({tx[0], tx[1], tx[2]}) < std::max({ty[0], ty[1], ty[2]});
+    });
+    std::size_t next = 0;
+    for (std::uint32_t v = 0; v < a.positions.size(); ++v) {
+      w.vertex(a.positions[v]);
+      for (; next < order.size(); ++next) {
+        const auto& t = a.triangles[order[next]];
+        if (std::max({t[0], t[1], t[2]}) > v) break;
+        w.triangle(t);
+      }
+    }
+    w.endObject();
+    w.addObject("block", b);
+    EXPECT_EQ(w.triangles(), a.triangles.size() + b.triangles.size());
+    w.finish()->commit();
+    const ThreeMfContents c = read3mf(path);
+    ASSERT_EQ(c.objects.size(), 2u);
+    EXPECT_EQ(c.objects[0].name, "sphere & <\"co\">");
+    EXPECT_EQ(c.objects[1].name, "block");
+    EXPECT_EQ(c.unit, LengthUnit::Inch);
+    ASSERT_EQ(c.metadata.size(), 1u);
+    EXPECT_EQ(c.metadata[0].first, "Title");
+    EXPECT_EQ(c.metadata[0].second, "streamed, exactly");
+    std::vector<Triangle> sorted;
+    for (std::size_t i : order) sorted.push_back(a.triangles[i]);
+    EXPECT_EQ(c.objects[0].mesh.triangles, sorted);
+    EXPECT_EQ(c.objects[0].mesh.positions, a.positions);  // bit for bit
+    EXPECT_EQ(c.objects[1].mesh.triangles, b.triangles);
+    EXPECT_EQ(c.objects[1].mesh.positions, b.positions);
+    EXPECT_GT(zipUnpackedBytes(path), 1000u);
+    EXPECT_TRUE(checkMesh(c.objects[0].mesh).printable());
+  }
+}
+
+TEST(ThreeMf, AStreamedObjectThatBreaksARuleIsRefusedByNameAndNothingIsLeft) {
+  const std::string folder = tempPath("stream_refusals");
+  fs::create_directories(folder);
+  const std::string path = folder + "/refused.3mf";
+  auto refuses = [&](const std::function<void(ThreeMfStreamWriter&)>& make, const char* words) {
+    try {
+      ThreeMfStreamWriter w(path, {}, 1000);
+      make(w);
+      w.finish()->commit();
+      ADD_FAILURE() << "written: " << words;
+    } catch (const FileError& e) {
+      EXPECT_NE(std::string(e.what()).find("'bad part'"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(fs::is_empty(folder));  // neither the target, the temporary nor the spill
+  };
+  refuses([](ThreeMfStreamWriter& w) {
+    w.beginObject("bad part");
+    w.vertex({0, 0, 0});
+    w.triangle({0, 1, 2});  // (spilled: judged when the vertices close)
+    w.vertex({1, 0, 0});
+    w.vertex({0, 1, 0});
+    w.triangle({0, 2, 3});
+    w.endObject();
+  }, "refers to vertex 3 of 3");
+  refuses([](ThreeMfStreamWriter& w) {
+    w.beginObject("bad part");
+    w.vertex({0, 0, 0});
+    w.vertex({0, std::nanf(""), 0});
+  }, "non-finite");
+  refuses([](ThreeMfStreamWriter& w) {
+    TriangleMesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    m.triangles = {{0, 1, 1}};
+    w.addObject("bad part", m);
+  }, "twice");
+  refuses([](ThreeMfStreamWriter& w) { w.addObject("bad part", TriangleMesh{}); },
+          "no triangles");
 }
 
 TEST(ThreeMf, AnObjectThatBreaksTheCoreRulesIsRefusedByNameAndNothingIsWritten) {

@@ -16,6 +16,7 @@
 #include "base/atomic_file.h"
 #include "base/errors.h"
 #include "base/file_names.h"
+#include "io/three_mf_stream.h"
 
 namespace frep {
 
@@ -306,30 +307,21 @@ ThreeMfContents contentsOf(Instance model, const std::string& path) {
 
 }  // namespace
 
-ThreeMfPackage pack3mf(const std::vector<NamedMesh>& objects, const ThreeMfOptions& options,
-                       const WriteProgress& progress) {
-  const std::string path = "3MF";
-  if (objects.empty()) throw FileError("3MF: no objects to write");
-  Handle model;
-  require(lib3mf_createmodel(model.out()), nullptr, "3MF: cannot start a model");
-  require(lib3mf_model_setunit(model.get(), static_cast<DWORD>(options.unit)), model.get(), path);
-  for (const auto& [key, value] : options.metadata)
-    require(lib3mf_model_addmetadatautf8(model.get(), key.c_str(), value.c_str()), model.get(),
-            "3MF metadata '" + key + "'");
-  std::size_t done = 0, total = 0;
-  for (const NamedMesh& o : objects) total += o.mesh.triangles.size();
+void validate3mfObjects(const std::vector<NamedMesh>& objects) {
   for (const NamedMesh& o : objects) {
     const std::string what = "3MF object '" + o.name + "'";
+    if (o.mesh.triangles.empty()) throw FileError(what + " has no triangles");
     if (o.mesh.positions.size() > 0xFFFFFFF0u || o.mesh.triangles.size() > 0xFFFFFFF0u)
       throw FileError(what + " has too many vertices or triangles for 3MF");
-    if (o.mesh.triangles.empty()) throw FileError(what + " has no triangles");
-    for (const Vec3f& p : o.mesh.positions)
-      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
-        throw FileError(what + " has vertices with non-finite coordinates");
-    Handle mesh;
+    for (const Triangle& t : o.mesh.triangles)
+      for (std::uint32_t v : t)
+        if (v >= o.mesh.positions.size())
+          throw FileError(what + ": a triangle refers to vertex " + std::to_string(v) + " of " +
+                          std::to_string(o.mesh.positions.size()));
+    // lib3mf's own judgement of the rule, on a model that is never written
+    Handle model, mesh;
+    require(lib3mf_createmodel(model.out()), nullptr, "3MF: cannot start a model");
     require(lib3mf_model_addmeshobject(model.get(), mesh.out()), model.get(), what);
-    if (!o.name.empty())
-      require(lib3mf_object_setnameutf8(mesh.get(), o.name.c_str()), mesh.get(), what);
     static_assert(sizeof(MODELMESHVERTEX) == sizeof(Vec3f), "3MF vertices are three floats");
     static_assert(sizeof(MODELMESHTRIANGLE) == sizeof(Triangle), "3MF triangles are three indices");
     require(
@@ -340,67 +332,57 @@ ThreeMfPackage pack3mf(const std::vector<NamedMesh>& objects, const ThreeMfOptio
             reinterpret_cast<MODELMESHTRIANGLE*>(const_cast<Triangle*>(o.mesh.triangles.data())),
             DWORD(o.mesh.triangles.size())),
         mesh.get(), what);
-    if (options.validate) {
-      BOOL ok = 0;
-      require(lib3mf_meshobject_ismanifoldandoriented(mesh.get(), &ok), mesh.get(), what);
-      if (!ok)
-        throw FileError(what +
-                        " is not manifold and consistently oriented, which the 3MF core "
-                        "specification requires (frepcad repair can mend it)");
-    }
-    Handle item;
-    require(lib3mf_model_addbuilditem(model.get(), mesh.get(), nullptr, item.out()), model.get(),
-            what);
-    done += o.mesh.triangles.size();
-    if (progress && !progress(0.2 * double(done) / double(total))) throw Cancelled();
+    BOOL ok = 0;
+    require(lib3mf_meshobject_ismanifoldandoriented(mesh.get(), &ok), mesh.get(), what);
+    if (!ok)
+      throw FileError(what +
+                      " is not manifold and consistently oriented, which the 3MF core "
+                      "specification requires (frepcad repair can mend it)");
   }
-  Handle writer;
-  require(lib3mf_model_querywriter(model.get(), "3mf", writer.out()), model.get(), path);
-  struct Progress {
-    const WriteProgress* p;
-    double from, to;
-    bool cancelled = false;
-  } state{&progress, 0.2, 0.7};
-  auto callback = [](int percent, ProgressIdentifier, void* data) -> bool {
-    auto* s = static_cast<Progress*>(data);
-    const double f = percent < 0 ? 0.0 : 0.01 * std::clamp(percent, 0, 100);
-    if (!(*s->p)(s->from + (s->to - s->from) * f)) s->cancelled = true;
-    return !s->cancelled;
-  };
-  if (progress) lib3mf_writer_setprogresscallback(writer.get(), callback, &state);
-  ULONG64 size = 0;
-  require(lib3mf_writer_getstreamsize(writer.get(), &size), writer.get(), path);
-  ThreeMfPackage package;
-  package.bytes.resize(size);
-  const HRESULT written = lib3mf_writer_writetobuffer(writer.get(), package.bytes.data(), size);
-  if (state.cancelled) throw Cancelled();
-  require(written, writer.get(), "3MF: cannot write the package");
-
-  // Read back, so the objects are exactly what the bytes hold.
-  Handle back, reader;
-  require(lib3mf_createmodel(back.out()), nullptr, "3MF: cannot start a model");
-  require(lib3mf_model_queryreader(back.get(), "3mf", reader.out()), back.get(), path);
-  state.from = 0.7;
-  state.to = 1.0;
-  if (progress) lib3mf_reader_setprogresscallback(reader.get(), callback, &state);
-  const HRESULT read = lib3mf_reader_readfrombuffer(reader.get(), package.bytes.data(), size);
-  if (state.cancelled) throw Cancelled();
-  require(read, reader.get(), "3MF: the package just made cannot be read back");
-  package.objects = contentsOf(back.get(), path).objects;
-  return package;
 }
 
-void writePackage(const ThreeMfPackage& package, const std::string& path) {
-  AtomicFile file(path);
-  file.write(package.bytes.data(), package.bytes.size());
-  file.commit();
+std::unique_ptr<AtomicFile> write3mfUncommitted(const std::vector<NamedMesh>& objects,
+                                                const std::string& path,
+                                                const ThreeMfOptions& options,
+                                                const WriteProgress& progress) {
+  if (objects.empty()) throw FileError("3MF: no objects to write");
+  if (options.validate) validate3mfObjects(objects);
+  std::uint64_t vertices = 0, triangles = 0;
+  for (const NamedMesh& o : objects) {
+    vertices += o.mesh.positions.size();
+    triangles += o.mesh.triangles.size();
+  }
+  ThreeMfStreamWriter writer(path, options, expectedXmlBytes(vertices, triangles));
+  const double total = static_cast<double>(vertices + triangles) + 1.0;
+  std::uint64_t done = 0;
+  auto tick = [&](std::uint64_t n) {
+    done += n;
+    if (progress && !progress(0.95 * double(done) / total)) throw Cancelled();
+  };
+  constexpr std::size_t kChunk = 1 << 16;  // items between two progress calls
+  for (const NamedMesh& o : objects) {
+    writer.beginObject(o.name);
+    for (std::size_t i = 0; i < o.mesh.positions.size(); ++i) {
+      writer.vertex(o.mesh.positions[i]);
+      if ((i + 1) % kChunk == 0) tick(kChunk);
+    }
+    tick(o.mesh.positions.size() % kChunk);
+    writer.closeVertices();
+    for (std::size_t i = 0; i < o.mesh.triangles.size(); ++i) {
+      writer.triangle(o.mesh.triangles[i]);
+      if ((i + 1) % kChunk == 0) tick(kChunk);
+    }
+    tick(o.mesh.triangles.size() % kChunk);
+    writer.endObject();
+  }
+  return writer.finish();
 }
 
 void write3mf(const std::vector<NamedMesh>& objects, const std::string& path,
               const ThreeMfOptions& options, const WriteProgress& progress) {
-  const ThreeMfPackage package = pack3mf(objects, options, progress);
-  writePackage(package, path);
+  const std::unique_ptr<AtomicFile> file = write3mfUncommitted(objects, path, options, progress);
   if (progress && !progress(1.0)) throw Cancelled();
+  file->commit();
 }
 
 ThreeMfContents read3mf(const std::string& file) {

@@ -3,10 +3,12 @@
 // only in mesh_3mf.cpp (its headers define Windows types that must not leak).
 #pragma once
 
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "base/atomic_file.h"
 #include "base/triangle_mesh.h"
 #include "io/mesh_io.h"
 
@@ -30,28 +32,26 @@ struct ThreeMfOptions {
   // Description, Copyright, LicenseTerms, Rating, CreationDate, ModificationDate, Application).
   std::vector<std::pair<std::string, std::string>> metadata;
   // Refuse an object that is not manifold and consistently oriented, as the core
-  // specification requires, judged by lib3mf itself before anything is written. Off only for
-  // a write the user forced after the check refused the mesh.
+  // specification requires, judged by lib3mf itself before anything is written. Off where the
+  // check judges (the export) and for a write the user forced after it refused the mesh.
   bool validate = true;
 };
 
-// lib3mf 1.8 writes coordinates with at most six decimals through its own float-to-text
-// conversion (truncating, and off by an ulp for large values), so a 3MF does not hold a
-// mesh's float coordinates exactly. A package is therefore made in memory first and read
-// back: `objects` are the meshes exactly as the file holds them, and that is what a caller
-// checks before it writes the bytes.
-struct ThreeMfPackage {
-  std::vector<unsigned char> bytes;
-  std::vector<NamedMesh> objects;
-};
-
-// Builds the package (an object and a build item per mesh). Throws FileError naming an object
-// that breaks a rule of the specification (with options.validate), Cancelled.
-ThreeMfPackage pack3mf(const std::vector<NamedMesh>& objects, const ThreeMfOptions& options = {},
-                       const WriteProgress& progress = {});
-// Writes a package's bytes to `path` atomically.
-void writePackage(const ThreeMfPackage& package, const std::string& path);
-// pack3mf, then writePackage.
+// The 3MF writer is io/three_mf_stream.h's (lib3mf 1.8 rounds coordinates to six decimals and
+// holds the whole model in memory; that writer does neither): a package holds every float
+// exactly, so a check of the mesh is a check of the file.
+//
+// Refuses (FileError naming the object) an object without triangles, with too many, with an
+// index out of range or, as lib3mf judges it, not manifold and consistently oriented.
+void validate3mfObjects(const std::vector<NamedMesh>& objects);
+// An object and a build item per mesh, left under the AtomicFile's temporary name (the export
+// writes while its check runs). Validates first (with options.validate). Throws FileError,
+// Cancelled.
+std::unique_ptr<AtomicFile> write3mfUncommitted(const std::vector<NamedMesh>& objects,
+                                                const std::string& path,
+                                                const ThreeMfOptions& options = {},
+                                                const WriteProgress& progress = {});
+// The same, committed.
 void write3mf(const std::vector<NamedMesh>& objects, const std::string& path,
               const ThreeMfOptions& options = {}, const WriteProgress& progress = {});
 

@@ -30,7 +30,7 @@ void writeMesh(const TriangleMesh& mesh, const std::string& path, MeshFormat for
                const WriteProgress& progress = {});
 // The same, left under its temporary name: commit() renames it into place, destroying it
 // removes it. The export writes while its check runs and renames only what the check
-// accepts. Not for 3MF (std::logic_error: write3mf packs and writes those).
+// accepts. A 3MF gets one object named after the file (io/mesh_3mf.h writes several).
 std::unique_ptr<AtomicFile> writeMeshUncommitted(const TriangleMesh& mesh, const std::string& path,
                                                  MeshFormat format,
                                                  const WriteProgress& progress = {});

@@ -201,8 +201,13 @@ void writeFreecadBms(const TriangleMesh& m, AtomicFile& f, Ticker& tick) {
 
 std::unique_ptr<AtomicFile> writeMeshUncommitted(const TriangleMesh& mesh, const std::string& path,
                                                  MeshFormat format, const WriteProgress& progress) {
-  if (format == MeshFormat::ThreeMf)
-    throw std::logic_error("writeMeshUncommitted: a 3MF package is written by write3mf");
+  if (format == MeshFormat::ThreeMf) {
+    // One object named after the file, written as it is (the caller's check judges it).
+    ThreeMfOptions options;
+    options.validate = false;
+    return write3mfUncommitted({{std::filesystem::path(path).stem().string(), mesh}}, path,
+                               options, progress);
+  }
   auto file = std::make_unique<AtomicFile>(path);
   Ticker tick(progress, mesh.triangles.size());
   switch (format) {
@@ -218,13 +223,6 @@ std::unique_ptr<AtomicFile> writeMeshUncommitted(const TriangleMesh& mesh, const
 
 void writeMesh(const TriangleMesh& mesh, const std::string& path, MeshFormat format,
                const WriteProgress& progress) {
-  if (format == MeshFormat::ThreeMf) {
-    // One object named after the file; lib3mf validates it (manifold, oriented) unless the
-    // caller already knows the check refused it and writes it anyway.
-    ThreeMfOptions options;
-    options.validate = false;
-    return write3mf({{std::filesystem::path(path).stem().string(), mesh}}, path, options, progress);
-  }
   const std::unique_ptr<AtomicFile> file = writeMeshUncommitted(mesh, path, format, progress);
   if (progress && !progress(1.0)) throw Cancelled();
   file->commit();

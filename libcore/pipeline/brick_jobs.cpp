@@ -16,6 +16,7 @@
 #include "io/mesh_io.h"
 #include "io/mesh_piece_file.h"
 #include "io/stl_stream.h"
+#include "io/three_mf_stream.h"
 #include "mesh/piece_merge.h"
 
 namespace frep {
@@ -244,21 +245,46 @@ ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::strin
     return std::move(sink.mesh);
   };
 
-  if (format == MeshFormat::StlBinary && request.check) {
-    // Binary STL, checked: the mesh never sits in memory whole. The merge streams the file
+  if (format == MeshFormat::StlBinary || format == MeshFormat::ThreeMf) {
+    // Binary STL and 3MF: the mesh never sits in memory whole. The merge streams the file
     // (uncommitted); then the check reads the pieces one at a time (check/partitioned_check.h),
     // each with the crease flips the merge made across its faces, and judges the zone where
     // they meet once. Where the parts cannot decide, the whole mesh is checked after all.
+    // (The 3MF writer keeps every float exact, so the mesh checked is the file's.)
     auto t = Clock::now();
-    StlStreamWriter stl(path);
+    std::unique_ptr<StlStreamWriter> stl;
+    std::unique_ptr<ThreeMfStreamWriter> threeMf;
+    if (format == MeshFormat::StlBinary) {
+      stl = std::make_unique<StlStreamWriter>(path);
+    } else {
+      // a piece file holds at least a fifth of the XML its triangles and vertices make
+      std::uint64_t pieceBytes = 0;
+      for (const std::string& f : pieceFiles) {
+        std::error_code ec;
+        const auto size = std::filesystem::file_size(f, ec);
+        if (!ec) pieceBytes += size;
+      }
+      threeMf = std::make_unique<ThreeMfStreamWriter>(path, request.threeMf, 5 * pieceBytes);
+      threeMf->beginObject(request.objectName.empty()
+                               ? std::filesystem::path(path).stem().string()
+                               : request.objectName);
+    }
     struct Sink : PieceMerger::Sink {
-      StlStreamWriter* out;
-      void vertex(const Vec3f&) override {}
-      void triangle(const Triangle&, const Vec3f& a, const Vec3f& b, const Vec3f& c) override {
-        out->add(a, b, c);
+      StlStreamWriter* stl;
+      ThreeMfStreamWriter* threeMf;
+      void vertex(const Vec3f& p) override {
+        if (threeMf) threeMf->vertex(p);
+      }
+      void triangle(const Triangle& ids, const Vec3f& a, const Vec3f& b,
+                    const Vec3f& c) override {
+        if (stl)
+          stl->add(a, b, c);
+        else
+          threeMf->triangle(ids);
       }
     } sink;
-    sink.out = &stl;
+    sink.stl = stl.get();
+    sink.threeMf = threeMf.get();
     PieceMerger merger(sink);
     std::vector<std::size_t> fileOf(plan.jobs, 0);
     std::int64_t gridCells[3] = {0, 0, 0};
@@ -270,43 +296,52 @@ ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::strin
       report(ExportStage::Mesh, static_cast<double>(i + 1) / count);
     }
     merger.finish();
-    std::unique_ptr<AtomicFile> pending = stl.finish();
-    result.triangles = stl.triangles();
+    std::unique_ptr<AtomicFile> pending;
+    if (stl) {
+      pending = stl->finish();
+      result.triangles = stl->triangles();
+    } else {
+      threeMf->endObject();  // (the triangles spilled while vertices came follow them)
+      pending = threeMf->finish();
+      result.triangles = threeMf->triangles();
+    }
     result.seconds[1] = since(t);
 
-    t = Clock::now();
-    report(ExportStage::Check, 0.0);
-    // each piece as its job judged it (without the triangles it left to the merge), and
-    // those, as the merged mesh has them, with the zone
-    auto part = [&](std::size_t job) {
-      return pieceCheckedPart(readRunPiece(plan, pieceFiles[fileOf[job]]));
-    };
-    PartitionedCheck check(jobBoxes(plan, gridCells));
-    bool inParts = true;
-    for (std::uint32_t job = 0; job < plan.jobs && inParts; ++job) {
-      inParts = summaryFiles.empty()
-                    ? check.addPart(job, part(job))
-                    : check.addSummary(job, readJudged(plan, job, summaryFiles[fileOf[job]]));
-      report(ExportStage::Check, 0.9 * (job + 1) / count);
-    }
-    {
-      TriangleMesh settled;
-      for (const auto& [key, corners] : merger.settled()) {
-        const auto base = static_cast<std::uint32_t>(settled.positions.size());
-        settled.positions.insert(settled.positions.end(), corners.begin(), corners.end());
-        settled.triangles.push_back({base, base + 1, base + 2});
+    if (request.check) {
+      t = Clock::now();
+      report(ExportStage::Check, 0.0);
+      // each piece as its job judged it (without the triangles it left to the merge), and
+      // those, as the merged mesh has them, with the zone
+      auto part = [&](std::size_t job) {
+        return pieceCheckedPart(readRunPiece(plan, pieceFiles[fileOf[job]]));
+      };
+      PartitionedCheck check(jobBoxes(plan, gridCells));
+      bool inParts = true;
+      for (std::uint32_t job = 0; job < plan.jobs && inParts; ++job) {
+        inParts = summaryFiles.empty()
+                      ? check.addPart(job, part(job))
+                      : check.addSummary(job, readJudged(plan, job, summaryFiles[fileOf[job]]));
+        report(ExportStage::Check, 0.9 * (job + 1) / count);
       }
-      check.addZoneFaces(settled);
+      {
+        TriangleMesh settled;
+        for (const auto& [key, corners] : merger.settled()) {
+          const auto base = static_cast<std::uint32_t>(settled.positions.size());
+          settled.positions.insert(settled.positions.end(), corners.begin(), corners.end());
+          settled.triangles.push_back({base, base + 1, base + 2});
+        }
+        check.addZoneFaces(settled);
+      }
+      std::optional<CheckReport> checked;
+      if (inParts) checked = check.finish(merger.vertices(), part);
+      result.checkedInParts = checked.has_value();
+      if (!checked) checked = checkMesh(mergeInMemory(false));
+      result.report = std::move(*checked);
+      result.checked = true;
+      result.seconds[2] = since(t);
+      report(ExportStage::Check, 1.0);
+      if (!result.report.printable() && !request.force) return result;
     }
-    std::optional<CheckReport> checked;
-    if (inParts) checked = check.finish(merger.vertices(), part);
-    result.checkedInParts = checked.has_value();
-    if (!checked) checked = checkMesh(mergeInMemory(false));
-    result.report = std::move(*checked);
-    result.checked = true;
-    result.seconds[2] = since(t);
-    report(ExportStage::Check, 1.0);
-    if (!result.report.printable() && !request.force) return result;
     t = Clock::now();
     report(ExportStage::Write, 0.0);
     pending->commit();
@@ -321,16 +356,6 @@ ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::strin
   result.triangles = mesh.triangleCount();
   result.seconds[1] = since(t);
 
-  std::optional<ThreeMfPackage> package;
-  if (format == MeshFormat::ThreeMf) {
-    ThreeMfOptions threeMf = request.threeMf;
-    threeMf.validate = false;  // the check below is the judge
-    package = pack3mf({{request.objectName.empty() ? std::filesystem::path(path).stem().string()
-                                                   : request.objectName,
-                        mesh}},
-                      threeMf);
-    mesh = package->objects[0].mesh;
-  }
   if (request.check) {
     t = Clock::now();
     report(ExportStage::Check, 0.0);
@@ -341,12 +366,9 @@ ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::strin
   }
   t = Clock::now();
   report(ExportStage::Write, 0.0);
-  if (package)
-    writePackage(*package, path);
-  else
-    writeMesh(mesh, path, format, [&](double f) {
-      return !request.progress || request.progress(ExportStage::Write, f);
-    });
+  writeMesh(mesh, path, format, [&](double f) {
+    return !request.progress || request.progress(ExportStage::Write, f);
+  });
   result.written = true;
   result.seconds[3] = since(t);
   report(ExportStage::Write, 1.0);

@@ -169,25 +169,9 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
   result.seconds[1] = since(t);
   if (!request.check) unsimplified = TriangleMesh();
 
-  // A 3MF holds its coordinates rounded (io/mesh_3mf.h): the package is made now, and the
-  // check judges the mesh it holds.
-  std::optional<ThreeMfPackage> package;
-  auto pack = [&]() {
-    if (format != MeshFormat::ThreeMf) return;
-    ThreeMfOptions threeMf = request.threeMf;
-    threeMf.validate = false;  // the check below is the judge (stricter than lib3mf's rule)
-    package = pack3mf({{request.objectName.empty() ? fs::path(path).stem().string()
-                                                    : request.objectName,
-                        mesh}},
-                      threeMf);
-    mesh = package->objects[0].mesh;
-  };
-  pack();
-
   // The file is written while the check runs, under its temporary name, on a thread of its
   // own (writing is mostly handing pages to the file system): the check's verdict decides
-  // whether it is renamed into place, and a refusal or a cancel removes it. (A 3MF package,
-  // made above, is written after.)
+  // whether it is renamed into place, and a refusal or a cancel removes it.
   using Pending = std::unique_ptr<AtomicFile>;
   Pending pending;
   std::future<Pending> writing;
@@ -201,10 +185,19 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
       }
     }
   } join{writing};
-  if (request.check && !package)
-    writing = std::async(std::launch::async, [&mesh, &path, format] {
-      return writeMeshUncommitted(mesh, path, format);
-    });
+  // A 3MF is one object, named as asked, and holds every coordinate exactly
+  // (io/three_mf_stream.h): the check of the mesh is the check of the file.
+  const std::string objectName =
+      request.objectName.empty() ? fs::path(path).stem().string() : request.objectName;
+  auto writeUncommitted = [&mesh, &path, &request, format, objectName](
+                              const WriteProgress& progress) -> Pending {
+    if (format != MeshFormat::ThreeMf) return writeMeshUncommitted(mesh, path, format, progress);
+    ThreeMfOptions threeMf = request.threeMf;
+    threeMf.validate = false;  // the check is the judge (stricter than lib3mf's rule)
+    return write3mfUncommitted({{objectName, mesh}}, path, threeMf, progress);
+  };
+  if (request.check)
+    writing = std::async(std::launch::async, [&writeUncommitted] { return writeUncommitted({}); });
 
   if (request.check) {
     t = Clock::now();
@@ -222,8 +215,6 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
       if (original.printable()) {
         pending.reset();  // (the file holds the refused mesh)
         mesh = std::move(unsimplified);
-        pack();
-        if (package) original = checkMesh(mesh);
         result.triangles = mesh.triangleCount();
         result.report = std::move(original);
         result.simplified = false;
@@ -244,14 +235,11 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
 
   t = Clock::now();
   report(ExportStage::Write, 0.0);
-  if (package)
-    writePackage(*package, path);
-  else if (pending)
-    pending->commit();
-  else
-    writeMesh(mesh, path, format, [&](double f) {
+  if (!pending)  // (no check, or the mesh changed after a refused simplification)
+    pending = writeUncommitted([&](double f) {
       return !request.progress || request.progress(ExportStage::Write, f);
     });
+  pending->commit();
   result.written = true;
   result.seconds[3] = since(t);
   report(ExportStage::Write, 1.0);
@@ -266,20 +254,19 @@ ThreeMfExportResult export3mf(const std::vector<NamedMesh>& objects, const Three
   };
   ThreeMfOptions o = options;
   o.validate = false;  // the check below judges, with every reason, not only the first
-  const ThreeMfPackage package =
-      pack3mf(objects, o, [&](double f) { return !progress || progress(0.3 * f); });
   ThreeMfExportResult result;
   std::size_t total = 0, done = 0;
-  for (const NamedMesh& m : package.objects) total += m.mesh.triangles.size();
-  for (const NamedMesh& m : package.objects) {
-    const double from = 0.3 + 0.6 * double(done) / double(std::max<std::size_t>(total, 1));
-    const double share = 0.6 * double(m.mesh.triangles.size()) / double(std::max<std::size_t>(total, 1));
+  for (const NamedMesh& m : objects) total += m.mesh.triangles.size();
+  for (const NamedMesh& m : objects) {
+    const double from = 0.7 * double(done) / double(std::max<std::size_t>(total, 1));
+    const double share = 0.7 * double(m.mesh.triangles.size()) / double(std::max<std::size_t>(total, 1));
     result.reports.push_back(checkMesh(m.mesh, [&](double f) { tick(from + share * f); }));
     done += m.mesh.triangles.size();
   }
   if (!result.printable() && !force) return result;
-  tick(0.95);
-  writePackage(package, path);
+  // the package holds the objects exactly (io/three_mf_stream.h): what was checked is written
+  write3mfUncommitted(objects, path, o, [&](double f) { return !progress || progress(0.7 + 0.3 * f); })
+      ->commit();
   result.written = true;
   tick(1.0);
   return result;

@@ -569,10 +569,14 @@ PYBIND11_MODULE(_frepcore, m) {
           "merge_bricks",
           [](PyNode& n, py::object bbox, double resolution, bool sharp, const std::string& mesher,
              std::uint32_t jobs, const std::vector<std::string>& pieces, const std::string& path,
-             const std::string& format, bool check, bool force, py::object progress) {
+             const std::string& format, bool check, bool force, py::object progress,
+             const std::string& unit,
+             const std::vector<std::pair<std::string, std::string>>& metadata) {
             const BrickJobPlan plan = brickPlanOf(n, bbox, resolution, sharp, mesher, jobs);
             ExportRequest r;
             if (!format.empty()) r.format = parseFormat(format);
+            if (!unit.empty()) r.threeMf.unit = parseLengthUnit(unit);
+            r.threeMf.metadata = metadata;
             r.check = check;
             r.force = force;
             // merging to 30 %, checking to 95 %, writing the rest
@@ -596,8 +600,10 @@ PYBIND11_MODULE(_frepcore, m) {
           py::arg("bbox"), py::arg("resolution"), py::arg("sharp"), py::arg("mesher"),
           py::arg("jobs"), py::arg("pieces"), py::arg("path"), py::arg("format") = "",
           py::arg("check") = true, py::arg("force") = false, py::arg("progress") = py::none(),
+          py::arg("unit") = "", py::arg("metadata") = std::vector<std::pair<std::string, std::string>>(),
           "Welds the run's piece files (one per job, in job order), checks the mesh and "
-          "writes `path` atomically: the export's report dict plus 'written'.")
+          "writes `path` atomically (a binary STL or a 3MF streamed, never whole in memory; "
+          "unit and metadata for a 3MF): the export's report dict plus 'written'.")
       .def(
           "mesh",
           [](PyNode& n, py::object bbox, double resolution, py::object progress, bool normals,

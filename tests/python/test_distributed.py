@@ -119,6 +119,15 @@ def test_frepcad_export_bricks(tmp_path):
     assert "verdict: printable" in run.stdout
     subprocess.run([FREPCAD, "export", csg, "-o", one, "--cells", "64", "--quiet"], check=True)
     assert sorted_triangles(out) == sorted_triangles(one)
+    # a 3MF is streamed as the merge goes too, and holds the same floats
+    package = str(tmp_path / "csg.3mf")
+    run = subprocess.run([FREPCAD, "export", csg, "-o", package, "--bricks", "8", "--cells", "64",
+                          "--units", "cm", "--quiet"], capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    back = fc.read_3mf(package)
+    assert back["unit"] == "cm" and back["metadata"]["Application"] == "FRepCAD frepcad export"
+    assert [name for name, _ in back["objects"]] == ["csg"]
+    assert sorted_triangles(package) == sorted_triangles(one)
 
     def refused(*args):
         r = subprocess.run([FREPCAD, "export", csg, "-o", str(tmp_path / "x.stl")] + list(args),
@@ -136,4 +145,4 @@ def test_frepcad_export_bricks(tmp_path):
                         "--scheduler", "tcp://127.0.0.1:9"], capture_output=True, text=True,
                        timeout=300, env=dict(os.environ, DASK_DISTRIBUTED__COMM__TIMEOUTS__CONNECT="2s"))
     assert r.returncode == 2 and "tcp://127.0.0.1:9" in r.stderr, r.stderr
-    assert sorted(os.listdir(tmp_path)) == ["csg.stl", "one.stl"]
+    assert sorted(os.listdir(tmp_path)) == ["csg.3mf", "csg.stl", "one.stl"]

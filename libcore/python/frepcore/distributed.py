@@ -81,7 +81,7 @@ def local_cluster(workers=None):
 def export_distributed(shape, path, bricks, scheduler=None, client=None, resolution=None,
                        bbox=None, cells=None, sharp=True, mesher="cubes", format="",
                        check=True, force=False, work_dir=None, progress=None, workers=None,
-                       base_dir=None, threads_per_job=None):
+                       base_dir=None, threads_per_job=None, unit="", metadata=None):
     """Meshes `shape` as `bricks` jobs on Dask, welds, checks and writes `path` atomically.
 
     scheduler: a Dask scheduler's address; client: a distributed.Client to use as is;
@@ -93,6 +93,9 @@ def export_distributed(shape, path, bricks, scheduler=None, client=None, resolut
     base_dir: where relative file names in the model (mesh_sdf, vdb_grid) are found.
     threads_per_job: the threads a job meshes on (0: every core of its worker's machine);
     default: the machine's cores shared out among a LocalCluster's workers, else 0.
+    unit, metadata: a 3MF's length unit ("micron", "mm", "cm", "inch", "ft", "m") and
+    (name, value) pairs. A binary STL or a 3MF is written as the merge goes; other formats
+    are merged in memory.
 
     Returns the export's report dict (as Shape.export) plus 'jobs' (each job's figures) and
     'split'. Raises NotPrintable (nothing written) when the check refuses and force is not
@@ -137,7 +140,8 @@ def export_distributed(shape, path, bricks, scheduler=None, client=None, resolut
                 return progress("merge", f, 1.0) is not False
         report = node.merge_bricks(box, cell, sharp, mesher, bricks, pieces, path,
                                    format=format, check=check, force=force,
-                                   progress=merge_progress)
+                                   progress=merge_progress, unit=unit,
+                                   metadata=[tuple(m) for m in (metadata or [])])
         report["jobs"] = jobs
         report["split"] = plan["split"]
     finally:
@@ -213,7 +217,8 @@ def main():
             resolution=args["resolution"], bbox=args["bbox"], sharp=args.get("sharp", True),
             mesher=args.get("mesher", "cubes"), format=args.get("format", ""),
             force=args.get("force", False), work_dir=args.get("work_dir"), progress=show,
-            workers=args.get("workers"),
+            workers=args.get("workers"), unit=args.get("units", ""),
+            metadata=args.get("metadata"),
             base_dir=os.path.dirname(os.path.abspath(args["model"])))
     except frepcore.NotPrintable as e:
         if show:

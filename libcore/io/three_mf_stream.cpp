@@ -1,0 +1,266 @@
+// The only translation unit that includes minizip (zip.h brings zlib's macros along).
+#include "io/three_mf_stream.h"
+
+#include <minizip/zip.h>
+
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <ctime>
+#include <stdexcept>
+#include <vector>
+
+#include "base/errors.h"
+
+namespace frep {
+
+namespace {
+
+constexpr const char* kModelPart = "3D/3dmodel.model";
+constexpr const char* kContentTypes =
+    "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+    "<Types xmlns=\"http://schemas.openxmlformats.org/package/2006/content-types\">"
+    "<Default Extension=\"rels\" "
+    "ContentType=\"application/vnd.openxmlformats-package.relationships+xml\"/>"
+    "<Default Extension=\"model\" "
+    "ContentType=\"application/vnd.ms-package.3dmanufacturing-3dmodel+xml\"/></Types>\n";
+constexpr const char* kRelationships =
+    "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+    "<Relationships xmlns=\"http://schemas.openxmlformats.org/package/2006/relationships\">"
+    "<Relationship Target=\"/3D/3dmodel.model\" Id=\"rel0\" "
+    "Type=\"http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel\"/></Relationships>\n";
+// The model's XML is flushed to the zip in pieces of this size.
+constexpr std::size_t kFlushBytes = 1 << 20;
+// Deflate's fastest level: the model's XML is very regular, so it still shrinks about 3x,
+// and the merge's other work is not left waiting on the compressor.
+constexpr int kDeflateLevel = 1;
+// Past this estimate the package takes the zip64 headers (minizip needs to know before the
+// entry starts; the true limit is 4 GiB, the margin covers a low estimate).
+constexpr std::uint64_t kZip64Above = std::uint64_t(2) << 30;
+
+std::string escapeXml(const std::string& s) {
+  std::string out;
+  out.reserve(s.size());
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+// The shortest decimal that reads back as `v` (std::to_chars' round-trip guarantee).
+char* putFloat(char* at, float v) {
+  if (v == 0.0f) v = 0.0f;  // no "-0"
+  return std::to_chars(at, at + 32, v).ptr;
+}
+
+char* putLiteral(char* at, const char* s) {
+  const std::size_t n = std::strlen(s);
+  std::memcpy(at, s, n);
+  return at + n;
+}
+
+}  // namespace
+
+const char* lengthUnitXmlName(LengthUnit unit) {
+  static const char* names[] = {"micron", "millimeter", "centimeter", "inch", "foot", "meter"};
+  return names[static_cast<int>(unit)];
+}
+
+std::uint64_t expectedXmlBytes(std::uint64_t vertices, std::uint64_t triangles) {
+  // a vertex line at most 3 x 15 characters of number and 25 of markup; a triangle's at
+  // most 3 x 10 digits and 30 of markup
+  return 4096 + vertices * 70 + triangles * 60;
+}
+
+ThreeMfStreamWriter::ThreeMfStreamWriter(const std::string& path, const ThreeMfOptions& options,
+                                         std::uint64_t expectedBytes)
+    : file_(std::make_unique<AtomicFile>(path)), zip64_(expectedBytes > kZip64Above) {
+  // minizip writes files by name: it writes the AtomicFile's temporary, which commit()
+  // renames into place as for any other file.
+  zip_ = zipOpen64(file_->temporaryPath().c_str(), APPEND_STATUS_CREATE);
+  if (!zip_) throw FileError(path + ": cannot start the 3MF package: " + std::strerror(errno));
+  spillPath_ = file_->temporaryPath() + ".triangles";
+  zip_fileinfo info{};
+  const std::time_t now = std::time(nullptr);
+  std::tm local{};
+  localtime_r(&now, &local);
+  info.tmz_date = {static_cast<uInt>(local.tm_sec),  static_cast<uInt>(local.tm_min),
+                   static_cast<uInt>(local.tm_hour), static_cast<uInt>(local.tm_mday),
+                   static_cast<uInt>(local.tm_mon),  static_cast<uInt>(local.tm_year + 1900)};
+  auto smallPart = [&](const char* name, const char* content) {
+    if (zipOpenNewFileInZip64(zip_, name, &info, nullptr, 0, nullptr, 0, nullptr, Z_DEFLATED,
+                              kDeflateLevel, 0) != ZIP_OK ||
+        zipWriteInFileInZip(zip_, content, static_cast<unsigned>(std::strlen(content))) !=
+            ZIP_OK ||
+        zipCloseFileInZip(zip_) != ZIP_OK)
+      throw FileError(path + ": cannot write the 3MF package's part " + name);
+  };
+  smallPart("[Content_Types].xml", kContentTypes);
+  smallPart("_rels/.rels", kRelationships);
+  if (zipOpenNewFileInZip64(zip_, kModelPart, &info, nullptr, 0, nullptr, 0, nullptr, Z_DEFLATED,
+                            kDeflateLevel, zip64_ ? 1 : 0) != ZIP_OK)
+    throw FileError(path + ": cannot write the 3MF package's model");
+  std::string head =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<model unit=\"" +
+      std::string(lengthUnitXmlName(options.unit)) +
+      "\" xml:lang=\"en-US\" "
+      "xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\">\n";
+  for (const auto& [key, value] : options.metadata)
+    head += " <metadata name=\"" + escapeXml(key) + "\">" + escapeXml(value) + "</metadata>\n";
+  head += " <resources>\n";
+  text(head);
+}
+
+ThreeMfStreamWriter::~ThreeMfStreamWriter() {
+  if (spill_) std::fclose(spill_);
+  if (!spillPath_.empty()) std::remove(spillPath_.c_str());
+  if (zip_) zipClose(zip_, nullptr);  // (the temporary is removed with file_)
+}
+
+void ThreeMfStreamWriter::text(const char* data, std::size_t size) {
+  buffer_.append(data, size);
+  if (buffer_.size() >= kFlushBytes) flush();
+}
+
+void ThreeMfStreamWriter::flush() {
+  if (buffer_.empty()) return;
+  if (zipWriteInFileInZip(zip_, buffer_.data(), static_cast<unsigned>(buffer_.size())) != ZIP_OK)
+    throw FileError("3MF object '" + objectName_ + "': write failed: " + std::strerror(errno));
+  written_ += buffer_.size();
+  buffer_.clear();
+  if (!zip64_ && written_ >= 0xFFFFFFF0ull)
+    throw FileError("3MF: the model grew past 4 GiB without the zip64 headers its size "
+                    "estimate should have asked for");
+}
+
+void ThreeMfStreamWriter::beginObject(const std::string& name) {
+  if (inObject_) throw std::logic_error("ThreeMfStreamWriter: an object is still open");
+  inObject_ = true;
+  verticesClosed_ = false;
+  objectName_ = name;
+  vertices_ = spilled_ = objectTriangles_ = 0;
+  ++objects_;
+  text("  <object id=\"" + std::to_string(objects_) + "\" type=\"model\"" +
+       (name.empty() ? std::string() : " name=\"" + escapeXml(name) + "\"") +
+       ">\n   <mesh>\n    <vertices>\n");
+}
+
+void ThreeMfStreamWriter::vertex(const Vec3f& p) {
+  if (!inObject_ || verticesClosed_) throw std::logic_error("ThreeMfStreamWriter: no object takes vertices");
+  if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+    throw FileError("3MF object '" + objectName_ + "' has vertices with non-finite coordinates");
+  if (vertices_ >= 0xFFFFFFF0ull)
+    throw FileError("3MF object '" + objectName_ + "' has too many vertices for 3MF");
+  char line[160];
+  char* at = putLiteral(line, "     <vertex x=\"");
+  at = putFloat(at, p[0]);
+  at = putLiteral(at, "\" y=\"");
+  at = putFloat(at, p[1]);
+  at = putLiteral(at, "\" z=\"");
+  at = putFloat(at, p[2]);
+  at = putLiteral(at, "\"/>\n");
+  text(line, static_cast<std::size_t>(at - line));
+  ++vertices_;
+}
+
+void ThreeMfStreamWriter::writeTriangle(const Triangle& t) {
+  for (std::uint32_t v : t)
+    if (v >= vertices_)
+      throw FileError("3MF object '" + objectName_ + "': a triangle refers to vertex " +
+                      std::to_string(v) + " of " + std::to_string(vertices_));
+  if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])
+    throw FileError("3MF object '" + objectName_ + "': a triangle names vertex " +
+                    std::to_string(t[0] == t[1] ? t[0] : t[2]) +
+                    " twice, which the 3MF core specification forbids");
+  char line[128];
+  char* at = putLiteral(line, "     <triangle v1=\"");
+  at = std::to_chars(at, at + 10, t[0]).ptr;
+  at = putLiteral(at, "\" v2=\"");
+  at = std::to_chars(at, at + 10, t[1]).ptr;
+  at = putLiteral(at, "\" v3=\"");
+  at = std::to_chars(at, at + 10, t[2]).ptr;
+  at = putLiteral(at, "\"/>\n");
+  text(line, static_cast<std::size_t>(at - line));
+}
+
+void ThreeMfStreamWriter::triangle(const Triangle& t) {
+  if (!inObject_) throw std::logic_error("ThreeMfStreamWriter: no object is open");
+  if (++objectTriangles_ > 0xFFFFFFF0ull)
+    throw FileError("3MF object '" + objectName_ + "' has too many triangles for 3MF");
+  ++trianglesTotal_;
+  if (verticesClosed_) return writeTriangle(t);
+  if (!spill_) {
+    spill_ = std::fopen(spillPath_.c_str(), "w+b");
+    if (!spill_)
+      throw FileError(spillPath_ + ": cannot hold the triangles for the 3MF: " +
+                      std::strerror(errno));
+  }
+  if (std::fwrite(t.data(), sizeof(Triangle), 1, spill_) != 1)
+    throw FileError(spillPath_ + ": write failed: " + std::strerror(errno));
+  ++spilled_;
+}
+
+void ThreeMfStreamWriter::closeVertices() {
+  if (verticesClosed_) return;
+  verticesClosed_ = true;
+  text("    </vertices>\n    <triangles>\n");
+  if (!spill_) return;
+  // the triangles that came before the last vertex, in their order
+  if (std::fflush(spill_) != 0 || std::fseek(spill_, 0, SEEK_SET) != 0)
+    throw FileError(spillPath_ + ": read failed: " + std::strerror(errno));
+  std::vector<Triangle> chunk(1 << 16);
+  for (std::uint64_t left = spilled_; left > 0;) {
+    const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(left, chunk.size()));
+    if (std::fread(chunk.data(), sizeof(Triangle), n, spill_) != n)
+      throw FileError(spillPath_ + ": read failed: " + std::strerror(errno));
+    for (std::size_t i = 0; i < n; ++i) writeTriangle(chunk[i]);
+    left -= n;
+  }
+  std::fclose(spill_);
+  spill_ = nullptr;
+  std::remove(spillPath_.c_str());
+  spilled_ = 0;
+}
+
+void ThreeMfStreamWriter::endObject() {
+  if (!inObject_) throw std::logic_error("ThreeMfStreamWriter: no object is open");
+  closeVertices();
+  if (objectTriangles_ == 0)
+    throw FileError("3MF object '" + objectName_ + "' has no triangles");
+  text("    </triangles>\n   </mesh>\n  </object>\n");
+  inObject_ = false;
+}
+
+void ThreeMfStreamWriter::addObject(const std::string& name, const TriangleMesh& mesh) {
+  beginObject(name);
+  for (const Vec3f& p : mesh.positions) vertex(p);
+  closeVertices();
+  for (const Triangle& t : mesh.triangles) triangle(t);
+  endObject();
+}
+
+std::unique_ptr<AtomicFile> ThreeMfStreamWriter::finish() {
+  if (inObject_) endObject();
+  if (objects_ == 0) throw FileError("3MF: no objects to write");
+  std::string tail = " </resources>\n <build>\n";
+  for (std::uint32_t id = 1; id <= objects_; ++id)
+    tail += "  <item objectid=\"" + std::to_string(id) + "\"/>\n";
+  tail += " </build>\n</model>\n";
+  text(tail);
+  flush();
+  void* zip = zip_;
+  zip_ = nullptr;
+  const int closedEntry = zipCloseFileInZip(zip);
+  if (zipClose(zip, nullptr) != ZIP_OK || closedEntry != ZIP_OK)
+    throw FileError("3MF: cannot finish the package: " + std::string(std::strerror(errno)));
+  return std::move(file_);
+}
+
+}  // namespace frep
