@@ -2,7 +2,7 @@
 
 Usage (from the repository root, after `make build`):
     PYTHONPATH=build/python /usr/bin/python3.11 bench/distributed_scaling.py MODEL CELLS \
-        [--bricks 8,64] [--workers 1,2] [--out build/distributed-scaling.json]
+        [--bricks 8,64] [--workers 1,2] [--format stl|3mf] [--out build/distributed-scaling.json]
 
 For each worker count and job count: the wall time of export_distributed on a LocalCluster
 (cluster start excluded), each job's seconds and peak memory, the merge, check and write
@@ -39,6 +39,8 @@ def main():
     ap.add_argument("cells", type=int)
     ap.add_argument("--bricks", default="8,64")
     ap.add_argument("--workers", default="1,2")
+    ap.add_argument("--format", default="stl", choices=["stl", "3mf"],
+                    help="the output written (both stream as the merge goes)")
     ap.add_argument("--out", default="build/distributed-scaling.json")
     ap.add_argument("--frepcad", default="build/bin/frepcad")
     a = ap.parse_args()
@@ -49,7 +51,7 @@ def main():
     frepcad = a.frepcad
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        out = os.path.join(tmp, "part.stl")
+        out = os.path.join(tmp, "part." + a.format)
         # one process first, as its own process (its peak would count in this one's)
         t = time.time()
         run = subprocess.run(["/usr/bin/time", "-f", "%M", frepcad, "export", a.model, "-o", out,
@@ -97,7 +99,7 @@ def main():
             print("simulated %2d workers: meshing %.2f s, export %.2f s (merge, check and "
                   "write %.2f s here)" % (w, m, m + after, after))
     with open(a.out, "w") as f:
-        json.dump({"model": a.model, "cells": a.cells, "runs": rows, "simulated": simulated},
+        json.dump({"model": a.model, "cells": a.cells, "format": a.format, "runs": rows, "simulated": simulated},
                   f, indent=1)
     print("wrote", a.out)
 

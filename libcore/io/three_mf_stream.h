@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <exception>
 #include <memory>
 #include <string>
 
@@ -60,6 +61,10 @@ class ThreeMfStreamWriter {
   void flush();
   void writeTriangle(const Triangle& t);
 
+  // Deflating runs on a thread of its own while the caller makes the next XML (about half
+  // the time of a brick merge's 3MF was deflate's).
+  struct Deflater;
+  std::unique_ptr<Deflater> deflater_;
   std::unique_ptr<AtomicFile> file_;
   void* zip_ = nullptr;  // minizip's zipFile (its header stays in the .cpp)
   std::string spillPath_;

@@ -4,6 +4,7 @@ jobs, a killed worker costs a retry, a cancel leaves nothing, and `frepcad expor
 import os
 import signal
 import subprocess
+import zipfile
 
 import pytest
 
@@ -124,6 +125,7 @@ def test_frepcad_export_bricks(tmp_path):
     run = subprocess.run([FREPCAD, "export", csg, "-o", package, "--bricks", "8", "--cells", "64",
                           "--units", "cm", "--quiet"], capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr
+    assert zipfile.ZipFile(package).testzip() is None  # (every part's CRC: deflated in blocks)
     back = fc.read_3mf(package)
     assert back["unit"] == "cm" and back["metadata"]["Application"] == "FRepCAD frepcad export"
     assert [name for name, _ in back["objects"]] == ["csg"]
