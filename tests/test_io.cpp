@@ -154,6 +154,11 @@ TEST_F(MeshIo, CancelledWriteLeavesNoFileAndKeepsTheOldOne) {
   in >> content;
   EXPECT_EQ(content, "old");
   EXPECT_EQ(filesInDir(), 1u);
+  // a 3MF cancelled after its vertices: the deflate workers stop, no temporary or spill left
+  EXPECT_THROW(writeMesh(mesh_, path("part.3mf"), MeshFormat::ThreeMf,
+                         [](double f) { return f < 0.5; }),
+               Cancelled);
+  EXPECT_EQ(filesInDir(), 1u);
 }
 
 TEST_F(MeshIo, UnwritableFolderIsAClearError) {

@@ -355,26 +355,11 @@ std::unique_ptr<AtomicFile> write3mfUncommitted(const std::vector<NamedMesh>& ob
   ThreeMfStreamWriter writer(path, options, expectedXmlBytes(vertices, triangles));
   const double total = static_cast<double>(vertices + triangles) + 1.0;
   std::uint64_t done = 0;
-  auto tick = [&](std::uint64_t n) {
+  auto written = [&](std::size_t n) {
     done += n;
     if (progress && !progress(0.95 * double(done) / total)) throw Cancelled();
   };
-  constexpr std::size_t kChunk = 1 << 16;  // items between two progress calls
-  for (const NamedMesh& o : objects) {
-    writer.beginObject(o.name);
-    for (std::size_t i = 0; i < o.mesh.positions.size(); ++i) {
-      writer.vertex(o.mesh.positions[i]);
-      if ((i + 1) % kChunk == 0) tick(kChunk);
-    }
-    tick(o.mesh.positions.size() % kChunk);
-    writer.closeVertices();
-    for (std::size_t i = 0; i < o.mesh.triangles.size(); ++i) {
-      writer.triangle(o.mesh.triangles[i]);
-      if ((i + 1) % kChunk == 0) tick(kChunk);
-    }
-    tick(o.mesh.triangles.size() % kChunk);
-    writer.endObject();
-  }
+  for (const NamedMesh& o : objects) writer.addObject(o.name, o.mesh, written);
   return writer.finish();
 }
 

@@ -386,11 +386,21 @@ void ThreeMfStreamWriter::endObject() {
   inObject_ = false;
 }
 
-void ThreeMfStreamWriter::addObject(const std::string& name, const TriangleMesh& mesh) {
+void ThreeMfStreamWriter::addObject(const std::string& name, const TriangleMesh& mesh,
+                                    const std::function<void(std::size_t)>& written) {
+  constexpr std::size_t kChunk = 1 << 16;  // items between two calls of `written`
   beginObject(name);
-  for (const Vec3f& p : mesh.positions) vertex(p);
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    vertex(mesh.positions[i]);
+    if (written && (i + 1) % kChunk == 0) written(kChunk);
+  }
+  if (written) written(mesh.positions.size() % kChunk);
   closeVertices();
-  for (const Triangle& t : mesh.triangles) triangle(t);
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    triangle(mesh.triangles[i]);
+    if (written && (i + 1) % kChunk == 0) written(kChunk);
+  }
+  if (written) written(mesh.triangles.size() % kChunk);
   endObject();
 }
 

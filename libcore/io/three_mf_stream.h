@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <exception>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -47,8 +48,10 @@ class ThreeMfStreamWriter {
   // No more vertices in this object: triangles from here go straight into the XML.
   void closeVertices();
   void endObject();
-  // A whole mesh as one object.
-  void addObject(const std::string& name, const TriangleMesh& mesh);
+  // A whole mesh as one object; `written(n)`, when given, hears of every n vertices or
+  // triangles written (a few dozen calls for a large mesh: progress, and a cancel by throwing).
+  void addObject(const std::string& name, const TriangleMesh& mesh,
+                 const std::function<void(std::size_t)>& written = {});
 
   // The build, the package's other parts, the zip's directory; the file stays uncommitted.
   std::unique_ptr<AtomicFile> finish();
