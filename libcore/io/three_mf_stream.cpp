@@ -3,15 +3,15 @@
 
 #include <minizip/zip.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
+#include <cmath>
 #include <condition_variable>
+#include <cstring>
+#include <ctime>
 #include <deque>
 #include <memory>
-#include <cmath>
-#include <cstring>
-#include <algorithm>
-#include <ctime>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -51,11 +51,20 @@ std::string escapeXml(const std::string& s) {
   out.reserve(s.size());
   for (char c : s) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -242,8 +251,7 @@ ThreeMfStreamWriter::ThreeMfStreamWriter(const std::string& path, const ThreeMfO
   auto smallPart = [&](const char* name, const char* content) {
     if (zipOpenNewFileInZip64(zip_, name, &info, nullptr, 0, nullptr, 0, nullptr, Z_DEFLATED,
                               kDeflateLevel, 0) != ZIP_OK ||
-        zipWriteInFileInZip(zip_, content, static_cast<unsigned>(std::strlen(content))) !=
-            ZIP_OK ||
+        zipWriteInFileInZip(zip_, content, static_cast<unsigned>(std::strlen(content))) != ZIP_OK ||
         zipCloseFileInZip(zip_) != ZIP_OK)
       throw FileError(path + ": cannot write the 3MF package's part " + name);
   };
@@ -254,11 +262,10 @@ ThreeMfStreamWriter::ThreeMfStreamWriter(const std::string& path, const ThreeMfO
                               kDeflateLevel, 1, -MAX_WBITS, 8, Z_DEFAULT_STRATEGY, nullptr, 0,
                               zip64_ ? 1 : 0) != ZIP_OK)
     throw FileError(path + ": cannot write the 3MF package's model");
-  std::string head =
-      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<model unit=\"" +
-      std::string(lengthUnitXmlName(options.unit)) +
-      "\" xml:lang=\"en-US\" "
-      "xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\">\n";
+  std::string head = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<model unit=\"" +
+                     std::string(lengthUnitXmlName(options.unit)) +
+                     "\" xml:lang=\"en-US\" "
+                     "xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\">\n";
   for (const auto& [key, value] : options.metadata)
     head += " <metadata name=\"" + escapeXml(key) + "\">" + escapeXml(value) + "</metadata>\n";
   head += " <resources>\n";
@@ -284,8 +291,9 @@ void ThreeMfStreamWriter::flush() {
   written_ += buffer_.size();
   deflater_->push(buffer_);
   if (!zip64_ && written_ >= 0xFFFFFFF0ull)
-    throw FileError("3MF: the model grew past 4 GiB without the zip64 headers its size "
-                    "estimate should have asked for");
+    throw FileError(
+        "3MF: the model grew past 4 GiB without the zip64 headers its size "
+        "estimate should have asked for");
 }
 
 void ThreeMfStreamWriter::beginObject(const std::string& name) {
@@ -301,7 +309,8 @@ void ThreeMfStreamWriter::beginObject(const std::string& name) {
 }
 
 void ThreeMfStreamWriter::vertex(const Vec3f& p) {
-  if (!inObject_ || verticesClosed_) throw std::logic_error("ThreeMfStreamWriter: no object takes vertices");
+  if (!inObject_ || verticesClosed_)
+    throw std::logic_error("ThreeMfStreamWriter: no object takes vertices");
   if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
     throw FileError("3MF object '" + objectName_ + "' has vertices with non-finite coordinates");
   if (vertices_ >= 0xFFFFFFF0ull)
@@ -347,8 +356,8 @@ void ThreeMfStreamWriter::triangle(const Triangle& t) {
   if (!spill_) {
     spill_ = std::fopen(spillPath_.c_str(), "w+b");
     if (!spill_)
-      throw FileError(spillPath_ + ": cannot hold the triangles for the 3MF: " +
-                      std::strerror(errno));
+      throw FileError(spillPath_ +
+                      ": cannot hold the triangles for the 3MF: " + std::strerror(errno));
   }
   if (std::fwrite(t.data(), sizeof(Triangle), 1, spill_) != 1)
     throw FileError(spillPath_ + ": write failed: " + std::strerror(errno));
@@ -380,8 +389,7 @@ void ThreeMfStreamWriter::closeVertices() {
 void ThreeMfStreamWriter::endObject() {
   if (!inObject_) throw std::logic_error("ThreeMfStreamWriter: no object is open");
   closeVertices();
-  if (objectTriangles_ == 0)
-    throw FileError("3MF object '" + objectName_ + "' has no triangles");
+  if (objectTriangles_ == 0) throw FileError("3MF object '" + objectName_ + "' has no triangles");
   text("    </triangles>\n   </mesh>\n  </object>\n");
   inObject_ = false;
 }
