@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 #include <tbb/global_control.h>
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -207,6 +208,16 @@ Result runWithProgress(Work work, const py::object& progress) {
   if (!progress.is_none()) progress(1.0);
   return result;
 }
+
+// An export's progress by stage as one fraction: stage s runs from ends[s] to ends[s + 1].
+std::function<bool(ExportStage, double)> stagesAsOneFraction(
+    const std::function<bool(double)>& tick, const std::array<double, 5>& ends) {
+  return [tick, ends](ExportStage s, double f) {
+    const int i = static_cast<int>(s);
+    return tick(ends[i] + (ends[i + 1] - ends[i]) * f);
+  };
+}
+
 
 // ---- wrapped types --------------------------------------------------------------------------
 
@@ -495,13 +506,9 @@ PYBIND11_MODULE(_frepcore, m) {
             std::shared_ptr<const Program> program = n.program;
             // Stages as one fraction for Python's progress: bounds 2 %, meshing to 40 %,
             // checking to 95 %, writing the rest.
-            const double from[4] = {0.0, 0.02, 0.4, 0.95}, to[4] = {0.02, 0.4, 0.95, 1.0};
             ExportResult result = runWithProgress<ExportResult>(
                 [&](std::function<bool(double)> tick) {
-                  r.progress = [&](ExportStage s, double f) {
-                    const int i = static_cast<int>(s);
-                    return tick(from[i] + (to[i] - from[i]) * f);
-                  };
+                  r.progress = stagesAsOneFraction(tick, {0.0, 0.02, 0.4, 0.95, 1.0});
                   return exportField(*program, r, path, path);
                 },
                 progress);
@@ -580,13 +587,9 @@ PYBIND11_MODULE(_frepcore, m) {
             r.check = check;
             r.force = force;
             // merging to 30 %, checking to 95 %, writing the rest
-            const double from[4] = {0.0, 0.0, 0.3, 0.95}, to[4] = {0.0, 0.3, 0.95, 1.0};
             ExportResult result = runWithProgress<ExportResult>(
                 [&](std::function<bool(double)> tick) {
-                  r.progress = [&](ExportStage s, double f) {
-                    const int i = static_cast<int>(s);
-                    return tick(from[i] + (to[i] - from[i]) * f);
-                  };
+                  r.progress = stagesAsOneFraction(tick, {0.0, 0.0, 0.3, 0.95, 1.0});
                   // the jobs' check summaries, where every piece has one
                   std::vector<std::string> summaries;
                   for (const std::string& piece : pieces)
