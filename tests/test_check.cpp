@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <random>
@@ -299,6 +300,39 @@ TEST(Check, GridSelfIntersectionCountIsCgals) {
         << "ball " << i;
   }
   EXPECT_EQ(countSelfIntersections(ball.positions, faces), 0u);
+}
+
+// The grid is searched in slabs of z layers. With slabs of a few dozen entries, nearly
+// every pair lies on or across a slab boundary: the count must still be CGAL's, each pair
+// counted once, on jittered balls and on two interpenetrating meshed balls (their crossing
+// circle runs through every slab).
+TEST(Check, SlabsOfTheGridCountAsCgal) {
+  std::mt19937 g(77);
+  const TriangleMesh ball = meshedBall(0.2);
+  std::vector<FaceIndices> faces(ball.triangles.begin(), ball.triangles.end());
+  int withIntersections = 0;
+  for (int i = 0; i < 60; ++i) {
+    const std::vector<Vec3f> points = jitteredBall(ball, i, 0.2f, g);
+    const std::size_t cgal = countSelfIntersectionsWithCgal(points, faces);
+    for (std::size_t slab : {1, 40, 400})
+      ASSERT_EQ(countSelfIntersections(points, faces, nullptr, SIZE_MAX, {}, slab), cgal)
+          << "ball " << i << ", slabs of " << slab << " entries";
+    withIntersections += cgal > 0;
+  }
+  EXPECT_GT(withIntersections, 15);
+  std::vector<Vec3f> points = ball.positions;
+  const std::size_t half = points.size();
+  for (std::size_t v = 0; v < half; ++v)
+    points.push_back({points[v][0] + 0.7f, points[v][1] + 0.3f, points[v][2] + 0.5f});
+  for (std::size_t f = 0, n = faces.size(); f < n; ++f)
+    faces.push_back({faces[f][0] + static_cast<std::uint32_t>(half),
+                     faces[f][1] + static_cast<std::uint32_t>(half),
+                     faces[f][2] + static_cast<std::uint32_t>(half)});
+  const std::size_t cgal = countSelfIntersectionsWithCgal(points, faces);
+  ASSERT_GT(cgal, 50u);
+  for (std::size_t slab : {1, 40, 400, 0})
+    EXPECT_EQ(countSelfIntersections(points, faces, nullptr, SIZE_MAX, {}, slab), cgal)
+        << "slabs of " << slab << " entries";
 }
 
 // A fan proved embedded (face_pair_test.h) has no intersecting pair of faces by CGAL's own

@@ -100,6 +100,7 @@ std::vector<std::uint32_t> weldIdenticalVertices(const std::vector<Vec3f>& pos,
   while (slots < 2 * pos.size()) slots *= 2;
   const std::uint64_t mask = slots - 1;
   std::vector<std::uint32_t> table(slots, UINT32_MAX), map(pos.size());
+  welded.reserve(welded.size() + pos.size());  // (no growth slack: most points are distinct)
   for (std::size_t i = 0; i < pos.size(); ++i) {
     const Vec3f& p = pos[i];
     std::uint64_t h = (bits(p[0]) * 0x9E3779B97F4A7C15ull) ^ (bits(p[1]) * 0xC2B2AE3D27D4EB4Full) ^

@@ -7,6 +7,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "check/cgal_surface.h"
@@ -35,7 +36,7 @@ constexpr double kMaxPairsPerFace = 64.0;    // candidate pairs, on average
 std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
                                    const std::vector<FaceIndices>& faces,
                                    const std::function<void(double)>& progress, std::size_t limit,
-                                   const FaceFacts& known) {
+                                   const FaceFacts& known, std::size_t slabEntries) {
   const std::vector<char>* const embeddedFans = known.embeddedFans;
   const std::vector<Vec3f>& p = points;
 
@@ -135,102 +136,82 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
       hi[k] = index(b.hi[k], k);
     }
   };
-  const std::uint64_t dx = grid ? static_cast<std::uint64_t>(dims[0]) : 0;
-  const std::uint64_t dxy = grid ? dx * static_cast<std::uint64_t>(dims[1]) : 0;
-  // The entries, (cell << 32 | face) for every cell a face's box covers, grouped by cell:
-  // a counting sort on the cell's top 8 bits straight into place (each block of faces
-  // counts its entries per bucket, then writes them where its counts say), then each bucket
-  // sorted on the remaining bits in parallel, with a scratch the size of one bucket. (Two
-  // whole-array radix passes needed a second array as large as the entries: 105 MB on a
-  // 2.9 million triangle mesh.)
+  if (!grid) return countSelfIntersectionsWithCgal(points, faces, true, limit);
+  const std::uint64_t dx = static_cast<std::uint64_t>(dims[0]);
+  const std::uint64_t dxy = dx * static_cast<std::uint64_t>(dims[1]);
+  const std::uint64_t layers = static_cast<std::uint64_t>(dims[2]);
+
+  // The grid is built and searched in slabs of z layers, one after the other, each holding
+  // about a sixteenth of the entries (at least 2^19; `slabEntries` where given): the entries were
+  // the check's largest array (105 MB of a 227 MB peak on the gyroid's 2.9 million triangles), and
+  // a pair is still tested once, in the one cell (so the one slab) that holds the lowest corner of
+  // the two boxes' intersection.
   constexpr std::size_t kBlock = 4096, kBuckets = 256;
   const std::size_t blocks = (faces.size() + kBlock - 1) / kBlock;
-  int keyBits = 1;
-  while (grid && keyBits < 32 &&
-         (std::uint64_t(1) << keyBits) < dxy * static_cast<std::uint64_t>(dims[2]))
-    ++keyBits;
-  const int topShift = std::max(0, keyBits - 8);
-  // Calls use(cell key, face) for every cell each live face of the block covers; false,
-  // stopping there, at a face that covers more cells than all faces together may have (a
-  // giant face: CGAL's box tree takes over).
-  auto forEachEntry = [&](std::size_t block, auto&& use) {
+  // Calls use(key, face) for every cell in layers [k0, k1) each live face of the block
+  // covers, the key counted from the slab's first layer.
+  auto forEachEntry = [&](std::size_t block, std::uint64_t k0, std::uint64_t k1, auto&& use) {
     for (std::size_t f = block * kBlock; f < std::min(faces.size(), (block + 1) * kBlock); ++f) {
       if (dead[f]) continue;
       Cell lo, hi;
       cellsOf(boxOf(static_cast<std::uint32_t>(f)), lo, hi);
-      double covered = 1.0;
-      for (int k = 0; k < 3; ++k) covered *= static_cast<double>(hi[k] - lo[k] + 1);
-      if (covered > kMaxEntriesPerFace * n) return false;
-      for (std::uint64_t k = lo[2]; k <= hi[2]; ++k)
+      const std::uint64_t from = std::max<std::uint64_t>(lo[2], k0);
+      const std::uint64_t to = std::min<std::uint64_t>(hi[2] + std::uint64_t(1), k1);
+      for (std::uint64_t k = from; k < to; ++k)
         for (std::uint64_t j = lo[1]; j <= hi[1]; ++j)
-          for (std::uint64_t i = lo[0]; i <= hi[0]; ++i) use(k * dxy + j * dx + i, f);
+          for (std::uint64_t i = lo[0]; i <= hi[0]; ++i) use((k - k0) * dxy + j * dx + i, f);
     }
-    return true;
   };
-  std::vector<std::size_t> at;  // by block, then bucket: where the block writes next
-  std::size_t total = 0;
-  if (grid) {
-    at.assign(blocks * kBuckets, 0);
-    tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
-      std::size_t* mine = &at[block * kBuckets];
-      if (!forEachEntry(block, [&](std::uint64_t key, std::size_t) { ++mine[key >> topShift]; }))
-        mine[0] += static_cast<std::size_t>(kMaxEntriesPerFace * n) + 1;  // (over the limit)
-    });
-    for (std::size_t bucket = 0; bucket < kBuckets; ++bucket)
-      for (std::size_t block = 0; block < blocks; ++block) {
-        const std::size_t c = at[block * kBuckets + bucket];
-        at[block * kBuckets + bucket] = total;
-        total += c;
-      }
-    grid = static_cast<double>(total) <= kMaxEntriesPerFace * n;
-  }
-  if (!grid) return countSelfIntersectionsWithCgal(points, faces, true, limit);
-  std::vector<std::uint64_t> entries(total);
-  std::vector<std::size_t> bucketStart(kBuckets + 1, total);
-  for (std::size_t bucket = 0; bucket < kBuckets; ++bucket) bucketStart[bucket] = at[bucket];
+  // 1. Each block's layers (a slab visits only the blocks that reach into it), the entries
+  // by layer, and whether a face covers more cells than all faces together may have (a
+  // giant face: CGAL's box tree takes over).
+  struct Layers {
+    std::uint64_t lo = UINT64_MAX, hi = 0;
+  };
+  std::vector<Layers> blockLayers(blocks);
+  const bool byLayer = layers <= (std::uint64_t(1) << 16);  // else one slab
+  tbb::enumerable_thread_specific<std::vector<double>> perLayer(
+      std::vector<double>(byLayer ? layers : 1, 0.0));
+  std::atomic<bool> giant{false};
   tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
-    std::size_t* next = &at[block * kBuckets];
-    forEachEntry(block, [&](std::uint64_t key, std::size_t f) {
-      entries[next[key >> topShift]++] = key << 32 | f;
-    });
-  });
-  std::vector<std::size_t>().swap(at);
-  tbb::enumerable_thread_specific<std::vector<std::uint64_t>> scratch;
-  tbb::parallel_for(std::size_t(0), kBuckets, [&](std::size_t bucket) {
-    const std::size_t from = bucketStart[bucket], size = bucketStart[bucket + 1] - from;
-    if (size < 2) return;
-    std::vector<std::uint64_t>& temp = scratch.local();
-    temp.resize(size);
-    std::uint64_t* in = &entries[from];
-    std::uint64_t* out = temp.data();
-    // LSD passes of up to 12 bits over the cell bits below the top 8 (stable: a cell's faces
-    // stay in order)
-    for (int shift = 0; shift < topShift; shift += 12) {
-      const int width = std::min(12, topShift - shift);
-      std::vector<std::size_t> start((std::size_t(1) << width) + 1, 0);
-      const std::uint64_t mask = (std::uint64_t(1) << width) - 1;
-      for (std::size_t e = 0; e < size; ++e) ++start[((in[e] >> (32 + shift)) & mask) + 1];
-      for (std::size_t d = 1; d < start.size(); ++d) start[d] += start[d - 1];
-      for (std::size_t e = 0; e < size; ++e) out[start[(in[e] >> (32 + shift)) & mask]++] = in[e];
-      std::swap(in, out);
+    std::vector<double>& counts = perLayer.local();
+    Layers& mine = blockLayers[block];
+    for (std::size_t f = block * kBlock; f < std::min(faces.size(), (block + 1) * kBlock); ++f) {
+      if (dead[f]) continue;
+      Cell lo, hi;
+      cellsOf(boxOf(static_cast<std::uint32_t>(f)), lo, hi);
+      const double across = static_cast<double>(hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1);
+      if (across * (hi[2] - lo[2] + 1) > kMaxEntriesPerFace * n) {
+        giant = true;
+        return;
+      }
+      mine.lo = std::min<std::uint64_t>(mine.lo, lo[2]);
+      mine.hi = std::max<std::uint64_t>(mine.hi, hi[2]);
+      for (std::uint64_t k = lo[2]; k <= hi[2]; ++k) counts[byLayer ? k : 0] += across;
     }
-    if (in != &entries[from]) std::copy(in, in + size, &entries[from]);
   });
-  auto cellOf = [&](std::size_t e) { return entries[e] >> 32; };
-  // The cells, as runs of entries; and the work their pairs make.
-  std::vector<std::size_t> runs;
-  double pairs = 0.0;
-  for (std::size_t e = 0; e < entries.size();) {
-    std::size_t end = e + 1;
-    while (end < entries.size() && cellOf(end) == cellOf(e)) ++end;
-    runs.push_back(e);
-    const double m = static_cast<double>(end - e);
-    pairs += m * (m - 1) / 2;
-    e = end;
-  }
-  runs.push_back(entries.size());
-  if (pairs > kMaxPairsPerFace * n)
+  std::vector<double> layerEntries(byLayer ? layers : 1, 0.0);
+  for (const std::vector<double>& counts : perLayer)
+    for (std::size_t k = 0; k < counts.size(); ++k) layerEntries[k] += counts[k];
+  double totalEntries = 0.0;
+  for (double e : layerEntries) totalEntries += e;
+  if (giant || totalEntries > kMaxEntriesPerFace * n)
     return countSelfIntersectionsWithCgal(points, faces, true, limit);
+  std::vector<std::uint64_t> slabStart{0};
+  const double perSlab = slabEntries > 0
+                             ? static_cast<double>(slabEntries)
+                             : std::max(static_cast<double>(1 << 19), totalEntries / 16.0);
+  if (byLayer) {
+    double inSlab = 0.0;
+    for (std::uint64_t k = 0; k < layers; ++k) {
+      if (inSlab > 0.0 && inSlab + layerEntries[k] > perSlab) {
+        slabStart.push_back(k);
+        inSlab = 0.0;
+      }
+      inSlab += layerEntries[k];
+    }
+  }
+  slabStart.push_back(layers);
 
   // Two faces with a common vertex whose fan is proved embedded cannot intersect.
   auto shareEmbeddedFan = [&](const FaceIndices& f, const FaceIndices& g) {
@@ -238,61 +219,149 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
       if ((v == g[0] || v == g[1] || v == g[2]) && (*embeddedFans)[v]) return true;
     return false;
   };
-  // Each pair of overlapping boxes is tested once: in the cell holding the lowest corner of
-  // the two boxes' intersection (both boxes cover that cell).
-  // In parts of about a twentieth each, so progress (and a cancel) comes between them.
   tbb::enumerable_thread_specific<std::size_t> found(0);
-  const std::size_t cells = runs.size() - 1, part = std::max<std::size_t>(1, cells / 20);
-  for (std::size_t begin = 0; begin < cells; begin += part) {
-    if (progress) progress(static_cast<double>(begin) / static_cast<double>(cells));
-    std::size_t sofar = count;
-    for (std::size_t c : found) sofar += c;
-    if (sofar >= limit) return limit;
-    const std::size_t end = std::min(cells, begin + part);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 256),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                        std::size_t& local = found.local();
-                        // A cell's faces, copied together first: each pair then reads nearby
-                        // memory.
-                        struct Item {
-                          Box box;
-                          Cell lo;
-                          std::uint32_t face;
-                        };
-                        std::vector<Item> items;
-                        for (std::size_t r = range.begin(); r != range.end(); ++r) {
-                          const std::size_t from = runs[r], to = runs[r + 1];
-                          if (to - from < 2) continue;
-                          const std::uint64_t here = cellOf(from);
-                          const std::uint32_t ci = static_cast<std::uint32_t>(here % dx),
-                                              cj = static_cast<std::uint32_t>(here % dxy / dx),
-                                              ck = static_cast<std::uint32_t>(here / dxy);
-                          items.clear();
-                          for (std::size_t e = from; e < to; ++e) {
-                            const std::uint32_t f = static_cast<std::uint32_t>(entries[e]);
-                            Item item;
-                            item.box = boxOf(f);
-                            Cell hi;
-                            cellsOf(item.box, item.lo, hi);
-                            item.face = f;
-                            items.push_back(item);
-                          }
-                          for (std::size_t a = 0; a < items.size(); ++a) {
-                            const Item& ia = items[a];
-                            for (std::size_t b = a + 1; b < items.size(); ++b) {
-                              const Item& ib = items[b];
-                              if (!overlap(ia.box, ib.box)) continue;
-                              if (std::max(ia.lo[0], ib.lo[0]) != ci ||
-                                  std::max(ia.lo[1], ib.lo[1]) != cj ||
-                                  std::max(ia.lo[2], ib.lo[2]) != ck)
-                                continue;
-                              const FaceIndices &fa = faces[ia.face], &fb = faces[ib.face];
-                              if (embeddedFans && shareEmbeddedFan(fa, fb)) continue;
-                              if (facesIntersect(points, fa, fb)) ++local;
+  std::vector<std::uint64_t> entries;
+  std::vector<std::size_t> at;  // by block, then bucket: where the block writes next
+  tbb::enumerable_thread_specific<std::vector<std::uint64_t>> scratch;
+  double pairs = 0.0, entriesBefore = 0.0;
+  for (std::size_t slab = 0; slab + 1 < slabStart.size(); ++slab) {
+    const std::uint64_t k0 = slabStart[slab], k1 = slabStart[slab + 1];
+    auto reaches = [&](std::size_t block) {
+      return blockLayers[block].lo < k1 && blockLayers[block].hi >= k0;
+    };
+    // 2. The slab's entries, (cell << 32 | face) for every cell a face's box covers,
+    // grouped by cell: a counting sort on the cell's top 8 bits straight into place (each
+    // block of faces counts its entries per bucket, then writes them where its counts
+    // say), then each bucket sorted on the remaining bits in parallel, with a scratch the
+    // size of one bucket. (Two whole-array radix passes needed a second array as large as
+    // the entries.)
+    int keyBits = 1;
+    while (keyBits < 32 && (std::uint64_t(1) << keyBits) < dxy * (k1 - k0)) ++keyBits;
+    const int topShift = std::max(0, keyBits - 8);
+    at.assign(blocks * kBuckets, 0);
+    tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
+      if (!reaches(block)) return;
+      std::size_t* mine = &at[block * kBuckets];
+      forEachEntry(block, k0, k1, [&](std::uint64_t key, std::size_t) { ++mine[key >> topShift]; });
+    });
+    std::size_t total = 0;
+    std::vector<std::size_t> bucketStart(kBuckets + 1, 0);
+    for (std::size_t bucket = 0; bucket < kBuckets; ++bucket) {
+      bucketStart[bucket] = total;
+      for (std::size_t block = 0; block < blocks; ++block) {
+        const std::size_t c = at[block * kBuckets + bucket];
+        at[block * kBuckets + bucket] = total;
+        total += c;
+      }
+    }
+    bucketStart[kBuckets] = total;
+    entries.resize(total);
+    tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
+      if (!reaches(block)) return;
+      std::size_t* next = &at[block * kBuckets];
+      forEachEntry(block, k0, k1, [&](std::uint64_t key, std::size_t f) {
+        entries[next[key >> topShift]++] = key << 32 | f;
+      });
+    });
+    tbb::parallel_for(std::size_t(0), kBuckets, [&](std::size_t bucket) {
+      const std::size_t from = bucketStart[bucket], size = bucketStart[bucket + 1] - from;
+      if (size < 2) return;
+      std::vector<std::uint64_t>& temp = scratch.local();
+      temp.resize(size);
+      std::uint64_t* in = &entries[from];
+      std::uint64_t* out = temp.data();
+      // LSD passes of up to 12 bits over the cell bits below the top 8 (stable: a cell's
+      // faces stay in order)
+      for (int shift = 0; shift < topShift; shift += 12) {
+        const int width = std::min(12, topShift - shift);
+        std::vector<std::size_t> start((std::size_t(1) << width) + 1, 0);
+        const std::uint64_t mask = (std::uint64_t(1) << width) - 1;
+        for (std::size_t e = 0; e < size; ++e) ++start[((in[e] >> (32 + shift)) & mask) + 1];
+        for (std::size_t d = 1; d < start.size(); ++d) start[d] += start[d - 1];
+        for (std::size_t e = 0; e < size; ++e) out[start[(in[e] >> (32 + shift)) & mask]++] = in[e];
+        std::swap(in, out);
+      }
+      if (in != &entries[from]) std::copy(in, in + size, &entries[from]);
+    });
+    auto cellOf = [&](std::size_t e) { return entries[e] >> 32; };
+    // The cells are runs of entries; no table of them is kept. The work their pairs make,
+    // all slabs so far:
+    for (std::size_t e = 0; e < entries.size();) {
+      std::size_t end = e + 1;
+      while (end < entries.size() && cellOf(end) == cellOf(e)) ++end;
+      const double m = static_cast<double>(end - e);
+      pairs += m * (m - 1) / 2;
+      e = end;
+    }
+    if (pairs > kMaxPairsPerFace * n)
+      return countSelfIntersectionsWithCgal(points, faces, true, limit);
+    // A range of entries [begin, end) stands for the cells that start in it.
+    auto startsCell = [&](std::size_t e) { return e == 0 || cellOf(e) != cellOf(e - 1); };
+
+    // 3. Each pair of overlapping boxes is tested once: in the cell holding the lowest
+    // corner of the two boxes' intersection (both boxes cover that cell). In parts of
+    // about a twentieth of the slab each, so progress (and a cancel) comes between them.
+    const std::size_t part = std::max<std::size_t>(1, total / 20);
+    for (std::size_t begin = 0; begin < total; begin += part) {
+      if (progress)
+        progress(std::min(1.0, (entriesBefore + static_cast<double>(begin)) / totalEntries));
+      std::size_t sofar = count;
+      for (std::size_t c : found) sofar += c;
+      if (sofar >= limit) return limit;
+      const std::size_t end = std::min(total, begin + part);
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 1024),
+                        [&](const tbb::blocked_range<std::size_t>& range) {
+                          std::size_t& local = found.local();
+                          // A cell's faces, copied together first: each pair then reads nearby
+                          // memory.
+                          struct Item {
+                            Box box;
+                            Cell lo;
+                            std::uint32_t face;
+                          };
+                          std::vector<Item> items;
+                          for (std::size_t next = range.begin(); next < range.end();) {
+                            if (!startsCell(next)) {
+                              ++next;
+                              continue;
+                            }
+                            const std::size_t from = next;
+                            std::size_t to = from + 1;
+                            while (to < total && cellOf(to) == cellOf(from)) ++to;
+                            next = to;
+                            if (to - from < 2) continue;
+                            const std::uint64_t here = cellOf(from);
+                            const std::uint32_t ci = static_cast<std::uint32_t>(here % dx),
+                                                cj = static_cast<std::uint32_t>(here % dxy / dx),
+                                                ck = static_cast<std::uint32_t>(here / dxy + k0);
+                            items.clear();
+                            for (std::size_t e = from; e < to; ++e) {
+                              const std::uint32_t f = static_cast<std::uint32_t>(entries[e]);
+                              Item item;
+                              item.box = boxOf(f);
+                              Cell hi;
+                              cellsOf(item.box, item.lo, hi);
+                              item.face = f;
+                              items.push_back(item);
+                            }
+                            for (std::size_t a = 0; a < items.size(); ++a) {
+                              const Item& ia = items[a];
+                              for (std::size_t b = a + 1; b < items.size(); ++b) {
+                                const Item& ib = items[b];
+                                if (!overlap(ia.box, ib.box)) continue;
+                                if (std::max(ia.lo[0], ib.lo[0]) != ci ||
+                                    std::max(ia.lo[1], ib.lo[1]) != cj ||
+                                    std::max(ia.lo[2], ib.lo[2]) != ck)
+                                  continue;
+                                const FaceIndices &fa = faces[ia.face], &fb = faces[ib.face];
+                                if (embeddedFans && shareEmbeddedFan(fa, fb)) continue;
+                                if (facesIntersect(points, fa, fb)) ++local;
+                              }
                             }
                           }
-                        }
-                      });
+                        });
+    }
+    entriesBefore += static_cast<double>(total);
   }
   if (progress) progress(1.0);
   for (std::size_t c : found) count += c;

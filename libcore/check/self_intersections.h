@@ -34,10 +34,13 @@ struct FaceFacts {
   // faces sharing such a vertex are not tested (they cannot intersect).
   const std::vector<char>* embeddedFans = nullptr;
 };
+// The grid is built and searched in slabs of z layers of about `slabEntries` entries (a
+// face's box covering k cells makes k entries of 8 bytes); 0: a sixteenth of them, at least
+// 2^19. (Small slabs are for tests: they put many pairs on slab boundaries.)
 std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
                                    const std::vector<FaceIndices>& faces,
                                    const std::function<void(double)>& progress = nullptr,
                                    std::size_t limit = static_cast<std::size_t>(-1),
-                                   const FaceFacts& known = {});
+                                   const FaceFacts& known = {}, std::size_t slabEntries = 0);
 
 }  // namespace frep
