@@ -35,8 +35,8 @@ struct FaceFacts {
   const std::vector<char>* embeddedFans = nullptr;
 };
 // The grid is built and searched in slabs of z layers of about `slabEntries` entries (a
-// face's box covering k cells makes k entries of 8 bytes); 0: a sixteenth of them, at least
-// 2^19. (Small slabs are for tests: they put many pairs on slab boundaries.)
+// face's box covering k cells makes k entries of 8 bytes); 0: an eighth of them, at least
+// 2^20. (Small slabs are for tests: they put many pairs on slab boundaries.)
 std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
                                    const std::vector<FaceIndices>& faces,
                                    const std::function<void(double)>& progress = nullptr,
