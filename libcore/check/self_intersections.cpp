@@ -150,8 +150,21 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
   const std::size_t blocks = (faces.size() + kBlock - 1) / kBlock;
   // Calls use(key, face) for every cell in layers [k0, k1) each live face of the block
   // covers, the key counted from the slab's first layer.
+  // (Runs of kRun faces that do not reach the slab are skipped: the mesher's faces come
+  // brick by brick, so a run spans few layers, and each face is visited about once a pass.)
+  struct Layers {
+    std::uint32_t lo = UINT32_MAX, hi = 0;
+    bool reach(std::uint64_t k0, std::uint64_t k1) const { return lo < k1 && hi >= k0; }
+  };
+  constexpr std::size_t kRun = 256;  // (divides kBlock: a block's runs are its own)
+  std::vector<Layers> runLayers((faces.size() + kRun - 1) / kRun);
   auto forEachEntry = [&](std::size_t block, std::uint64_t k0, std::uint64_t k1, auto&& use) {
-    for (std::size_t f = block * kBlock; f < std::min(faces.size(), (block + 1) * kBlock); ++f) {
+    const std::size_t end = std::min(faces.size(), (block + 1) * kBlock);
+    for (std::size_t f = block * kBlock; f < end; ++f) {
+      if (f % kRun == 0 && !runLayers[f / kRun].reach(k0, k1)) {
+        f += kRun - 1;
+        continue;
+      }
       if (dead[f]) continue;
       Cell lo, hi;
       cellsOf(boxOf(static_cast<std::uint32_t>(f)), lo, hi);
@@ -162,12 +175,9 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
           for (std::uint64_t i = lo[0]; i <= hi[0]; ++i) use((k - k0) * dxy + j * dx + i, f);
     }
   };
-  // 1. Each block's layers (a slab visits only the blocks that reach into it), the entries
+  // 1. Each block's and run's layers (a slab visits only those that reach into it), the entries
   // by layer, and whether a face covers more cells than all faces together may have (a
   // giant face: CGAL's box tree takes over).
-  struct Layers {
-    std::uint64_t lo = UINT64_MAX, hi = 0;
-  };
   std::vector<Layers> blockLayers(blocks);
   const bool byLayer = layers <= (std::uint64_t(1) << 16);  // else one slab
   tbb::enumerable_thread_specific<std::vector<double>> perLayer(
@@ -185,8 +195,10 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
         giant = true;
         return;
       }
-      mine.lo = std::min<std::uint64_t>(mine.lo, lo[2]);
-      mine.hi = std::max<std::uint64_t>(mine.hi, hi[2]);
+      for (Layers* l : {&mine, &runLayers[f / kRun]}) {
+        l->lo = std::min(l->lo, lo[2]);
+        l->hi = std::max(l->hi, hi[2]);
+      }
       for (std::uint64_t k = lo[2]; k <= hi[2]; ++k) counts[byLayer ? k : 0] += across;
     }
   });
@@ -226,9 +238,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
   double pairs = 0.0, entriesBefore = 0.0;
   for (std::size_t slab = 0; slab + 1 < slabStart.size(); ++slab) {
     const std::uint64_t k0 = slabStart[slab], k1 = slabStart[slab + 1];
-    auto reaches = [&](std::size_t block) {
-      return blockLayers[block].lo < k1 && blockLayers[block].hi >= k0;
-    };
+    auto reaches = [&](std::size_t block) { return blockLayers[block].reach(k0, k1); };
     // 2. The slab's entries, (cell << 32 | face) for every cell a face's box covers,
     // grouped by cell: a counting sort on the cell's top 8 bits straight into place (each
     // block of faces counts its entries per bucket, then writes them where its counts
