@@ -45,6 +45,11 @@ constexpr std::size_t kSelfIntersectionLimit = 1000000;
 // The distinct coordinates of `positions`, in the order they first come, appended to
 // `welded`; returns each old vertex's index there (STL shares no vertices: this is how its
 // triangles meet).
+// Each of `positions`' index among the distinct coordinates, numbered in the order they
+// first come, and (in `first`) where each distinct one first comes. All are distinct
+// exactly when `first` is as long as `positions` (the map is then the identity).
+std::vector<std::uint32_t> distinctPoints(const std::vector<Vec3f>& positions,
+                                          std::vector<std::uint32_t>* first);
 std::vector<std::uint32_t> weldIdenticalVertices(const std::vector<Vec3f>& positions,
                                                  std::vector<Vec3f>& welded);
 
