@@ -119,15 +119,18 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
   for (int attempt = 0; grid; ++attempt) {
     double product = 1.0;
     for (int k = 0; k < 3; ++k) {
-      dims[k] = std::floor((double(all.hi[k]) - all.lo[k]) / cell) + 1.0;
+      dims[k] = std::floor((double(all.hi[k]) - all.lo[k]) * (1.0 / cell)) + 1.0;  // (as index)
       product *= dims[k];
     }
     if (product < 4294967296.0) break;
     cell *= 1.25;
     grid = attempt < 200;
   }
+  // (By the reciprocal: every cell index comes from this one function, so entries and the
+  // pair rule agree whatever the rounding; v >= all.lo, so truncation is the floor.)
+  const double perCell = 1.0 / cell;
   auto index = [&](double v, int k) {
-    return static_cast<std::uint32_t>(std::floor((v - all.lo[k]) / cell));
+    return static_cast<std::uint32_t>((v - all.lo[k]) * perCell);
   };
   using Cell = std::array<std::uint32_t, 3>;
   auto cellsOf = [&](const Box& b, Cell& lo, Cell& hi) {
