@@ -526,9 +526,14 @@ class BrickMesher {
       auto v = [&](std::uint32_t i) { return L[2 * (i % len)]; };
       auto id = [&](std::uint32_t i) { return L[2 * (i % len) + 1]; };
       if (sharp && placeFeature(r, n, base, mask, L, len, s, out)) continue;
+      if (len == 3) {  // (one triangle, whichever the apex)
+        out.triangles.push_back({v(0), v(1), v(2)});
+        continue;
+      }
       int best = -1;
       double bestQuality = -1.0;
-      for (std::uint32_t a = 0; a < len; ++a) {
+      // (a quad's apexes a and a + 2 make the same fan: the first two decide)
+      for (std::uint32_t a = 0; a < (len == 4 ? 2u : len); ++a) {
         bool sees = true;
         for (std::uint32_t j = 2; j + 1 < len && sees; ++j)
           sees = (cl.faces[id(a + j)] & cl.faces[id(a)]) == 0;
