@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <numeric>
 #include <tuple>
 
@@ -85,29 +86,85 @@ bool severalBoundAVolume(const std::vector<Vec3f>& pos, const std::vector<FaceIn
 
 }  // namespace
 
-std::vector<std::uint32_t> distinctPoints(const std::vector<Vec3f>& pos,
-                                          std::vector<std::uint32_t>* first) {
-  // An open-addressing hash table of the distinct points (their number), twice as many
-  // slots as points: one pass, in the order the points come (a sort took five times as
-  // long). Equal means equal as floats, so -0 and +0 hash alike.
+namespace {
+
+// Equal means equal as floats, so -0 and +0 hash alike.
+std::uint64_t pointHash(const Vec3f& p) {
   auto bits = [](float x) {
     if (x == 0.0f) x = 0.0f;
     std::uint32_t b;
     std::memcpy(&b, &x, sizeof b);
     return static_cast<std::uint64_t>(b);
   };
+  std::uint64_t h = (bits(p[0]) * 0x9E3779B97F4A7C15ull) ^ (bits(p[1]) * 0xC2B2AE3D27D4EB4Full) ^
+                    (bits(p[2]) * 0x165667B19E3779F9ull);
+  return h ^ (h >> 29);
+}
+
+std::size_t tableSlots(std::size_t points) {  // twice as many slots as points, a power of 2
   std::size_t slots = 16;
-  while (slots < 2 * pos.size()) slots *= 2;
+  while (slots < 2 * points) slots *= 2;
+  return slots;
+}
+
+// Whether all points are distinct, found in parallel: every index goes into an
+// open-addressing table by compare-and-swap, and any point equal to one already there
+// answers no. (Meshes the mesher makes have no repeated point, and most files share
+// vertices by index: the numbering then is the identity, with no serial pass.)
+bool allDistinct(const std::vector<Vec3f>& pos) {
+  const std::size_t slots = tableSlots(pos.size());
   const std::uint64_t mask = slots - 1;
-  std::vector<std::uint32_t> table(slots, UINT32_MAX), map(pos.size());
+  std::unique_ptr<std::atomic<std::uint32_t>[]> table(new std::atomic<std::uint32_t>[slots]);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, slots, 1 << 16),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i != r.end(); ++i)
+                        table[i].store(UINT32_MAX, std::memory_order_relaxed);
+                    });
+  std::atomic<bool> repeated{false};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pos.size(), 4096),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                        if (repeated.load(std::memory_order_relaxed)) return;
+                        const Vec3f& p = pos[i];
+                        for (std::uint64_t h = pointHash(p) & mask;; h = (h + 1) & mask) {
+                          std::uint32_t held = table[h].load(std::memory_order_acquire);
+                          if (held == UINT32_MAX &&
+                              table[h].compare_exchange_strong(held, static_cast<std::uint32_t>(i),
+                                                               std::memory_order_acq_rel))
+                            break;
+                          // (held: the index now in the slot, whether read or left by a lost swap)
+                          if (pos[held] == p) {
+                            repeated = true;
+                            return;
+                          }
+                        }
+                      }
+                    });
+  return !repeated;
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> distinctPoints(const std::vector<Vec3f>& pos,
+                                          std::vector<std::uint32_t>* first) {
+  std::vector<std::uint32_t> map(pos.size());
   first->clear();
+  if (pos.size() < UINT32_MAX && allDistinct(pos)) {
+    std::iota(map.begin(), map.end(), 0u);
+    *first = map;
+    return map;
+  }
+  // An open-addressing hash table of the distinct points (their number), twice as many
+  // slots as points: one pass, in the order the points come (a sort took five times as
+  // long).
+  const std::size_t slots = tableSlots(pos.size());
+  const std::uint64_t mask = slots - 1;
+  std::vector<std::uint32_t> table(slots, UINT32_MAX);
   first->reserve(pos.size());  // (no growth slack: most points are distinct)
   for (std::size_t i = 0; i < pos.size(); ++i) {
     const Vec3f& p = pos[i];
-    std::uint64_t h = (bits(p[0]) * 0x9E3779B97F4A7C15ull) ^ (bits(p[1]) * 0xC2B2AE3D27D4EB4Full) ^
-                      (bits(p[2]) * 0x165667B19E3779F9ull);
-    h ^= h >> 29;
-    for (h &= mask;; h = (h + 1) & mask) {
+    std::uint64_t h = pointHash(p) & mask;
+    for (;; h = (h + 1) & mask) {
       std::uint32_t& slot = table[h];
       if (slot == UINT32_MAX) {
         slot = static_cast<std::uint32_t>(first->size());

@@ -276,6 +276,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
         entries[next[key >> topShift]++] = key << 32 | f;
       });
     });
+    tbb::enumerable_thread_specific<double> bucketPairs(0.0);
     tbb::parallel_for(std::size_t(0), kBuckets, [&](std::size_t bucket) {
       const std::size_t from = bucketStart[bucket], size = bucketStart[bucket + 1] - from;
       if (size < 2) return;
@@ -295,16 +296,22 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
         std::swap(in, out);
       }
       if (in != &entries[from]) std::copy(in, in + size, &entries[from]);
+      // The cells are runs of entries (a cell's entries lie in one bucket); no table of them
+      // is kept. The work their pairs make:
+      double& mine = bucketPairs.local();
+      for (std::size_t e = from, last = from + size; e < last;) {
+        std::size_t end = e + 1;
+        while (end < last && entries[end] >> 32 == entries[e] >> 32) ++end;
+        const double m = static_cast<double>(end - e);
+        mine += m * (m - 1) / 2;
+        e = end;
+      }
     });
     auto cellOf = [&](std::size_t e) { return entries[e] >> 32; };
-    // The cells are runs of entries; no table of them is kept. The work their pairs make,
-    // all slabs so far:
-    for (std::size_t e = 0; e < entries.size();) {
-      std::size_t end = e + 1;
-      while (end < entries.size() && cellOf(end) == cellOf(e)) ++end;
-      const double m = static_cast<double>(end - e);
-      pairs += m * (m - 1) / 2;
-      e = end;
+    // (all slabs so far)
+    for (double& b : bucketPairs) {
+      pairs += b;
+      b = 0.0;
     }
     if (pairs > kMaxPairsPerFace * n)
       return countSelfIntersectionsWithCgal(points, faces, true, limit);
