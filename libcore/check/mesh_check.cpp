@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <future>
 #include <memory>
 #include <numeric>
 #include <tuple>
@@ -230,28 +231,30 @@ std::size_t collinearFaces(const std::vector<Vec3f>& pos, const std::vector<Face
 // Vertices of up to this many faces are judged on the quick path first.
 constexpr std::uint32_t kQuickFan = 24;
 
-void judgeVertices(const std::vector<Vec3f>& pos, const std::vector<FaceIndices>& faces,
-                   const std::vector<char>* judged, bool edgesToOthers, CheckReport* r,
-                   std::vector<char>* fans,
-                   std::vector<std::uint32_t>* startOut, std::vector<std::uint32_t>* incidentOut) {
+void vertexFaces(std::size_t vertices, const std::vector<FaceIndices>& faces,
+                 std::vector<std::uint32_t>* startOut, std::vector<std::uint32_t>* incidentOut) {
   std::vector<std::uint32_t>& start = *startOut;
   std::vector<std::uint32_t>& incident = *incidentOut;
+  start.assign(vertices + 1, 0);
+  incident.resize(faces.size() * 3);
+  for (const auto& f : faces)
+    for (std::size_t v : f) ++start[v + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  for (std::size_t fi = 0; fi < faces.size(); ++fi)
+    for (std::size_t v : faces[fi]) incident[fill[v]++] = static_cast<std::uint32_t>(fi);
+}
+
+void judgeVertices(const std::vector<Vec3f>& pos, const std::vector<FaceIndices>& faces,
+                   const std::vector<char>* judged, bool edgesToOthers, CheckReport* r,
+                   std::vector<char>* fans, const std::vector<std::uint32_t>& start,
+                   const std::vector<std::uint32_t>& incident) {
   std::vector<char>& embeddedFan = *fans;
   // Edges and vertices, in one pass over every vertex's incident faces (no table of all 3F
   // edges to sort): an edge {v, w}, w > v, lies in exactly the faces round v that hold w, so
   // the run of w among v's neighbours gives its face count (1: a border edge, over 2:
   // non-manifold) and its directions (two faces must run it opposite ways); and the faces
   // round v that share a neighbour must join into a single fan (else a non-manifold vertex).
-  start.assign(pos.size() + 1, 0);
-  incident.resize(faces.size() * 3);
-  for (const auto& f : faces)
-    for (std::size_t v : f) ++start[v + 1];
-  std::partial_sum(start.begin(), start.end(), start.begin());
-  {
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t fi = 0; fi < faces.size(); ++fi)
-      for (std::size_t v : faces[fi]) incident[fill[v]++] = static_cast<std::uint32_t>(fi);
-  }
   // Vertices whose fan of faces is proved embedded (face_pair_test.h): the self-intersection
   // pass need not test two faces that share one of them.
   embeddedFan.assign(pos.size(), 0);
@@ -451,6 +454,13 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
   }
   const std::vector<Vec3f>& pos = *posOf;
   const std::vector<FaceIndices>& faces = *facesOf;
+  // The vertex -> faces table is one thread's work (its fill is serial, so the faces round a
+  // vertex come in order): made on a thread of its own while the passes below run on the
+  // others. (Declared before the future, which is joined first whatever happens.)
+  std::vector<std::uint32_t> start, incident;
+  std::future<void> table = std::async(std::launch::async, [&] {
+    vertexFaces(pos.size(), faces, &start, &incident);
+  });
   // Volume, area, bounding box.
   sumAreaAndVolume(pos, faces, &r.area, &r.volume);
   std::vector<char> collinearFace;
@@ -467,8 +477,8 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
 
   tick(0.1);
   std::vector<char> embeddedFan;
-  std::vector<std::uint32_t> start, incident;
-  judgeVertices(pos, faces, nullptr, true, &r, &embeddedFan, &start, &incident);
+  table.get();
+  judgeVertices(pos, faces, nullptr, true, &r, &embeddedFan, start, incident);
   r.closed = r.borderEdges == 0 && !faces.empty();
 
   tick(0.3);

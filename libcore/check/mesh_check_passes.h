@@ -36,12 +36,16 @@ std::size_t collinearFaces(const std::vector<Vec3f>& pos, const std::vector<Face
 // The edges and vertex fans of the vertices `judged` marks (all when null), added to r's
 // border, non-manifold and misoriented counts. An edge {v, w} is counted once, at the lower
 // of two judged ends, or at its judged end when `edgesToOthers` (else not at all: the other
-// end's judge counts it). Fills *fans (by vertex: proved embedded) and the vertex -> faces
-// table (*start, *incident).
+// end's judge counts it). Fills *fans (by vertex: proved embedded). `start` and `incident`
+// are the vertex -> faces table vertexFaces makes.
 void judgeVertices(const std::vector<Vec3f>& pos, const std::vector<FaceIndices>& faces,
                    const std::vector<char>* judged, bool edgesToOthers, CheckReport* r,
-                   std::vector<char>* fans, std::vector<std::uint32_t>* start,
-                   std::vector<std::uint32_t>* incident);
+                   std::vector<char>* fans, const std::vector<std::uint32_t>& start,
+                   const std::vector<std::uint32_t>& incident);
+// The faces round each of `vertices` vertices: those of vertex v are
+// incident[start[v] .. start[v + 1]), in increasing order.
+void vertexFaces(std::size_t vertices, const std::vector<FaceIndices>& faces,
+                 std::vector<std::uint32_t>* start, std::vector<std::uint32_t>* incident);
 // The reasons a report's counts give (its `reasons`, appended).
 void addReasons(CheckReport& r);
 

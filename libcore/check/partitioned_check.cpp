@@ -179,7 +179,8 @@ Contribution judge(const std::vector<Box3>& boxes, std::size_t index, const Tria
   std::vector<char> fans;
   {
     std::vector<std::uint32_t> start, incident;
-    judgeVertices(w.pos, w.faces, &own, true, &r, &fans, &start, &incident);
+    vertexFaces(w.pos.size(), w.faces, &start, &incident);
+    judgeVertices(w.pos, w.faces, &own, true, &r, &fans, start, incident);
   }
   if (r.nonManifoldEdges || r.misorientedEdges || r.nonManifoldVertices) {
     out.undecidable = true;  // not a polygon mesh: CGAL counts its crossings on the whole
@@ -446,7 +447,8 @@ std::optional<CheckReport> PartitionedCheck::finish(
   std::vector<char> fans;
   {
     std::vector<std::uint32_t> start, incident;
-    judgeVertices(pos, faces, &inZone, false, &r, &fans, &start, &incident);
+    vertexFaces(pos.size(), faces, &start, &incident);
+    judgeVertices(pos, faces, &inZone, false, &r, &fans, start, incident);
   }
   r.closed = r.borderEdges == 0;
   if (r.nonManifoldEdges || r.misorientedEdges || r.nonManifoldVertices) return std::nullopt;

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <future>
 #include <limits>
 #include <mutex>
 #include <sstream>
@@ -932,6 +933,16 @@ TriangleMesh weld(const Grid& g, int bc, const std::int64_t bricksPerAxis[3],
     }
     return brickLinear(b);
   };
+  // The output's arrays are zeroed by one thread, and most of that is the first touch of
+  // fresh pages (0.1 s on the gyroid at 256 cells): done on a thread of their own while the
+  // numbering below runs on the others. (Declared after `mesh`: joined before it goes.)
+  TriangleMesh mesh;
+  std::vector<std::size_t> firstTriangle(count + 1, 0);
+  for (std::size_t i = 0; i < count; ++i)
+    firstTriangle[i + 1] = firstTriangle[i] + results[i].triangles.size();
+  std::future<void> zeroed = std::async(std::launch::async, [&mesh, &firstTriangle, count] {
+    mesh.triangles.resize(firstTriangle[count]);
+  });
   std::vector<std::pair<std::uint64_t, std::uint32_t>> brickIndex(count);
   for (std::size_t i = 0; i < count; ++i) {
     const std::int64_t b[3] = {bricks[i].range.lo[0] / bc, bricks[i].range.lo[1] / bc,
@@ -960,6 +971,11 @@ TriangleMesh weld(const Grid& g, int bc, const std::int64_t bricksPerAxis[3],
     base[i + 1] = static_cast<std::size_t>(next);
   });
   for (std::size_t i = 0; i < count; ++i) base[i + 1] += base[i];
+  std::future<void> zeroedPositions =
+      std::async(std::launch::async, [&mesh, &base, count, normals] {
+        mesh.positions.resize(base[count]);
+        if (normals) mesh.normals.resize(base[count]);
+      });
 
   // 2. Per brick: the global number of every local vertex.
   std::vector<std::vector<std::uint32_t>> global(count);
@@ -995,13 +1011,8 @@ TriangleMesh weld(const Grid& g, int bc, const std::int64_t bricksPerAxis[3],
   }
 
   // 3. Positions, normals and triangles, written in place per brick.
-  TriangleMesh mesh;
-  mesh.positions.resize(base[count]);
-  if (normals) mesh.normals.resize(base[count]);
-  std::vector<std::size_t> firstTriangle(count + 1, 0);
-  for (std::size_t i = 0; i < count; ++i)
-    firstTriangle[i + 1] = firstTriangle[i] + results[i].triangles.size();
-  mesh.triangles.resize(firstTriangle[count]);
+  zeroed.get();
+  zeroedPositions.get();
   for (std::size_t i = 0; i < count; ++i)
     for (std::uint32_t t : results[i].flippable)
       flippable->push_back(static_cast<std::uint32_t>(firstTriangle[i]) + t);
