@@ -13,6 +13,7 @@
 #include "check/mesh_check.h"
 #include "check/partitioned_check.h"
 #include "check/self_intersections.h"
+#include "check/volume_nesting.h"
 #include "frep/tree.h"
 #include "mesh/mesher.h"
 #include "frep/model_json.h"
@@ -520,6 +521,32 @@ TEST(Check, OrientationOfOneAndOfNestedComponents) {
   EXPECT_FALSE(wrong.outward);  // the inner surface faces out: a volume counted twice
   EXPECT_TRUE(checkMesh(merged(ball, scaled(ball, 1.0f, 3))).printable());
   EXPECT_FALSE(checkMesh(merged(ball, flipped(scaled(ball, 1.0f, 3)))).outward);
+  // Large enough that the components' facts are gathered by blocks of faces in parallel
+  // (65,536 a block): a hollow of two fine balls and a third beside them, each spanning
+  // blocks.
+  o.resolution = 0.015;
+  const TriangleMesh fine = polygonize(compile(makeNode("sphere", {}, {})), o);
+  ASSERT_GT(fine.triangles.size(), 65536u);
+  const TriangleMesh fineHollow =
+      merged(merged(fine, flipped(scaled(fine, 0.5f, 0))), scaled(fine, 1.0f, 3));
+  const CheckReport fh = checkMesh(fineHollow);
+  EXPECT_EQ(fh.components, 3u);
+  EXPECT_TRUE(fh.printable()) << (fh.reasons.empty() ? "" : fh.reasons[0]);
+  EXPECT_FALSE(checkMesh(merged(merged(fine, scaled(fine, 0.5f, 0)), scaled(fine, 1.0f, 3))).outward);
+  EXPECT_FALSE(
+      checkMesh(merged(merged(fine, flipped(scaled(fine, 0.5f, 0))), flipped(scaled(fine, 1.0f, 3))))
+          .outward);
+  // the rays decide it (CGAL's fallback would hide facts gathered wrongly)
+  const std::size_t n = fine.triangles.size();
+  std::vector<std::uint32_t> component(3 * n);
+  for (std::size_t f = 0; f < component.size(); ++f)
+    component[f] = static_cast<std::uint32_t>(f / n);
+  const std::vector<FaceIndices> hollowFaces(fineHollow.triangles.begin(),
+                                             fineHollow.triangles.end());
+  const std::optional<bool> byRays =
+      boundsAVolumeByRays(fineHollow.positions, hollowFaces, component, 3);
+  ASSERT_TRUE(byRays.has_value());
+  EXPECT_TRUE(*byRays);
 }
 
 // The nesting test by rays (check/volume_nesting.h) against the rule the check had before

@@ -74,13 +74,20 @@ std::string count(std::size_t n, const char* what) {
 // the two on 200 random nests.
 bool severalBoundAVolume(const std::vector<Vec3f>& pos, const std::vector<FaceIndices>& faces,
                          UnionFind& parts, double volume) {
+  // Components numbered in their root vertices' order, each face's found in parallel (the
+  // parts point straight at their roots: checkMesh flattens them).
+  std::unique_ptr<std::atomic<std::uint8_t>[]> used(new std::atomic<std::uint8_t>[pos.size()]);
+  tbb::parallel_for(std::size_t(0), pos.size(),
+                    [&](std::size_t v) { used[v].store(0, std::memory_order_relaxed); });
+  tbb::parallel_for(std::size_t(0), faces.size(), [&](std::size_t f) {
+    used[parts.parent[faces[f][0]]].store(1, std::memory_order_relaxed);
+  });
   std::vector<std::uint32_t> index(pos.size(), UINT32_MAX), component(faces.size());
   std::uint32_t components = 0;
-  for (std::size_t f = 0; f < faces.size(); ++f) {
-    std::uint32_t& c = index[parts.find(faces[f][0])];
-    if (c == UINT32_MAX) c = components++;
-    component[f] = c;
-  }
+  for (std::size_t v = 0; v < pos.size(); ++v)
+    if (used[v].load(std::memory_order_relaxed)) index[v] = components++;
+  tbb::parallel_for(std::size_t(0), faces.size(),
+                    [&](std::size_t f) { component[f] = index[parts.parent[faces[f][0]]]; });
   const std::optional<bool> byRays = boundsAVolumeByRays(pos, faces, component, components);
   return byRays ? *byRays : boundsAVolume(pos, faces) && volume > 0;
 }

@@ -111,10 +111,26 @@ std::optional<bool> boundsAVolumeByRays(const std::vector<Vec3f>& points,
                                         std::uint32_t components) {
   // The boxes are compared pair by pair: many components (an array of parts) go to CGAL.
   if (components > kMostComponents) return std::nullopt;
+  // Each component's box, volume and first faces: by fixed blocks of faces in parallel,
+  // merged in block order (the same facts on any number of threads), where the blocks'
+  // tables stay small; else in one pass.
   std::vector<ComponentFacts> facts(components);
-  for (std::size_t f = 0; f < faces.size(); ++f) {
-    const Vec3f &a = points[faces[f][0]], &b = points[faces[f][1]], &c = points[faces[f][2]];
-    facts[component[f]].add(a, b, c);
+  auto addFaces = [&](std::size_t from, std::size_t to, std::vector<ComponentFacts>& into) {
+    for (std::size_t f = from; f < to; ++f)
+      into[component[f]].add(points[faces[f][0]], points[faces[f][1]], points[faces[f][2]]);
+  };
+  constexpr std::size_t kBlock = std::size_t(1) << 16, kMostPartials = std::size_t(1) << 18;
+  const std::size_t blocks = (faces.size() + kBlock - 1) / kBlock;
+  if (blocks > 1 && blocks * components <= kMostPartials) {
+    std::vector<std::vector<ComponentFacts>> partial(blocks);
+    tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
+      partial[b].resize(components);
+      addFaces(b * kBlock, std::min(faces.size(), (b + 1) * kBlock), partial[b]);
+    });
+    for (const std::vector<ComponentFacts>& p : partial)
+      for (std::uint32_t c = 0; c < components; ++c) facts[c].merge(p[c]);
+  } else {
+    addFaces(0, faces.size(), facts);
   }
   return nestingByRays(facts, [&](const FaceVisitor& visit) {
     tbb::parallel_for(std::size_t(0), faces.size(), [&](std::size_t f) {
