@@ -120,6 +120,21 @@ std::size_t tableSlots(std::size_t points) {  // twice as many slots as points, 
 // answers no. (Meshes the mesher makes have no repeated point, and most files share
 // vertices by index: the numbering then is the identity, with no serial pass.)
 bool allDistinct(const std::vector<Vec3f>& pos) {
+  // A soup (an STL file) repeats points within its first faces: the first thousand are
+  // looked at before a table for all is made.
+  {
+    std::vector<Vec3f> head(pos.begin(), pos.begin() + std::min<std::size_t>(pos.size(), 1024));
+    bool finite = true;
+    for (Vec3f& p : head)
+      for (float& x : p) {
+        if (x == 0.0f) x = 0.0f;  // (-0 and +0 are equal)
+        finite = finite && std::isfinite(x);
+      }
+    if (finite) {  // (a NaN has no place in a sort)
+      std::sort(head.begin(), head.end());
+      if (std::adjacent_find(head.begin(), head.end()) != head.end()) return false;
+    }
+  }
   const std::size_t slots = tableSlots(pos.size());
   const std::uint64_t mask = slots - 1;
   std::unique_ptr<std::atomic<std::uint32_t>[]> table(new std::atomic<std::uint32_t>[slots]);
