@@ -42,11 +42,11 @@ struct MeshingOptions {
   int rootIterations = 8;    // Illinois iterations per edge vertex
   bool normals = true;       // per-vertex normals from the gradient
   // Memory the mesh may take (bytes; 0: no limit) at `bytesPerTriangle` (the mesher's own
-  // need is about 70; a caller that checks the mesh with CGAL adds the check's). The
+  // need is up to about 50; a caller that checks the mesh with CGAL adds the check's). The
   // triangles are estimated from the active bricks before any is meshed, and an estimate
   // over the budget is a ModelError with the figures and the smallest cell size that fits.
   std::size_t memoryBudget = 0;
-  double bytesPerTriangle = 70.0;
+  double bytesPerTriangle = 60.0;
   // Called with the fraction done (0..1), possibly from worker threads (one call at a time).
   // Return false to cancel: polygonize then throws frep::Cancelled.
   std::function<bool(double)> progress;

@@ -25,10 +25,12 @@ constexpr int kDefaultCells = 128;
 // The automatic box is the solid's own box grown by this many cells (and 1/1000 of its
 // size), so the surface never touches the meshing box.
 constexpr double kPaddingCells = 1.5;
-// Memory per triangle of meshing and of the check (measured: docs/performance.md; the whole
-// export peaks at 146 to 190 bytes a triangle on the reference models since issue 12).
-constexpr double kMesherBytesPerTriangle = 70.0;
-constexpr double kCheckBytesPerTriangle = 130.0;
+// Memory per triangle of meshing, and what the check adds to it (measured:
+// docs/performance.md, issue 12's fourth round; at 512 cells the whole export peaks at 50
+// to 83 bytes a triangle in frepcad, 61 to 79 in the Python module, on the reference
+// models; meshing alone at up to 50).
+constexpr double kMesherBytesPerTriangle = 60.0;
+constexpr double kCheckBytesPerTriangle = 40.0;
 // and of the simplifier (per triangle of the mesher's mesh: a quadric per vertex, the faces)
 constexpr double kSimplifyBytesPerTriangle = 100.0;
 // Cells along the longest side that `cells` may ask for.
