@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -123,6 +125,52 @@ TEST(Check, IdenticalCoordinatesWeldButNearDuplicatesDoNot) {
   const CheckReport r = checkMesh(soup);
   EXPECT_FALSE(r.printable());
   EXPECT_GT(r.borderEdges, 0u);
+}
+
+// Distinct points are numbered in parallel; the numbering must be the one a serial pass
+// gives (in order of first occurrence, equal as floats: -0 and +0 alike, a NaN never), on
+// soups of many blocks with twins near and far, and on points all distinct (the identity).
+TEST(Check, DistinctPointsAreNumberedAsASerialPassNumbersThem) {
+  std::mt19937 g(5);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (std::size_t n : {std::size_t(7), std::size_t(5000), std::size_t(300000)}) {
+    for (int twinsEvery : {0, 3, 50}) {
+      std::vector<Vec3f> points(n);
+      std::uniform_int_distribution<int> coord(-40, 40), pick(0, 1 << 30);
+      for (std::size_t i = 0; i < n; ++i) {
+        points[i] = {coord(g) * 0.25f, coord(g) * 0.5f, float(i)};  // distinct by z
+        if (twinsEvery && i > 0 && pick(g) % twinsEvery == 0)
+          points[i] = points[static_cast<std::size_t>(pick(g)) % i];  // a twin, near or far
+        if (i % 997 == 5) points[i][0] = (i % 2 ? -0.0f : 0.0f);      // -0 and +0
+        if (i % 1999 == 7) points[i][1] = nan;                          // never equal
+      }
+      // the reference: a serial pass with a map
+      std::map<std::array<float, 3>, std::uint32_t> seen;
+      std::vector<std::uint32_t> expectMap(n), expectFirst;
+      for (std::size_t i = 0; i < n; ++i) {
+        std::array<float, 3> key = points[i];
+        for (float& x : key)
+          if (x == 0.0f) x = 0.0f;
+        if (std::isnan(key[1])) {  // (a map cannot hold NaN as a key: its own number)
+          expectMap[i] = static_cast<std::uint32_t>(expectFirst.size());
+          expectFirst.push_back(static_cast<std::uint32_t>(i));
+          continue;
+        }
+        const auto found = seen.find(key);
+        if (found != seen.end()) {
+          expectMap[i] = found->second;
+          continue;
+        }
+        seen[key] = expectMap[i] = static_cast<std::uint32_t>(expectFirst.size());
+        expectFirst.push_back(static_cast<std::uint32_t>(i));
+      }
+      std::vector<std::uint32_t> first;
+      const std::vector<std::uint32_t> map = distinctPoints(points, &first);
+      ASSERT_EQ(map, expectMap) << n << " points, twins every " << twinsEvery;
+      ASSERT_EQ(first, expectFirst) << n << " points, twins every " << twinsEvery;
+      if (twinsEvery == 0) EXPECT_EQ(first.size(), n);
+    }
+  }
 }
 
 TEST(Check, EmptyAndNonFinite) {
