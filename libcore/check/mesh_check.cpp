@@ -74,7 +74,7 @@ std::string count(std::size_t n, const char* what) {
 // wholly inside out) and a positive volume, the rule this check had before. A test compares
 // the two on 200 random nests.
 bool severalBoundAVolume(const std::vector<Vec3f>& pos, const std::vector<FaceIndices>& faces,
-                         UnionFind& parts, double volume) {
+                         const UnionFind& parts, double volume) {
   // Components numbered in their root vertices' order, each face's found in parallel (the
   // parts point straight at their roots: checkMesh flattens them).
   std::unique_ptr<std::atomic<std::uint8_t>[]> used(new std::atomic<std::uint8_t>[pos.size()]);

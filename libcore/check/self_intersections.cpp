@@ -276,6 +276,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
         entries[next[key >> topShift]++] = key << 32 | f;
       });
     });
+    auto cellOf = [&](std::size_t e) { return entries[e] >> 32; };
     tbb::enumerable_thread_specific<double> bucketPairs(0.0);
     tbb::parallel_for(std::size_t(0), kBuckets, [&](std::size_t bucket) {
       const std::size_t from = bucketStart[bucket], size = bucketStart[bucket + 1] - from;
@@ -301,13 +302,12 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
       double& mine = bucketPairs.local();
       for (std::size_t e = from, last = from + size; e < last;) {
         std::size_t end = e + 1;
-        while (end < last && entries[end] >> 32 == entries[e] >> 32) ++end;
+        while (end < last && cellOf(end) == cellOf(e)) ++end;
         const double m = static_cast<double>(end - e);
         mine += m * (m - 1) / 2;
         e = end;
       }
     });
-    auto cellOf = [&](std::size_t e) { return entries[e] >> 32; };
     // (all slabs so far)
     for (double& b : bucketPairs) {
       pairs += b;
