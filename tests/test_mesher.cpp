@@ -4,11 +4,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <vector>
 
 #include "base/errors.h"
 #include "check/cgal_surface.h"
 #include "check/mesh_check.h"
 #include "frep/model_json.h"
+#include "mesh/centred_cube.h"
+#include "mesh/cube_loops.h"
 #include "mesh/mesher.h"
 #include "random_trees.h"
 
@@ -362,6 +366,146 @@ TEST(MesherAdversarial, WallsThinnerThanACell) {
   const CheckReport r = meshAndCheck(makeNode("difference", {}, {outer, inner}),
                                      {{-1.1, -1.1, -1.1}, {1.1, 1.1, 1.1}}, 0.05);
   EXPECT_TRUE(r.printable()) << reasons(r);
+}
+
+// Directed segments on the cube's faces (cube-local edge ids) traced into loops: the number
+// of loops and the first one, started at its least id as the tables do.
+CubeLoopCase traceLoops(const std::map<int, int>& nextOf) {
+  CubeLoopCase c;
+  std::map<int, bool> seen;
+  for (const auto& [start, unused] : nextOf) {
+    (void)unused;
+    if (seen[start]) continue;
+    ++c.loops;
+    int length = 0;
+    for (int v = start; !seen[v]; v = nextOf.at(v)) {
+      seen[v] = true;
+      if (c.loops == 1) c.ids[length] = static_cast<std::uint8_t>(v);
+      ++length;
+    }
+    if (c.loops == 1) c.length = static_cast<std::uint8_t>(length);
+  }
+  if (c.loops != 1) c.length = 0;
+  return c;
+}
+
+void expectSameLoops(const CubeLoopCase& got, const CubeLoopCase& want, const std::string& what) {
+  ASSERT_EQ(got.loops, want.loops) << what;
+  ASSERT_EQ(got.length, want.length) << what;
+  for (int i = 0; i < got.length; ++i) ASSERT_EQ(got.ids[i], want.ids[i]) << what << " at " << i;
+}
+
+TEST(CubeLoops, KuhnsSplitGivesTheLoopsOfKuhnsTetrahedra) {
+  // The tables draw each face's lines from its two triangles, oriented by a rule (u x m,
+  // mesh/cube_loops.cpp). With no face flipped that must be exactly what Kuhn's six
+  // tetrahedra draw on the faces, derived here from their oriented polygons instead.
+  const CubeLoopTables& cl = cubeLoopTables();
+  const KuhnTables& kt = kuhnTables();
+  for (int mask = 1; mask < 255; ++mask) {
+    std::map<int, int> nextOf;
+    for (int tet = 0; tet < 6; ++tet) {
+      int m = 0;
+      for (int v = 0; v < 4; ++v) m |= ((mask >> kt.tets[tet][v]) & 1) << v;
+      const TetPolygon& p = kt.polygons[tet][m];
+      for (int i = 0; i < p.count; ++i) {
+        const TetEdge &e = p.edges[i], &f = p.edges[(i + 1) % p.count];
+        const int a = cl.idOf[e.low][e.dir], b = cl.idOf[f.low][f.dir];
+        if (cl.faces[a] & cl.faces[b]) nextOf[a] = b;
+      }
+    }
+    expectSameLoops(cl.caseOf(mask, 0), traceLoops(nextOf), "mask " + std::to_string(mask));
+  }
+}
+
+TEST(CubeLoops, CentredTetrahedraCloseTheLoopsOfAnySplit) {
+  // For every sign pattern, every split of its ambiguous faces and either sign at the
+  // centre: the twelve tetrahedra's polygons form a closed oriented surface inside the cube
+  // (every inner edge once each way) whose boundary on the faces is the tables' loops, so a
+  // cube split round its centre meets its fanned neighbours' lines exactly.
+  const CubeLoopTables& cl = cubeLoopTables();
+  int flippedCases = 0;
+  for (int mask = 1; mask < 255; ++mask) {
+    const int ambiguous = cl.ambiguous[mask];
+    for (int flips = 0; flips < 64; ++flips) {
+      if ((flips & ambiguous) != flips) continue;
+      flippedCases += flips != 0;
+      for (bool centre : {false, true}) {
+        std::vector<TetCrossing> polys;
+        centredCubeCrossings(mask, centre, flips, polys);
+        std::map<std::pair<int, int>, int> inner;  // directed edge between crossed edges
+        std::map<int, int> nextOf;
+        for (const TetCrossing& p : polys)
+          for (int i = 0; i < p.count; ++i) {
+            const int j = (i + 1) % p.count;
+            auto vertex = [&](int k) {  // crossed edge as (low, high) vertex ids, 0..8
+              return std::make_pair(std::min(p.from[k], p.to[k]), std::max(p.from[k], p.to[k]));
+            };
+            const auto u = vertex(i), w = vertex(j);
+            const bool onFaces = u.second != kCubeCentre && w.second != kCubeCentre;
+            const int a = onFaces ? cl.idOf[u.first][u.first ^ u.second] : -1;
+            const int b = onFaces ? cl.idOf[w.first][w.first ^ w.second] : -1;
+            ASSERT_TRUE(!onFaces || (a != 255 && b != 255)) << "a flipped diagonal crossed";
+            if (onFaces && (cl.faces[a] & cl.faces[b])) {
+              ASSERT_EQ(nextOf.count(a), 0u) << "mask " << mask << " flips " << flips;
+              nextOf[a] = b;
+            } else {
+              ++inner[{u.first * 9 + u.second, w.first * 9 + w.second}];
+            }
+          }
+        for (const auto& [edge, times] : inner) {
+          EXPECT_EQ(times, 1) << "mask " << mask << " flips " << flips;
+          const auto back = inner.find({edge.second, edge.first});
+          EXPECT_TRUE(back != inner.end() && back->second == 1)
+              << "mask " << mask << " flips " << flips << ": an open or twisted inner edge";
+        }
+        expectSameLoops(traceLoops(nextOf), cl.caseOf(mask, flips),
+                        "mask " + std::to_string(mask) + " flips " + std::to_string(flips));
+      }
+    }
+  }
+  EXPECT_GT(flippedCases, 100);
+}
+
+// A rod of radius 0.3 cell along a face diagonal, through a line of grid points: only the
+// points on its axis are inside, and the faces between them are ambiguous, their centres
+// on the axis. Kuhn's split cuts the rod into beads (one per point); the cubes join them.
+NodePtr diagonalRod(const Vec3& through, double cell, const Vec3& axis = {-1, 0, 1}) {
+  return makeNode("cylinder",
+                  {{"center", vec3Value(through)},
+                   {"axis", vec3Value(axis)},
+                   {"radius", realValue(0.3 * cell)},
+                   {"length", realValue(0)}},
+                  {});
+}
+
+TEST(MesherAmbiguousFaces, AFaceSplitsAsItsCentreSays) {
+  const double h = 0.125;
+  const Box3 box{{-1, -1, -1}, {1, 1, 1}};  // grid points at -1 + (j - 0.5) h
+  const Vec3 point{0.0625, 0.0625, 0.0625};
+  MeshingOptions o;
+  o.bbox = box;
+  o.resolution = h;
+  const TriangleMesh cubes = polygonize(compile(diagonalRod(point, h)), o);
+  const CheckReport r = checkMesh(cubes);
+  EXPECT_TRUE(r.printable()) << reasons(r);
+  EXPECT_EQ(r.components, 1u);
+  o.extraction = Extraction::Tetrahedra;
+  const CheckReport beads = checkMesh(polygonize(compile(diagonalRod(point, h)), o));
+  EXPECT_TRUE(beads.printable()) << reasons(beads);
+  EXPECT_GT(beads.components, 10u);  // the case is ambiguous for Kuhn's split
+  // With a second rod a cell above, across the first, through the other two corners of the
+  // cubes between them: those cubes have a flipped face and two loops, and are split round
+  // their centres (mesh/centred_cube.h). No grid edge joins the rods' points.
+  const NodePtr two = makeNode(
+      "union", {},
+      {diagonalRod(point, h), diagonalRod({point[0] - h, point[1] + h, point[2]}, h, {1, 0, 1})});
+  o.extraction = Extraction::Cubes;
+  for (int brick : {4, 16}) {
+    o.brickCells = brick;
+    const CheckReport pair = checkMesh(polygonize(compile(two), o));
+    EXPECT_TRUE(pair.printable()) << reasons(pair);
+    EXPECT_EQ(pair.components, 2u) << "brick " << brick;
+  }
 }
 
 TEST(MesherAdversarial, SmoothUnionsOfSteepFields) {

@@ -19,7 +19,9 @@ struct MeshPiece {
   std::int64_t gridCells[3] = {0, 0, 0};  // the grid's cells per axis (its points: one more)
   std::int64_t cellLo[3] = {0, 0, 0}, cellHi[3] = {0, 0, 0};  // the job's cells [lo, hi)
   // Per vertex: the lower grid point's linear index (x + points_x (y + points_y z)) times 7
-  // plus the direction (offset bit mask - 1; 6: a vertex inside a cube). Sorted, unique.
+  // plus the direction (offset bit mask - 1; 6: a vertex inside a cube); after all those, a
+  // vertex on the edge from a cube's centre to its corner c: 7 x points + the cube's lowest
+  // point's index x 8 + c. Sorted, unique.
   std::vector<std::uint64_t> keys;
   std::vector<Vec3f> positions;
   std::vector<Triangle> triangles;
@@ -33,6 +35,10 @@ struct MeshPiece {
 inline bool onJobSeam(const MeshPiece& p, std::uint64_t key) {
   const std::uint64_t direction = key % 7 + 1;
   std::uint64_t point = key / 7;
+  // keys past every grid edge's are on a cube centre's edges (inside one cube): never shared
+  if (point >= static_cast<std::uint64_t>((p.gridCells[0] + 1) * (p.gridCells[1] + 1) *
+                                          (p.gridCells[2] + 1)))
+    return false;
   for (int a = 0; a < 3; ++a) {
     const auto points = static_cast<std::uint64_t>(p.gridCells[a] + 1);
     const auto at = static_cast<std::int64_t>(point % points);

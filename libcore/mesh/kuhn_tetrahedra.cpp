@@ -30,36 +30,11 @@ TetEdge edgeBetween(int a, int b) {
   return {static_cast<std::uint8_t>(low), static_cast<std::uint8_t>(a ^ b)};
 }
 
-// Derivation (docs/mesher.md): for a positively oriented tetrahedron (v0..v3) with only v0
-// inside, the triangle (e01, e02, e03) faces away from v0; with {v0, v1} inside, the quad
-// (e02, e03, e13, e12) faces away from them. Even permutations keep the orientation.
 TetPolygon polygonFor(const std::array<std::uint8_t, 4>& t, int mask) {
+  const TetCrossing c = tetCrossing(mask);
   TetPolygon poly;
-  int insideCount = 0;
-  for (int i = 0; i < 4; ++i) insideCount += (mask >> i) & 1;
-  auto e = [&](int i, int j) { return edgeBetween(t[i], t[j]); };
-  if (insideCount == 1 || insideCount == 3) {
-    const bool loneInside = insideCount == 1;
-    int lone = 0;
-    for (int i = 0; i < 4; ++i)
-      if ((((mask >> i) & 1) == 1) == loneInside) lone = i;
-    static const int kEven[4][4] = {{0, 1, 2, 3}, {1, 0, 3, 2}, {2, 3, 0, 1}, {3, 2, 1, 0}};
-    const int* p = kEven[lone];
-    poly.count = 3;
-    poly.edges[0] = e(p[0], p[1]);
-    poly.edges[1] = loneInside ? e(p[0], p[2]) : e(p[0], p[3]);
-    poly.edges[2] = loneInside ? e(p[0], p[3]) : e(p[0], p[2]);
-  } else if (insideCount == 2) {
-    int in[2], out[2], ni = 0, no = 0;
-    for (int i = 0; i < 4; ++i) ((mask >> i) & 1 ? in[ni++] : out[no++]) = i;
-    int p[4] = {in[0], in[1], out[0], out[1]};
-    if (!isEven(p)) std::swap(p[2], p[3]);
-    poly.count = 4;
-    poly.edges[0] = e(p[0], p[2]);
-    poly.edges[1] = e(p[0], p[3]);
-    poly.edges[2] = e(p[1], p[3]);
-    poly.edges[3] = e(p[1], p[2]);
-  }
+  poly.count = c.count;
+  for (int i = 0; i < c.count; ++i) poly.edges[i] = edgeBetween(t[c.from[i]], t[c.to[i]]);
   return poly;
 }
 
@@ -78,6 +53,42 @@ KuhnTables build() {
 }
 
 }  // namespace
+
+// Derivation (docs/mesher.md): for a positively oriented tetrahedron (v0..v3) with only v0
+// inside, the triangle (e01, e02, e03) faces away from v0; with {v0, v1} inside, the quad
+// (e02, e03, e13, e12) faces away from them. Even permutations keep the orientation.
+TetCrossing tetCrossing(int mask) {
+  TetCrossing c;
+  int insideCount = 0;
+  for (int i = 0; i < 4; ++i) insideCount += (mask >> i) & 1;
+  auto edge = [&](int k, int i, int j) {
+    c.from[k] = static_cast<std::uint8_t>(i);
+    c.to[k] = static_cast<std::uint8_t>(j);
+  };
+  if (insideCount == 1 || insideCount == 3) {
+    const bool loneInside = insideCount == 1;
+    int lone = 0;
+    for (int i = 0; i < 4; ++i)
+      if ((((mask >> i) & 1) == 1) == loneInside) lone = i;
+    static const int kEven[4][4] = {{0, 1, 2, 3}, {1, 0, 3, 2}, {2, 3, 0, 1}, {3, 2, 1, 0}};
+    const int* p = kEven[lone];
+    c.count = 3;
+    edge(0, p[0], p[1]);
+    edge(1, p[0], loneInside ? p[2] : p[3]);
+    edge(2, p[0], loneInside ? p[3] : p[2]);
+  } else if (insideCount == 2) {
+    int in[2], out[2], ni = 0, no = 0;
+    for (int i = 0; i < 4; ++i) ((mask >> i) & 1 ? in[ni++] : out[no++]) = i;
+    int p[4] = {in[0], in[1], out[0], out[1]};
+    if (!isEven(p)) std::swap(p[2], p[3]);
+    c.count = 4;
+    edge(0, p[0], p[2]);
+    edge(1, p[0], p[3]);
+    edge(2, p[1], p[3]);
+    edge(3, p[1], p[2]);
+  }
+  return c;
+}
 
 const KuhnTables& kuhnTables() {
   static const KuhnTables tables = build();

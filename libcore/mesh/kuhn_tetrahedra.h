@@ -22,6 +22,16 @@ struct TetPolygon {
   TetEdge edges[4];
 };
 
+// The crossing of a positively oriented tetrahedron whose vertex i is inside when bit i of
+// `mask` is set: its crossed edges as pairs of its vertices (0..3), in the cyclic order of
+// a polygon facing from the inside to the outside (docs/mesher.md). Any tetrahedron, not
+// only Kuhn's: the cubes split around their centre use it too (mesh/centred_cube.h).
+struct TetCrossing {
+  std::uint8_t count = 0;  // 0, 3 or 4
+  std::uint8_t from[4] = {}, to[4] = {};
+};
+TetCrossing tetCrossing(int mask);
+
 struct KuhnTables {
   std::array<std::array<std::uint8_t, 4>, 6> tets;  // corner ids, positively oriented
   // polygons[t][mask]: mask bit i set when corner tets[t][i] is inside

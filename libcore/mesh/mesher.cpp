@@ -16,6 +16,7 @@
 #include "base/errors.h"
 #include "base/qef.h"
 #include "base/triangle_geometry.h"
+#include "mesh/centred_cube.h"
 #include "mesh/crease_flips.h"
 #include "mesh/cube_loops.h"
 #include "mesh/kuhn_tetrahedra.h"
@@ -68,6 +69,12 @@ struct Grid {
   }
   std::uint64_t linear(std::int64_t i, std::int64_t j, std::int64_t k) const {
     return static_cast<std::uint64_t>(i + points[0] * (j + points[1] * k));
+  }
+  // The key of the vertex on the edge from the centre of the cube whose lowest grid point is
+  // (i, j, k) to its corner c: after the keys of every grid edge (point x 7 + direction).
+  std::uint64_t centreEdgeKey(std::int64_t i, std::int64_t j, std::int64_t k, int c) const {
+    const std::uint64_t edges = static_cast<std::uint64_t>(points[0] * points[1] * points[2]) * 7;
+    return edges + linear(i, j, k) * 8 + static_cast<std::uint64_t>(c);
   }
   // The box as a field: positive inside, intersected (min) with the model's field.
   double boxField(double x, double y, double z) const {
@@ -146,11 +153,17 @@ struct Scratch {
   std::vector<std::uint32_t> polys;      // 4 ids per polygon, last = UINT32_MAX for triangles
   std::vector<std::uint8_t> cellMask;    // per cube: bit v set when corner v is inside
   std::vector<std::uint8_t> kept;        // per local edge key: a face diagonal that stays
+  std::vector<std::uint8_t> cellFlips;   // per cube: its faces split off Kuhn's diagonal
+  std::vector<double> centreValue;       // per cube split around its centre: the value there
+  std::vector<double> ax, ay, az, af;    // face and cube centres evaluated, packed
+  std::vector<std::uint32_t> centreOf;   // the cube (or cube * 6 + face) of each
+  std::vector<TetCrossing> crossings;    // one centred cube's polygons
   std::vector<std::uint32_t> loops;      // per cube: base, length, (vertex, cube-local id)...
   // corners of the neighbour bricks' cubes next to this brick's faces
   std::vector<double> hx, hy, hz, hf;
   std::vector<std::uint32_t> haloKey;
   std::vector<std::uint8_t> haloMask;  // the neighbour's corners known here, and the axis
+  std::vector<std::int64_t> haloCube;  // the neighbour's lowest grid point, 3 per entry
   // root finding, one entry per new vertex
   std::vector<double> px, py, pz, dx, dy, dz, ta, tb, fa, fb;
   std::vector<std::int8_t> lastSide;
@@ -284,7 +297,7 @@ class BrickMesher {
     const KuhnTables& kt = kuhnTables();
     const CubeLoopTables& cl = cubeLoopTables();
     const bool byCubes = opt_.extraction == Extraction::Cubes;
-    auto byTetrahedra = [&](int mask) { return !byCubes || !cl.fanned(mask); };
+    auto byTetrahedra = [&](int mask, int flips) { return !byCubes || !cl.fanned(mask, flips); };
     s.edgeVertex.assign(count * 7, -1);
     s.polys.clear();
     s.loops.clear();
@@ -308,7 +321,11 @@ class BrickMesher {
           for (int v = 0; v < 8; ++v) cellMask |= isInside(s.f[base + cornerOffset[v]]) << v;
           s.cellMask[q] = static_cast<std::uint8_t>(cellMask);
         }
-    if (byCubes) markKeptDiagonals(whole, r, n, c, cornerOffset, s);
+    s.cellFlips.assign(cubes, 0);
+    if (byCubes) {
+      resolveAmbiguousFaces(field, r, c, s);
+      markKeptDiagonals(whole, r, n, c, cornerOffset, s);
+    }
     auto vertexFor = [&](std::uint32_t key) {
       std::int32_t& slot = s.edgeVertex[key];
       if (slot < 0) {
@@ -323,9 +340,10 @@ class BrickMesher {
           const int cellMask = s.cellMask[q];
           if (cellMask == 0 || cellMask == 255) continue;
           const std::uint32_t base = local(i, j, k);
-          if (!byTetrahedra(cellMask)) {
+          const int flips = s.cellFlips[q];
+          if (!byTetrahedra(cellMask, flips)) {
             // loop entry: cube base, length, then (vertex, cube-local id) pairs
-            const CubeLoopCase& lc = cl.cases[cellMask];
+            const CubeLoopCase& lc = cl.caseOf(cellMask, flips);
             const std::size_t head = s.loops.size();
             s.loops.push_back(base);
             s.loops.push_back(static_cast<std::uint32_t>(cellMask) << 8);  // | length
@@ -335,6 +353,34 @@ class BrickMesher {
               s.loops.push_back(vertexFor(key));
               s.loops.push_back(lc.ids[v]);
               ++s.loops[head + 1];
+            }
+            continue;
+          }
+          if (flips != 0) {
+            // several loops and a face off Kuhn's split: the twelve tetrahedra round the
+            // centre, whose vertices on the centre's edges are this cube's alone
+            s.crossings.clear();
+            centredCubeCrossings(cellMask, isInside(s.centreValue[q]), flips, s.crossings);
+            std::int32_t onCentreEdge[8] = {-1, -1, -1, -1, -1, -1, -1, -1};
+            for (const TetCrossing& x : s.crossings) {
+              std::uint32_t ids[4] = {0, 0, 0, UINT32_MAX};
+              for (int e = 0; e < x.count; ++e) {
+                const int u = x.from[e], w = x.to[e];
+                if (u == kCubeCentre || w == kCubeCentre) {
+                  const int corner = u == kCubeCentre ? w : u;
+                  if (onCentreEdge[corner] < 0) {
+                    onCentreEdge[corner] = static_cast<std::int32_t>(edgeOf.size());
+                    edgeOf.push_back(static_cast<std::uint32_t>(count * 7 + q * 8 + corner));
+                  }
+                  ids[e] = static_cast<std::uint32_t>(onCentreEdge[corner]);
+                } else {
+                  const int low = (u & w) == u ? u : w;
+                  ids[e] = vertexFor(edgeKey(
+                      base, cornerOffset,
+                      TetEdge{static_cast<std::uint8_t>(low), static_cast<std::uint8_t>(u ^ w)}));
+                }
+              }
+              s.polys.insert(s.polys.end(), ids, ids + 4);
             }
             continue;
           }
@@ -360,6 +406,10 @@ class BrickMesher {
     // point (the last brick on an axis also holds the grid's last points).
     out.owner.resize(m);
     for (std::size_t e = 0; e < m; ++e) {
+      if (edgeOf[e] >= count * 7) {  // on a centre's edge: inside one cube of this brick
+        out.owner[e] = Ownership::Own;
+        continue;
+      }
       const std::uint32_t low = edgeOf[e] / 7;
       const std::int64_t l[3] = {low % n[0], (low / n[0]) % n[1], low / (n[0] * n[1])};
       bool mine = true, lowerFace = false;
@@ -441,6 +491,83 @@ class BrickMesher {
   }
 
  private:
+  // The centre of face f (2a + s) of the cube whose lowest grid point is g: computed from the
+  // face's own grid lines, so the two cubes sharing it compute the same point.
+  Vec3 faceCentre(const std::int64_t g[3], int f) const {
+    Vec3 p;
+    for (int b = 0; b < 3; ++b)
+      p[b] = b == f / 2 ? g_.coord(b, g[b] + f % 2)
+                        : 0.5 * (g_.coord(b, g[b]) + g_.coord(b, g[b] + 1));
+    return p;
+  }
+
+  // Whether face f of a cube with corners `mask` is split off Kuhn's diagonal, given the
+  // field's value at its centre: an ambiguous face goes along the diagonal whose corners
+  // share the centre's sign (mesh/cube_loops.h).
+  static bool flipped(int mask, int f, double centre) {
+    const bool kuhnInside = (mask >> cubeLoopTables().faceCorners[f][0]) & 1;
+    return isInside(centre) != kuhnInside;
+  }
+
+  // Splits the ambiguous faces of the brick's crossed cubes (cellFlips), evaluating their
+  // centres with the brick's field (equal to the whole one there, so a face on the brick's
+  // boundary is split alike from both sides); then evaluates the centre of every cube that
+  // has a flipped face and several loops (centreValue): those are split round it.
+  void resolveAmbiguousFaces(const Field& field, const CellRange& r, const std::int64_t c[3],
+                             Scratch& s) const {
+    const CubeLoopTables& cl = cubeLoopTables();
+    auto evaluate = [&] {
+      s.af.resize(s.ax.size());
+      field.evalBatch(s.ax.data(), s.ay.data(), s.az.data(), s.ax.size(), s.af.data());
+      for (std::size_t i = 0; i < s.ax.size(); ++i)
+        s.af[i] = combine(s.af[i], g_.boxField(s.ax[i], s.ay[i], s.az[i]));
+    };
+    auto lowest = [&](std::uint32_t q, std::int64_t g[3]) {
+      g[0] = r.lo[0] + q % c[0];
+      g[1] = r.lo[1] + (q / c[0]) % c[1];
+      g[2] = r.lo[2] + q / (c[0] * c[1]);
+    };
+    for (auto* v : {&s.ax, &s.ay, &s.az}) v->clear();
+    s.centreOf.clear();
+    const std::uint32_t cubes = static_cast<std::uint32_t>(c[0] * c[1] * c[2]);
+    for (std::uint32_t q = 0; q < cubes; ++q) {
+      const int ambiguous = cl.ambiguous[s.cellMask[q]];
+      if (!ambiguous) continue;
+      std::int64_t g[3];
+      lowest(q, g);
+      for (int f = 0; f < 6; ++f) {
+        if (!((ambiguous >> f) & 1)) continue;
+        const Vec3 p = faceCentre(g, f);
+        s.ax.push_back(p[0]);
+        s.ay.push_back(p[1]);
+        s.az.push_back(p[2]);
+        s.centreOf.push_back(q * 6 + static_cast<std::uint32_t>(f));
+      }
+    }
+    if (s.ax.empty()) return;
+    evaluate();
+    for (std::size_t i = 0; i < s.ax.size(); ++i) {
+      const std::uint32_t q = s.centreOf[i] / 6;
+      const int f = static_cast<int>(s.centreOf[i] % 6);
+      if (flipped(s.cellMask[q], f, s.af[i])) s.cellFlips[q] |= static_cast<std::uint8_t>(1u << f);
+    }
+    for (auto* v : {&s.ax, &s.ay, &s.az}) v->clear();
+    s.centreOf.clear();
+    for (std::uint32_t q = 0; q < cubes; ++q) {
+      if (!s.cellFlips[q] || cl.fanned(s.cellMask[q], s.cellFlips[q])) continue;
+      std::int64_t g[3];
+      lowest(q, g);
+      s.ax.push_back(0.5 * (g_.coord(0, g[0]) + g_.coord(0, g[0] + 1)));
+      s.ay.push_back(0.5 * (g_.coord(1, g[1]) + g_.coord(1, g[1] + 1)));
+      s.az.push_back(0.5 * (g_.coord(2, g[2]) + g_.coord(2, g[2] + 1)));
+      s.centreOf.push_back(q);
+    }
+    if (s.ax.empty()) return;
+    evaluate();
+    s.centreValue.resize(cubes);
+    for (std::size_t i = 0; i < s.ax.size(); ++i) s.centreValue[s.centreOf[i]] = s.af[i];
+  }
+
   // The face diagonals that stay on the loops: those a cube meshed by its tetrahedra
   // crosses. Across the brick's own faces that cube is a neighbour brick's: its four outer
   // corners are evaluated here with the whole field, which gives the values the neighbour
@@ -455,13 +582,14 @@ class BrickMesher {
     s.hz.clear();
     s.haloKey.clear();
     s.haloMask.clear();
+    s.haloCube.clear();
     for (std::int64_t k = 0, q = 0; k < c[2]; ++k)
       for (std::int64_t j = 0; j < c[1]; ++j)
         for (std::int64_t i = 0; i < c[0]; ++i, ++q) {
           const int mask = s.cellMask[q];
           if (mask == 0 || mask == 255) continue;
           const std::uint32_t base = static_cast<std::uint32_t>(i + n[0] * (j + n[1] * k));
-          const bool byTetrahedra = !cl.fanned(mask);
+          const bool byTetrahedra = !cl.fanned(mask, s.cellFlips[q]);
           const std::int64_t at[3] = {i, j, k};
           for (int id = kFirstFaceDiagonal; id < kMainDiagonal; ++id) {
             const TetEdge& e = cl.edges[id];
@@ -482,6 +610,8 @@ class BrickMesher {
             s.haloKey.push_back(key);
             s.haloMask.push_back(known);
             s.haloMask.push_back(static_cast<std::uint8_t>(a * 2 + side));
+            for (int b = 0; b < 3; ++b)
+              s.haloCube.push_back(r.lo[b] + at[b] + (b == a ? (side ? 1 : -1) : 0));
             for (int v = 0; v < 8; ++v) {
               if (((v >> a) & 1) != side) continue;
               std::int64_t p[3];
@@ -504,7 +634,15 @@ class BrickMesher {
         const std::size_t at = 4 * h + static_cast<std::size_t>(f++);
         if (isInside(combine(s.hf[at], g_.boxField(s.hx[at], s.hy[at], s.hz[at])))) mask |= 1 << v;
       }
-      if (!cl.fanned(mask)) s.kept[s.haloKey[h]] = 1;
+      // the neighbour's own ambiguous faces are split as it splits them (whole field)
+      int flips = 0;
+      for (int f = 0; f < 6; ++f) {
+        if (!((cl.ambiguous[mask] >> f) & 1)) continue;
+        const Vec3 p = faceCentre(&s.haloCube[3 * h], f);
+        const double v = combine(whole.eval(p[0], p[1], p[2]), g_.boxField(p[0], p[1], p[2]));
+        if (flipped(mask, f, v)) flips |= 1 << f;
+      }
+      if (!cl.fanned(mask, flips)) s.kept[s.haloKey[h]] = 1;
     }
   }
 
@@ -713,8 +851,35 @@ class BrickMesher {
     for (auto* v : {&s.px, &s.py, &s.pz, &s.dx, &s.dy, &s.dz, &s.ta, &s.tb, &s.fa, &s.fb})
       v->resize(m);
     s.lastSide.assign(m, 0);
+    const std::uint64_t edgeKeys = static_cast<std::uint64_t>(n[0] * n[1] * n[2]) * 7;
+    const std::int64_t c[3] = {n[0] - 1, n[1] - 1, n[2] - 1};
     for (std::size_t e = 0; e < m; ++e) {
       const std::uint32_t key = edgeOf[e];
+      if (key >= edgeKeys) {
+        // from the centre of cube q to its corner: keyed after every grid edge of the grid
+        const std::uint32_t q = static_cast<std::uint32_t>((key - edgeKeys) / 8),
+                            corner = (key - edgeKeys) % 8;
+        const std::int64_t l[3] = {q % c[0], (q / c[0]) % c[1], q / (c[0] * c[1])};
+        double at[3], to[3];
+        for (int a = 0; a < 3; ++a) {
+          at[a] = 0.5 * (g_.coord(a, r.lo[a] + l[a]) + g_.coord(a, r.lo[a] + l[a] + 1));
+          to[a] = g_.coord(a, r.lo[a] + l[a] + ((corner >> a) & 1));
+        }
+        out.keys[e] = g_.centreEdgeKey(r.lo[0] + l[0], r.lo[1] + l[1], r.lo[2] + l[2], corner);
+        s.px[e] = at[0];
+        s.py[e] = at[1];
+        s.pz[e] = at[2];
+        s.dx[e] = to[0] - at[0];
+        s.dy[e] = to[1] - at[1];
+        s.dz[e] = to[2] - at[2];
+        s.ta[e] = 0.0;
+        s.tb[e] = 1.0;
+        s.fa[e] = s.centreValue[q];
+        s.fb[e] = s.f[static_cast<std::uint32_t>(
+            (l[0] + (corner & 1)) +
+            n[0] * ((l[1] + ((corner >> 1) & 1)) + n[1] * (l[2] + ((corner >> 2) & 1))))];
+        continue;
+      }
       const std::uint32_t low = key / 7, dir = key % 7 + 1;
       const std::int64_t li = low % n[0], lj = (low / n[0]) % n[1], lk = low / (n[0] * n[1]);
       const std::int64_t gi = r.lo[0] + li, gj = r.lo[1] + lj, gk = r.lo[2] + lk;
