@@ -343,6 +343,31 @@ TEST(Accuracy, MeshToSurfaceIsTightOnThinSheets) {
       << r.meshToSurface / cell << " cells, brute force " << brute / cell;
 }
 
+// The twist's helical creases poke their tips through cube faces the grid never sees
+// crossed, and pass cubes with two diagonal corners inside that Kuhn's split would cut apart
+// (docs/mesher.md, "Ambiguous faces" and "Sharp features"): the issue's bound, half a cell,
+// holds at cell counts that put the tips at different depths.
+double twistHausdorffInCells(int cells) {
+  const Model m = loadModel(std::string(FREP_SOURCE_DIR) + "/examples/twist.json");
+  const Program p = compile(m.root);
+  const double cell = (m.bbox->hi[0] - m.bbox->lo[0]) / cells;
+  AccuracyOptions o;
+  o.bbox = *m.bbox;
+  o.cell = cell;
+  const TriangleMesh mesh = meshOf(p, *m.bbox, cell);
+  EXPECT_TRUE(checkMesh(mesh).printable()) << cells << " cells";
+  return measureAccuracy(mesh, p, o).hausdorff / cell;
+}
+
+TEST(Accuracy, TwistWithinHalfACell) {
+  for (int cells : {64, 112}) EXPECT_LT(twistHausdorffInCells(cells), 0.5) << cells << " cells";
+}
+
+TEST(AccuracyAcceptance, TwistWithinHalfACellAtTheIssuesResolutions) {
+  for (int cells : {128, 256, 512})
+    EXPECT_LT(twistHausdorffInCells(cells), 0.5) << cells << " cells";
+}
+
 TEST(Simplify, RefusesBadOptions) {
   const Program p = compile(sphere(1));
   const Box3 box{{-1.1, -1.1, -1.1}, {1.1, 1.1, 1.1}};
