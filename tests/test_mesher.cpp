@@ -12,6 +12,7 @@
 #include "check/mesh_check.h"
 #include "frep/model_json.h"
 #include "mesh/centred_cube.h"
+#include "mesh/crease_flips.h"
 #include "mesh/cube_loops.h"
 #include "mesh/mesher.h"
 #include "random_trees.h"
@@ -464,6 +465,38 @@ TEST(CubeLoops, CentredTetrahedraCloseTheLoopsOfAnySplit) {
     }
   }
   EXPECT_GT(flippedCases, 100);
+}
+
+// A crease flip decides from four positions: fan triangles (v1, a, b) and (v2, b, a) across a
+// cube face become (v1, a, v2), (v1, v2, b).
+bool flips(const Vec3f& v1, const Vec3f& a, const Vec3f& b, const Vec3f& v2) {
+  const std::vector<Vec3f> P = {v1, a, b, v2};
+  Triangle t1, t2;
+  const bool flipped = flipCrease({0, 1, 2}, {3, 2, 1}, P, &t1, &t2);
+  if (flipped) {
+    EXPECT_EQ(t1, (Triangle{0, 1, 3}));
+    EXPECT_EQ(t2, (Triangle{0, 3, 2}));
+  }
+  return flipped;
+}
+
+TEST(CreaseFlips, ACreaseCutAcrossIsJoinedAndNothingFoldsBack) {
+  // The face x = 0; a crease near the x axis between the top side (z = 0, a on it) and the
+  // front side (y = 0, b on it). Apexes a little off the crease: the old pair folds by more
+  // than 90 degrees along a-b, and the new triangles turn away from the old pair's mean
+  // normal, which alone used to refuse the flip; it is taken now.
+  EXPECT_TRUE(flips({-0.17f, 0.07f, -0.09f}, {0, -0.22f, -0.04f}, {0, -0.04f, -0.13f},
+                    {0.08f, 0.11f, 0.02f}));
+  // Apexes on the crease: both new triangles face as the old pair did (taken before too).
+  EXPECT_TRUE(flips({-0.3f, 0, 0}, {0, -0.2f, 0}, {0, 0, -0.15f}, {0.2f, 0, 0}));
+  // v1-v2 crossing the face on the line through a and b beyond b: the new triangles would
+  // lie in one plane, overlapping (folded back by 180 degrees). Never taken.
+  const Vec3f a{0, -0.2f, 0}, b{0, 0, -0.15f}, x{0, 0.1f, -0.225f}, d{0.2f, 0.03f, 0.04f};
+  EXPECT_FALSE(flips({x[0] - d[0], x[1] - d[1], x[2] - d[2]}, a, b,
+                     {x[0] + d[0], x[1] + d[1], x[2] + d[2]}));
+  // A nearly flat pair (turning by 11 degrees along a-b) whose flip would fold the surface
+  // by 112 degrees where there is no crease. Not taken.
+  EXPECT_FALSE(flips({-0.2f, 0.07f, -0.13f}, {0, -0.2f, 0}, {0, 0.2f, 0}, {0.2f, 0.37f, 0.19f}));
 }
 
 // A rod of radius 0.3 cell along a face diagonal, through a line of grid points: only the

@@ -39,9 +39,21 @@ bool flipCrease(const Triangle& first, const Triangle& second, const std::vector
   const Vec3d before1 = triangleCross(P[v1], P[a], P[b]),
               before2 = triangleCross(P[v2], P[b], P[a]);
   const Vec3d was = {before1[0] + before2[0], before1[1] + before2[1], before1[2] + before2[2]};
-  if (!(dot(triangleCross(P[v1], P[a], P[v2]), was) > 0.0) ||
-      !(dot(triangleCross(P[v1], P[v2], P[b]), was) > 0.0))
-    return false;
+  const Vec3d after1 = triangleCross(P[v1], P[a], P[v2]),
+              after2 = triangleCross(P[v1], P[v2], P[b]);
+  // Taken where both new triangles face the side the two old ones face together (the old
+  // pair nearly flat: no fold made), where the old pair folds by over 90 degrees along a-b
+  // (a crease cut across at the face, a on one side of it and b on the other: the new edge
+  // v1-v2 follows it), or where the new pair folds less than the old. Never where the new
+  // triangles would overlap: that needs v1-v2 to cross the face on the line through a and
+  // b, beyond them, and then the four points lie in one plane with v1 and v2 on either side
+  // of that line, so the old pair is flat and the new one folded back by 180 degrees, which
+  // no rule here takes (docs/mesher.md, "Sharp features").
+  const bool sameSide = dot(after1, was) > 0.0 && dot(after2, was) > 0.0;
+  const double oldTurn =
+      dot(before1, before2) / std::sqrt(dot(before1, before1) * dot(before2, before2));
+  const double newTurn = dot(after1, after2) / std::sqrt(dot(after1, after1) * dot(after2, after2));
+  if (!sameSide && !(oldTurn < 0.0) && !(newTurn > oldTurn)) return false;
   *(swap ? newSecond : newFirst) = {v1, a, v2};
   *(swap ? newFirst : newSecond) = {v1, v2, b};
   return true;

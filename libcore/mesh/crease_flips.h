@@ -19,9 +19,11 @@ namespace frep {
 // cube they are cones from that cube's apex over a line on the face (a to where apex-apex2
 // crosses it, on to b), which meets no other line of the loop since the face holds one, so
 // each cube's fan stays a cone over a simple loop on its boundary, embedded as before.
-// A flip is skipped where a new triangle would be (nearly) degenerate or face against the
-// two it replaces. Returns the listed triangles that found no partner (brick jobs: their
-// partner may lie in a neighbouring job's piece).
+// A flip is skipped where a new triangle would be (nearly) degenerate, and taken where both
+// new triangles face as the old pair does together, where the old pair folds by over 90
+// degrees (a crease cut across) or where the new pair folds less than the old; the new
+// triangles never overlap (crease_flips.cpp says why). Returns the listed triangles that found no
+// partner (brick jobs: their partner may lie in a neighbouring job's piece).
 std::vector<std::uint32_t> flipCreases(TriangleMesh& mesh,
                                        const std::vector<std::uint32_t>& flippable);
 
