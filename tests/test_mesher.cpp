@@ -379,27 +379,6 @@ TEST(MesherAdversarial, WallsThinnerThanACell) {
   EXPECT_TRUE(r.printable()) << reasons(r);
 }
 
-// Directed segments on the cube's faces (cube-local edge ids) traced into loops: the number
-// of loops and the first one, started at its least id as the tables do.
-CubeLoopCase traceLoops(const std::map<int, int>& nextOf) {
-  CubeLoopCase c;
-  std::map<int, bool> seen;
-  for (const auto& [start, unused] : nextOf) {
-    (void)unused;
-    if (seen[start]) continue;
-    ++c.loops;
-    int length = 0;
-    for (int v = start; !seen[v]; v = nextOf.at(v)) {
-      seen[v] = true;
-      if (c.loops == 1) c.ids[length] = static_cast<std::uint8_t>(v);
-      ++length;
-    }
-    if (c.loops == 1) c.length = static_cast<std::uint8_t>(length);
-  }
-  if (c.loops != 1) c.length = 0;
-  return c;
-}
-
 void expectSameLoops(const CubeLoopCase& got, const CubeLoopCase& want, const std::string& what) {
   ASSERT_EQ(got.loops, want.loops) << what;
   ASSERT_EQ(got.length, want.length) << what;
@@ -424,7 +403,7 @@ TEST(CubeLoops, KuhnsSplitGivesTheLoopsOfKuhnsTetrahedra) {
         if (cl.faces[a] & cl.faces[b]) nextOf[a] = b;
       }
     }
-    expectSameLoops(cl.caseOf(mask, 0), traceLoops(nextOf), "mask " + std::to_string(mask));
+    expectSameLoops(cl.caseOf(mask, 0), loopsFromLines(nextOf), "mask " + std::to_string(mask));
   }
 }
 
@@ -469,7 +448,7 @@ TEST(CubeLoops, CentredTetrahedraCloseTheLoopsOfAnySplit) {
           EXPECT_TRUE(back != inner.end() && back->second == 1)
               << "mask " << mask << " flips " << flips << ": an open or twisted inner edge";
         }
-        expectSameLoops(traceLoops(nextOf), cl.caseOf(mask, flips),
+        expectSameLoops(loopsFromLines(nextOf), cl.caseOf(mask, flips),
                         "mask " + std::to_string(mask) + " flips " + std::to_string(flips));
       }
     }

@@ -62,22 +62,7 @@ CubeLoopCase loopsOf(const CubeLoopTables& t, int mask, int flips) {
         nextOf[to] = from;
     }
   }
-  CubeLoopCase c;
-  std::map<int, bool> seen;
-  for (const auto& [start, unused] : nextOf) {
-    (void)unused;
-    if (seen[start]) continue;
-    ++c.loops;
-    int length = 0;
-    for (int v = start; !seen[v]; v = nextOf.at(v)) {
-      seen[v] = true;
-      if (c.loops == 1) c.ids[length] = static_cast<std::uint8_t>(v);
-      ++length;
-    }
-    if (c.loops == 1) c.length = static_cast<std::uint8_t>(length);
-  }
-  if (c.loops != 1) c.length = 0;
-  return c;
+  return loopsFromLines(nextOf);
 }
 
 CubeLoopTables build() {
@@ -128,6 +113,25 @@ CubeLoopTables build() {
 }
 
 }  // namespace
+
+CubeLoopCase loopsFromLines(const std::map<int, int>& nextOf) {
+  CubeLoopCase c;
+  std::map<int, bool> seen;
+  for (const auto& [start, unused] : nextOf) {
+    (void)unused;
+    if (seen[start]) continue;
+    ++c.loops;
+    int length = 0;
+    for (int v = start; !seen[v]; v = nextOf.at(v)) {
+      seen[v] = true;
+      if (c.loops == 1) c.ids[length] = static_cast<std::uint8_t>(v);
+      ++length;
+    }
+    if (c.loops == 1) c.length = static_cast<std::uint8_t>(length);
+  }
+  if (c.loops != 1) c.length = 0;
+  return c;
+}
 
 const CubeLoopTables& cubeLoopTables() {
   static const CubeLoopTables tables = build();

@@ -17,6 +17,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <vector>
 
 #include "mesh/kuhn_tetrahedra.h"
@@ -53,5 +54,9 @@ struct CubeLoopTables {
 };
 
 const CubeLoopTables& cubeLoopTables();
+
+// The loops that directed lines on the cube's faces make (nextOf: from one cube-local edge id
+// to the next along the loop): how many, and the first, started at its least id.
+CubeLoopCase loopsFromLines(const std::map<int, int>& nextOf);
 
 }  // namespace frep
