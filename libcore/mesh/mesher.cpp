@@ -705,7 +705,8 @@ class BrickMesher {
   // Sharp features (as Kobbelt et al.'s extended marching cubes): where the normals at a
   // loop's vertices spread by more than kFeatureCos, the loop is fanned from the point its
   // tangent planes meet at (a crease line's point nearest their mean, or a corner), kept
-  // inside the cube, so the fan stays embedded (capLoops). Refused, leaving the plain fan,
+  // inside the cube, so the fan stays embedded (capLoops), or inside the pyramid it may reach
+  // into a uniform neighbour (reachIntoUniformNeighbour). Refused, leaving the plain fan,
   // where that point lies over a cell outside the cube (the feature is not this cube's) or
   // a triangle of the fan would face against its vertices' normals (a fold).
   bool placeFeature(const Field& whole, const CellRange& r, const std::int64_t n[3],
@@ -776,8 +777,8 @@ class BrickMesher {
         outAxis = a;
       }
     }
-    // A corner whose tip pokes through one face into a cube no surface crosses goes there,
-    // within the pyramid over that face with its apex at that cube's centre.
+    // A crease or corner whose tip pokes through one face into a cube no surface crosses
+    // goes there, within the pyramid over that face with its apex at that cube's centre.
     const bool extended =
         rank >= 2 && beyond == 1 &&
         reachIntoUniformNeighbour(whole, r, n, base, outAxis, x[outAxis] > hi[outAxis], x, s, at);
