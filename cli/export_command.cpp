@@ -6,15 +6,17 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
+#include <string>
 
 #include "base/errors.h"
+#include "base/file_names.h"
 #include "cli/commands.h"
+#include "cli/heavy_module.h"
 #include "cli/terminal_progress.h"
 #include "frep/model_json.h"
 #include "frep/structural_bounds.h"
 #include "pipeline/export_pipeline.h"
-#include "base/file_names.h"
-#include "cli/heavy_module.h"
 
 namespace frep::cli {
 
@@ -72,6 +74,13 @@ const char* const kExportHelp =
 namespace {
 
 namespace fs = std::filesystem;
+
+// "(x, y, z)", for the accuracy report.
+std::string point(const Vec3& p) {
+  std::ostringstream os;
+  os << "(" << p[0] << ", " << p[1] << ", " << p[2] << ")";
+  return os.str();
+}
 
 ExportOptions parseExportOptions(const Args& args) {
   ExportOptions o;
@@ -234,13 +243,15 @@ int exportModel(const ExportOptions& opt) {
     std::cout << "accuracy (" << a.samples << " points sampled through the function)\n"
               << "  Hausdorff distance   " << a.hausdorff << " (" << a.hausdorff / cell
               << " cells)\n"
-              << "  mesh to surface      " << a.meshToSurface << " largest, "
-              << a.meshToSurfaceMean << " mean"
+              << "  mesh to surface      " << a.meshToSurface << " largest, " << a.meshToSurfaceMean
+              << " mean"
               << (a.unreached ? " (" + std::to_string(a.unreached) +
                                     " points measured to the sampled surface)"
                               : std::string())
               << "\n"
+              << "                       largest at " << point(a.meshToSurfaceAt) << "\n"
               << "  surface to mesh      " << a.surfaceToMesh << " largest\n"
+              << "                       largest at " << point(a.surfaceToMeshAt) << "\n"
               << "  volume               " << a.volume << "\n"
               << "  crease length        " << a.creaseLength << " (edges whose faces turn by over "
               << AccuracyOptions().creaseAngleDeg << " degrees)\n";

@@ -40,6 +40,7 @@ small=$(stat -c %s "$work/t.stl")
 expect 0 "simplified" -- "$frepcad" export "$src/examples/csg.json" -o "$work/t2.obj" --resolution 0.1 --tolerance 0.01 --no-sharp
 expect 2 "--tolerance must be a distance > 0 \(model units\), got '0'" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.stl" --tolerance 0
 expect 0 "Hausdorff distance   [0-9.e-]+ \([0-9.e-]+ cells\)" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/st.stl" --resolution 0.1 --stats
+expect 0 "^ +largest at \([-0-9.e]+, [-0-9.e]+, [-0-9.e]+\)$" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/st.stl" --resolution 0.1 --stats
 expect 0 "crease length        [0-9.e-]+" -- "$frepcad" export "$src/examples/csg.json" -o "$work/st.stl" --resolution 0.1 --tolerance 0.01 --stats
 expect 0 "wrote" -- "$frepcad" export "$src/examples/csg.json" -o "$work/ns.stl" --resolution 0.1 --no-sharp
 expect 0 "wrote" -- "$frepcad" export "$src/examples/csg.json" -o "$work/tetra.stl" --resolution 0.1 --mesher tetra

@@ -241,6 +241,23 @@ TEST(Accuracy, MeasuresAMeshMovedOffTheSurfaceBothWays) {
   EXPECT_NEAR(moved.volume, exact.volume * 1.01 * 1.01 * 1.01, 1e-3);
   EXPECT_EQ(moved.creaseLength, 0.0);  // a smooth sphere has none
   EXPECT_GT(moved.samples, mesh.vertexCount());
+  // where the mesh is worst: one vertex pulled out is the mesh's farthest point, and one
+  // pushed in leaves the surface above it the farthest from the mesh
+  TriangleMesh dented = meshOf(p, box, cell);
+  std::size_t out = 0, in = 0;
+  for (std::size_t v = 0; v < dented.positions.size(); ++v) {
+    if (dented.positions[v][0] > dented.positions[out][0]) out = v;
+    if (dented.positions[v][1] > dented.positions[in][1]) in = v;
+  }
+  const Vec3f wasIn = dented.positions[in];
+  for (float& c : dented.positions[out]) c *= 1.3f;
+  for (float& c : dented.positions[in]) c *= 0.7f;
+  const AccuracyReport worst = measureAccuracy(dented, p, o);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(worst.meshToSurfaceAt[a], dented.positions[out][a], 1e-6);
+    EXPECT_NEAR(worst.surfaceToMeshAt[a], wasIn[a], cell);
+  }
+  EXPECT_NEAR(worst.meshToSurface, 0.3, 0.02);
 }
 
 // The grid cuts a turned cube's corners and edges off by most of a cell; simplified with

@@ -150,7 +150,20 @@ AccuracyReport measureAccuracy(const TriangleMesh& mesh, const Field& field,
   // gradient vanishes), the distance to the finer mesh is taken, and the point counted in
   // `unreached`.
   const std::size_t nt = mesh.triangles.size(), nv = mesh.positions.size();
-  tbb::enumerable_thread_specific<std::pair<double, double>> worst(std::make_pair(0.0, 0.0));
+  // per thread: the largest distance, where it was, and the sum. Equal distances (a
+  // symmetric model) keep the least point, so the place reported does not depend on how the
+  // threads shared the work.
+  struct Worst {
+    double largest = -1.0, sum = 0.0;
+    Vec3d at{0, 0, 0};
+    void take(double d, const Vec3d& p) {
+      if (d > largest || (d == largest && p < at)) {
+        largest = d;
+        at = p;
+      }
+    }
+  };
+  tbb::enumerable_thread_specific<Worst> worst;
   tbb::enumerable_thread_specific<std::size_t> unreachedCount(0);
   tbb::parallel_for(std::size_t(0), nv + nt, [&](std::size_t i) {
     Vec3d p;
@@ -178,26 +191,32 @@ AccuracyReport measureAccuracy(const TriangleMesh& mesh, const Field& field,
         ++unreachedCount.local();
       }
     }
-    auto& w = worst.local();
-    w.first = std::max(w.first, d);
-    w.second += d;
+    Worst& w = worst.local();
+    w.take(d, p);
+    w.sum += d;
   });
   for (std::size_t u : unreachedCount) r.unreached += u;
   double sum = 0.0;
-  for (const auto& w : worst) {
-    r.meshToSurface = std::max(r.meshToSurface, w.first);
-    sum += w.second;
+  Worst all;
+  for (const Worst& w : worst) {
+    all.take(w.largest, w.at);
+    sum += w.sum;
   }
+  r.meshToSurface = std::max(0.0, all.largest);
+  r.meshToSurfaceAt = all.at;
   r.samples = nv + nt;
   r.meshToSurfaceMean = sum / static_cast<double>(r.samples);
   const TriangleGrid grid(mesh, o.cell);
-  tbb::enumerable_thread_specific<double> farthest(0.0);
+  tbb::enumerable_thread_specific<Worst> farthest;
   tbb::parallel_for(std::size_t(0), samples.positions.size(), [&](std::size_t v) {
-    const double d = grid.nearest(toD(samples.positions[v]), 64);
-    double& f = farthest.local();
-    f = std::max(f, d);
+    const Vec3d p = toD(samples.positions[v]);
+    const double d = grid.nearest(p, 64);
+    farthest.local().take(d, p);
   });
-  for (double f : farthest) r.surfaceToMesh = std::max(r.surfaceToMesh, f);
+  Worst far;
+  for (const Worst& f : farthest) far.take(f.largest, f.at);
+  r.surfaceToMesh = std::max(0.0, far.largest);
+  r.surfaceToMeshAt = far.at;
   r.samples += samples.positions.size();
   r.hausdorff = std::max(r.meshToSurface, r.surfaceToMesh);
 

@@ -29,6 +29,9 @@ struct AccuracyReport {
   std::size_t unreached = 0;
   // the largest distance from a point of the surface (sampled) to the mesh
   double surfaceToMesh = 0.0;
+  // where each largest distance was measured: the mesh's point (a vertex or face centre) and
+  // the surface's sampled point, so the place the mesh is worst can be looked at
+  Vec3 meshToSurfaceAt{0, 0, 0}, surfaceToMeshAt{0, 0, 0};
   double hausdorff = 0.0;  // the larger of the two
   double volume = 0.0;     // signed, of the mesh
   double creaseLength = 0.0;
