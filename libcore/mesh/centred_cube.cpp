@@ -28,11 +28,7 @@ int orientation(const std::array<int, 4>& t) {
 void centredCubeCrossings(int mask, bool centreInside, int flips, std::vector<TetCrossing>& out) {
   const CubeLoopTables& cl = cubeLoopTables();
   for (int f = 0; f < 6; ++f) {
-    const std::uint8_t* q = cl.faceCorners[f];
-    const bool flip = (flips >> f) & 1;
-    const int tris[2][3] = {{q[0], q[1], q[2]}, {q[0], q[2], q[3]}};
-    const int flipped[2][3] = {{q[1], q[2], q[3]}, {q[1], q[3], q[0]}};
-    for (const auto& tri : flip ? flipped : tris) {
+    for (const auto& tri : cl.faceTriangles[f][(flips >> f) & 1]) {
       std::array<int, 4> tet = {kCubeCentre, tri[0], tri[1], tri[2]};
       if (orientation(tet) < 0) std::swap(tet[2], tet[3]);
       int m = 0;

@@ -24,14 +24,10 @@ std::uint8_t facesOf(const TetEdge& e) {
 CubeLoopCase loopsOf(const CubeLoopTables& t, int mask, int flips) {
   std::map<int, int> nextOf;
   for (int f = 0; f < 6; ++f) {
-    const std::uint8_t* q = t.faceCorners[f];
-    const bool flip = (flips >> f) & 1;
-    const int tris[2][3] = {{q[0], q[1], q[2]}, {q[0], q[2], q[3]}};
-    const int flipped[2][3] = {{q[1], q[2], q[3]}, {q[1], q[3], q[0]}};
     const int a = f / 2;
     const double m[3] = {a == 0 ? (f % 2 ? 1.0 : -1.0) : 0.0, a == 1 ? (f % 2 ? 1.0 : -1.0) : 0.0,
                          a == 2 ? (f % 2 ? 1.0 : -1.0) : 0.0};
-    for (const auto& tri : flip ? flipped : tris) {
+    for (const auto& tri : t.faceTriangles[f][(flips >> f) & 1]) {
       int in = 0;
       for (int v : tri) in += (mask >> v) & 1;
       if (in == 0 || in == 3) continue;
@@ -52,8 +48,8 @@ CubeLoopCase loopsOf(const CubeLoopTables& t, int mask, int flips) {
       double dot = 0.0;
       for (int c = 0; c < 3; ++c) dot += (py[c] - px[c]) * along[c];
       auto id = [&t](int p, int r) {
-        const int low = (p & r) == p ? p : r;
-        return static_cast<int>(t.idOf[low][p ^ r]);
+        const TetEdge e = edgeBetween(p, r);
+        return static_cast<int>(t.idOf[e.low][e.dir]);
       };
       const int from = id(l, x), to = id(l, y);
       if (dot > 0)
@@ -91,6 +87,11 @@ CubeLoopTables build() {
     const int a = f / 2, b = 1 << ((a + 1) % 3), c = 1 << ((a + 2) % 3), q0 = (f % 2) << a;
     const int corners[4] = {q0, q0 | b, q0 | b | c, q0 | c};
     for (int i = 0; i < 4; ++i) t.faceCorners[f][i] = static_cast<std::uint8_t>(corners[i]);
+    const int split[2][2][3] = {{{0, 1, 2}, {0, 2, 3}}, {{1, 2, 3}, {1, 3, 0}}};
+    for (int d = 0; d < 2; ++d)
+      for (int k = 0; k < 2; ++k)
+        for (int i = 0; i < 3; ++i)
+          t.faceTriangles[f][d][k][i] = static_cast<std::uint8_t>(corners[split[d][k][i]]);
   }
   for (int mask = 0; mask < 256; ++mask) {
     std::uint8_t bits = 0;

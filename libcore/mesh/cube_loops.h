@@ -44,6 +44,10 @@ struct CubeLoopTables {
   // Face f = 2a + s: its corners in cyclic order, from s << a along axis a + 1, then a + 2;
   // Kuhn's diagonal joins the first and the third.
   std::uint8_t faceCorners[6][4];
+  // Face f's two triangles: [f][0] split along Kuhn's diagonal, [f][1] along the other. The
+  // fans' loops and the cubes split round their centre (mesh/centred_cube.h) both read them,
+  // so the two draw the same lines on every face.
+  std::uint8_t faceTriangles[6][2][2][3];
   std::array<std::uint8_t, 256> ambiguous;  // by cell mask: the faces whose corners alternate
 
   const CubeLoopCase& caseOf(int mask, int flips) const { return cases[flips * 256 + mask]; }

@@ -25,11 +25,6 @@ bool isEven(const int p[4]) {
   return inversions % 2 == 0;
 }
 
-TetEdge edgeBetween(int a, int b) {
-  const int low = (a & b) == a ? a : b;
-  return {static_cast<std::uint8_t>(low), static_cast<std::uint8_t>(a ^ b)};
-}
-
 TetPolygon polygonFor(const std::array<std::uint8_t, 4>& t, int mask) {
   const TetCrossing c = tetCrossing(mask);
   TetPolygon poly;
@@ -53,6 +48,11 @@ KuhnTables build() {
 }
 
 }  // namespace
+
+TetEdge edgeBetween(int a, int b) {
+  const int low = (a & b) == a ? a : b;
+  return {static_cast<std::uint8_t>(low), static_cast<std::uint8_t>(a ^ b)};
+}
 
 // Derivation (docs/mesher.md): for a positively oriented tetrahedron (v0..v3) with only v0
 // inside, the triangle (e01, e02, e03) faces away from v0; with {v0, v1} inside, the quad

@@ -15,6 +15,9 @@ struct TetEdge {
   std::uint8_t dir;  // offset from low to high as a bit mask, 1..7
 };
 
+// The edge between two corners of a cube (0..7), from the one with the smaller coordinates.
+TetEdge edgeBetween(int a, int b);
+
 // The surface piece a tetrahedron contributes: nothing, a triangle, or a quad (cyclic order),
 // oriented so that its normal points from the inside (F >= 0) to the outside.
 struct TetPolygon {

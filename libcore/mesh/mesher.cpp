@@ -78,6 +78,9 @@ struct Grid {
   double coord(int axis, std::int64_t j) const {
     return lo[axis] + (static_cast<double>(j) - 0.5) * h[axis];
   }
+  // Halfway between grid points j and j + 1: a cube's or a face's centre on that axis, the
+  // same wherever it is computed (the value evaluated there and the edges from there agree).
+  double mid(int axis, std::int64_t j) const { return 0.5 * (coord(axis, j) + coord(axis, j + 1)); }
   std::uint64_t linear(std::int64_t i, std::int64_t j, std::int64_t k) const {
     return static_cast<std::uint64_t>(i + points[0] * (j + points[1] * k));
   }
@@ -385,10 +388,7 @@ class BrickMesher {
                   }
                   ids[e] = static_cast<std::uint32_t>(onCentreEdge[corner]);
                 } else {
-                  const int low = (u & w) == u ? u : w;
-                  ids[e] = vertexFor(edgeKey(
-                      base, cornerOffset,
-                      TetEdge{static_cast<std::uint8_t>(low), static_cast<std::uint8_t>(u ^ w)}));
+                  ids[e] = vertexFor(edgeKey(base, cornerOffset, edgeBetween(u, w)));
                 }
               }
               s.polys.insert(s.polys.end(), ids, ids + 4);
@@ -506,9 +506,7 @@ class BrickMesher {
   // face's own grid lines, so the two cubes sharing it compute the same point.
   Vec3 faceCentre(const std::int64_t g[3], int f) const {
     Vec3 p;
-    for (int b = 0; b < 3; ++b)
-      p[b] = b == f / 2 ? g_.coord(b, g[b] + f % 2)
-                        : 0.5 * (g_.coord(b, g[b]) + g_.coord(b, g[b] + 1));
+    for (int b = 0; b < 3; ++b) p[b] = b == f / 2 ? g_.coord(b, g[b] + f % 2) : g_.mid(b, g[b]);
     return p;
   }
 
@@ -568,9 +566,9 @@ class BrickMesher {
       if (!s.cellFlips[q] || cl.fanned(s.cellMask[q], s.cellFlips[q])) continue;
       std::int64_t g[3];
       lowest(q, g);
-      s.ax.push_back(0.5 * (g_.coord(0, g[0]) + g_.coord(0, g[0] + 1)));
-      s.ay.push_back(0.5 * (g_.coord(1, g[1]) + g_.coord(1, g[1] + 1)));
-      s.az.push_back(0.5 * (g_.coord(2, g[2]) + g_.coord(2, g[2] + 1)));
+      s.ax.push_back(g_.mid(0, g[0]));
+      s.ay.push_back(g_.mid(1, g[1]));
+      s.az.push_back(g_.mid(2, g[2]));
       s.centreOf.push_back(q);
     }
     if (s.ax.empty()) return;
@@ -849,8 +847,7 @@ class BrickMesher {
     double lateral = 0.0;  // off the neighbour's centre line across the face, in cells
     for (int b = 0; b < 3; ++b) {
       if (b == axis) continue;
-      const double centre = 0.5 * (g_.coord(b, r.lo[b] + l[b]) + g_.coord(b, r.lo[b] + l[b] + 1));
-      lateral = std::max(lateral, std::abs(double(at[b]) - centre) / g_.h[b]);
+      lateral = std::max(lateral, std::abs(double(at[b]) - g_.mid(b, r.lo[b] + l[b])) / g_.h[b]);
     }
     const double limit = (0.5 - lateral - kInnerMargin) * h;
     const double depth = std::min(std::abs(x[axis] - face), limit);
@@ -934,7 +931,7 @@ class BrickMesher {
         const std::int64_t l[3] = {q % c[0], (q / c[0]) % c[1], q / (c[0] * c[1])};
         double at[3], to[3];
         for (int a = 0; a < 3; ++a) {
-          at[a] = 0.5 * (g_.coord(a, r.lo[a] + l[a]) + g_.coord(a, r.lo[a] + l[a] + 1));
+          at[a] = g_.mid(a, r.lo[a] + l[a]);
           to[a] = g_.coord(a, r.lo[a] + l[a] + ((corner >> a) & 1));
         }
         out.keys[e] = g_.centreEdgeKey(r.lo[0] + l[0], r.lo[1] + l[1], r.lo[2] + l[2], corner);
