@@ -28,7 +28,8 @@ const char* const kExportHelp =
     "through a temporary file: a mesh the check refuses, an error or Ctrl-C leave no file.\n"
     "\n"
     "options (for both kinds of input):\n"
-    "  -o, --output OUT        the mesh file (.stl, .obj, .ply, .3mf, .bms), or .vdb: an OpenVDB level\n"
+    "  -o, --output OUT        the mesh file (.stl, .obj, .ply, .3mf, .bms), or .vdb: an OpenVDB "
+    "level\n"
     "                          set of the solid (one voxel per cell, narrow band of 3 voxels)\n"
     "  --resolution R          cell size (default: the model's, else the box's longest side / "
     "128)\n"
@@ -42,6 +43,9 @@ const char* const kExportHelp =
     "                          is a good start)\n"
     "  --no-sharp              no vertices placed on creases and corners (the mesher's and,\n"
     "                          with --tolerance, the simplifier's): edges are chamfered\n"
+    "  --fewer-triangles       drop the vertices where the surface is flat within a fiftieth\n"
+    "                          of a cell: 6 to 15 % fewer triangles, the same accuracy, a\n"
+    "                          little longer meshing (JSON models, without --bricks)\n"
     "  --mesher M              cubes (default: about a third of the triangles of tetra) or\n"
     "                          tetra (marching tetrahedra, the mesher before 0.3; kept for\n"
     "                          one release)\n"
@@ -63,7 +67,6 @@ const char* const kExportHelp =
     "  --object NAME           the object to export (default: the only Polygonize feature or\n"
     "                          top-level FRep feature); repeat it for several: a 3MF holds\n"
     "                          each as its own object, other formats their union\n"
-    "                          top-level FRep feature)\n"
     "  --set OBJ.PROP=VALUE    set a property (or a spreadsheet cell: Sheet.Alias=VALUE) first;\n"
     "                          may be repeated\n"
     "\n"
@@ -108,6 +111,8 @@ ExportOptions parseExportOptions(const Args& args) {
         throw UsageError("--tolerance must be a distance > 0 (model units), got '" + args[i] +
                          "'");
     } else if (a == "--no-sharp") o.sharp = false;
+    else if (a == "--fewer-triangles")
+      o.fewerTriangles = true;
     else if (a == "--mesher") {
       const std::string m = value("cubes or tetra");
       if (m != "cubes" && m != "tetra")
@@ -152,6 +157,9 @@ ExportOptions parseExportOptions(const Args& args) {
     throw UsageError("--fog applies to a .vdb output only");
   if ((!o.scheduler.empty() || !o.workDir.empty()) && !o.bricks)
     throw UsageError("--scheduler and --work-dir apply to --bricks only");
+  if (o.fewerTriangles && (o.bricks || isDocumentPath(o.input) || isVdbPath(o.output)))
+    throw UsageError(
+        "--fewer-triangles applies to a mesh exported from a JSON model without --bricks");
   if (o.bricks) {
     // (the simplifier and the accuracy report work on the whole mesh; a level set is
     // OpenVDB's; a document is FreeCAD's)
@@ -191,6 +199,7 @@ int exportModel(const ExportOptions& opt) {
   request.force = opt.force;
   request.tolerance = opt.tolerance;
   request.sharpFeatures = opt.sharp;
+  request.flatVertices = opt.fewerTriangles;
   request.extraction = opt.tetra ? Extraction::Tetrahedra : Extraction::Cubes;
   request.stats = opt.stats;
   // The box policy is the pipeline's; the CLI only adds where the user gives a box.

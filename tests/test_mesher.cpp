@@ -8,12 +8,14 @@
 #include <vector>
 
 #include "base/errors.h"
+#include "base/triangle_geometry.h"
 #include "check/cgal_surface.h"
 #include "check/mesh_check.h"
 #include "frep/model_json.h"
 #include "mesh/centred_cube.h"
 #include "mesh/crease_flips.h"
 #include "mesh/cube_loops.h"
+#include "mesh/flat_vertex_removal.h"
 #include "mesh/mesher.h"
 #include "random_trees.h"
 
@@ -202,6 +204,126 @@ TEST(Mesher, SameMeshWhateverTheBrickSize) {
   }
 }
 
+// Flat vertices: two triangles fewer for each vertex dropped, only vertices of the full mesh
+// kept (none moved), the surface moved by at most a fiftieth of a cell, the same mesh for
+// every even brick size, and a brick size that would split a block refused.
+TEST(FlatVertices, FewerTrianglesTheSameVerticesAndSurface) {
+  for (const auto& [name, cells] :
+       {std::make_pair("csg", 48), std::make_pair("twist", 56), std::make_pair("sphere", 40)}) {
+    const Model m = example(name);
+    const double h = (m.bbox->hi[0] - m.bbox->lo[0]) / cells;
+    MeshingOptions o;
+    o.bbox = *m.bbox;
+    o.resolution = h;
+    const Program program = compile(m.root);
+    const TriangleMesh full = polygonize(program, o);
+    o.flatVertices = true;
+    const TriangleMesh fewer = polygonize(program, o);
+    const CheckReport r = checkMesh(fewer);
+    EXPECT_TRUE(r.printable()) << name << ": " << reasons(r);
+    const std::size_t dropped = full.positions.size() - fewer.positions.size();
+    EXPECT_GT(dropped, full.positions.size() / 40) << name;  // (at least a fortieth)
+    EXPECT_EQ(full.triangleCount() - fewer.triangleCount(), 2 * dropped) << name;
+    std::vector<Vec3f> before = full.positions, after = fewer.positions;
+    std::sort(before.begin(), before.end());
+    std::sort(after.begin(), after.end());
+    EXPECT_TRUE(std::includes(before.begin(), before.end(), after.begin(), after.end())) << name;
+    // every dropped vertex lies within the bound of the new surface
+    double worst = 0.0;
+    std::vector<Vec3f> gone;
+    std::set_difference(before.begin(), before.end(), after.begin(), after.end(),
+                        std::back_inserter(gone));
+    for (const Vec3f& p : gone) {
+      double nearest = std::numeric_limits<double>::infinity();
+      const Vec3d q{p[0], p[1], p[2]};
+      for (const Triangle& t : fewer.triangles) {
+        const Vec3f &a = fewer.positions[t[0]], &b = fewer.positions[t[1]],
+                    &c = fewer.positions[t[2]];
+        if (std::fabs(a[0] - p[0]) > 2 * h || std::fabs(a[1] - p[1]) > 2 * h ||
+            std::fabs(a[2] - p[2]) > 2 * h)
+          continue;
+        nearest = std::min(nearest, pointTriangleDistance(q, {a[0], a[1], a[2]}, {b[0], b[1], b[2]},
+                                                          {c[0], c[1], c[2]}));
+      }
+      worst = std::max(worst, nearest);
+    }
+    EXPECT_LE(worst, 0.0201 * h) << name;
+    for (int brick : {4, 8}) {
+      o.brickCells = brick;
+      EXPECT_EQ(sortedTriangles(polygonize(program, o)), sortedTriangles(fewer))
+          << name << " bricks of " << brick;
+    }
+    o.brickCells = 7;
+    EXPECT_THROW(polygonize(program, o), ModelError);
+  }
+}
+
+// The planner alone, on a square of four quads round a vertex (the mesher's case): it drops
+// a flat vertex, keeps one raised by more than the bound, refuses a star that folds over, and
+// a triangle of the region that reaches over the polygon stops it.
+TEST(FlatVertices, ThePlannerRefusesWhatCouldFoldOrCross) {
+  // vertex 0 at the centre, 1..8 round it (counter-clockwise seen from +z)
+  std::vector<Vec3f> p = {{0, 0, 0},  {1, 0, 0},   {1, 1, 0},  {0, 1, 0}, {-1, 1, 0},
+                          {-1, 0, 0}, {-1, -1, 0}, {0, -1, 0}, {1, -1, 0}};
+  std::vector<Triangle> star;
+  for (std::uint32_t i = 1; i <= 8; ++i) star.push_back({0, i, i % 8 + 1});
+  const double lo[3] = {-1, -1, -0.5}, hi[3] = {1, 1, 0.5};
+  FlatVertexRemoval plan;
+  ASSERT_TRUE(planFlatVertexRemoval(0, p, star, lo, hi, 0.01, 0.02, &plan));
+  EXPECT_EQ(plan.size, 8u);
+  EXPECT_DOUBLE_EQ(plan.deviation, 0.0);
+  EXPECT_TRUE(flatVertexRemovalIsClear(plan, p, star));
+  // the new fan covers the square once, facing +z
+  double area = 0.0;
+  for (std::size_t t = 0; t + 2 < plan.size; ++t) {
+    const Vec3d c = triangleCross(p[plan.replacement[t][0]], p[plan.replacement[t][1]],
+                                  p[plan.replacement[t][2]]);
+    EXPECT_GT(c[2], 0.0);
+    area += 0.5 * c[2];
+  }
+  EXPECT_NEAR(area, 4.0, 1e-12);
+  // raised above the bound: kept; within it: dropped, the deviation measured
+  p[0][2] = 0.05f;
+  EXPECT_FALSE(planFlatVertexRemoval(0, p, star, lo, hi, 0.01, 0.02, &plan));
+  p[0][2] = 0.005f;
+  ASSERT_TRUE(planFlatVertexRemoval(0, p, star, lo, hi, 0.01, 0.02, &plan));
+  EXPECT_NEAR(plan.deviation, 0.005, 1e-6);
+  p[0][2] = 0.0f;
+  // a star that winds twice (its ring visits each direction twice) is refused
+  std::vector<Vec3f> twice = p;
+  std::vector<Triangle> folded;
+  for (std::uint32_t i = 1; i <= 8; ++i) {
+    const double a = 4.0 * kPi * (i - 1) / 8.0;
+    twice[i] = {float(std::cos(a) * (1 + 0.1 * i)), float(std::sin(a) * (1 + 0.1 * i)), 0.f};
+    folded.push_back({0, i, i % 8 + 1});
+  }
+  EXPECT_FALSE(planFlatVertexRemoval(0, twice, folded, lo, hi, 0.01, 0.02, &plan));
+  // another sheet's triangle over the polygon, just above it: the fan would cross it
+  std::vector<Vec3f> q = p;
+  q.push_back({0.2f, 0.2f, 0.001f});
+  q.push_back({0.5f, 0.2f, 0.001f});
+  q.push_back({0.2f, 0.5f, 0.001f});
+  std::vector<Triangle> region = star;
+  region.push_back({9, 10, 11});
+  ASSERT_TRUE(planFlatVertexRemoval(0, q, region, lo, hi, 0.01, 0.02, &plan));
+  EXPECT_FALSE(flatVertexRemovalIsClear(plan, q, region));
+  // ... and a neighbour's triangle that only shares the polygon's edge is no obstacle
+  q[9] = {1.5f, 0.5f, 0.f};
+  region.back() = {1, 9, 2};
+  ASSERT_TRUE(planFlatVertexRemoval(0, q, region, lo, hi, 0.01, 0.02, &plan));
+  EXPECT_TRUE(flatVertexRemovalIsClear(plan, q, region));
+  // no new edge may lie in a face of the box: with the box's face at y = 1, the fans whose
+  // diagonals run along y = 1 (from vertex 2 or 4 to 3) are not taken
+  ASSERT_TRUE(planFlatVertexRemoval(0, p, star, lo, hi, 0.01, 0.02, &plan));
+  for (std::size_t t = 0; t + 2 < plan.size; ++t)
+    for (int c = 0; c < 3; ++c) {
+      const Vec3f &a = p[plan.replacement[t][c]], &b = p[plan.replacement[t][(c + 1) % 3]];
+      const int d = std::abs(int(plan.replacement[t][c]) - int(plan.replacement[t][(c + 1) % 3]));
+      const bool ringEdge = d == 1 || d == 7;
+      if (!ringEdge) EXPECT_FALSE(a[1] == 1.f && b[1] == 1.f);
+    }
+}
+
 TEST(Mesher, BoxCutsTheSolidWithACap) {
   // A half-space filling the lower half: the box closes it into a block.
   const NodePtr h = makeNode("halfspace", {{"point", vec3Value({0, 0, 0.25})}}, {});
@@ -313,6 +435,19 @@ TEST_P(RandomTreeShard, EveryMeshIsPrintable) {
       expectOldCheckAgrees(mesh, r, "tree " + std::to_string(i) + " mode " + std::to_string(mode));
       if (mode == 1) cubeTriangles = mesh.triangleCount();
       if (mode == 2) EXPECT_LT(cubeTriangles, mesh.triangleCount()) << "tree " << i;
+      if (mode < 2 && o.brickCells == 16) {  // and with the flat vertices dropped
+        MeshingOptions flat = o;
+        flat.flatVertices = true;
+        const TriangleMesh fewer = polygonize(program, flat);
+        const CheckReport f = checkMesh(fewer);
+        ASSERT_TRUE(f.printable())
+            << "tree " << i << " flat, mode " << mode << ": " << reasons(f) << "\n"
+            << modelToJson(Model{tree, o.bbox, o.resolution, ""});
+        // each vertex dropped takes two triangles with it
+        EXPECT_EQ(mesh.triangleCount() - fewer.triangleCount(),
+                  2 * (mesh.positions.size() - fewer.positions.size()))
+            << "tree " << i;
+      }
       if (mode == 0 && bricksAgain) {  // the bricks decide their shared faces alike
         MeshingOptions other = o;
         other.brickCells = o.brickCells == 16 ? 7 : 16;

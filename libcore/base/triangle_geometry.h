@@ -23,6 +23,18 @@ inline double norm(const Vec3d& v) {
   return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }
 
+// Twice the area against the sum of the squared sides: 0 for a degenerate triangle, 0.29 for
+// an equilateral one (the mesher's measure of a triangle's shape).
+inline double triangleQuality(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
+  const double area2 = norm(triangleCross(a, b, c));
+  auto sq = [](const Vec3f& p, const Vec3f& q) {
+    const double d[3] = {double(q[0]) - p[0], double(q[1]) - p[1], double(q[2]) - p[2]};
+    return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+  };
+  const double edges = sq(a, b) + sq(a, c) + sq(b, c);
+  return edges > 0 ? area2 / edges : 0.0;
+}
+
 inline double triangleArea(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
   return 0.5 * norm(triangleCross(a, b, c));
 }

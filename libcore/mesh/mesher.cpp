@@ -19,6 +19,7 @@
 #include "mesh/centred_cube.h"
 #include "mesh/crease_flips.h"
 #include "mesh/cube_loops.h"
+#include "mesh/flat_vertex_removal.h"
 #include "mesh/kuhn_tetrahedra.h"
 
 namespace frep {
@@ -67,6 +68,10 @@ constexpr double kReachBeyond = 0.4;
 // not worth the crease flip its fan loses (the twist at 151 cells: a rim along a grid line,
 // crease length 28.7 with any depth, 22.3 with this).
 constexpr double kReachAtLeast = 0.1;
+// A flat vertex goes only where the surface moves by at most this many cells, and no new
+// triangle is thinner than this triangleQuality (an equilateral one has 0.29).
+constexpr double kFlatDeviation = 0.02;
+constexpr double kFlatQuality = 0.02;
 
 // The sampling grid. Grid point j on an axis sits at lo + (j - 0.5) h, j = 0 .. n + 1: points 0
 // and n + 1 lie half a cell outside the box, so the surface closes there (box caps).
@@ -185,17 +190,14 @@ struct Scratch {
   std::vector<Dual> gx, gy, gz, grad;  // normals: the vertices and the field's gradient there
   std::vector<std::uint32_t> owned;    // normals: the vertices the brick owns
   std::vector<Vec3f> unit;             // unit normal per vertex (NaN where not computed)
+  // flat vertices: per cube, its fan's first triangle and count (count 0: no plain fan)
+  std::vector<std::uint32_t> fanFirst;
+  std::vector<std::uint8_t> fanCount;
+  std::vector<Triangle> region;  // the four cubes round an edge: their triangles
+  std::vector<std::uint32_t> regionIndex;
+  FlatVertexRemoval plan;
+  std::vector<std::uint8_t> dropped;
 };
-
-double quality(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
-  const double area2 = norm(triangleCross(a, b, c));
-  auto sq = [](const Vec3f& p, const Vec3f& q) {
-    const double d[3] = {double(q[0]) - p[0], double(q[1]) - p[1], double(q[2]) - p[2]};
-    return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-  };
-  const double edges = sq(a, b) + sq(a, c) + sq(b, c);
-  return edges > 0 ? area2 / edges : 0.0;
-}
 
 // The float32 vertex at parameter t along root-finding edge e.
 Vec3f vertexAt(const Scratch& s, std::size_t e, double t) {
@@ -478,10 +480,10 @@ class BrickMesher {
         continue;
       }
       const auto& P = out.positions;
-      const double splitA =
-          std::min(quality(P[q[0]], P[q[1]], P[q[2]]), quality(P[q[0]], P[q[2]], P[q[3]]));
-      const double splitB =
-          std::min(quality(P[q[0]], P[q[1]], P[q[3]]), quality(P[q[1]], P[q[2]], P[q[3]]));
+      const double splitA = std::min(triangleQuality(P[q[0]], P[q[1]], P[q[2]]),
+                                     triangleQuality(P[q[0]], P[q[2]], P[q[3]]));
+      const double splitB = std::min(triangleQuality(P[q[0]], P[q[1]], P[q[3]]),
+                                     triangleQuality(P[q[1]], P[q[2]], P[q[3]]));
       if (splitA >= splitB) {
         out.triangles.push_back({q[0], q[1], q[2]});
         out.triangles.push_back({q[0], q[2], q[3]});
@@ -490,6 +492,7 @@ class BrickMesher {
         out.triangles.push_back({q[1], q[2], q[3]});
       }
     }
+    if (byCubes && opt_.flatVertices) removeFlatVertices(r, n, s, out);
     // Every brick's result is held until the weld: no growth slack kept (the triangles'
     // reserve above is a bound, about twice what a brick makes).
     out.keys.shrink_to_fit();
@@ -667,6 +670,19 @@ class BrickMesher {
                 Scratch& s, BrickResult& out) const {
     const CubeLoopTables& cl = cubeLoopTables();
     const std::vector<Vec3f>& P = out.positions;
+    const bool flat = opt_.flatVertices;
+    if (flat) {
+      s.fanFirst.assign(static_cast<std::size_t>((n[0] - 1) * (n[1] - 1) * (n[2] - 1)), 0);
+      s.fanCount.assign(s.fanFirst.size(), 0);
+    }
+    // Flat vertices (removeFlatVertices) are sought only where the cubes have plain fans.
+    auto recordFan = [&](std::uint32_t base, std::size_t first) {
+      if (!flat) return;
+      const std::int64_t i = base % n[0], j = (base / n[0]) % n[1], k = base / (n[0] * n[1]);
+      const std::size_t q = static_cast<std::size_t>(i + (n[0] - 1) * (j + (n[1] - 1) * k));
+      s.fanFirst[q] = static_cast<std::uint32_t>(first);
+      s.fanCount[q] = static_cast<std::uint8_t>(out.triangles.size() - first);
+    };
     for (std::size_t p = 0; p < s.loops.size();) {
       const std::uint32_t base = s.loops[p], len = s.loops[p + 1] & 255, mask = s.loops[p + 1] >> 8;
       const std::uint32_t* L = &s.loops[p + 2];
@@ -674,8 +690,10 @@ class BrickMesher {
       auto v = [&](std::uint32_t i) { return L[2 * (i % len)]; };
       auto id = [&](std::uint32_t i) { return L[2 * (i % len) + 1]; };
       if (sharp && placeFeature(whole, r, n, base, mask, L, len, s, out)) continue;
+      const std::size_t first = out.triangles.size();
       if (len == 3) {  // (one triangle, whichever the apex)
         out.triangles.push_back({v(0), v(1), v(2)});
+        recordFan(base, first);
         continue;
       }
       int best = -1;
@@ -688,7 +706,7 @@ class BrickMesher {
         if (!sees) continue;
         double q = std::numeric_limits<double>::infinity();
         for (std::uint32_t j = 1; j + 1 < len; ++j)
-          q = std::min(q, quality(P[v(a)], P[v(a + j)], P[v(a + j + 1)]));
+          q = std::min(q, triangleQuality(P[v(a)], P[v(a + j)], P[v(a + j + 1)]));
         if (q > bestQuality) {
           bestQuality = q;
           best = static_cast<int>(a);
@@ -698,11 +716,130 @@ class BrickMesher {
         const std::uint32_t a = static_cast<std::uint32_t>(best);
         for (std::uint32_t j = 1; j + 1 < len; ++j)
           out.triangles.push_back({v(a), v(a + j), v(a + j + 1)});
+        recordFan(base, first);
         continue;
       }
       const std::uint32_t apex = innerVertex(r, n, base, L, len, s, out);
       for (std::uint32_t j = 0; j < len; ++j) out.triangles.push_back({apex, v(j), v(j + 1)});
+      recordFan(base, first);
     }
+  }
+
+  // Flat vertices (docs/mesher.md): the grid is cut into blocks of 2 x 2 x 2 cubes, the
+  // first at an even cube index (so a block lies in one brick wherever bricks of an even size
+  // start, and in one brick job); of the six grid edges from a block's centre, a crossed one
+  // whose four cubes all have plain fans may lose its vertex (planFlatVertexRemoval judges,
+  // with those four cubes' triangles: all that meet their box). The first that can go, in
+  // axis order, goes, and then the one opposite it (its four cubes are the block's other four).
+  // Blocks share no cube, so each decision sees its cubes as they came from the fans, and
+  // the mesh is the same whatever the bricks.
+  void removeFlatVertices(const CellRange& r, const std::int64_t n[3], Scratch& s,
+                          BrickResult& out) const {
+    const std::int64_t c[3] = {n[0] - 1, n[1] - 1, n[2] - 1};
+    auto cube = [&](const std::int64_t i[3]) {
+      return static_cast<std::size_t>(i[0] + c[0] * (i[1] + c[1] * i[2]));
+    };
+    s.dropped.assign(out.positions.size(), 0);
+    std::size_t removed = 0;
+    std::int64_t start[3];
+    for (int a = 0; a < 3; ++a) start[a] = r.lo[a] % 2 == 0 ? 1 : 2;  // odd global points
+    std::int64_t o[3];
+    for (o[2] = start[2]; o[2] < c[2]; o[2] += 2)
+      for (o[1] = start[1]; o[1] < c[1]; o[1] += 2)
+        for (o[0] = start[0]; o[0] < c[0]; o[0] += 2) {
+          // The crossed edges whose four cubes all have plain fans.
+          std::int32_t vertexOf[6];
+          int order[6], count = 0;
+          for (int d = 0; d < 6; ++d) {
+            const int axis = d / 2;
+            std::int64_t low[3] = {o[0], o[1], o[2]};  // the edge's lower grid point
+            if (!(d % 2)) --low[axis];
+            const std::size_t key =
+                static_cast<std::size_t>(low[0] + n[0] * (low[1] + n[1] * low[2])) * 7 +
+                ((1u << axis) - 1);
+            vertexOf[d] = s.edgeVertex[key];
+            if (vertexOf[d] < 0) continue;
+            bool plain = true;
+            for (int q = 0; q < 4 && plain; ++q) {
+              std::int64_t at[3];
+              for (int b = 0, bit = 0; b < 3; ++b)
+                at[b] = b == axis ? low[b] : o[b] - 1 + ((q >> bit++) & 1);
+              plain = s.fanCount[cube(at)] > 0;
+            }
+            if (plain) order[count++] = d;
+          }
+          // The first that can go, then the one opposite it.
+          auto tryRemoval = [&](int d) {
+            const int axis = d / 2;
+            std::int64_t low[3] = {o[0], o[1], o[2]};
+            if (!(d % 2)) --low[axis];
+            s.region.clear();
+            s.regionIndex.clear();
+            for (int q = 0; q < 4; ++q) {
+              std::int64_t at[3];
+              for (int b = 0, bit = 0; b < 3; ++b)
+                at[b] = b == axis ? low[b] : o[b] - 1 + ((q >> bit++) & 1);
+              const std::size_t id = cube(at);
+              for (std::uint32_t t = 0; t < s.fanCount[id]; ++t) {
+                s.region.push_back(out.triangles[s.fanFirst[id] + t]);
+                s.regionIndex.push_back(s.fanFirst[id] + t);
+              }
+            }
+            double boxLo[3], boxHi[3];
+            for (int b = 0; b < 3; ++b) {
+              const std::int64_t lo = r.lo[b] + (b == axis ? low[b] : o[b] - 1);
+              boxLo[b] = g_.coord(b, lo);
+              boxHi[b] = g_.coord(b, lo + (b == axis ? 1 : 2));
+            }
+            FlatVertexRemoval& plan = s.plan;
+            if (!planFlatVertexRemoval(static_cast<std::uint32_t>(vertexOf[d]), out.positions,
+                                       s.region, boxLo, boxHi, kFlatDeviation * g_.h[axis],
+                                       kFlatQuality, &plan) ||
+                !flatVertexRemovalIsClear(plan, out.positions, s.region))
+              return false;
+            for (std::size_t t = 0; t < plan.size; ++t)
+              out.triangles[s.regionIndex[plan.star[t]]] =
+                  t + 2 < plan.size ? plan.replacement[t]
+                                    : Triangle{UINT32_MAX, UINT32_MAX, UINT32_MAX};
+            s.dropped[static_cast<std::size_t>(vertexOf[d])] = 1;
+            ++removed;
+            return true;
+          };
+          for (int i = 0; i < count; ++i) {
+            const int d = order[i];
+            if (!tryRemoval(d)) continue;
+            for (int j = i + 1; j < count; ++j)
+              if (order[j] == (d ^ 1)) tryRemoval(d ^ 1);
+            break;
+          }
+        }
+    if (removed == 0) return;
+    // Compact: the dead triangles out (the crease flips' list renumbered), the vertices gone.
+    std::vector<std::uint32_t> newTriangle(out.triangles.size());
+    std::size_t kept = 0;
+    for (std::size_t t = 0; t < out.triangles.size(); ++t) {
+      newTriangle[t] = static_cast<std::uint32_t>(kept);
+      if (out.triangles[t][0] != UINT32_MAX) out.triangles[kept++] = out.triangles[t];
+    }
+    out.triangles.resize(kept);
+    for (std::uint32_t& t : out.flippable) t = newTriangle[t];
+    std::vector<std::uint32_t> newVertex(out.positions.size());
+    kept = 0;
+    for (std::size_t v = 0; v < out.positions.size(); ++v) {
+      newVertex[v] = static_cast<std::uint32_t>(kept);
+      if (s.dropped[v]) continue;
+      out.keys[kept] = out.keys[v];
+      out.owner[kept] = out.owner[v];
+      out.positions[kept] = out.positions[v];
+      if (!out.normals.empty()) out.normals[kept] = out.normals[v];
+      ++kept;
+    }
+    out.keys.resize(kept);
+    out.owner.resize(kept);
+    out.positions.resize(kept);
+    if (!out.normals.empty()) out.normals.resize(kept);
+    for (Triangle& t : out.triangles)
+      for (std::uint32_t& v : t) v = newVertex[v];
   }
 
   // Sharp features (as Kobbelt et al.'s extended marching cubes): where the normals at a
@@ -1280,6 +1417,8 @@ Grid makeGrid(const MeshingOptions& opt, CellRange* cells, std::int64_t bricks[3
     throw ModelError("mesher: resolution (cell size) must be a number > 0");
   if (opt.brickCells < 2 || opt.brickCells > 64)
     throw ModelError("mesher: brick size must be between 2 and 64 cells");
+  if (opt.flatVertices && opt.brickCells % 2 != 0)
+    throw ModelError("mesher: flat vertices need an even brick size (blocks of 2 x 2 x 2 cubes)");
 
   Grid g;
   g.lo = box.lo;
