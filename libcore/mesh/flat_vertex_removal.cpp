@@ -47,6 +47,12 @@ double pointSegmentDistance2(const Point2& p, const Point2& a, const Point2& b) 
 
 // Whether segments ab and cd cross or come within sqrt(eps2) of each other.
 bool segmentsNear(const Point2& a, const Point2& b, const Point2& c, const Point2& d, double eps2) {
+  const double eps = std::sqrt(eps2);  // (apart by more on an axis: neither)
+  if (std::max(a.x, b.x) + eps < std::min(c.x, d.x) ||
+      std::max(c.x, d.x) + eps < std::min(a.x, b.x) ||
+      std::max(a.y, b.y) + eps < std::min(c.y, d.y) ||
+      std::max(c.y, d.y) + eps < std::min(a.y, b.y))
+    return false;
   const double o1 = orient(a, b, c), o2 = orient(a, b, d);
   const double o3 = orient(c, d, a), o4 = orient(c, d, b);
   if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0)))
@@ -71,9 +77,16 @@ int windingNumber(const Point2& p, const Point2* poly, std::size_t k) {
 
 // Whether p lies inside the closed polygon or within sqrt(eps2) of its boundary.
 bool inOrNearPolygon(const Point2& p, const Point2* poly, std::size_t k, double eps2) {
-  for (std::size_t i = 0; i < k; ++i)
-    if (pointSegmentDistance2(p, poly[i], poly[(i + 1) % k]) < eps2) return true;
-  return windingNumber(p, poly, k) != 0;
+  if (windingNumber(p, poly, k) != 0) return true;
+  const double eps = std::sqrt(eps2);
+  for (std::size_t i = 0; i < k; ++i) {
+    const Point2 &a = poly[i], &b = poly[(i + 1) % k];
+    if (p.x + eps < std::min(a.x, b.x) || p.x - eps > std::max(a.x, b.x) ||
+        p.y + eps < std::min(a.y, b.y) || p.y - eps > std::max(a.y, b.y))
+      continue;
+    if (pointSegmentDistance2(p, a, b) < eps2) return true;
+  }
+  return false;
 }
 
 // Whether p lies inside triangle abc (either orientation) or within sqrt(eps2) of its edges.
@@ -199,25 +212,28 @@ bool planFlatVertexRemoval(std::uint32_t v, const std::vector<Vec3f>& positions,
   // the first that keeps within maxDeviation everywhere, has no thin triangle and no new edge
   // that is an edge already or lies in a box face.
   double deviationOf[kMaxRing];
+  std::size_t coverOf[kMaxRing];  // the fan triangle (apex, apex + j, apex + j + 1) under v
   std::size_t apexes[kMaxRing], candidates = 0;
   for (std::size_t apex = 0; apex < (k == 4 ? 2 : k); ++apex) {
     bool ok = true;
     for (std::size_t j = 1; j + 1 < k && ok; ++j)
       ok = orient(poly[apex], poly[(apex + j) % k], poly[(apex + j + 1) % k]) > epsArea;
     if (!ok) continue;
-    // the new surface's height under v
+    // The new surface's height under v: v lies in the fan triangle (apex, b, c) where the
+    // spokes from the apex pass from v's left to its right (the fan winds once).
     double deviation = 0.0;
     bool covered = false;
-    for (std::size_t j = 1; j + 1 < k; ++j) {
+    double left = orient(poly[apex], poly[(apex + 1) % k], origin);  // > 0: a ring edge
+    for (std::size_t j = 1; j + 1 < k && !covered; ++j) {
       const std::size_t b = (apex + j) % k, c = (apex + j + 1) % k;
-      const double o0 = orient(poly[b], poly[c], origin), o1 = orient(poly[c], poly[apex], origin);
-      const double o2 = orient(poly[apex], poly[b], origin), tiny = -1e-9 * (o0 + o1 + o2);
-      if (o0 >= tiny && o1 >= tiny && o2 >= tiny) {
-        covered = true;
-        deviation =
-            std::max(deviation, std::fabs(o0 * height[apex] + o1 * height[b] + o2 * height[c]) /
-                                    (o0 + o1 + o2));
+      const double right = orient(poly[apex], poly[c], origin);
+      if (right <= 0.0 || j + 2 == k) {
+        const double o0 = orient(poly[b], poly[c], origin), o1 = -right, o2 = left;
+        covered = o1 >= 0.0 && o2 >= 0.0;
+        coverOf[apex] = j;
+        deviation = std::fabs(o0 * height[apex] + o1 * height[b] + o2 * height[c]) / (o0 + o1 + o2);
       }
+      left = right;
     }
     if (!covered || !(deviation <= maxDeviation)) continue;
     deviationOf[apex] = deviation;
@@ -235,8 +251,11 @@ bool planFlatVertexRemoval(std::uint32_t v, const std::vector<Vec3f>& positions,
     double deviation = deviationOf[apex];
     for (std::size_t j = 2; j + 1 < k; ++j) {
       const std::size_t m = (apex + j) % k;  // the diagonal apex-m
-      for (std::size_t s = 0; s < k; ++s) {
-        if (s == apex || s == m) continue;
+      // v lies beyond it from the ring vertices apex + 1 .. m - 1 where its fan triangle
+      // comes later, else from m + 1 .. apex - 1: only their spokes cross it
+      const std::size_t from = coverOf[apex] >= j ? 1 : j + 1, to = coverOf[apex] >= j ? j : k;
+      for (std::size_t q = from; q < to; ++q) {
+        const std::size_t s = (apex + q) % k;
         const Point2 &a = poly[apex], &b = poly[m], &r = poly[s];
         const double den = orient(origin, r, b) - orient(origin, r, a);  // where a-b meets 0-r
         if (den == 0.0) continue;
@@ -329,6 +348,11 @@ bool flatVertexRemovalIsClear(const FlatVertexRemoval& plan, const std::vector<V
       if (static_cast<int>(i) == at[0] || static_cast<int>(i) == at[1] ||
           static_cast<int>(i) == at[2])
         continue;
+      if (poly[i].x + margin < std::min({q[0].x, q[1].x, q[2].x}) ||
+          poly[i].x - margin > std::max({q[0].x, q[1].x, q[2].x}) ||
+          poly[i].y + margin < std::min({q[0].y, q[1].y, q[2].y}) ||
+          poly[i].y - margin > std::max({q[0].y, q[1].y, q[2].y}))
+        continue;  // (outside the triangle's box)
       if (inOrNearTriangle(poly[i], q[0], q[1], q[2], eps2)) return false;
     }
   }
