@@ -492,9 +492,11 @@ PYBIND11_MODULE(_frepcore, m) {
           "export",
           [](PyNode& n, const std::string& path, py::object bbox, py::object resolution,
              py::object cells, const std::string& format, bool check, bool force,
-             py::object progress, py::object tolerance, bool sharp, const std::string& mesher) {
+             py::object progress, py::object tolerance, bool sharp, const std::string& mesher,
+             bool fewerTriangles) {
             ExportRequest r;
             r.extraction = parseMesher(mesher);
+            r.flatVertices = fewerTriangles;
             r.box = boxRequest(bbox, resolution, cells, kPaddingCells);
             r.known = structuralBounds(n.node);
             if (!format.empty()) r.format = parseFormat(format);
@@ -523,8 +525,10 @@ PYBIND11_MODULE(_frepcore, m) {
           py::arg("cells") = py::none(), py::arg("format") = "", py::arg("check") = true,
           py::arg("force") = false, py::arg("progress") = py::none(),
           py::arg("tolerance") = py::none(), py::arg("sharp") = true, py::arg("mesher") = "cubes",
+          py::arg("fewer_triangles") = false,
           "The export pipeline: box policy, mesh (mesher 'cubes' or 'tetra'; creases and "
-          "corners placed unless sharp=False), (simplify within `tolerance` of the surface), "
+          "corners placed unless sharp=False; the vertices where the surface is flat within a "
+          "fiftieth of a cell dropped with fewer_triangles), (simplify within `tolerance` of the surface), "
           "CGAL check, atomic write. Returns the check "
           "report dict plus 'written'; a refused mesh is not written unless force.")
       .def(
@@ -610,10 +614,11 @@ PYBIND11_MODULE(_frepcore, m) {
       .def(
           "mesh",
           [](PyNode& n, py::object bbox, double resolution, py::object progress, bool normals,
-             py::object tolerance, bool sharp, const std::string& mesher) {
+             py::object tolerance, bool sharp, const std::string& mesher, bool fewerTriangles) {
             MeshingOptions o;
             o.extraction = parseMesher(mesher);
             o.sharpFeatures = sharp;
+            o.flatVertices = fewerTriangles;
             o.bbox = toBox(bbox.cast<py::sequence>());
             o.resolution = resolution;
             o.normals = normals;
@@ -644,9 +649,11 @@ PYBIND11_MODULE(_frepcore, m) {
           },
           py::arg("bbox"), py::arg("resolution"), py::arg("progress") = py::none(),
           py::arg("normals") = false, py::arg("tolerance") = py::none(), py::arg("sharp") = true,
-          py::arg("mesher") = "cubes",
+          py::arg("mesher") = "cubes", py::arg("fewer_triangles") = false,
           "Polygonises inside bbox with cells of at most `resolution` (mesher 'cubes', or "
-          "'tetra': marching tetrahedra, three times the triangles); with a tolerance the "
+          "'tetra': marching tetrahedra, three times the triangles; fewer_triangles: the "
+          "vertices where the surface is flat within a fiftieth of a cell dropped); with a "
+          "tolerance the "
           "mesh is then simplified within it of the surface (creases and corners placed "
           "unless sharp=False). progress(fraction) is called on this thread; returning False "
           "cancels "

@@ -313,6 +313,21 @@ def test_the_cube_mesher_makes_a_third_of_the_tetrahedra_triangles():
         part.node.mesh(box, 0.05, mesher="dual")
 
 
+def test_fewer_triangles_drops_flat_vertices_and_stays_printable(tmp_path):
+    part = csg()
+    box = ((-1.2, -1.2, -1.2), (1.2, 1.2, 1.2))
+    full = part.node.mesh(box, 0.05)
+    fewer = part.node.mesh(box, 0.05, fewer_triangles=True)
+    assert fewer.triangle_count < 0.95 * full.triangle_count
+    # two triangles go with each vertex
+    assert (full.triangle_count - fewer.triangle_count
+            == 2 * (full.vertex_count - fewer.vertex_count))
+    assert fewer.check()["printable"]
+    report = part.node.export(str(tmp_path / "fewer.stl"), bbox=box, resolution=0.05,
+                              fewer_triangles=True)
+    assert report["written"] and report["triangles"] == fewer.triangle_count
+
+
 def test_hsplines_refine_edit_and_leave_as_step_stl_and_hs(tmp_path):
     h = fc.HSpline.torus(8, 6, 5, 1.5)
     before = h.evaluate(1.3, 2.7)["point"]
