@@ -83,17 +83,19 @@ def export_objects(objects, filename, progress=None, cells=None, fmt="", resolut
     if filename.lower().endswith(".vdb"):
         return _export_level_set(solid, box, cell, filename, progress)
     # a single Polygonize feature exports as it meshes: with its Method and Tolerance
-    mesher = "cubes"
+    mesher, fewer = "cubes", False
     if (len(objects) == 1
             and isinstance(getattr(objects[0], "Proxy", None), FRepPolygonize.Polygonize)):
         mesher = FRepPolygonize.mesher_of(objects[0])
+        fewer = FRepPolygonize.fewer_triangles(objects[0])
         if tolerance is None:
             tolerance, sharp = FRepPolygonize.simplification(objects[0])
 
     def work(tick):
         try:
             return solid.export(filename, resolution=cell, bbox=box, format=fmt, progress=tick,
-                                force=force, tolerance=tolerance, sharp=sharp, mesher=mesher)
+                                force=force, tolerance=tolerance, sharp=sharp, mesher=mesher,
+                                fewer_triangles=fewer)
         except frepcore.Cancelled:
             raise RuntimeError("export of %s cancelled; no file written" % name)
 
@@ -128,7 +130,8 @@ def _export_3mf(objects, filename, progress, cells, resolution, bbox, force, tol
             if meshed and (tol is None or own):
                 tol, sh = FRepPolygonize.simplification(obj)
             mesh = solid.node.mesh(box, cell, lambda f, i=i: tick(i * share + f * share), False,
-                                   tol, sh, FRepPolygonize.mesher_of(obj) if meshed else "cubes")
+                                   tol, sh, FRepPolygonize.mesher_of(obj) if meshed else "cubes",
+                                   meshed and FRepPolygonize.fewer_triangles(obj))
             meshes.append((obj.Label, mesh))
         doc = objects[0].Document
         report = frepcore.write_3mf(

@@ -52,6 +52,9 @@ class Polygonize(FeatureProxy):
         add("App::PropertyBool", "SharpFeatures", "Put vertices on the creases and corners "
             "(the Cubes mesher, and the simplifier with a Tolerance) instead of chamfering "
             "them within a cell.", True)
+        add("App::PropertyBool", "FewerTriangles", "Drop the vertices where the surface is flat "
+            "within a fiftieth of a cell, two triangles with each: 6 to 15 % fewer triangles, "
+            "the same accuracy, a little longer meshing (the Cubes method).", False)
         if "Triangles" not in obj.PropertiesList:
             obj.addProperty("App::PropertyInteger", "Triangles", GROUP,
                             "Triangles in the mesh (read-only).")
@@ -89,6 +92,11 @@ def simplification(obj):
     return (tolerance or None), sharp
 
 
+def fewer_triangles(obj):
+    """Whether a Polygonize feature drops the mesher's flat vertices (FewerTriangles)."""
+    return bool(obj.FewerTriangles) if "FewerTriangles" in obj.PropertiesList else False
+
+
 def mesher_of(obj):
     """frepcore's mesher name ('cubes' or 'tetra') for a Polygonize feature's Method."""
     method = obj.Method if "Method" in obj.PropertiesList else METHODS[0]
@@ -98,7 +106,8 @@ def mesher_of(obj):
 def _mesh_or_cancel(obj, shape, box, cell, progress):
     tolerance, sharp = simplification(obj)
     try:
-        return shape.node.mesh(box, cell, progress, False, tolerance, sharp, mesher_of(obj))
+        return shape.node.mesh(box, cell, progress, False, tolerance, sharp, mesher_of(obj),
+                               fewer_triangles(obj))
     except frepcore.Cancelled:
         raise RuntimeError("%s: polygonizing was cancelled; the previous mesh is kept"
                            % obj.Label)

@@ -184,6 +184,30 @@ def test_polygonize_with_a_tolerance_simplifies_and_exports_alike(doc, tmp_path)
     assert simple.Triangles == full.Triangles
 
 
+def test_polygonize_with_fewer_triangles_drops_flat_vertices_and_exports_alike(doc, tmp_path):
+    part = FRepExamples.build_csg(doc)
+    full = FRepPolygonize.make(part, doc, Cells=48)
+    fewer = FRepPolygonize.make(part, doc, name="Fewer", Cells=48, FewerTriangles=True)
+    doc.recompute()
+    assert fewer.isValid(), fewer.getStatusString()
+    assert fewer.Triangles < 0.95 * full.Triangles
+    assert fewer.Triangles == fewer.Mesh.CountFacets
+    out = str(tmp_path / "fewer.stl")
+    written = FRepExport.export_objects([fewer], out)
+    assert written["printable"] and written["triangles"] == fewer.Triangles
+    # saved and reopened, it keeps the setting; off again, the full mesh
+    path = str(tmp_path / "fewer.FCStd")
+    doc.saveCopy(path)
+    again = FreeCAD.openDocument(path)
+    try:
+        assert again.getObject("Fewer").FewerTriangles
+    finally:
+        FreeCAD.closeDocument(again.Name)
+    fewer.FewerTriangles = False
+    doc.recompute()
+    assert fewer.Triangles == full.Triangles
+
+
 def test_export_filter_is_registered():
     # Registered by the workbench's Init.py for its three extensions.
     modules = FreeCAD.getExportType()

@@ -118,20 +118,24 @@ class Shape:
 
     # -- meshing and export ---------------------------------------------------------------
     def mesh(self, resolution=None, bbox=None, cells=None, progress=None, normals=False,
-             tolerance=None, sharp=True, mesher="cubes"):
+             tolerance=None, sharp=True, mesher="cubes", fewer_triangles=False):
         """Polygonises the solid; bbox and resolution default to automatic_box. Creases and
         corners get vertices unless sharp=False; mesher='tetra' is the marching-tetrahedra
-        mesher of before 0.3 (three times the triangles). With a tolerance the mesh is
+        mesher of before 0.3 (three times the triangles); fewer_triangles drops the vertices
+        where the surface is flat within a fiftieth of a cell. With a tolerance the mesh is
         simplified, kept within it of the surface."""
         box, cell = automatic_box(self, resolution=resolution, bbox=bbox, cells=cells)
-        return self.node.mesh(box, cell, progress, normals, tolerance, sharp, mesher)
+        return self.node.mesh(box, cell, progress, normals, tolerance, sharp, mesher,
+                              fewer_triangles)
 
     def export(self, path, resolution=None, bbox=None, cells=None, format="", check=True,
-               progress=None, force=False, tolerance=None, sharp=True, mesher="cubes"):
+               progress=None, force=False, tolerance=None, sharp=True, mesher="cubes",
+               fewer_triangles=False):
         """Meshes, checks with CGAL and writes path atomically (libcore's export pipeline,
         the same as `frepcad export`); returns the check report (a dict with 'text').
         Creases and corners get vertices unless sharp=False; mesher='tetra' meshes by
-        marching tetrahedra (`--mesher tetra`). With a tolerance (model units) the mesh is
+        marching tetrahedra (`--mesher tetra`); fewer_triangles drops the vertices where the
+        surface is flat within a fiftieth of a cell (`--fewer-triangles`). With a tolerance (model units) the mesh is
         simplified first, kept within it of the surface (`frepcad export --tolerance`); the
         report then has 'triangles_before_simplify' and 'largest_distance'.
 
@@ -140,7 +144,8 @@ class Shape:
         """
         report = self.node.export(path, bbox=bbox, resolution=resolution, cells=cells,
                                   format=format, check=check, force=force, progress=progress,
-                                  tolerance=tolerance, sharp=sharp, mesher=mesher)
+                                  tolerance=tolerance, sharp=sharp, mesher=mesher,
+                                  fewer_triangles=fewer_triangles)
         if check and not report["printable"] and not force:
             raise NotPrintable("%s: not written, the mesh is not printable: %s"
                                % (path, "; ".join(report["reasons"])), report)
