@@ -29,8 +29,9 @@ Model example(const std::string& name) {
 }
 
 TriangleMesh meshModel(const Model& m, double resolution, int brick = 16, bool sharp = true,
-                       Extraction extraction = Extraction::Cubes) {
+                       Extraction extraction = Extraction::Cubes, bool flatVertices = false) {
   MeshingOptions o;
+  o.flatVertices = flatVertices;
   o.bbox = *m.bbox;
   o.resolution = resolution;
   o.brickCells = brick;
@@ -70,13 +71,16 @@ struct ExampleCase {
 
 class ExamplesPrintable : public ::testing::TestWithParam<ExampleCase> {};
 
-// Each by cubes with sharp features (the default) and without; the coarse cases by
-// marching tetrahedra too (still selectable).
+// Each by cubes with sharp features (the default), without, and with the flat vertices dropped;
+// the coarse cases by marching tetrahedra too (still selectable).
 TEST_P(ExamplesPrintable, CgalSaysPrintable) {
   const ExampleCase c = GetParam();
-  for (int mode = 0; mode < (c.cellsPerUnit <= 64 ? 3 : 2); ++mode) {
-    const TriangleMesh mesh = meshModel(example(c.model), 1.0 / c.cellsPerUnit, 16, mode == 0,
-                                        mode == 2 ? Extraction::Tetrahedra : Extraction::Cubes);
+  // modes: 0 cubes, 1 without sharp features, 2 tetrahedra (coarse only), 3 flat vertices dropped
+  for (int mode : {0, 1, 2, 3}) {
+    if (mode == 2 && c.cellsPerUnit > 64) continue;
+    const TriangleMesh mesh =
+        meshModel(example(c.model), 1.0 / c.cellsPerUnit, 16, mode != 1,
+                  mode == 2 ? Extraction::Tetrahedra : Extraction::Cubes, mode == 3);
     const CheckReport r = checkMesh(mesh);
     EXPECT_TRUE(r.printable()) << c.model << " at 1/" << c.cellsPerUnit << " mode " << mode << ": "
                                << reasons(r);
