@@ -45,7 +45,7 @@ const char* const kExportHelp =
     "                          with --tolerance, the simplifier's): edges are chamfered\n"
     "  --fewer-triangles       drop the vertices where the surface is flat within a fiftieth\n"
     "                          of a cell: 6 to 15 % fewer triangles, the same accuracy, a\n"
-    "                          little longer meshing (JSON models, without --bricks)\n"
+    "                          little longer meshing (JSON models)\n"
     "  --mesher M              cubes (default: about a third of the triangles of tetra) or\n"
     "                          tetra (marching tetrahedra, the mesher before 0.3; kept for\n"
     "                          one release)\n"
@@ -157,9 +157,10 @@ ExportOptions parseExportOptions(const Args& args) {
     throw UsageError("--fog applies to a .vdb output only");
   if ((!o.scheduler.empty() || !o.workDir.empty()) && !o.bricks)
     throw UsageError("--scheduler and --work-dir apply to --bricks only");
-  if (o.fewerTriangles && (o.bricks || isDocumentPath(o.input) || isVdbPath(o.output)))
+  if (o.fewerTriangles && (isDocumentPath(o.input) || isVdbPath(o.output)))
     throw UsageError(
-        "--fewer-triangles applies to a mesh exported from a JSON model without --bricks");
+        "--fewer-triangles applies to a mesh exported from a JSON model (a document's "
+        "Polygonize feature has a FewerTriangles property)");
   if (o.bricks) {
     // (the simplifier and the accuracy report work on the whole mesh; a level set is
     // OpenVDB's; a document is FreeCAD's)

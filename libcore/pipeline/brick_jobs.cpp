@@ -27,6 +27,7 @@ MeshingOptions brickMeshingOptions(const BrickJobPlan& plan) {
   o.resolution = plan.box.resolution;
   o.sharpFeatures = plan.sharpFeatures;
   o.extraction = plan.extraction;
+  o.flatVertices = plan.flatVertices;
   o.normals = false;
   return o;
 }
@@ -50,7 +51,7 @@ std::uint64_t textFingerprint(const std::string& text) {
 }
 
 BrickJobPlan planBrickJobs(const MeshingBox& box, bool sharpFeatures, Extraction extraction,
-                           std::uint32_t jobs, std::uint64_t model) {
+                           std::uint32_t jobs, std::uint64_t model, bool flatVertices) {
   if (jobs < 1 || jobs > kMaxBrickJobs)
     throw ModelError("bricks: the number of brick jobs must be 1 to " +
                      std::to_string(kMaxBrickJobs) + ", got " + std::to_string(jobs));
@@ -58,6 +59,7 @@ BrickJobPlan planBrickJobs(const MeshingBox& box, bool sharpFeatures, Extraction
   plan.box = box;
   plan.sharpFeatures = sharpFeatures;
   plan.extraction = extraction;
+  plan.flatVertices = flatVertices;
   plan.jobs = jobs;
   brickGrid(brickMeshingOptions(plan), plan.bricks);
   // the job count's prime factors, largest first, each to the axis with the most bricks per
@@ -96,8 +98,8 @@ BrickJobPlan planBrickJobs(const MeshingBox& box, bool sharpFeatures, Extraction
   const double numbers[7] = {box.box.lo[0], box.box.lo[1], box.box.lo[2], box.box.hi[0],
                              box.box.hi[1], box.box.hi[2], box.resolution};
   mix(h, numbers, sizeof(numbers));
-  const std::uint32_t flags[3] = {sharpFeatures ? 1u : 0u, static_cast<std::uint32_t>(extraction),
-                                  jobs};
+  const std::uint32_t flags[4] = {sharpFeatures ? 1u : 0u, static_cast<std::uint32_t>(extraction),
+                                  jobs, flatVertices ? 1u : 0u};
   mix(h, flags, sizeof(flags));
   plan.runId = h;
   return plan;

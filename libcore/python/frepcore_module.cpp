@@ -249,11 +249,12 @@ PyNode makePyNode(const std::string& typeId, const py::dict& params,
 // A brick-job run of this solid (pipeline/brick_jobs.h); the run's id fingerprints the
 // tree's canonical JSON, so the driver and every worker agree on it.
 BrickJobPlan brickPlanOf(PyNode& n, const py::object& bbox, double resolution, bool sharp,
-                         const std::string& mesher, std::uint32_t jobs) {
+                         const std::string& mesher, std::uint32_t jobs, bool fewerTriangles) {
   MeshingBox box{toBox(bbox.cast<py::sequence>()), resolution};
   Model model;
   model.root = n.node;
-  return planBrickJobs(box, sharp, parseMesher(mesher), jobs, textFingerprint(modelToJson(model)));
+  return planBrickJobs(box, sharp, parseMesher(mesher), jobs, textFingerprint(modelToJson(model)),
+                       fewerTriangles);
 }
 
 py::dict nodeParams(const PyNode& n) {
@@ -534,8 +535,9 @@ PYBIND11_MODULE(_frepcore, m) {
       .def(
           "brick_plan",
           [](PyNode& n, py::object bbox, double resolution, bool sharp, const std::string& mesher,
-             std::uint32_t jobs) {
-            const BrickJobPlan plan = brickPlanOf(n, bbox, resolution, sharp, mesher, jobs);
+             std::uint32_t jobs, bool fewerTriangles) {
+            const BrickJobPlan plan =
+                brickPlanOf(n, bbox, resolution, sharp, mesher, jobs, fewerTriangles);
             py::dict d;
             d["jobs"] = plan.jobs;
             d["bricks"] = py::make_tuple(plan.bricks[0], plan.bricks[1], plan.bricks[2]);
@@ -544,14 +546,15 @@ PYBIND11_MODULE(_frepcore, m) {
             return d;
           },
           py::arg("bbox"), py::arg("resolution"), py::arg("sharp") = true,
-          py::arg("mesher") = "cubes", py::arg("jobs") = 1,
+          py::arg("mesher") = "cubes", py::arg("jobs") = 1, py::arg("fewer_triangles") = false,
           "A brick-job run (issue 17): the mesher's bricks per axis, the jobs per axis and the "
           "run's id. ValueError for a job count the bricks cannot take.")
       .def(
           "brick_job",
           [](PyNode& n, py::object bbox, double resolution, bool sharp, const std::string& mesher,
-             std::uint32_t jobs, std::uint32_t job, const std::string& path) {
-            const BrickJobPlan plan = brickPlanOf(n, bbox, resolution, sharp, mesher, jobs);
+             std::uint32_t jobs, std::uint32_t job, const std::string& path, bool fewerTriangles) {
+            const BrickJobPlan plan =
+                brickPlanOf(n, bbox, resolution, sharp, mesher, jobs, fewerTriangles);
             const auto start = std::chrono::steady_clock::now();
             MeshPiece piece;
             {
@@ -574,7 +577,7 @@ PYBIND11_MODULE(_frepcore, m) {
             return d;
           },
           py::arg("bbox"), py::arg("resolution"), py::arg("sharp"), py::arg("mesher"),
-          py::arg("jobs"), py::arg("job"), py::arg("path"),
+          py::arg("jobs"), py::arg("job"), py::arg("path"), py::arg("fewer_triangles") = false,
           "Meshes job `job` of the run into a piece file at `path` (written atomically).")
       .def(
           "merge_bricks",
@@ -582,8 +585,10 @@ PYBIND11_MODULE(_frepcore, m) {
              std::uint32_t jobs, const std::vector<std::string>& pieces, const std::string& path,
              const std::string& format, bool check, bool force, py::object progress,
              const std::string& unit,
-             const std::vector<std::pair<std::string, std::string>>& metadata) {
-            const BrickJobPlan plan = brickPlanOf(n, bbox, resolution, sharp, mesher, jobs);
+             const std::vector<std::pair<std::string, std::string>>& metadata,
+             bool fewerTriangles) {
+            const BrickJobPlan plan =
+                brickPlanOf(n, bbox, resolution, sharp, mesher, jobs, fewerTriangles);
             ExportRequest r;
             if (!format.empty()) r.format = parseFormat(format);
             if (!unit.empty()) r.threeMf.unit = parseLengthUnit(unit);
@@ -608,6 +613,7 @@ PYBIND11_MODULE(_frepcore, m) {
           py::arg("jobs"), py::arg("pieces"), py::arg("path"), py::arg("format") = "",
           py::arg("check") = true, py::arg("force") = false, py::arg("progress") = py::none(),
           py::arg("unit") = "", py::arg("metadata") = std::vector<std::pair<std::string, std::string>>(),
+          py::arg("fewer_triangles") = false,
           "Welds the run's piece files (one per job, in job order), checks the mesh and "
           "writes `path` atomically (a binary STL or a 3MF streamed, never whole in memory; "
           "unit and metadata for a 3MF): the export's report dict plus 'written'.")

@@ -36,7 +36,7 @@ _policy_set = False
 
 
 def mesh_job(model_text, base_dir, bbox, resolution, sharp, mesher, jobs, job, path,
-             threads=0):
+             threads=0, fewer_triangles=False):
     """On a worker: meshes job `job` of the run into the piece file `path` on `threads`
     threads (0: every core); returns the job's figures (triangles, seconds, the worker's
     peak memory in MB)."""
@@ -48,7 +48,8 @@ def mesh_job(model_text, base_dir, bbox, resolution, sharp, mesher, jobs, job, p
         _policy_set = True
     frepcore.set_threads(threads)
     model = frepcore.parse_model(model_text, "model", base_dir)
-    result = model["root"].brick_job(bbox, resolution, sharp, mesher, jobs, job, path)
+    result = model["root"].brick_job(bbox, resolution, sharp, mesher, jobs, job, path,
+                                     fewer_triangles)
     result["peak_mb"] = peak_memory_mb()
     result["pid"] = os.getpid()
     return result
@@ -81,7 +82,8 @@ def local_cluster(workers=None):
 def export_distributed(shape, path, bricks, scheduler=None, client=None, resolution=None,
                        bbox=None, cells=None, sharp=True, mesher="cubes", format="",
                        check=True, force=False, work_dir=None, progress=None, workers=None,
-                       base_dir=None, threads_per_job=None, unit="", metadata=None):
+                       base_dir=None, threads_per_job=None, unit="", metadata=None,
+                       fewer_triangles=False):
     """Meshes `shape` as `bricks` jobs on Dask, welds, checks and writes `path` atomically.
 
     scheduler: a Dask scheduler's address; client: a distributed.Client to use as is;
@@ -93,6 +95,7 @@ def export_distributed(shape, path, bricks, scheduler=None, client=None, resolut
     base_dir: where relative file names in the model (mesh_sdf, vdb_grid) are found.
     threads_per_job: the threads a job meshes on (0: every core of its worker's machine);
     default: the machine's cores shared out among a LocalCluster's workers, else 0.
+    fewer_triangles: the mesher's flat vertices dropped (`frepcad export --fewer-triangles`).
     unit, metadata: a 3MF's length unit ("micron", "mm", "cm", "inch", "ft", "m") and
     (name, value) pairs. A binary STL or a 3MF is written as the merge goes; other formats
     are merged in memory.
@@ -104,7 +107,7 @@ def export_distributed(shape, path, bricks, scheduler=None, client=None, resolut
     """
     node = frepcore._node(shape)
     box, cell = frepcore.automatic_box(node, resolution=resolution, bbox=bbox, cells=cells)
-    plan = node.brick_plan(box, cell, sharp, mesher, bricks)
+    plan = node.brick_plan(box, cell, sharp, mesher, bricks, fewer_triangles)
     model_text = node.to_json()
     base_dir = os.path.abspath(base_dir or os.getcwd())
     out_dir = os.path.dirname(os.path.abspath(path))
@@ -127,7 +130,7 @@ def export_distributed(shape, path, bricks, scheduler=None, client=None, resolut
         pieces = [os.path.join(folder, "job-%05d.piece" % j) for j in range(bricks)]
         run = "%016x" % plan["run_id"]
         futures = [client.submit(mesh_job, model_text, base_dir, box, cell, sharp, mesher,
-                                 bricks, j, pieces[j], threads_per_job or 0,
+                                 bricks, j, pieces[j], threads_per_job or 0, fewer_triangles,
                                  key="frepcad-%s-%d" % (run, j),
                                  retries=RETRIES, pure=False)
                    for j in range(bricks)]
@@ -141,7 +144,8 @@ def export_distributed(shape, path, bricks, scheduler=None, client=None, resolut
         report = node.merge_bricks(box, cell, sharp, mesher, bricks, pieces, path,
                                    format=format, check=check, force=force,
                                    progress=merge_progress, unit=unit,
-                                   metadata=[tuple(m) for m in (metadata or [])])
+                                   metadata=[tuple(m) for m in (metadata or [])],
+                                   fewer_triangles=fewer_triangles)
         report["jobs"] = jobs
         report["split"] = plan["split"]
     finally:
@@ -218,7 +222,7 @@ def main():
             mesher=args.get("mesher", "cubes"), format=args.get("format", ""),
             force=args.get("force", False), work_dir=args.get("work_dir"), progress=show,
             workers=args.get("workers"), unit=args.get("units", ""),
-            metadata=args.get("metadata"),
+            metadata=args.get("metadata"), fewer_triangles=args.get("fewer_triangles", False),
             base_dir=os.path.dirname(os.path.abspath(args["model"])))
     except frepcore.NotPrintable as e:
         if show:
