@@ -45,9 +45,10 @@ double pointSegmentDistance2(const Point2& p, const Point2& a, const Point2& b) 
   return ex * ex + ey * ey;
 }
 
-// Whether segments ab and cd cross or come within sqrt(eps2) of each other.
-bool segmentsNear(const Point2& a, const Point2& b, const Point2& c, const Point2& d, double eps2) {
-  const double eps = std::sqrt(eps2);  // (apart by more on an axis: neither)
+// Whether segments ab and cd cross or come within eps (eps2 its square) of each other.
+bool segmentsNear(const Point2& a, const Point2& b, const Point2& c, const Point2& d, double eps,
+                  double eps2) {
+  // (apart by more than eps on an axis: neither)
   if (std::max(a.x, b.x) + eps < std::min(c.x, d.x) ||
       std::max(c.x, d.x) + eps < std::min(a.x, b.x) ||
       std::max(a.y, b.y) + eps < std::min(c.y, d.y) ||
@@ -75,10 +76,9 @@ int windingNumber(const Point2& p, const Point2* poly, std::size_t k) {
   return winding;
 }
 
-// Whether p lies inside the closed polygon or within sqrt(eps2) of its boundary.
-bool inOrNearPolygon(const Point2& p, const Point2* poly, std::size_t k, double eps2) {
+// Whether p lies inside the closed polygon or within eps (eps2 its square) of its boundary.
+bool inOrNearPolygon(const Point2& p, const Point2* poly, std::size_t k, double eps, double eps2) {
   if (windingNumber(p, poly, k) != 0) return true;
-  const double eps = std::sqrt(eps2);
   for (std::size_t i = 0; i < k; ++i) {
     const Point2 &a = poly[i], &b = poly[(i + 1) % k];
     if (p.x + eps < std::min(a.x, b.x) || p.x - eps > std::max(a.x, b.x) ||
@@ -328,20 +328,20 @@ bool flatVertexRemovalIsClear(const FlatVertexRemoval& plan, const std::vector<V
         std::min({q[0].y, q[1].y, q[2].y}) > hi.y + margin)
       continue;
     for (int c = 0; c < 3; ++c)
-      if (at[c] < 0 && inOrNearPolygon(q[c], poly, k, eps2)) return false;
+      if (at[c] < 0 && inOrNearPolygon(q[c], poly, k, margin, eps2)) return false;
     for (int c = 0; c < 3; ++c) {
       const int a = at[c], b = at[(c + 1) % 3];
       if (a >= 0 && b >= 0) {
         const int gap = (b - a + static_cast<int>(k)) % static_cast<int>(k);
         if (gap != 1 && gap != static_cast<int>(k) - 1) {  // a chord: must run outside
           const Point2 mid{(q[c].x + q[(c + 1) % 3].x) / 2, (q[c].y + q[(c + 1) % 3].y) / 2};
-          if (inOrNearPolygon(mid, poly, k, eps2)) return false;
+          if (inOrNearPolygon(mid, poly, k, margin, eps2)) return false;
         }
       }
       for (std::size_t i = 0; i < k; ++i) {
-        const int j = static_cast<int>((i + 1) % k);
+        const int j = i + 1 == k ? 0 : static_cast<int>(i + 1);
         if (a == static_cast<int>(i) || a == j || b == static_cast<int>(i) || b == j) continue;
-        if (segmentsNear(q[c], q[(c + 1) % 3], poly[i], poly[j], eps2)) return false;
+        if (segmentsNear(q[c], q[c == 2 ? 0 : c + 1], poly[i], poly[j], margin, eps2)) return false;
       }
     }
     for (std::size_t i = 0; i < k; ++i) {
