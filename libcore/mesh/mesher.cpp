@@ -739,6 +739,8 @@ class BrickMesher {
     auto cube = [&](const std::int64_t i[3]) {
       return static_cast<std::size_t>(i[0] + c[0] * (i[1] + c[1] * i[2]));
     };
+    // (an edge from a cube's lowest corner: edgeKey needs only that corner's offset, 0)
+    static constexpr std::uint32_t kAtLowCorner[8] = {0, 0, 0, 0, 0, 0, 0, 0};
     s.dropped.assign(out.positions.size(), 0);
     std::size_t removed = 0;
     std::int64_t start[3];
@@ -747,44 +749,48 @@ class BrickMesher {
     for (o[2] = start[2]; o[2] < c[2]; o[2] += 2)
       for (o[1] = start[1]; o[1] < c[1]; o[1] += 2)
         for (o[0] = start[0]; o[0] < c[0]; o[0] += 2) {
+          // Edge d (axis d / 2, from the centre down or up): its lower grid point and the
+          // brick-local indices of its four cubes ([low, low + 1] along the axis, o - 1 and
+          // o across it).
+          auto edgeAt = [&](int d, std::int64_t low[3], std::size_t cubes[4]) {
+            const int axis = d / 2;
+            for (int b = 0; b < 3; ++b) low[b] = o[b] - (b == axis && d % 2 == 0 ? 1 : 0);
+            for (int q = 0; q < 4; ++q) {
+              std::int64_t at[3];
+              for (int b = 0, bit = 0; b < 3; ++b)
+                at[b] = b == axis ? low[b] : o[b] - 1 + ((q >> bit++) & 1);
+              cubes[q] = cube(at);
+            }
+          };
           // The crossed edges whose four cubes all have plain fans.
           std::int32_t vertexOf[6];
           int order[6], count = 0;
           for (int d = 0; d < 6; ++d) {
-            const int axis = d / 2;
-            std::int64_t low[3] = {o[0], o[1], o[2]};  // the edge's lower grid point
-            if (!(d % 2)) --low[axis];
-            const std::size_t key =
-                static_cast<std::size_t>(low[0] + n[0] * (low[1] + n[1] * low[2])) * 7 +
-                ((1u << axis) - 1);
-            vertexOf[d] = s.edgeVertex[key];
+            std::int64_t low[3];
+            std::size_t cubes[4];
+            edgeAt(d, low, cubes);
+            const std::uint32_t lowPoint =
+                static_cast<std::uint32_t>(low[0] + n[0] * (low[1] + n[1] * low[2]));
+            vertexOf[d] = s.edgeVertex[edgeKey(
+                lowPoint, kAtLowCorner, TetEdge{0, static_cast<std::uint8_t>(1 << (d / 2))})];
             if (vertexOf[d] < 0) continue;
             bool plain = true;
-            for (int q = 0; q < 4 && plain; ++q) {
-              std::int64_t at[3];
-              for (int b = 0, bit = 0; b < 3; ++b)
-                at[b] = b == axis ? low[b] : o[b] - 1 + ((q >> bit++) & 1);
-              plain = s.fanCount[cube(at)] > 0;
-            }
+            for (int q = 0; q < 4 && plain; ++q) plain = s.fanCount[cubes[q]] > 0;
             if (plain) order[count++] = d;
           }
           // The first that can go, then the one opposite it.
           auto tryRemoval = [&](int d) {
             const int axis = d / 2;
-            std::int64_t low[3] = {o[0], o[1], o[2]};
-            if (!(d % 2)) --low[axis];
+            std::int64_t low[3];
+            std::size_t cubes[4];
+            edgeAt(d, low, cubes);
             s.region.clear();
             s.regionIndex.clear();
-            for (int q = 0; q < 4; ++q) {
-              std::int64_t at[3];
-              for (int b = 0, bit = 0; b < 3; ++b)
-                at[b] = b == axis ? low[b] : o[b] - 1 + ((q >> bit++) & 1);
-              const std::size_t id = cube(at);
+            for (std::size_t id : cubes)
               for (std::uint32_t t = 0; t < s.fanCount[id]; ++t) {
                 s.region.push_back(out.triangles[s.fanFirst[id] + t]);
                 s.regionIndex.push_back(s.fanFirst[id] + t);
               }
-            }
             double boxLo[3], boxHi[3];
             for (int b = 0; b < 3; ++b) {
               const std::int64_t lo = r.lo[b] + (b == axis ? low[b] : o[b] - 1);
