@@ -5,16 +5,20 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <vector>
 
-#include "check/mesh_check.h"
 #include "base/errors.h"
+#include "check/mesh_check.h"
 #include "frep/field.h"
 #include "frep/interval.h"
 #include "frep/model_json.h"
 #include "frep/scalar_math.h"
 #include "frep/tree.h"
+#if defined(__x86_64__) && defined(__GLIBC__)
+#include "frep/vector_trig.h"
+#endif
 #include "mesh/mesher.h"
 
 namespace frep {
@@ -97,8 +101,11 @@ TEST(Trig, VectorSinAndCosAreNearTheLibraryTheSameInEveryModeAndInsideTheirInter
   cosMany(x.data(), x.size(), c.data());
   for (std::size_t i = 0; i < x.size(); ++i) {
     const double one[2] = {frep::sin(x[i]), frep::cos(x[i])};
+    double both[2];
+    frep::sinCos(x[i], &both[0], &both[1]);  // the gradient mode's
     ASSERT_EQ(std::memcmp(&one[0], &s[i], sizeof(double)), 0) << x[i];
     ASSERT_EQ(std::memcmp(&one[1], &c[i], sizeof(double)), 0) << x[i];
+    ASSERT_EQ(std::memcmp(one, both, sizeof(both)), 0) << x[i];
   }
   // every value at a point of an interval lies in the interval rule's bounds
   std::uniform_real_distribution<double> start(-20.0, 20.0), width(0.0, 3.0), at(0.0, 1.0);
@@ -113,6 +120,58 @@ TEST(Trig, VectorSinAndCosAreNearTheLibraryTheSameInEveryModeAndInsideTheirInter
     }
   }
 }
+
+#if defined(__x86_64__) && defined(__GLIBC__)
+// The lanes give the same bits two at a time (every x86-64 processor) as four at a time (AVX2),
+// so a model evaluates alike on every processor; and they stay within 3 ulps of the exact
+// value (long double's sinl and cosl as the reference) up to the direct limit. A mistake in
+// either width's quadrant logic, sign or polynomial fails one of the two.
+TEST(Trig, TwoAndFourLanesGiveTheSameBitsNearTheExactValue) {
+  namespace vt = frep::vector_trig;
+  ASSERT_TRUE(vt::hasFourLanes()) << "this test needs a processor with AVX2 (every CI machine)";
+  std::mt19937_64 g(19);
+  std::vector<double> x;
+  for (double range : {0.8, 10.0, 100.0, vt::kDirectLimit})
+    for (int i = 0; i < 500000; ++i)
+      x.push_back(std::uniform_real_distribution<double>(-range, range)(g));
+  for (int k = -20000; k <= 20000; ++k)  // next to k pi / 4 (quadrant changes, zeros, extrema)
+    for (double d : {0.0, 1e-300, 4e-16, -4e-16, 1e-9}) x.push_back(k * 0.78539816339744831 + d);
+  for (double v :
+       {0.0, -0.0, 1e-310, -1e-310, 1e-20, vt::kDirectLimit, 2e5, 1e300,
+        std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+        std::numeric_limits<double>::quiet_NaN()})
+    x.push_back(v);
+  const auto fallback = [](double v) { return v == v ? 7.0 : 9.0; };  // marks the lanes left
+  std::vector<double> s2(x.size()), s4(x.size()), c2(x.size()), c4(x.size());
+  for (std::size_t n : {x.size(), std::size_t{1}, std::size_t{3}, std::size_t{6}}) {
+    vt::sinTwoLanes(x.data(), n, s2.data(), fallback);
+    vt::sinFourLanes(x.data(), n, s4.data(), fallback);
+    vt::cosTwoLanes(x.data(), n, c2.data(), fallback);
+    vt::cosFourLanes(x.data(), n, c4.data(), fallback);
+    ASSERT_EQ(std::memcmp(s2.data(), s4.data(), n * sizeof(double)), 0) << n;
+    ASSERT_EQ(std::memcmp(c2.data(), c4.data(), n * sizeof(double)), 0) << n;
+  }
+  double worst = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double v = x[i];
+    if (!(std::abs(v) <= vt::kDirectLimit)) {
+      EXPECT_EQ(s2[i], v == v ? 7.0 : 9.0) << v;  // left to the fallback
+      continue;
+    }
+    for (const auto& [ours, exact] : {std::pair<double, long double>{s2[i], sinl(v)},
+                                      std::pair<double, long double>{c2[i], cosl(v)}}) {
+      ASSERT_LE(std::abs(ours), 1.0) << v;
+      const double rounded = static_cast<double>(exact);
+      if (std::abs(rounded) < 1e-300) continue;
+      const double unit = std::nextafter(std::abs(rounded), INFINITY) - std::abs(rounded);
+      const double e = static_cast<double>(std::abs(ours - exact) / unit);
+      worst = std::max(worst, e);
+    }
+  }
+  EXPECT_LE(worst, 3.0);  // measured 2.32 (cos near 22,329); scalar_math.h promises 4
+  EXPECT_EQ(std::signbit(s2[x.size() - 10]), true);  // sin(-0) = -0
+}
+#endif
 
 TEST(FieldSeam, AFieldWrittenOnlyInTestsMeshesPrintable) {
   const auto f = capsule();

@@ -88,7 +88,15 @@ inline Dual powConst(const Dual& a, double k) {
 // The branch the value takes; its derivatives are the branch's.
 inline Dual select(const Dual& a, const Dual& b, const Dual& c) { return a.v >= 0.0 ? b : c; }
 // (frep::sin and cos, as the other modes evaluate them: scalar_math.h)
-inline Dual sin(const Dual& a) { return chain(a, frep::sin(a.v), frep::cos(a.v)); }
-inline Dual cos(const Dual& a) { return chain(a, frep::cos(a.v), -frep::sin(a.v)); }
+inline Dual sin(const Dual& a) {
+  double s, c;
+  frep::sinCos(a.v, &s, &c);
+  return chain(a, s, c);
+}
+inline Dual cos(const Dual& a) {
+  double s, c;
+  frep::sinCos(a.v, &s, &c);
+  return chain(a, c, -s);
+}
 
 }  // namespace frep

@@ -1,9 +1,11 @@
 // sin and cos for every evaluation mode (scalar_math.h). The gyroid and the other lattices
 // are sums of products of sines and cosines: glibc's scalar sin took 9.7 ns here, half of
-// meshing a gyroid; its vector library (libmvec) takes 2.4 ns a value two at a time with SSE
-// (0.8 ns with AVX2, not used: its results differ from the SSE ones in the last bits, and a
-// model must evaluate to the same bits on every x86-64 processor). Measured within 3 ulps of
-// the scalar functions on 2^20 arguments; glibc documents 4 ulps from the exact value.
+// meshing a gyroid; its vector library (libmvec) 2.4 ns a value two at a time with SSE (0.8 ns
+// with AVX2, but its results differ from the SSE ones in the last bits, and a model must
+// evaluate to the same bits on every x86-64 processor). Since session 19 the lanes run our own
+// reduction and polynomials (frep/vector_trig.h), which give the same bits at every width, four
+// at a time where the processor has AVX2; libmvec's SSE functions take the arguments beyond
+// vector_trig::kDirectLimit. Within 5 ulps of glibc's scalar functions (tests/test_field.cpp).
 #include "frep/scalar_math.h"
 
 #include <algorithm>
@@ -13,6 +15,7 @@
 extern "C" __m128d _ZGVbN2v_sin(__m128d);
 extern "C" __m128d _ZGVbN2v_cos(__m128d);
 #define FREP_LIBMVEC 1
+#include "frep/vector_trig.h"
 #endif
 
 namespace frep {
@@ -30,35 +33,37 @@ inline double one(double a) {
   _mm_storeu_pd(r, F(_mm_set1_pd(a)));
   return clampUnit(r[0]);
 }
-template <__m128d (*F)(__m128d)>
-inline void many(const double* a, std::size_t n, double* out) {
-  std::size_t j = 0;
-  for (; j + 2 <= n; j += 2) {
-    double r[2];
-    _mm_storeu_pd(r, F(_mm_loadu_pd(a + j)));
-    out[j] = clampUnit(r[0]);
-    out[j + 1] = clampUnit(r[1]);
-  }
-  if (j < n) out[j] = one<F>(a[j]);
-}
 #endif
 
 }  // namespace
 
 #ifdef FREP_LIBMVEC
 double sin(double a) {
-  return one<_ZGVbN2v_sin>(a);
+  return vector_trig::sinOne(a, one<_ZGVbN2v_sin>);
 }
 double cos(double a) {
-  return one<_ZGVbN2v_cos>(a);
+  return vector_trig::cosOne(a, one<_ZGVbN2v_cos>);
+}
+void sinCos(double a, double* s, double* c) {
+  vector_trig::sinCosOne(a, s, c, one<_ZGVbN2v_sin>, one<_ZGVbN2v_cos>);
 }
 void sinMany(const double* a, std::size_t n, double* out) {
-  many<_ZGVbN2v_sin>(a, n, out);
+  if (vector_trig::hasFourLanes())
+    vector_trig::sinFourLanes(a, n, out, one<_ZGVbN2v_sin>);
+  else
+    vector_trig::sinTwoLanes(a, n, out, one<_ZGVbN2v_sin>);
 }
 void cosMany(const double* a, std::size_t n, double* out) {
-  many<_ZGVbN2v_cos>(a, n, out);
+  if (vector_trig::hasFourLanes())
+    vector_trig::cosFourLanes(a, n, out, one<_ZGVbN2v_cos>);
+  else
+    vector_trig::cosTwoLanes(a, n, out, one<_ZGVbN2v_cos>);
 }
 #else
+void sinCos(double a, double* s, double* c) {
+  *s = sin(a);
+  *c = cos(a);
+}
 double sin(double a) {
   return clampUnit(std::sin(a));
 }
