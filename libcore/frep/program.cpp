@@ -243,7 +243,15 @@ __attribute__((always_inline)) inline void runPlan(const Step* plan, std::size_t
       case Op::Exp: FREP_KERNEL(exp(A));
       case Op::Sin:
         if constexpr (std::is_same_v<V, double>) {
-          sinMany(a, n, o);  // two at a time, the same bits as sin(A)
+          // The lattices take sin and cos of one argument, emitted one after the other: one
+          // pass gives both (the same bits), unless an output overwrites the argument.
+          if (s + 1 < steps && plan[s + 1].op == Op::Cos && plan[s + 1].a == in.a &&
+              in.out != in.a && plan[s + 1].out != in.a && plan[s + 1].out != in.out) {
+            sinCosMany(a, n, o, slots + plan[s + 1].out * W);
+            ++s;
+            break;
+          }
+          sinMany(a, n, o);  // the same bits as sin(A)
           break;
         } else {
           FREP_KERNEL(sin(A));

@@ -47,6 +47,12 @@ double cos(double a) {
 void sinCos(double a, double* s, double* c) {
   vector_trig::sinCosOne(a, s, c, one<_ZGVbN2v_sin>, one<_ZGVbN2v_cos>);
 }
+void sinCosMany(const double* a, std::size_t n, double* s, double* c) {
+  if (vector_trig::hasFourLanes())
+    vector_trig::sinCosFourLanes(a, n, s, c, one<_ZGVbN2v_sin>, one<_ZGVbN2v_cos>);
+  else
+    vector_trig::sinCosTwoLanes(a, n, s, c, one<_ZGVbN2v_sin>, one<_ZGVbN2v_cos>);
+}
 void sinMany(const double* a, std::size_t n, double* out) {
   if (vector_trig::hasFourLanes())
     vector_trig::sinFourLanes(a, n, out, one<_ZGVbN2v_sin>);
@@ -60,6 +66,12 @@ void cosMany(const double* a, std::size_t n, double* out) {
     vector_trig::cosTwoLanes(a, n, out, one<_ZGVbN2v_cos>);
 }
 #else
+void sinCosMany(const double* a, std::size_t n, double* s, double* c) {
+  for (std::size_t j = 0; j < n; ++j) {
+    s[j] = sin(a[j]);
+    c[j] = cos(a[j]);
+  }
+}
 void sinCos(double a, double* s, double* c) {
   *s = sin(a);
   *c = cos(a);

@@ -43,6 +43,8 @@ void sinCos(double a, double* s, double* c);
 // The same, for n values (two at a time): the batch mode's kernels.
 void sinMany(const double* a, std::size_t n, double* out);
 void cosMany(const double* a, std::size_t n, double* out);
+// Both in one pass (a is neither s nor c), the same bits as sinMany and cosMany.
+void sinCosMany(const double* a, std::size_t n, double* s, double* c);
 // min/max that return the first argument on ties and propagate a NaN in the first one.
 inline double min(double a, double b) {
   return b < a ? b : a;

@@ -37,8 +37,8 @@ void patchFallbacks(const double* a, std::size_t n, double* out, Fallback fallba
     if (!(std::abs(a[j]) <= kDirectLimit)) out[j] = fallback(a[j]);
 }
 
-// `quarter` per lane: 0 for sin, 1 for cos (cos x = sin(x + pi/2)).
-inline __m128d twoLanes(__m128d x, __m128i quarter) {
+// sin x and cos x (= sin(x + pi/2): the quadrant one further) from the same polynomials.
+inline void twoLanes(__m128d x, __m128d* sinOut, __m128d* cosOut) {
   const __m128d t = _mm_add_pd(_mm_mul_pd(x, _mm_set1_pd(kTwoOverPi)), _mm_set1_pd(kRound));
   const __m128d k = _mm_sub_pd(t, _mm_set1_pd(kRound));
   __m128d r = _mm_sub_pd(x, _mm_mul_pd(k, _mm_set1_pd(kP1)));
@@ -54,23 +54,31 @@ inline __m128d twoLanes(__m128d x, __m128i quarter) {
   for (int i = 5; i >= 0; --i) pc = _mm_add_pd(_mm_mul_pd(pc, z), _mm_set1_pd(kC[i]));
   const __m128d c = _mm_add_pd(_mm_sub_pd(_mm_set1_pd(1.0), _mm_mul_pd(_mm_set1_pd(0.5), z)),
                                _mm_mul_pd(_mm_mul_pd(z, z), pc));
-  const __m128i q = _mm_add_epi64(_mm_castpd_si128(t), quarter);
-  const __m128d odd =
-      _mm_castsi128_pd(_mm_sub_epi64(_mm_setzero_si128(), _mm_and_si128(q, _mm_set1_epi64x(1))));
-  const __m128d sign = _mm_castsi128_pd(_mm_slli_epi64(_mm_and_si128(q, _mm_set1_epi64x(2)), 62));
-  const __m128d v = _mm_xor_pd(_mm_or_pd(_mm_and_pd(odd, c), _mm_andnot_pd(odd, s)), sign);
-  return _mm_min_pd(_mm_max_pd(v, _mm_set1_pd(-1.0)), _mm_set1_pd(1.0));
+  for (int quarter = 0; quarter < 2; ++quarter) {
+    const __m128i q = _mm_add_epi64(_mm_castpd_si128(t), _mm_set1_epi64x(quarter));
+    const __m128d odd =
+        _mm_castsi128_pd(_mm_sub_epi64(_mm_setzero_si128(), _mm_and_si128(q, _mm_set1_epi64x(1))));
+    const __m128d sign = _mm_castsi128_pd(_mm_slli_epi64(_mm_and_si128(q, _mm_set1_epi64x(2)), 62));
+    const __m128d v = _mm_xor_pd(_mm_or_pd(_mm_and_pd(odd, c), _mm_andnot_pd(odd, s)), sign);
+    *(quarter == 0 ? sinOut : cosOut) =
+        _mm_min_pd(_mm_max_pd(v, _mm_set1_pd(-1.0)), _mm_set1_pd(1.0));
+  }
+}
+
+inline __m128d twoLanes(__m128d x, int quarter) {
+  __m128d v[2];
+  twoLanes(x, &v[0], &v[1]);
+  return v[quarter];
 }
 
 void runTwoLanes(const double* a, std::size_t n, double* out, int quarter, Fallback fallback) {
   std::size_t j = 0;
-  for (; j + 2 <= n; j += 2)
-    _mm_storeu_pd(out + j, twoLanes(_mm_loadu_pd(a + j), _mm_set1_epi64x(quarter)));
-  if (j < n) out[j] = _mm_cvtsd_f64(twoLanes(_mm_set1_pd(a[j]), _mm_set1_epi64x(quarter)));
+  for (; j + 2 <= n; j += 2) _mm_storeu_pd(out + j, twoLanes(_mm_loadu_pd(a + j), quarter));
+  if (j < n) out[j] = _mm_cvtsd_f64(twoLanes(_mm_set1_pd(a[j]), quarter));
   patchFallbacks(a, n, out, fallback);
 }
 
-__attribute__((target("avx2"))) inline __m256d fourLanes(__m256d x, int quarter) {
+__attribute__((target("avx2"))) inline void fourLanes(__m256d x, __m256d* sinOut, __m256d* cosOut) {
   const __m256d t =
       _mm256_add_pd(_mm256_mul_pd(x, _mm256_set1_pd(kTwoOverPi)), _mm256_set1_pd(kRound));
   const __m256d k = _mm256_sub_pd(t, _mm256_set1_pd(kRound));
@@ -87,14 +95,23 @@ __attribute__((target("avx2"))) inline __m256d fourLanes(__m256d x, int quarter)
   const __m256d c =
       _mm256_add_pd(_mm256_sub_pd(_mm256_set1_pd(1.0), _mm256_mul_pd(_mm256_set1_pd(0.5), z)),
                     _mm256_mul_pd(_mm256_mul_pd(z, z), pc));
-  const __m256i q = _mm256_add_epi64(_mm256_castpd_si256(t), _mm256_set1_epi64x(quarter));
-  const __m256d odd = _mm256_castsi256_pd(
-      _mm256_sub_epi64(_mm256_setzero_si256(), _mm256_and_si256(q, _mm256_set1_epi64x(1))));
-  const __m256d sign =
-      _mm256_castsi256_pd(_mm256_slli_epi64(_mm256_and_si256(q, _mm256_set1_epi64x(2)), 62));
-  const __m256d v =
-      _mm256_xor_pd(_mm256_or_pd(_mm256_and_pd(odd, c), _mm256_andnot_pd(odd, s)), sign);
-  return _mm256_min_pd(_mm256_max_pd(v, _mm256_set1_pd(-1.0)), _mm256_set1_pd(1.0));
+  for (int quarter = 0; quarter < 2; ++quarter) {
+    const __m256i q = _mm256_add_epi64(_mm256_castpd_si256(t), _mm256_set1_epi64x(quarter));
+    const __m256d odd = _mm256_castsi256_pd(
+        _mm256_sub_epi64(_mm256_setzero_si256(), _mm256_and_si256(q, _mm256_set1_epi64x(1))));
+    const __m256d sign =
+        _mm256_castsi256_pd(_mm256_slli_epi64(_mm256_and_si256(q, _mm256_set1_epi64x(2)), 62));
+    const __m256d v =
+        _mm256_xor_pd(_mm256_or_pd(_mm256_and_pd(odd, c), _mm256_andnot_pd(odd, s)), sign);
+    *(quarter == 0 ? sinOut : cosOut) =
+        _mm256_min_pd(_mm256_max_pd(v, _mm256_set1_pd(-1.0)), _mm256_set1_pd(1.0));
+  }
+}
+
+__attribute__((target("avx2"))) inline __m256d fourLanes(__m256d x, int quarter) {
+  __m256d v[2];
+  fourLanes(x, &v[0], &v[1]);
+  return v[quarter];
 }
 
 __attribute__((target("avx2"))) void runFourLanes(const double* a, std::size_t n, double* out,
@@ -110,15 +127,60 @@ __attribute__((target("avx2"))) void runFourLanes(const double* a, std::size_t n
   patchFallbacks(a, n, out, fallback);
 }
 
+void patchBoth(const double* a, std::size_t n, double* s, double* c, Fallback sinFallback,
+               Fallback cosFallback) {
+  patchFallbacks(a, n, s, sinFallback);
+  patchFallbacks(a, n, c, cosFallback);
+}
+
+void runTwoLanesBoth(const double* a, std::size_t n, double* s, double* c) {
+  std::size_t j = 0;
+  for (; j + 2 <= n; j += 2) {
+    __m128d vs, vc;
+    twoLanes(_mm_loadu_pd(a + j), &vs, &vc);
+    _mm_storeu_pd(s + j, vs);
+    _mm_storeu_pd(c + j, vc);
+  }
+  if (j < n) {
+    __m128d vs, vc;
+    twoLanes(_mm_set1_pd(a[j]), &vs, &vc);
+    s[j] = _mm_cvtsd_f64(vs);
+    c[j] = _mm_cvtsd_f64(vc);
+  }
+}
+
+__attribute__((target("avx2"))) void runFourLanesBoth(const double* a, std::size_t n, double* s,
+                                                      double* c) {
+  std::size_t j = 0;
+  for (; j + 4 <= n; j += 4) {
+    __m256d vs, vc;
+    fourLanes(_mm256_loadu_pd(a + j), &vs, &vc);
+    _mm256_storeu_pd(s + j, vs);
+    _mm256_storeu_pd(c + j, vc);
+  }
+  if (j < n) runTwoLanesBoth(a + j, n - j, s + j, c + j);
+}
+
 }  // namespace
+
+void sinCosTwoLanes(const double* a, std::size_t n, double* s, double* c, Fallback sinFallback,
+                    Fallback cosFallback) {
+  runTwoLanesBoth(a, n, s, c);
+  patchBoth(a, n, s, c, sinFallback, cosFallback);
+}
+void sinCosFourLanes(const double* a, std::size_t n, double* s, double* c, Fallback sinFallback,
+                     Fallback cosFallback) {
+  runFourLanesBoth(a, n, s, c);
+  patchBoth(a, n, s, c, sinFallback, cosFallback);
+}
 
 double sinOne(double a, Fallback fallback) {
   if (!(std::abs(a) <= kDirectLimit)) return fallback(a);
-  return _mm_cvtsd_f64(twoLanes(_mm_set1_pd(a), _mm_setzero_si128()));
+  return _mm_cvtsd_f64(twoLanes(_mm_set1_pd(a), 0));
 }
 double cosOne(double a, Fallback fallback) {
   if (!(std::abs(a) <= kDirectLimit)) return fallback(a);
-  return _mm_cvtsd_f64(twoLanes(_mm_set1_pd(a), _mm_set1_epi64x(1)));
+  return _mm_cvtsd_f64(twoLanes(_mm_set1_pd(a), 1));
 }
 void sinCosOne(double a, double* s, double* c, Fallback sinFallback, Fallback cosFallback) {
   if (!(std::abs(a) <= kDirectLimit)) {
@@ -126,10 +188,10 @@ void sinCosOne(double a, double* s, double* c, Fallback sinFallback, Fallback co
     *c = cosFallback(a);
     return;
   }
-  double both[2];
-  _mm_storeu_pd(both, twoLanes(_mm_set1_pd(a), _mm_set_epi64x(1, 0)));  // lanes sin, cos
-  *s = both[0];
-  *c = both[1];
+  __m128d vs, vc;
+  twoLanes(_mm_set1_pd(a), &vs, &vc);
+  *s = _mm_cvtsd_f64(vs);
+  *c = _mm_cvtsd_f64(vc);
 }
 void sinTwoLanes(const double* a, std::size_t n, double* out, Fallback fallback) {
   runTwoLanes(a, n, out, 0, fallback);

@@ -34,6 +34,12 @@ void cosTwoLanes(const double* a, std::size_t n, double* out, Fallback fallback)
 void sinFourLanes(const double* a, std::size_t n, double* out, Fallback fallback);
 void cosFourLanes(const double* a, std::size_t n, double* out, Fallback fallback);
 bool hasFourLanes();
+// s[j] = sin(a[j]) and c[j] = cos(a[j]) in one pass, the same bits as the two apart (the
+// lattices take both of the same argument). `a` must be neither `s` nor `c`.
+void sinCosTwoLanes(const double* a, std::size_t n, double* s, double* c, Fallback sinFallback,
+                    Fallback cosFallback);
+void sinCosFourLanes(const double* a, std::size_t n, double* s, double* c, Fallback sinFallback,
+                     Fallback cosFallback);
 
 }  // namespace vector_trig
 }  // namespace frep
