@@ -40,7 +40,7 @@ double sin(double a);
 double cos(double a);
 // Both, the same bits as sin(a) and cos(a), in about the time of one (the gradient mode).
 void sinCos(double a, double* s, double* c);
-// The same, for n values (two at a time): the batch mode's kernels.
+// The same, for n values (four at a time with AVX2, else two): the batch mode's kernels.
 void sinMany(const double* a, std::size_t n, double* out);
 void cosMany(const double* a, std::size_t n, double* out);
 // Both in one pass (a is neither s nor c), the same bits as sinMany and cosMany.
