@@ -38,14 +38,18 @@ inline double one(double a) {
 }  // namespace
 
 #ifdef FREP_LIBMVEC
-double sin(double a) {
-  return vector_trig::sinOne(a, one<_ZGVbN2v_sin>);
-}
-double cos(double a) {
-  return vector_trig::cosOne(a, one<_ZGVbN2v_cos>);
-}
 void sinCos(double a, double* s, double* c) {
   vector_trig::sinCosOne(a, s, c, one<_ZGVbN2v_sin>, one<_ZGVbN2v_cos>);
+}
+double sin(double a) {
+  double s, c;
+  sinCos(a, &s, &c);
+  return s;
+}
+double cos(double a) {
+  double s, c;
+  sinCos(a, &s, &c);
+  return c;
 }
 void sinCosMany(const double* a, std::size_t n, double* s, double* c) {
   if (vector_trig::hasFourLanes())
@@ -54,16 +58,10 @@ void sinCosMany(const double* a, std::size_t n, double* s, double* c) {
     vector_trig::sinCosTwoLanes(a, n, s, c, one<_ZGVbN2v_sin>, one<_ZGVbN2v_cos>);
 }
 void sinMany(const double* a, std::size_t n, double* out) {
-  if (vector_trig::hasFourLanes())
-    vector_trig::sinFourLanes(a, n, out, one<_ZGVbN2v_sin>);
-  else
-    vector_trig::sinTwoLanes(a, n, out, one<_ZGVbN2v_sin>);
+  sinCosMany(a, n, out, nullptr);
 }
 void cosMany(const double* a, std::size_t n, double* out) {
-  if (vector_trig::hasFourLanes())
-    vector_trig::cosFourLanes(a, n, out, one<_ZGVbN2v_cos>);
-  else
-    vector_trig::cosTwoLanes(a, n, out, one<_ZGVbN2v_cos>);
+  sinCosMany(a, n, nullptr, out);
 }
 #else
 void sinCosMany(const double* a, std::size_t n, double* s, double* c) {

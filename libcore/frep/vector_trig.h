@@ -21,25 +21,17 @@ constexpr double kDirectLimit = 1e5;
 
 using Fallback = double (*)(double);
 
-// sin a (cos a) alone: the first lane of the two-lane code with a in both lanes, so the same
-// bits as in a batch (the point and gradient modes).
-double sinOne(double a, Fallback fallback);
-double cosOne(double a, Fallback fallback);
-// Both at once (the gradient mode needs both): one lane each, the same bits as above.
+// sin a and cos a: the first lane of the two-lane code with a in both lanes, so the same bits
+// as in a batch (the point and gradient modes).
 void sinCosOne(double a, double* s, double* c, Fallback sinFallback, Fallback cosFallback);
-// out[j] = sin(a[j]) (cos) for j < n, two lanes at a time.
-void sinTwoLanes(const double* a, std::size_t n, double* out, Fallback fallback);
-void cosTwoLanes(const double* a, std::size_t n, double* out, Fallback fallback);
-// The same four lanes at a time; only where hasFourLanes().
-void sinFourLanes(const double* a, std::size_t n, double* out, Fallback fallback);
-void cosFourLanes(const double* a, std::size_t n, double* out, Fallback fallback);
-bool hasFourLanes();
-// s[j] = sin(a[j]) and c[j] = cos(a[j]) in one pass, the same bits as the two apart (the
-// lattices take both of the same argument). `a` must be neither `s` nor `c`.
+// s[j] = sin(a[j]) and c[j] = cos(a[j]) for j < n, two lanes at a time (four: only where
+// hasFourLanes()); s or c may be null (not wanted), the other's bits are the same either way.
+// `a` must be neither `s` nor `c`.
 void sinCosTwoLanes(const double* a, std::size_t n, double* s, double* c, Fallback sinFallback,
                     Fallback cosFallback);
 void sinCosFourLanes(const double* a, std::size_t n, double* s, double* c, Fallback sinFallback,
                      Fallback cosFallback);
+bool hasFourLanes();
 
 }  // namespace vector_trig
 }  // namespace frep
