@@ -279,6 +279,8 @@ TEST_P(Conformance, AllFourModesAgree) {
 TEST(FormulaConformance, EveryFunctionInAllFourModes) {
   const char* formulas[] = {
       "sin(x) * cos(y) + tan(0.5 * z)",
+      // sin and cos of one argument (one pass in the batch modes), nested (in place), alone
+      "sin(x * y) * cos(x * y) + cos(cos(z)) - sin(sin(y + z))",
       "atan(3 * x) - atan2(y, z + 3)",
       "log(1 + x^2 + y^2) - exp(z / 2)",
       "pow(1.5 + sin(x), 2.5) - pow(y, 3) + pow(2.5 + z, -2) + sqrt(4.5 + x * y)",

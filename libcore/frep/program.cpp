@@ -172,6 +172,11 @@ struct DoubleSlots {
                        std::size_t n, double* o) {
     f.evalBatch(a, b, c, n, o);
   }
+  // sin and/or cos of the slot a (either output may be null; a is neither): the batch kernels,
+  // the same bits as sin(A) and cos(A).
+  static void sinCos(const double* a, std::size_t n, double* sinOut, double* cosOut) {
+    sinCosMany(a, n, sinOut, cosOut);
+  }
 };
 
 struct DualSlots {
@@ -200,6 +205,25 @@ struct DualSlots {
     }
     f.evalGradientBatch(xa, ya, za, n, ra);
     for (std::size_t j = 0; j < n; ++j) store(o, j, ra[j]);
+  }
+  // sin and/or cos of the slot a (either output may be null): the values in one batch pass of
+  // sinCosMany, the derivatives by the chain rule, the same bits as Dual's sin and cos.
+  // (An output may be a itself: each point's derivatives are read before they are written.)
+  static void sinCos(const double* a, std::size_t n, double* sinOut, double* cosOut) {
+    alignas(32) double s[kStride], c[kStride];
+    sinCosMany(a, n, s, c);
+    for (int k = 1; k <= 3; ++k) {
+      const double* da = a + k * kStride;
+      for (std::size_t j = 0; j < n; ++j) {
+        const double d = da[j];
+        if (sinOut) sinOut[k * kStride + j] = d * c[j];
+        if (cosOut) cosOut[k * kStride + j] = d * -s[j];
+      }
+    }
+    for (std::size_t j = 0; j < n; ++j) {
+      if (sinOut) sinOut[j] = s[j];
+      if (cosOut) cosOut[j] = c[j];
+    }
   }
 };
 
@@ -242,27 +266,19 @@ __attribute__((always_inline)) inline void runPlan(const Step* plan, std::size_t
       case Op::Max: FREP_KERNEL(max(A, B));
       case Op::Exp: FREP_KERNEL(exp(A));
       case Op::Sin:
-        if constexpr (std::is_same_v<V, double>) {
-          // The lattices take sin and cos of one argument, emitted one after the other: one
-          // pass gives both (the same bits), unless an output overwrites the argument.
-          if (s + 1 < steps && plan[s + 1].op == Op::Cos && plan[s + 1].a == in.a &&
-              in.out != in.a && plan[s + 1].out != in.a && plan[s + 1].out != in.out) {
-            sinCosMany(a, n, o, slots + plan[s + 1].out * W);
-            ++s;
-            break;
-          }
-          sinMany(a, n, o);  // the same bits as sin(A)
+        // The lattices take sin and cos of one argument, emitted one after the other: one
+        // pass gives both (the same bits), unless an output overwrites the argument.
+        if (s + 1 < steps && plan[s + 1].op == Op::Cos && plan[s + 1].a == in.a && in.out != in.a &&
+            plan[s + 1].out != in.a && plan[s + 1].out != in.out) {
+          Slots::sinCos(a, n, o, slots + plan[s + 1].out * W);
+          ++s;
           break;
-        } else {
-          FREP_KERNEL(sin(A));
         }
+        Slots::sinCos(a, n, o, nullptr);  // the same bits as sin(A)
+        break;
       case Op::Cos:
-        if constexpr (std::is_same_v<V, double>) {
-          cosMany(a, n, o);
-          break;
-        } else {
-          FREP_KERNEL(cos(A));
-        }
+        Slots::sinCos(a, n, nullptr, o);
+        break;
       case Op::Affine: FREP_KERNEL(affine<V>(A, B, C, k));
       case Op::RUnion: FREP_KERNEL(rUnion<V>(A, B, k[0]));
       case Op::RIntersect: FREP_KERNEL(rIntersect<V>(A, B, k[0]));

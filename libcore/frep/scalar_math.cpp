@@ -57,17 +57,11 @@ void sinCosMany(const double* a, std::size_t n, double* s, double* c) {
   else
     vector_trig::sinCosTwoLanes(a, n, s, c, one<_ZGVbN2v_sin>, one<_ZGVbN2v_cos>);
 }
-void sinMany(const double* a, std::size_t n, double* out) {
-  sinCosMany(a, n, out, nullptr);
-}
-void cosMany(const double* a, std::size_t n, double* out) {
-  sinCosMany(a, n, nullptr, out);
-}
 #else
 void sinCosMany(const double* a, std::size_t n, double* s, double* c) {
   for (std::size_t j = 0; j < n; ++j) {
-    s[j] = sin(a[j]);
-    c[j] = cos(a[j]);
+    if (s) s[j] = sin(a[j]);
+    if (c) c[j] = cos(a[j]);
   }
 }
 void sinCos(double a, double* s, double* c) {
@@ -79,12 +73,6 @@ double sin(double a) {
 }
 double cos(double a) {
   return clampUnit(std::cos(a));
-}
-void sinMany(const double* a, std::size_t n, double* out) {
-  for (std::size_t j = 0; j < n; ++j) out[j] = sin(a[j]);
-}
-void cosMany(const double* a, std::size_t n, double* out) {
-  for (std::size_t j = 0; j < n; ++j) out[j] = cos(a[j]);
 }
 #endif
 

@@ -40,10 +40,8 @@ double sin(double a);
 double cos(double a);
 // Both, the same bits as sin(a) and cos(a), in about the time of one (the gradient mode).
 void sinCos(double a, double* s, double* c);
-// The same, for n values (four at a time with AVX2, else two): the batch mode's kernels.
-void sinMany(const double* a, std::size_t n, double* out);
-void cosMany(const double* a, std::size_t n, double* out);
-// Both in one pass (a is neither s nor c), the same bits as sinMany and cosMany.
+// The same for n values, both in one pass (four at a time with AVX2, else two): the batch
+// modes' kernels. a is neither s nor c; either output may be null.
 void sinCosMany(const double* a, std::size_t n, double* s, double* c);
 // min/max that return the first argument on ties and propagate a NaN in the first one.
 inline double min(double a, double b) {
