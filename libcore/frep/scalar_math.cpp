@@ -52,10 +52,8 @@ double cos(double a) {
   return c;
 }
 void sinCosMany(const double* a, std::size_t n, double* s, double* c) {
-  if (vector_trig::hasFourLanes())
-    vector_trig::sinCosFourLanes(a, n, s, c, one<_ZGVbN2v_sin>, one<_ZGVbN2v_cos>);
-  else
-    vector_trig::sinCosTwoLanes(a, n, s, c, one<_ZGVbN2v_sin>, one<_ZGVbN2v_cos>);
+  vector_trig::sinCosLanes(vector_trig::widestLanes(), a, n, s, c, one<_ZGVbN2v_sin>,
+                           one<_ZGVbN2v_cos>);
 }
 #else
 void sinCosMany(const double* a, std::size_t n, double* s, double* c) {

@@ -67,34 +67,36 @@ void patchFallbacks(const double* a, std::size_t n, double* out, Fallback fallba
 }
 
 // sin (s) and cos (c) of a[0 .. n), either may be null (not wanted), W lanes at a time; the
-// last few values go through a padded block.
+// last few values go through a padded block. Returns whether any argument is beyond the
+// direct limit or not finite (kept as a lane mask while running: a pass of its own to find
+// them cost a quarter of the whole).
 template <class V, class I>
-__attribute__((always_inline)) inline void run(const double* a, std::size_t n, double* s,
+__attribute__((always_inline)) inline bool run(const double* a, std::size_t n, double* s,
                                                double* c) {
   constexpr std::size_t W = sizeof(V) / sizeof(double);
+  I beyond{};
   auto block = [&](std::size_t j, std::size_t m) {
     V x{}, vs, vc;
     std::memcpy(&x, a + j, m * sizeof(double));
     lanes<V, I>(x, &vs, &vc);
+    const V magnitude = (V)((I)x & ~(I)(-V{}));
+    beyond |= ~(magnitude <= kDirectLimit);  // (NaN compares false)
     if (s) std::memcpy(s + j, &vs, m * sizeof(double));
     if (c) std::memcpy(c + j, &vc, m * sizeof(double));
   };
   std::size_t j = 0;
   for (; j + W <= n; j += W) block(j, W);  // a constant size: one load, two stores
   if (j < n) block(j, n - j);
+  for (std::size_t l = 0; l < W; ++l)
+    if (beyond[l]) return true;
+  return false;
 }
 
-void runTwo(const double* a, std::size_t n, double* s, double* c) {
-  run<Lanes2, Ints2>(a, n, s, c);
+bool runTwo(const double* a, std::size_t n, double* s, double* c) {
+  return run<Lanes2, Ints2>(a, n, s, c);
 }
-__attribute__((target("avx2"))) void runFour(const double* a, std::size_t n, double* s, double* c) {
-  run<Lanes4, Ints4>(a, n, s, c);
-}
-
-void finish(const double* a, std::size_t n, double* s, double* c, Fallback sinFallback,
-            Fallback cosFallback) {
-  if (s) patchFallbacks(a, n, s, sinFallback);
-  if (c) patchFallbacks(a, n, c, cosFallback);
+__attribute__((target("avx2"))) bool runFour(const double* a, std::size_t n, double* s, double* c) {
+  return run<Lanes4, Ints4>(a, n, s, c);
 }
 
 }  // namespace
@@ -110,19 +112,17 @@ void sinCosOne(double a, double* s, double* c, Fallback sinFallback, Fallback co
   *s = vs[0];
   *c = vc[0];
 }
-void sinCosTwoLanes(const double* a, std::size_t n, double* s, double* c, Fallback sinFallback,
-                    Fallback cosFallback) {
-  runTwo(a, n, s, c);
-  finish(a, n, s, c, sinFallback, cosFallback);
+void sinCosLanes(int width, const double* a, std::size_t n, double* s, double* c,
+                 Fallback sinFallback, Fallback cosFallback) {
+  const bool beyond = width == 4 ? runFour(a, n, s, c) : runTwo(a, n, s, c);
+  if (!beyond) return;
+  if (s) patchFallbacks(a, n, s, sinFallback);
+  if (c) patchFallbacks(a, n, c, cosFallback);
 }
-void sinCosFourLanes(const double* a, std::size_t n, double* s, double* c, Fallback sinFallback,
-                     Fallback cosFallback) {
-  runFour(a, n, s, c);
-  finish(a, n, s, c, sinFallback, cosFallback);
-}
-bool hasFourLanes() {
-  static const bool has = __builtin_cpu_supports("avx2");
-  return has;
+int widestLanes() {
+  // (Eight lanes with AVX-512 were measured too: the gyroid meshed no faster.)
+  static const int widest = __builtin_cpu_supports("avx2") ? 4 : 2;
+  return widest;
 }
 
 }  // namespace vector_trig

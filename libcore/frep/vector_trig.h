@@ -24,14 +24,13 @@ using Fallback = double (*)(double);
 // sin a and cos a: the first lane of the two-lane code with a in both lanes, so the same bits
 // as in a batch (the point and gradient modes).
 void sinCosOne(double a, double* s, double* c, Fallback sinFallback, Fallback cosFallback);
-// s[j] = sin(a[j]) and c[j] = cos(a[j]) for j < n, two lanes at a time (four: only where
-// hasFourLanes()); s or c may be null (not wanted), the other's bits are the same either way.
-// `a` must be neither `s` nor `c`.
-void sinCosTwoLanes(const double* a, std::size_t n, double* s, double* c, Fallback sinFallback,
-                    Fallback cosFallback);
-void sinCosFourLanes(const double* a, std::size_t n, double* s, double* c, Fallback sinFallback,
-                     Fallback cosFallback);
-bool hasFourLanes();
+// s[j] = sin(a[j]) and c[j] = cos(a[j]) for j < n, `width` lanes at a time (2, or 4 where
+// widestLanes() allows it); s or c may be null (not wanted), the other's bits are the same
+// either way, and the same whatever the width. `a` must be neither `s` nor `c`.
+void sinCosLanes(int width, const double* a, std::size_t n, double* s, double* c,
+                 Fallback sinFallback, Fallback cosFallback);
+// The most lanes this processor runs: 4 (AVX2) or 2.
+int widestLanes();
 
 }  // namespace vector_trig
 }  // namespace frep
