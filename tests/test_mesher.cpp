@@ -328,6 +328,42 @@ TEST(FlatVertices, ThePlannerRefusesWhatCouldFoldOrCross) {
     }
 }
 
+// The clear test's shortcut: on a convex polygon (a hexagon round the vertex), a triangle that
+// one edge's line leaves outside, but for that edge's ends, is clear at once; one that reaches
+// in, from a shared corner or across the polygon between its corners, is still refused.
+TEST(FlatVertices, TheClearTestsShortcutTakesOnlyWhatAnEdgeSeparates) {
+  std::vector<Vec3f> p = {{0, 0, 0}};
+  std::vector<Triangle> star;
+  for (std::uint32_t i = 0; i < 6; ++i) {
+    const double a = kPi / 3 * i;
+    p.push_back({float(std::cos(a)), float(std::sin(a)), 0.f});
+    star.push_back({0, i + 1, (i + 1) % 6 + 1});
+  }
+  const double lo[3] = {-2, -2, -0.5}, hi[3] = {2, 2, 0.5};
+  FlatVertexRemoval plan;
+  auto clearWith = [&](std::vector<Vec3f> extra, Triangle t) {
+    std::vector<Vec3f> q = p;
+    q.insert(q.end(), extra.begin(), extra.end());
+    std::vector<Triangle> region = star;
+    region.push_back(t);
+    EXPECT_TRUE(planFlatVertexRemoval(0, q, region, lo, hi, 0.01, 0.02, &plan));
+    return flatVertexRemovalIsClear(plan, q, region);
+  };
+  // the neighbour across the edge 1-2, and one meeting the polygon at corner 1 only
+  EXPECT_TRUE(clearWith({{1.2f, 0.7f, 0.f}}, {2, 1, 7}));
+  EXPECT_TRUE(clearWith({{1.5f, 0.1f, 0.f}, {1.5f, -0.4f, 0.f}}, {1, 8, 7}));
+  // from corner 1 with a corner inside the polygon (just above it): refused
+  EXPECT_FALSE(clearWith({{1.5f, 0.3f, 0.f}, {0.3f, 0.2f, 0.01f}}, {1, 7, 8}));
+  // every corner outside the polygon, beyond different edges, the triangle across it
+  EXPECT_FALSE(clearWith({{2.f, -0.2f, 0.01f}, {-2.f, 0.6f, 0.01f}, {0.f, 3.f, 0.01f}}, {7, 8, 9}));
+  // corners beyond the lines of different edges, the triangle over corner 1: refused; all
+  // three beyond the line of edge 6-1 (sharing nothing, close by): clear
+  EXPECT_FALSE(
+      clearWith({{0.6f, -1.5f, 0.01f}, {3.f, 0.f, 0.01f}, {0.6f, 1.5f, 0.01f}}, {7, 8, 9}));
+  EXPECT_TRUE(
+      clearWith({{0.6f, -1.5f, 0.01f}, {1.6f, 0.5f, 0.01f}, {1.4f, -1.4f, 0.01f}}, {7, 9, 8}));
+}
+
 TEST(Mesher, BoxCutsTheSolidWithACap) {
   // A half-space filling the lower half: the box closes it into a block.
   const NodePtr h = makeNode("halfspace", {{"point", vec3Value({0, 0, 0.25})}}, {});

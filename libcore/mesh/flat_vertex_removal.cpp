@@ -16,8 +16,10 @@
 //   triangles meet each other only along their shared edges.
 // - No other triangle of the region reaches into the polygon (none of its vertices is inside
 //   or near the polygon, none of its edges crosses or nears an edge of the polygon that it
-//   does not share, no vertex of the polygon lies in or near it), so in projection it meets
-//   the new fan only on the polygon's boundary. There the fan's points are the polygon's
+//   does not share, no vertex of the polygon lies in or near it; or, quicker, the line of one
+//   edge of the polygon has the polygon's other vertices inside and the triangle's corners
+//   outside, by a margin, but for that edge's ends), so in projection it meets the new fan
+//   only on the polygon's boundary. There the fan's points are the polygon's
 //   edges themselves, edges of the mesh before, which that triangle met only where it shares
 //   them (the mesh was embedded).
 // - Every triangle outside the region lies outside the box but for its boundary, and the fan
@@ -308,6 +310,31 @@ bool flatVertexRemovalIsClear(const FlatVertexRemoval& plan, const std::vector<V
       if (plan.ring[i] == id) return static_cast<int>(i);
     return -1;
   };
+  // The polygon's edges whose line has every other ring vertex inside it by the margin: such
+  // a line separates the polygon from what lies outside it (a convex polygon's edges all do).
+  double edgeLength[FlatVertexRemoval::kMaxRing];
+  bool separates[FlatVertexRemoval::kMaxRing];
+  for (std::size_t i = 0; i < k; ++i) {
+    const Point2 &a = poly[i], &b = poly[i + 1 == k ? 0 : i + 1];
+    edgeLength[i] = std::hypot(b.x - a.x, b.y - a.y);
+    separates[i] = edgeLength[i] > 0.0;
+    for (std::size_t m = 0; m < k && separates[i]; ++m)
+      if (m != i && m != (i + 1) % k) separates[i] = orient(a, b, poly[m]) > margin * edgeLength[i];
+  }
+  // Whether an edge's line has the triangle outside, all but its corners that are that edge's
+  // ends: then it meets the polygon only there, at a vertex or along the edge it shares.
+  auto separated = [&](const int at[3], const Point2 q[3]) {
+    for (std::size_t i = 0; i < k; ++i) {
+      if (!separates[i]) continue;
+      const std::size_t j = i + 1 == k ? 0 : i + 1;
+      bool outside = true;
+      for (int c = 0; c < 3 && outside; ++c)
+        outside = at[c] == static_cast<int>(i) || at[c] == static_cast<int>(j) ||
+                  orient(poly[i], poly[j], q[c]) < -margin * edgeLength[i];
+      if (outside) return true;
+    }
+    return false;
+  };
   std::size_t nextStar = 0;  // (the star's indices ascend)
   for (std::size_t t = 0; t < region.size(); ++t) {
     if (nextStar < k && plan.star[nextStar] == t) {
@@ -327,6 +354,7 @@ bool flatVertexRemovalIsClear(const FlatVertexRemoval& plan, const std::vector<V
         std::max({q[0].y, q[1].y, q[2].y}) < lo.y - margin ||
         std::min({q[0].y, q[1].y, q[2].y}) > hi.y + margin)
       continue;
+    if (separated(at, q)) continue;
     for (int c = 0; c < 3; ++c)
       if (at[c] < 0 && inOrNearPolygon(q[c], poly, k, margin, eps2)) return false;
     for (int c = 0; c < 3; ++c) {
