@@ -762,10 +762,21 @@ class BrickMesher {
               cubes[q] = cube(at);
             }
           };
+          // The block's cubes with plain fans (bit x + 2 y + 4 z): most blocks have none,
+          // or too few for an edge, and are passed over before any edge is looked up.
+          unsigned fanned = 0;
+          for (int q = 0; q < 8; ++q) {
+            const std::int64_t at[3] = {o[0] - 1 + (q & 1), o[1] - 1 + ((q >> 1) & 1),
+                                        o[2] - 1 + ((q >> 2) & 1)};
+            if (s.fanCount[cube(at)] > 0) fanned |= 1u << q;
+          }
+          // (the four cubes on the low or high side of an axis)
+          static constexpr unsigned kSide[6] = {0x55, 0xaa, 0x33, 0xcc, 0x0f, 0xf0};
           // The crossed edges whose four cubes all have plain fans.
           std::int32_t vertexOf[6];
           int order[6], count = 0;
           for (int d = 0; d < 6; ++d) {
+            if ((fanned & kSide[d]) != kSide[d]) continue;
             std::int64_t low[3];
             std::size_t cubes[4];
             edgeAt(d, low, cubes);
@@ -773,10 +784,7 @@ class BrickMesher {
                 static_cast<std::uint32_t>(low[0] + n[0] * (low[1] + n[1] * low[2]));
             vertexOf[d] = s.edgeVertex[edgeKey(
                 lowPoint, kAtLowCorner, TetEdge{0, static_cast<std::uint8_t>(1 << (d / 2))})];
-            if (vertexOf[d] < 0) continue;
-            bool plain = true;
-            for (int q = 0; q < 4 && plain; ++q) plain = s.fanCount[cubes[q]] > 0;
-            if (plain) order[count++] = d;
+            if (vertexOf[d] >= 0) order[count++] = d;
           }
           // The first that can go, then the one opposite it.
           auto tryRemoval = [&](int d) {
