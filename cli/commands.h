@@ -29,7 +29,9 @@ struct ExportOptions {
   std::optional<double> tolerance;  // --tolerance D: simplify within D of the surface
   bool tetra = false;               // --mesher tetra: marching tetrahedra, as before mesher v2
   bool sharp = true;                // --no-sharp: merged vertices stay where a vertex was
-  bool fewerTriangles = false;      // --fewer-triangles: the mesher's flat vertices go
+  // --keep-flat-vertices: false (the mesher's flat vertices stay); --fewer-triangles: true,
+  // the default (kept for scripts of 0.3); unset: true for JSON models
+  std::optional<bool> flatVertices;
   bool stats = false;               // --stats: the accuracy report
   bool fog = false;                 // --fog: a .vdb fog volume instead of a level set
   std::vector<std::string> sets;  // --set Object.Property=VALUE (documents only)

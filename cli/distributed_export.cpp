@@ -41,7 +41,7 @@ int exportDistributed(const ExportOptions& o, const Box3& box, double resolution
       {"bbox", {box.lo[0], box.lo[1], box.lo[2], box.hi[0], box.hi[1], box.hi[2]}},
       {"resolution", resolution},
       {"sharp", o.sharp},
-      {"fewer_triangles", o.fewerTriangles},
+      {"fewer_triangles", o.flatVertices.value_or(true)},
       {"mesher", o.tetra ? "tetra" : "cubes"},
       {"format", o.format},
       {"units", o.units},

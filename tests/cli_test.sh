@@ -44,15 +44,19 @@ expect 0 "^ +largest at \([-0-9.e]+, [-0-9.e]+, [-0-9.e]+\)$" -- "$frepcad" expo
 expect 0 "crease length        [0-9.e-]+" -- "$frepcad" export "$src/examples/csg.json" -o "$work/st.stl" --resolution 0.1 --tolerance 0.01 --stats
 expect 0 "wrote" -- "$frepcad" export "$src/examples/csg.json" -o "$work/ns.stl" --resolution 0.1 --no-sharp
 expect 0 "wrote" -- "$frepcad" export "$src/examples/csg.json" -o "$work/tetra.stl" --resolution 0.1 --mesher tetra
-# --fewer-triangles: printable, and fewer triangles than the same export without it
-full=$("$frepcad" export "$src/examples/csg.json" -o "$work/full.stl" --cells 64 | sed -n 's/^meshed .*: \([0-9]*\) triangles.*/\1/p')
-fewer=$("$frepcad" export "$src/examples/csg.json" -o "$work/fewer.stl" --cells 64 --fewer-triangles | sed -n 's/^meshed .*: \([0-9]*\) triangles.*/\1/p')
+# flat vertices dropped by default: printable, fewer triangles than with --keep-flat-vertices,
+# and the same mesh as with --fewer-triangles (the default, still accepted)
+full=$("$frepcad" export "$src/examples/csg.json" -o "$work/full.stl" --cells 64 --keep-flat-vertices | sed -n 's/^meshed .*: \([0-9]*\) triangles.*/\1/p')
+fewer=$("$frepcad" export "$src/examples/csg.json" -o "$work/fewer.stl" --cells 64 | sed -n 's/^meshed .*: \([0-9]*\) triangles.*/\1/p')
 if [ -z "$full" ] || [ -z "$fewer" ] || [ "$fewer" -ge "$full" ]; then
-  echo "FAIL: --fewer-triangles made $fewer triangles against $full without it"
+  echo "FAIL: the default made $fewer triangles against $full with --keep-flat-vertices"
   failures=$((failures + 1))
 fi
+"$frepcad" export "$src/examples/csg.json" -o "$work/fewer2.stl" --cells 64 --fewer-triangles >/dev/null
+cmp -s "$work/fewer.stl" "$work/fewer2.stl" || { echo "FAIL: --fewer-triangles is not the default mesh"; failures=$((failures + 1)); }
 expect 0 "verdict: printable" -- "$frepcad" check "$work/fewer.stl"
 expect 2 "--fewer-triangles applies to a mesh exported from a JSON model" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.vdb" --fewer-triangles
+expect 2 "--keep-flat-vertices applies to a mesh exported from a JSON model" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.vdb" --keep-flat-vertices
 [ "$(stat -c %s "$work/ns.stl")" -lt "$(stat -c %s "$work/tetra.stl")" ] || { echo "FAIL: --mesher tetra did not make more triangles"; failures=$((failures + 1)); }
 expect 2 "--mesher must be cubes or tetra, got 'dual'" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.stl" --mesher dual
 expect 0 "wrote" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/a.stl" --format stl-ascii --resolution 0.2 --bbox -2 -2 -2 2 2 2

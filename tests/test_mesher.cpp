@@ -220,8 +220,10 @@ TEST(FlatVertices, FewerTrianglesTheSameVerticesAndSurface) {
     o.bbox = *m.bbox;
     o.resolution = h;
     const Program program = compile(m.root);
+    o.flatVertices = false;
     const TriangleMesh full = polygonize(program, o);
-    o.flatVertices = true;
+    o.flatVertices = true;  // (the default)
+    EXPECT_TRUE(MeshingOptions{}.flatVertices);
     const TriangleMesh fewer = polygonize(program, o);
     const CheckReport r = checkMesh(fewer);
     EXPECT_TRUE(r.printable()) << name << ": " << reasons(r);
@@ -457,6 +459,7 @@ TEST_P(RandomTreeShard, EveryMeshIsPrintable) {
     o.bbox = {{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}};
     o.resolution = resolutions[rng.integer(0, 3)];
     o.brickCells = rng.integer(0, 1) ? 16 : 5;  // bricks that do not divide the grid, too
+    o.flatVertices = false;  // (odd bricks cannot have them; they are tried below)
     const bool tetra = rng.integer(0, 3) == 0, bricksAgain = rng.integer(0, 7) == 0;
     std::size_t cubeTriangles = 0;
     for (int mode = 0; mode < (tetra ? 3 : 2); ++mode) {

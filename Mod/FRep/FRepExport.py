@@ -83,7 +83,7 @@ def export_objects(objects, filename, progress=None, cells=None, fmt="", resolut
     if filename.lower().endswith(".vdb"):
         return _export_level_set(solid, box, cell, filename, progress)
     # a single Polygonize feature exports as it meshes: with its Method and Tolerance
-    mesher, fewer = "cubes", False
+    mesher, fewer = "cubes", True
     if (len(objects) == 1
             and isinstance(getattr(objects[0], "Proxy", None), FRepPolygonize.Polygonize)):
         mesher = FRepPolygonize.mesher_of(objects[0])
@@ -131,7 +131,7 @@ def _export_3mf(objects, filename, progress, cells, resolution, bbox, force, tol
                 tol, sh = FRepPolygonize.simplification(obj)
             mesh = solid.node.mesh(box, cell, lambda f, i=i: tick(i * share + f * share), False,
                                    tol, sh, FRepPolygonize.mesher_of(obj) if meshed else "cubes",
-                                   meshed and FRepPolygonize.fewer_triangles(obj))
+                                   FRepPolygonize.fewer_triangles(obj) if meshed else True)
             meshes.append((obj.Label, mesh))
         doc = objects[0].Document
         report = frepcore.write_3mf(

@@ -39,9 +39,10 @@ struct MeshingOptions {
   bool sharpFeatures = true;
   // Cubes only: where the surface is flat to within a fiftieth of a cell, a vertex on a grid
   // edge goes and its neighbours are fanned again, two triangles fewer each time (docs/mesher.md,
-  // "Flat vertices"; `--fewer-triangles`): 6 to 15 % fewer triangles on the reference models,
-  // at a cost in meshing time (docs/performance.md). Needs an even brickCells.
-  bool flatVertices = false;
+  // "Flat vertices"; off with `--keep-flat-vertices`): 6 to 15 % fewer triangles on the
+  // reference models, fewer than marching cubes makes, at a cost in meshing time
+  // (docs/performance.md). Needs an even brickCells.
+  bool flatVertices = true;
   double resolution = 0.05;  // target cell size; the grid fits the box exactly (cells <= this)
   int brickCells = 16;       // cells per brick edge: the unit of pruning and of threading
   int rootIterations = 8;    // Illinois iterations per edge vertex

@@ -23,7 +23,7 @@ constexpr std::uint32_t kMaxBrickJobs = 1u << 16;
 struct BrickJobPlan {
   MeshingBox box;
   bool sharpFeatures = true;
-  bool flatVertices = false;  // MeshingOptions::flatVertices
+  bool flatVertices = true;  // MeshingOptions::flatVertices
   Extraction extraction = Extraction::Cubes;
   std::uint32_t jobs = 1;
   std::int64_t bricks[3] = {1, 1, 1};  // the mesher's bricks per axis
@@ -39,7 +39,7 @@ std::uint64_t textFingerprint(const std::string& text);
 // Throws ModelError for a job count below 1, above kMaxBrickJobs or above what the bricks
 // allow (naming the bricks per axis).
 BrickJobPlan planBrickJobs(const MeshingBox& box, bool sharpFeatures, Extraction extraction,
-                           std::uint32_t jobs, std::uint64_t model, bool flatVertices = false);
+                           std::uint32_t jobs, std::uint64_t model, bool flatVertices = true);
 
 // The mesher's options every job of the run uses (no normals: pieces carry positions).
 MeshingOptions brickMeshingOptions(const BrickJobPlan& plan);

@@ -526,10 +526,11 @@ PYBIND11_MODULE(_frepcore, m) {
           py::arg("cells") = py::none(), py::arg("format") = "", py::arg("check") = true,
           py::arg("force") = false, py::arg("progress") = py::none(),
           py::arg("tolerance") = py::none(), py::arg("sharp") = true, py::arg("mesher") = "cubes",
-          py::arg("fewer_triangles") = false,
+          py::arg("fewer_triangles") = true,
           "The export pipeline: box policy, mesh (mesher 'cubes' or 'tetra'; creases and "
           "corners placed unless sharp=False; the vertices where the surface is flat within a "
-          "fiftieth of a cell dropped with fewer_triangles), (simplify within `tolerance` of the surface), "
+          "fiftieth of a cell dropped unless fewer_triangles=False), (simplify within "
+          "`tolerance` of the surface), "
           "CGAL check, atomic write. Returns the check "
           "report dict plus 'written'; a refused mesh is not written unless force.")
       .def(
@@ -546,7 +547,7 @@ PYBIND11_MODULE(_frepcore, m) {
             return d;
           },
           py::arg("bbox"), py::arg("resolution"), py::arg("sharp") = true,
-          py::arg("mesher") = "cubes", py::arg("jobs") = 1, py::arg("fewer_triangles") = false,
+          py::arg("mesher") = "cubes", py::arg("jobs") = 1, py::arg("fewer_triangles") = true,
           "A brick-job run (issue 17): the mesher's bricks per axis, the jobs per axis and the "
           "run's id. ValueError for a job count the bricks cannot take.")
       .def(
@@ -577,7 +578,7 @@ PYBIND11_MODULE(_frepcore, m) {
             return d;
           },
           py::arg("bbox"), py::arg("resolution"), py::arg("sharp"), py::arg("mesher"),
-          py::arg("jobs"), py::arg("job"), py::arg("path"), py::arg("fewer_triangles") = false,
+          py::arg("jobs"), py::arg("job"), py::arg("path"), py::arg("fewer_triangles") = true,
           "Meshes job `job` of the run into a piece file at `path` (written atomically).")
       .def(
           "merge_bricks",
@@ -612,8 +613,9 @@ PYBIND11_MODULE(_frepcore, m) {
           py::arg("bbox"), py::arg("resolution"), py::arg("sharp"), py::arg("mesher"),
           py::arg("jobs"), py::arg("pieces"), py::arg("path"), py::arg("format") = "",
           py::arg("check") = true, py::arg("force") = false, py::arg("progress") = py::none(),
-          py::arg("unit") = "", py::arg("metadata") = std::vector<std::pair<std::string, std::string>>(),
-          py::arg("fewer_triangles") = false,
+          py::arg("unit") = "",
+          py::arg("metadata") = std::vector<std::pair<std::string, std::string>>(),
+          py::arg("fewer_triangles") = true,
           "Welds the run's piece files (one per job, in job order), checks the mesh and "
           "writes `path` atomically (a binary STL or a 3MF streamed, never whole in memory; "
           "unit and metadata for a 3MF): the export's report dict plus 'written'.")
@@ -655,10 +657,11 @@ PYBIND11_MODULE(_frepcore, m) {
           },
           py::arg("bbox"), py::arg("resolution"), py::arg("progress") = py::none(),
           py::arg("normals") = false, py::arg("tolerance") = py::none(), py::arg("sharp") = true,
-          py::arg("mesher") = "cubes", py::arg("fewer_triangles") = false,
+          py::arg("mesher") = "cubes", py::arg("fewer_triangles") = true,
           "Polygonises inside bbox with cells of at most `resolution` (mesher 'cubes', or "
-          "'tetra': marching tetrahedra, three times the triangles; fewer_triangles: the "
-          "vertices where the surface is flat within a fiftieth of a cell dropped); with a "
+          "'tetra': marching tetrahedra, three times the triangles; the vertices where the "
+          "surface is flat within a fiftieth of a cell dropped unless fewer_triangles=False); with "
+          "a "
           "tolerance the "
           "mesh is then simplified within it of the surface (creases and corners placed "
           "unless sharp=False). progress(fraction) is called on this thread; returning False "
@@ -666,8 +669,8 @@ PYBIND11_MODULE(_frepcore, m) {
           "(raises Cancelled).")
       .def(
           "to_vdb",
-          [](PyNode& n, const std::string& path, py::object bbox, double voxel,
-             double halfWidth, py::object progress, bool fog) {
+          [](PyNode& n, const std::string& path, py::object bbox, double voxel, double halfWidth,
+             py::object progress, bool fog) {
             LevelSetOptions o;
             o.voxel = voxel;
             o.halfWidthVoxels = halfWidth;

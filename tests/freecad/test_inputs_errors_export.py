@@ -184,10 +184,11 @@ def test_polygonize_with_a_tolerance_simplifies_and_exports_alike(doc, tmp_path)
     assert simple.Triangles == full.Triangles
 
 
-def test_polygonize_with_fewer_triangles_drops_flat_vertices_and_exports_alike(doc, tmp_path):
+def test_polygonize_drops_flat_vertices_by_default_and_exports_alike(doc, tmp_path):
     part = FRepExamples.build_csg(doc)
-    full = FRepPolygonize.make(part, doc, Cells=48)
-    fewer = FRepPolygonize.make(part, doc, name="Fewer", Cells=48, FewerTriangles=True)
+    full = FRepPolygonize.make(part, doc, Cells=48, FewerTriangles=False)
+    fewer = FRepPolygonize.make(part, doc, name="Fewer", Cells=48)
+    assert fewer.FewerTriangles
     doc.recompute()
     assert fewer.isValid(), fewer.getStatusString()
     assert fewer.Triangles < 0.95 * full.Triangles
@@ -195,12 +196,13 @@ def test_polygonize_with_fewer_triangles_drops_flat_vertices_and_exports_alike(d
     out = str(tmp_path / "fewer.stl")
     written = FRepExport.export_objects([fewer], out)
     assert written["printable"] and written["triangles"] == fewer.Triangles
-    # saved and reopened, it keeps the setting; off again, the full mesh
+    # saved and reopened, each keeps its setting; off, the full mesh
     path = str(tmp_path / "fewer.FCStd")
     doc.saveCopy(path)
     again = FreeCAD.openDocument(path)
     try:
         assert again.getObject("Fewer").FewerTriangles
+        assert not again.getObject(full.Name).FewerTriangles
     finally:
         FreeCAD.closeDocument(again.Name)
     fewer.FewerTriangles = False

@@ -61,18 +61,19 @@ def test_one_eight_and_sixty_four_jobs_give_the_one_process_mesh(client, tmp_pat
     assert sorted(os.listdir(tmp_path)) == ["jobs1.stl", "jobs64.stl", "jobs8.stl", "one.stl"]
 
 
-def test_fewer_triangles_in_jobs_gives_the_one_process_mesh(client, tmp_path):
+def test_flat_vertices_kept_or_not_in_jobs_give_the_one_process_mesh(client, tmp_path):
     shape = model("twist")
-    one = str(tmp_path / "one.stl")
-    shape.export(one, cells=80, fewer_triangles=True)
-    expected = sorted_triangles(one)
-    full = str(tmp_path / "full.stl")
-    shape.export(full, cells=80)
-    assert len(expected) < 0.95 * len(sorted_triangles(full))
-    out = str(tmp_path / "jobs.stl")
-    report = fd.export_distributed(shape, out, 8, client=client, cells=80, fewer_triangles=True)
-    assert report["printable"] and report["written"]
-    assert sorted_triangles(out) == expected
+    meshes = {}
+    for fewer in (True, False):
+        one = str(tmp_path / "one.stl")
+        shape.export(one, cells=80, fewer_triangles=fewer)
+        meshes[fewer] = sorted_triangles(one)
+        out = str(tmp_path / "jobs.stl")
+        report = fd.export_distributed(shape, out, 8, client=client, cells=80,
+                                       fewer_triangles=fewer)
+        assert report["printable"] and report["written"]
+        assert sorted_triangles(out) == meshes[fewer]
+    assert len(meshes[True]) < 0.95 * len(meshes[False])
 
 
 def test_a_killed_worker_costs_a_retry_not_a_wrong_brick(tmp_path):

@@ -313,19 +313,21 @@ def test_the_cube_mesher_makes_a_third_of_the_tetrahedra_triangles():
         part.node.mesh(box, 0.05, mesher="dual")
 
 
-def test_fewer_triangles_drops_flat_vertices_and_stays_printable(tmp_path):
+def test_flat_vertices_go_by_default_and_the_mesh_stays_printable(tmp_path):
     part = csg()
     box = ((-1.2, -1.2, -1.2), (1.2, 1.2, 1.2))
-    full = part.node.mesh(box, 0.05)
-    fewer = part.node.mesh(box, 0.05, fewer_triangles=True)
+    full = part.node.mesh(box, 0.05, fewer_triangles=False)
+    fewer = part.node.mesh(box, 0.05)
     assert fewer.triangle_count < 0.95 * full.triangle_count
     # two triangles go with each vertex
     assert (full.triangle_count - fewer.triangle_count
             == 2 * (full.vertex_count - fewer.vertex_count))
     assert fewer.check()["printable"]
-    report = part.node.export(str(tmp_path / "fewer.stl"), bbox=box, resolution=0.05,
-                              fewer_triangles=True)
+    report = part.node.export(str(tmp_path / "fewer.stl"), bbox=box, resolution=0.05)
     assert report["written"] and report["triangles"] == fewer.triangle_count
+    report = part.node.export(str(tmp_path / "full.stl"), bbox=box, resolution=0.05,
+                              fewer_triangles=False)
+    assert report["written"] and report["triangles"] == full.triangle_count
 
 
 def test_hsplines_refine_edit_and_leave_as_step_stl_and_hs(tmp_path):

@@ -118,24 +118,25 @@ class Shape:
 
     # -- meshing and export ---------------------------------------------------------------
     def mesh(self, resolution=None, bbox=None, cells=None, progress=None, normals=False,
-             tolerance=None, sharp=True, mesher="cubes", fewer_triangles=False):
+             tolerance=None, sharp=True, mesher="cubes", fewer_triangles=True):
         """Polygonises the solid; bbox and resolution default to automatic_box. Creases and
         corners get vertices unless sharp=False; mesher='tetra' is the marching-tetrahedra
-        mesher of before 0.3 (three times the triangles); fewer_triangles drops the vertices
-        where the surface is flat within a fiftieth of a cell. With a tolerance the mesh is
-        simplified, kept within it of the surface."""
+        mesher of before 0.3 (three times the triangles); the vertices where the surface is
+        flat within a fiftieth of a cell are dropped unless fewer_triangles=False. With a
+        tolerance the mesh is simplified, kept within it of the surface."""
         box, cell = automatic_box(self, resolution=resolution, bbox=bbox, cells=cells)
         return self.node.mesh(box, cell, progress, normals, tolerance, sharp, mesher,
                               fewer_triangles)
 
     def export(self, path, resolution=None, bbox=None, cells=None, format="", check=True,
                progress=None, force=False, tolerance=None, sharp=True, mesher="cubes",
-               fewer_triangles=False):
+               fewer_triangles=True):
         """Meshes, checks with CGAL and writes path atomically (libcore's export pipeline,
         the same as `frepcad export`); returns the check report (a dict with 'text').
         Creases and corners get vertices unless sharp=False; mesher='tetra' meshes by
-        marching tetrahedra (`--mesher tetra`); fewer_triangles drops the vertices where the
-        surface is flat within a fiftieth of a cell (`--fewer-triangles`). With a tolerance (model units) the mesh is
+        marching tetrahedra (`--mesher tetra`); the vertices where the surface is flat within a
+        fiftieth of a cell are dropped unless fewer_triangles=False (`--keep-flat-vertices`).
+        With a tolerance (model units) the mesh is
         simplified first, kept within it of the surface (`frepcad export --tolerance`); the
         report then has 'triangles_before_simplify' and 'largest_distance'.
 

@@ -36,7 +36,7 @@ _policy_set = False
 
 
 def mesh_job(model_text, base_dir, bbox, resolution, sharp, mesher, jobs, job, path,
-             threads=0, fewer_triangles=False):
+             threads=0, fewer_triangles=True):
     """On a worker: meshes job `job` of the run into the piece file `path` on `threads`
     threads (0: every core); returns the job's figures (triangles, seconds, the worker's
     peak memory in MB)."""
@@ -83,7 +83,7 @@ def export_distributed(shape, path, bricks, scheduler=None, client=None, resolut
                        bbox=None, cells=None, sharp=True, mesher="cubes", format="",
                        check=True, force=False, work_dir=None, progress=None, workers=None,
                        base_dir=None, threads_per_job=None, unit="", metadata=None,
-                       fewer_triangles=False):
+                       fewer_triangles=True):
     """Meshes `shape` as `bricks` jobs on Dask, welds, checks and writes `path` atomically.
 
     scheduler: a Dask scheduler's address; client: a distributed.Client to use as is;
@@ -95,7 +95,8 @@ def export_distributed(shape, path, bricks, scheduler=None, client=None, resolut
     base_dir: where relative file names in the model (mesh_sdf, vdb_grid) are found.
     threads_per_job: the threads a job meshes on (0: every core of its worker's machine);
     default: the machine's cores shared out among a LocalCluster's workers, else 0.
-    fewer_triangles: the mesher's flat vertices dropped (`frepcad export --fewer-triangles`).
+    fewer_triangles: the mesher's flat vertices dropped (the default; False keeps them:
+    `frepcad export --keep-flat-vertices`).
     unit, metadata: a 3MF's length unit ("micron", "mm", "cm", "inch", "ft", "m") and
     (name, value) pairs. A binary STL or a 3MF is written as the merge goes; other formats
     are merged in memory.
@@ -222,7 +223,7 @@ def main():
             mesher=args.get("mesher", "cubes"), format=args.get("format", ""),
             force=args.get("force", False), work_dir=args.get("work_dir"), progress=show,
             workers=args.get("workers"), unit=args.get("units", ""),
-            metadata=args.get("metadata"), fewer_triangles=args.get("fewer_triangles", False),
+            metadata=args.get("metadata"), fewer_triangles=args.get("fewer_triangles", True),
             base_dir=os.path.dirname(os.path.abspath(args["model"])))
     except frepcore.NotPrintable as e:
         if show:
