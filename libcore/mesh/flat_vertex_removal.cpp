@@ -316,7 +316,7 @@ bool flatVertexRemovalIsClear(const FlatVertexRemoval& plan, const std::vector<V
   bool separates[FlatVertexRemoval::kMaxRing];
   for (std::size_t i = 0; i < k; ++i) {
     const Point2 &a = poly[i], &b = poly[i + 1 == k ? 0 : i + 1];
-    edgeLength[i] = std::hypot(b.x - a.x, b.y - a.y);
+    edgeLength[i] = std::sqrt((b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y));
     separates[i] = edgeLength[i] > 0.0;
     for (std::size_t m = 0; m < k && separates[i]; ++m)
       if (m != i && m != (i + 1) % k) separates[i] = orient(a, b, poly[m]) > margin * edgeLength[i];
