@@ -163,7 +163,7 @@ struct BrickResult {
 };
 
 struct Scratch {
-  std::vector<double> x, y, z, f;
+  std::vector<double> x, y, z, f;        // the grid's coordinates per axis; values per point
   std::vector<double> qx, qy, qz, qf;    // the points evaluated, packed
   std::vector<char> need;                // grid point needs its value
   std::vector<std::int8_t> standIn;      // proven sign of a point that needs none
@@ -171,6 +171,7 @@ struct Scratch {
   std::vector<std::uint32_t> edgeOf;     // new local vertex -> local edge key
   std::vector<std::uint32_t> polys;      // 4 ids per polygon, last = UINT32_MAX for triangles
   std::vector<std::uint8_t> cellMask;    // per cube: bit v set when corner v is inside
+  std::vector<std::uint8_t> insidePair;  // per point: bit 0 inside, bit 1 its +x neighbour
   std::vector<std::uint8_t> kept;        // per local edge key: a face diagonal that stays
   std::vector<std::uint8_t> cellFlips;   // per cube: its faces split off Kuhn's diagonal
   std::vector<double> centreValue;       // per cube split around its centre: the value there
@@ -255,9 +256,6 @@ class BrickMesher {
     // crossed edge lies in a cell of an unproven sub-block, whose corners are all evaluated.
     // Their other points get a stand-in of the proven sign, read only by the cell masks, so
     // the mesh is the same as with every point evaluated.
-    s.x.resize(count);
-    s.y.resize(count);
-    s.z.resize(count);
     s.f.resize(count);
     s.need.assign(count, 0);
     s.standIn.assign(count, 0);
@@ -286,24 +284,28 @@ class BrickMesher {
     qx.clear();
     qy.clear();
     qz.clear();
+    // (a grid point's coordinates are its axes' values: s.x, s.y and s.z hold them per axis)
+    std::vector<double>* onAxis[3] = {&s.x, &s.y, &s.z};
+    for (int a = 0; a < 3; ++a) {
+      onAxis[a]->resize(static_cast<std::size_t>(n[a]));
+      for (std::int64_t i = 0; i < n[a]; ++i) (*onAxis[a])[i] = g_.coord(a, r.lo[a] + i);
+    }
+    const double *cx = s.x.data(), *cy = s.y.data(), *cz = s.z.data();
     for (std::int64_t k = 0; k < n[2]; ++k)
       for (std::int64_t j = 0; j < n[1]; ++j)
-        for (std::int64_t i = 0; i < n[0]; ++i) {
-          const std::uint32_t id = local(i, j, k);
-          s.x[id] = g_.coord(0, r.lo[0] + i);
-          s.y[id] = g_.coord(1, r.lo[1] + j);
-          s.z[id] = g_.coord(2, r.lo[2] + k);
-          if (s.need[id]) {
-            qx.push_back(s.x[id]);
-            qy.push_back(s.y[id]);
-            qz.push_back(s.z[id]);
+        for (std::int64_t i = 0; i < n[0]; ++i)
+          if (s.need[local(i, j, k)]) {
+            qx.push_back(cx[i]);
+            qy.push_back(cy[j]);
+            qz.push_back(cz[k]);
           }
-        }
     qf.resize(qx.size());
     field.evalBatch(qx.data(), qy.data(), qz.data(), qx.size(), qf.data());
-    for (std::size_t id = 0, q = 0; id < count; ++id)
-      s.f[id] = s.need[id] ? combine(qf[q++], g_.boxField(s.x[id], s.y[id], s.z[id]))
-                           : static_cast<double>(s.standIn[id]);
+    for (std::int64_t k = 0, id = 0, q = 0; k < n[2]; ++k)
+      for (std::int64_t j = 0; j < n[1]; ++j)
+        for (std::int64_t i = 0; i < n[0]; ++i, ++id)
+          s.f[id] = s.need[id] ? combine(qf[q++], g_.boxField(cx[i], cy[j], cz[k]))
+                               : static_cast<double>(s.standIn[id]);
     const std::size_t evaluated = qx.size();
 
     // 2. The crossed cubes. With the cube extraction a cube whose surface meets its faces in
@@ -329,13 +331,17 @@ class BrickMesher {
                                            local(1, 1, 1)};
     const std::size_t cubes = static_cast<std::size_t>(c[0] * c[1] * c[2]);
     s.cellMask.resize(cubes);
+    // (a point's sign and its +x neighbour's as two bits, so a cube's mask is four of them:
+    // corners 0-1, 2-3, 4-5 and 6-7 differ by x only)
+    s.insidePair.resize(count);
+    for (std::size_t id = 0; id + 1 < count; ++id)
+      s.insidePair[id] = static_cast<std::uint8_t>(isInside(s.f[id]) | isInside(s.f[id + 1]) << 1);
     for (std::int64_t k = 0, q = 0; k < c[2]; ++k)
       for (std::int64_t j = 0; j < c[1]; ++j)
         for (std::int64_t i = 0; i < c[0]; ++i, ++q) {
-          const std::uint32_t base = local(i, j, k);
-          int cellMask = 0;
-          for (int v = 0; v < 8; ++v) cellMask |= isInside(s.f[base + cornerOffset[v]]) << v;
-          s.cellMask[q] = static_cast<std::uint8_t>(cellMask);
+          const std::uint8_t* p = &s.insidePair[local(i, j, k)];
+          s.cellMask[q] = static_cast<std::uint8_t>(
+              p[0] | p[cornerOffset[2]] << 2 | p[cornerOffset[4]] << 4 | p[cornerOffset[6]] << 6);
         }
     s.cellFlips.assign(cubes, 0);
     if (byCubes) {
