@@ -34,6 +34,12 @@ struct Point2 {
   double x, y;
 };
 
+// i mod k for i < 2k: the ring's indices wrap at most once (an integer division per index
+// was a tenth of the planning).
+std::size_t wrap(std::size_t i, std::size_t k) {
+  return i < k ? i : i - k;
+}
+
 double orient(const Point2& a, const Point2& b, const Point2& c) {
   return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
 }
@@ -68,7 +74,7 @@ bool segmentsNear(const Point2& a, const Point2& b, const Point2& c, const Point
 int windingNumber(const Point2& p, const Point2* poly, std::size_t k) {
   int winding = 0;
   for (std::size_t i = 0; i < k; ++i) {
-    const Point2 &a = poly[i], &b = poly[(i + 1) % k];
+    const Point2 &a = poly[i], &b = poly[wrap(i + 1, k)];
     if (a.y <= p.y) {
       if (b.y > p.y && orient(a, b, p) > 0) ++winding;
     } else if (b.y <= p.y && orient(a, b, p) < 0) {
@@ -82,7 +88,7 @@ int windingNumber(const Point2& p, const Point2* poly, std::size_t k) {
 bool inOrNearPolygon(const Point2& p, const Point2* poly, std::size_t k, double eps, double eps2) {
   if (windingNumber(p, poly, k) != 0) return true;
   for (std::size_t i = 0; i < k; ++i) {
-    const Point2 &a = poly[i], &b = poly[(i + 1) % k];
+    const Point2 &a = poly[i], &b = poly[wrap(i + 1, k)];
     if (p.x + eps < std::min(a.x, b.x) || p.x - eps > std::max(a.x, b.x) ||
         p.y + eps < std::min(a.y, b.y) || p.y - eps > std::max(a.y, b.y))
       continue;
@@ -189,7 +195,7 @@ bool planFlatVertexRemoval(std::uint32_t v, const std::vector<Vec3f>& positions,
   // 3. The star faces N and winds once round v (its polygon is then star-shaped from v).
   const Point2 origin{0.0, 0.0};
   for (std::size_t i = 0; i < k; ++i)
-    if (!(orient(origin, poly[i], poly[(i + 1) % k]) > epsArea)) return false;
+    if (!(orient(origin, poly[i], poly[wrap(i + 1, k)]) > epsArea)) return false;
   if (windingNumber(origin, poly, k) != 1) return false;
 
   // 4. The best fan over the polygon: the one that moves the surface least.
@@ -219,15 +225,15 @@ bool planFlatVertexRemoval(std::uint32_t v, const std::vector<Vec3f>& positions,
   for (std::size_t apex = 0; apex < (k == 4 ? 2 : k); ++apex) {
     bool ok = true;
     for (std::size_t j = 1; j + 1 < k && ok; ++j)
-      ok = orient(poly[apex], poly[(apex + j) % k], poly[(apex + j + 1) % k]) > epsArea;
+      ok = orient(poly[apex], poly[wrap(apex + j, k)], poly[wrap(apex + j + 1, k)]) > epsArea;
     if (!ok) continue;
     // The new surface's height under v: v lies in the fan triangle (apex, b, c) where the
     // spokes from the apex pass from v's left to its right (the fan winds once).
     double deviation = 0.0;
     bool covered = false;
-    double left = orient(poly[apex], poly[(apex + 1) % k], origin);  // > 0: a ring edge
+    double left = orient(poly[apex], poly[wrap(apex + 1, k)], origin);  // > 0: a ring edge
     for (std::size_t j = 1; j + 1 < k && !covered; ++j) {
-      const std::size_t b = (apex + j) % k, c = (apex + j + 1) % k;
+      const std::size_t b = wrap(apex + j, k), c = wrap(apex + j + 1, k);
       const double right = orient(poly[apex], poly[c], origin);
       if (right <= 0.0 || j + 2 == k) {
         const double o0 = orient(poly[b], poly[c], origin), o1 = -right, o2 = left;
@@ -252,12 +258,12 @@ bool planFlatVertexRemoval(std::uint32_t v, const std::vector<Vec3f>& positions,
     // are linear along each piece of the overlay).
     double deviation = deviationOf[apex];
     for (std::size_t j = 2; j + 1 < k; ++j) {
-      const std::size_t m = (apex + j) % k;  // the diagonal apex-m
+      const std::size_t m = wrap(apex + j, k);  // the diagonal apex-m
       // v lies beyond it from the ring vertices apex + 1 .. m - 1 where its fan triangle
       // comes later, else from m + 1 .. apex - 1: only their spokes cross it
       const std::size_t from = coverOf[apex] >= j ? 1 : j + 1, to = coverOf[apex] >= j ? j : k;
       for (std::size_t q = from; q < to; ++q) {
-        const std::size_t s = (apex + q) % k;
+        const std::size_t s = wrap(apex + q, k);
         const Point2 &a = poly[apex], &b = poly[m], &r = poly[s];
         const double den = orient(origin, r, b) - orient(origin, r, a);  // where a-b meets 0-r
         if (den == 0.0) continue;
@@ -274,7 +280,7 @@ bool planFlatVertexRemoval(std::uint32_t v, const std::vector<Vec3f>& positions,
     double worst = std::numeric_limits<double>::infinity();
     bool ok = true;
     for (std::size_t j = 1; j + 1 < k && ok; ++j) {
-      const std::size_t b = (apex + j) % k, c = (apex + j + 1) % k;
+      const std::size_t b = wrap(apex + j, k), c = wrap(apex + j + 1, k);
       worst = std::min(
           worst, triangleQuality(positions[ring[apex]], positions[ring[b]], positions[ring[c]]));
       ok = worst >= minQuality &&
@@ -288,8 +294,8 @@ bool planFlatVertexRemoval(std::uint32_t v, const std::vector<Vec3f>& positions,
   }
   if (!found) return false;
   for (std::size_t j = 1; j + 1 < k; ++j)
-    plan->replacement[j - 1] = {ring[bestApex], ring[(bestApex + j) % k],
-                                ring[(bestApex + j + 1) % k]};
+    plan->replacement[j - 1] = {ring[bestApex], ring[wrap(bestApex + j, k)],
+                                ring[wrap(bestApex + j + 1, k)]};
   return true;
 }
 
@@ -319,7 +325,8 @@ bool flatVertexRemovalIsClear(const FlatVertexRemoval& plan, const std::vector<V
     edgeLength[i] = std::sqrt((b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y));
     separates[i] = edgeLength[i] > 0.0;
     for (std::size_t m = 0; m < k && separates[i]; ++m)
-      if (m != i && m != (i + 1) % k) separates[i] = orient(a, b, poly[m]) > margin * edgeLength[i];
+      if (m != i && m != wrap(i + 1, k))
+        separates[i] = orient(a, b, poly[m]) > margin * edgeLength[i];
   }
   // Whether an edge's line has the triangle outside, all but its corners that are that edge's
   // ends: then it meets the polygon only there, at a vertex or along the edge it shares.
@@ -360,8 +367,8 @@ bool flatVertexRemovalIsClear(const FlatVertexRemoval& plan, const std::vector<V
     for (int c = 0; c < 3; ++c) {
       const int a = at[c], b = at[(c + 1) % 3];
       if (a >= 0 && b >= 0) {
-        const int gap = (b - a + static_cast<int>(k)) % static_cast<int>(k);
-        if (gap != 1 && gap != static_cast<int>(k) - 1) {  // a chord: must run outside
+        const std::size_t gap = wrap(static_cast<std::size_t>(b - a + static_cast<int>(k)), k);
+        if (gap != 1 && gap != k - 1) {  // a chord: must run outside
           const Point2 mid{(q[c].x + q[(c + 1) % 3].x) / 2, (q[c].y + q[(c + 1) % 3].y) / 2};
           if (inOrNearPolygon(mid, poly, k, margin, eps2)) return false;
         }
