@@ -677,24 +677,23 @@ class BrickMesher {
     const CubeLoopTables& cl = cubeLoopTables();
     const std::vector<Vec3f>& P = out.positions;
     const bool flat = opt_.flatVertices;
-    if (flat) {
-      s.fanFirst.assign(static_cast<std::size_t>((n[0] - 1) * (n[1] - 1) * (n[2] - 1)), 0);
+    if (flat) {  // (by a cube's lowest grid point, as the loops name their cubes)
+      s.fanFirst.assign(static_cast<std::size_t>(n[0] * n[1] * n[2]), 0);
       s.fanCount.assign(s.fanFirst.size(), 0);
     }
     // Flat vertices (removeFlatVertices) are sought only where the cubes have plain fans.
     auto recordFan = [&](std::uint32_t base, std::size_t first) {
       if (!flat) return;
-      const std::int64_t i = base % n[0], j = (base / n[0]) % n[1], k = base / (n[0] * n[1]);
-      const std::size_t q = static_cast<std::size_t>(i + (n[0] - 1) * (j + (n[1] - 1) * k));
-      s.fanFirst[q] = static_cast<std::uint32_t>(first);
-      s.fanCount[q] = static_cast<std::uint8_t>(out.triangles.size() - first);
+      s.fanFirst[base] = static_cast<std::uint32_t>(first);
+      s.fanCount[base] = static_cast<std::uint8_t>(out.triangles.size() - first);
     };
     for (std::size_t p = 0; p < s.loops.size();) {
       const std::uint32_t base = s.loops[p], len = s.loops[p + 1] & 255, mask = s.loops[p + 1] >> 8;
       const std::uint32_t* L = &s.loops[p + 2];
       p += 2 + 2 * static_cast<std::size_t>(len);
-      auto v = [&](std::uint32_t i) { return L[2 * (i % len)]; };
-      auto id = [&](std::uint32_t i) { return L[2 * (i % len) + 1]; };
+      // (i < 2 len: wrapped by a comparison, not a division)
+      auto v = [&](std::uint32_t i) { return L[2 * (i < len ? i : i - len)]; };
+      auto id = [&](std::uint32_t i) { return L[2 * (i < len ? i : i - len) + 1]; };
       if (sharp && placeFeature(whole, r, n, base, mask, L, len, s, out)) continue;
       const std::size_t first = out.triangles.size();
       if (len == 3) {  // (one triangle, whichever the apex)
@@ -742,8 +741,8 @@ class BrickMesher {
   void removeFlatVertices(const CellRange& r, const std::int64_t n[3], Scratch& s,
                           BrickResult& out) const {
     const std::int64_t c[3] = {n[0] - 1, n[1] - 1, n[2] - 1};
-    auto cube = [&](const std::int64_t i[3]) {
-      return static_cast<std::size_t>(i[0] + c[0] * (i[1] + c[1] * i[2]));
+    auto cube = [&](const std::int64_t i[3]) {  // (its lowest grid point: capLoops' fan index)
+      return static_cast<std::size_t>(i[0] + n[0] * (i[1] + n[1] * i[2]));
     };
     // (an edge from a cube's lowest corner: edgeKey needs only that corner's offset, 0)
     static constexpr std::uint32_t kAtLowCorner[8] = {0, 0, 0, 0, 0, 0, 0, 0};
@@ -943,7 +942,7 @@ class BrickMesher {
         rank >= 2 && beyond == 1 &&
         reachIntoUniformNeighbour(whole, r, n, base, outAxis, x[outAxis] > hi[outAxis], x, s, at);
     for (std::uint32_t j = 0; j < len; ++j) {
-      const std::uint32_t u = L[2 * j], w = L[2 * ((j + 1) % len)];
+      const std::uint32_t u = L[2 * j], w = L[2 * (j + 1 == len ? 0 : j + 1)];
       const Vec3d nt = triangleCross(at, P[u], P[w]);
       double dot = 0.0;
       for (int a = 0; a < 3; ++a) dot += nt[a] * (double(s.unit[u][a]) + s.unit[w][a]);
@@ -955,11 +954,11 @@ class BrickMesher {
       // A fan triangle over the only line the loop draws on a face (two of the face's edges
       // crossed, no diagonal vertex) may be flipped with its neighbour cube's across that
       // line to join the two feature vertices (mesh/crease_flips.h).
-      const std::uint32_t a = L[2 * j + 1], b = L[2 * ((j + 1) % len) + 1];
+      const std::uint32_t a = L[2 * j + 1], b = L[2 * (j + 1 == len ? 0 : j + 1) + 1];
       if (!extended && a < kFirstFaceDiagonal && b < kFirstFaceDiagonal &&
           crossedEdgesOnFace(mask, cl.faces[a] & cl.faces[b]) == 2)
         out.flippable.push_back(static_cast<std::uint32_t>(out.triangles.size()));
-      out.triangles.push_back({apex, L[2 * j], L[2 * ((j + 1) % len)]});
+      out.triangles.push_back({apex, L[2 * j], L[2 * (j + 1 == len ? 0 : j + 1)]});
     }
     return true;
   }
