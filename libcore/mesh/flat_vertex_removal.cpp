@@ -247,9 +247,14 @@ bool planFlatVertexRemoval(std::uint32_t v, const std::vector<Vec3f>& positions,
     deviationOf[apex] = deviation;
     apexes[candidates++] = apex;
   }
-  std::sort(apexes, apexes + candidates, [&](std::size_t x, std::size_t y) {
+  // (least deviation first, ties by index: a dozen at most, sorted by insertion; std::sort
+  // here drew GCC's array-bounds warning on its unrolled paths)
+  auto before = [&](std::size_t x, std::size_t y) {
     return deviationOf[x] < deviationOf[y] || (deviationOf[x] == deviationOf[y] && x < y);
-  });
+  };
+  for (std::size_t i = 1; i < candidates; ++i)
+    for (std::size_t j = i; j > 0 && before(apexes[j], apexes[j - 1]); --j)
+      std::swap(apexes[j], apexes[j - 1]);
   bool found = false;
   std::size_t bestApex = 0;
   for (std::size_t i = 0; i < candidates && !found; ++i) {
