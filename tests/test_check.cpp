@@ -168,7 +168,9 @@ TEST(Check, DistinctPointsAreNumberedAsASerialPassNumbersThem) {
       const std::vector<std::uint32_t> map = distinctPoints(points, &first);
       ASSERT_EQ(map, expectMap) << n << " points, twins every " << twinsEvery;
       ASSERT_EQ(first, expectFirst) << n << " points, twins every " << twinsEvery;
-      if (twinsEvery == 0) EXPECT_EQ(first.size(), n);
+      if (twinsEvery == 0) {
+        EXPECT_EQ(first.size(), n);
+      }
     }
   }
 }
@@ -761,7 +763,9 @@ TEST(Check, CheckInPartsAgreesWithTheWholeCheck) {
     for (int splits : {2, 3}) {
       const int mode = (splits + decided) % 3;  // each way of taking parts in, in turn
       const std::optional<CheckReport> parts = checkInParts(m, splits, mode);
-      if (polygonMesh) EXPECT_TRUE(parts.has_value()) << what << " in " << splits;
+      if (polygonMesh) {
+        EXPECT_TRUE(parts.has_value()) << what << " in " << splits;
+      }
       if (!parts) continue;
       ++decided;
       broken += !whole.printable();

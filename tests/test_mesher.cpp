@@ -60,8 +60,9 @@ void expectOldCheckAgrees(const TriangleMesh& mesh, const CheckReport& r,
   std::vector<FaceIndices> faces;
   for (const Triangle& t : mesh.triangles) faces.push_back({map[t[0]], map[t[1]], map[t[2]]});
   EXPECT_EQ(countSelfIntersectionsWithCgal(welded, faces), r.selfIntersections) << label;
-  if (r.closed && r.selfIntersections == 0)
+  if (r.closed && r.selfIntersections == 0) {
     EXPECT_EQ(boundsAVolume(welded, faces) && r.volume > 0, r.outward) << label;
+  }
 }
 
 struct ExampleCase {
@@ -326,7 +327,9 @@ TEST(FlatVertices, ThePlannerRefusesWhatCouldFoldOrCross) {
       const Vec3f &a = p[plan.replacement[t][c]], &b = p[plan.replacement[t][(c + 1) % 3]];
       const int d = std::abs(int(plan.replacement[t][c]) - int(plan.replacement[t][(c + 1) % 3]));
       const bool ringEdge = d == 1 || d == 7;
-      if (!ringEdge) EXPECT_FALSE(a[1] == 1.f && b[1] == 1.f);
+      if (!ringEdge) {
+        EXPECT_FALSE(a[1] == 1.f && b[1] == 1.f);
+      }
     }
 }
 
@@ -477,7 +480,9 @@ TEST_P(RandomTreeShard, EveryMeshIsPrintable) {
                                  << modelToJson(Model{tree, o.bbox, o.resolution, ""});
       expectOldCheckAgrees(mesh, r, "tree " + std::to_string(i) + " mode " + std::to_string(mode));
       if (mode == 1) cubeTriangles = mesh.triangleCount();
-      if (mode == 2) EXPECT_LT(cubeTriangles, mesh.triangleCount()) << "tree " << i;
+      if (mode == 2) {
+        EXPECT_LT(cubeTriangles, mesh.triangleCount()) << "tree " << i;
+      }
       if (mode < 2 && o.brickCells == 16) {  // and with the flat vertices dropped
         MeshingOptions flat = o;
         flat.flatVertices = true;
