@@ -70,10 +70,24 @@ class TriangleGrid {
 
   // The distance from p to the nearest triangle, searching shells of cells outwards until no
   // nearer triangle can be found; infinity beyond `limit` cells. *closest (when given) is set
-  // to the nearest point found.
+  // to the nearest point found. A cell farther from p than the nearest triangle found so far
+  // is passed over: the nearest triangle is listed in the cell holding its point nearest p,
+  // which is no farther from p than that point (most queries then read one to four cells of
+  // the 27 round p, not all of them).
   double nearest(const Vec3d& p, int limit, Vec3d* closest = nullptr) const {
     const std::int64_t c[3] = {index(p[0]), index(p[1]), index(p[2])};
     double best = std::numeric_limits<double>::infinity();
+    const double slack = 1e-9 * cell_;  // (over rounding in the cell's bounds)
+    auto cellDistance = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
+      const std::int64_t at[3] = {i, j, k};
+      double s = 0.0;
+      for (int a = 0; a < 3; ++a) {
+        const double lo = static_cast<double>(at[a]) * cell_, hi = lo + cell_;
+        const double d = p[a] < lo ? lo - p[a] : p[a] > hi ? p[a] - hi : 0.0;
+        s += d * d;
+      }
+      return std::sqrt(s);
+    };
     for (int r = 0; r <= limit; ++r) {
       // every point of shell r is at least (r - 1) cells from p
       if (best <= (r - 1) * cell_) break;
@@ -82,6 +96,7 @@ class TriangleGrid {
           for (std::int64_t i = c[0] - r; i <= c[0] + r; ++i) {
             if (std::max({std::abs(i - c[0]), std::abs(j - c[1]), std::abs(k - c[2])}) != r)
               continue;  // inside the shell: done in an earlier round
+            if (cellDistance(i, j, k) > best + slack) continue;
             const auto it = cells_.find(key(i, j, k));
             if (it == cells_.end()) continue;
             for (std::uint32_t t : it->second) {
@@ -137,6 +152,7 @@ AccuracyReport measureAccuracy(const TriangleMesh& mesh, const Field& field,
   fine.bbox = o.bbox;
   fine.resolution = o.cell / o.sampleRefinement;
   fine.normals = false;
+  fine.flatVertices = false;  // (every vertex a sample)
   const TriangleMesh samples = polygonize(field, fine);
   const TriangleGrid fineGrid(samples, o.cell);
 
