@@ -202,7 +202,7 @@ int exportModel(const ExportOptions& opt) {
   request.force = opt.force;
   request.tolerance = opt.tolerance;
   request.sharpFeatures = opt.sharp;
-  request.flatVertices = opt.flatVertices.value_or(true);
+  if (opt.flatVertices) request.flatVertices = *opt.flatVertices;  // (else the pipeline's default)
   request.extraction = opt.tetra ? Extraction::Tetrahedra : Extraction::Cubes;
   request.stats = opt.stats;
   // The box policy is the pipeline's; the CLI only adds where the user gives a box.

@@ -326,19 +326,19 @@ bool flatVertexRemovalIsClear(const FlatVertexRemoval& plan, const std::vector<V
   double edgeLength[FlatVertexRemoval::kMaxRing];
   bool separates[FlatVertexRemoval::kMaxRing];
   for (std::size_t i = 0; i < k; ++i) {
-    const Point2 &a = poly[i], &b = poly[i + 1 == k ? 0 : i + 1];
+    const std::size_t j = wrap(i + 1, k);
+    const Point2 &a = poly[i], &b = poly[j];
     edgeLength[i] = std::sqrt((b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y));
     separates[i] = edgeLength[i] > 0.0;
     for (std::size_t m = 0; m < k && separates[i]; ++m)
-      if (m != i && m != wrap(i + 1, k))
-        separates[i] = orient(a, b, poly[m]) > margin * edgeLength[i];
+      if (m != i && m != j) separates[i] = orient(a, b, poly[m]) > margin * edgeLength[i];
   }
   // Whether an edge's line has the triangle outside, all but its corners that are that edge's
   // ends: then it meets the polygon only there, at a vertex or along the edge it shares.
   auto separated = [&](const int at[3], const Point2 q[3]) {
     for (std::size_t i = 0; i < k; ++i) {
       if (!separates[i]) continue;
-      const std::size_t j = i + 1 == k ? 0 : i + 1;
+      const std::size_t j = wrap(i + 1, k);
       bool outside = true;
       for (int c = 0; c < 3 && outside; ++c)
         outside = at[c] == static_cast<int>(i) || at[c] == static_cast<int>(j) ||

@@ -754,13 +754,13 @@ class BrickMesher {
     for (o[2] = start[2]; o[2] < c[2]; o[2] += 2)
       for (o[1] = start[1]; o[1] < c[1]; o[1] += 2)
         for (o[0] = start[0]; o[0] < c[0]; o[0] += 2) {
-          // Edge d (axis d / 2, from the centre down or up): its lower grid point and the
-          // brick-local indices of its four cubes ([low, low + 1] along the axis, o - 1 and
-          // o across it).
-          auto edgeAt = [&](int d, std::int64_t low[3], std::size_t cubes[4]) {
+          // Edge d (axis d / 2, from the centre down or up): its lower grid point and (unless
+          // null) the brick-local indices of its four cubes ([low, low + 1] along the axis,
+          // o - 1 and o across it).
+          auto edgeAt = [&](int d, std::int64_t low[3], std::size_t* cubes) {
             const int axis = d / 2;
             for (int b = 0; b < 3; ++b) low[b] = o[b] - (b == axis && d % 2 == 0 ? 1 : 0);
-            for (int q = 0; q < 4; ++q) {
+            for (int q = 0; q < 4 && cubes; ++q) {
               std::int64_t at[3];
               for (int b = 0, bit = 0; b < 3; ++b)
                 at[b] = b == axis ? low[b] : o[b] - 1 + ((q >> bit++) & 1);
@@ -783,8 +783,7 @@ class BrickMesher {
           for (int d = 0; d < 6; ++d) {
             if ((fanned & kSide[d]) != kSide[d]) continue;
             std::int64_t low[3];
-            std::size_t cubes[4];
-            edgeAt(d, low, cubes);
+            edgeAt(d, low, nullptr);  // (its cubes: known to have fans from the mask)
             const std::uint32_t lowPoint =
                 static_cast<std::uint32_t>(low[0] + n[0] * (low[1] + n[1] * low[2]));
             vertexOf[d] = s.edgeVertex[edgeKey(
