@@ -5,6 +5,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -31,6 +32,12 @@ constexpr double kFeatureQuality = 0.01;
 constexpr double kPlaneCutoff = 0.02;
 // A changed face's normal may turn by less than this cosine's angle (about 72 degrees).
 constexpr double kTurn = 0.3;
+// Edges whose two faces turn by more than this angle (radians; 10 degrees) are where edge
+// flips look for a crease the collapses left zig-zagging (flipTowardsCreases).
+constexpr double kFlipTurn = 0.17;
+// A flip is taken only where it lowers the quad's turning (sum of edge length x angle) by
+// more than this fraction: no flip back and forth on rounding.
+constexpr double kFlipGain = 1e-3;
 
 Vec3 toVec3(const Vec3f& p) {
   return {p[0], p[1], p[2]};
@@ -141,7 +148,7 @@ struct RegionInput {
 
 struct RegionOutput {
   std::vector<Triangle> faces;
-  std::size_t collapses = 0;
+  std::size_t collapses = 0, flips = 0;
   double largestDistance = 0.0;
 };
 
@@ -221,9 +228,12 @@ class RegionSimplifier {
       for (std::uint32_t w : neighboursU_) push(v, local(w));
     }
     // a vertex on a crease lets its neighbours find the crease too: sweep until none moves
-    if (o_.sharpFeatures)
+    if (o_.sharpFeatures) {
       for (int sweep = 0; sweep < 4 && snapToFeatures(out) > 0; ++sweep) {
       }
+      for (int sweep = 0; o_.creaseFlips && sweep < 4 && flipTowardsCreases(out) > 0; ++sweep) {
+      }
+    }
     for (std::uint32_t f = 0; f < faces_.size(); ++f)
       if (!frozenFace_[f] && deadFace_[f] == kLive) out.faces.push_back(faces_[f]);
   }
@@ -464,6 +474,169 @@ class RegionSimplifier {
     return moved;
   }
 
+  // Edge flips that let the mesh's edges follow a crease (data-dependent triangulation, Dyn,
+  // Levin and Rippa's least total turning): where an edge turns by over kFlipTurn, the two
+  // faces on it, (u, v, a) and (v, u, b), become (v, a, b) and (u, b, a) when that lowers
+  // the sum over the quad's five edges of length x the angle their faces turn by. Collapses
+  // leave the long faces of a simplified crease cutting across it, zig-zagging (the twist at
+  // 128 cells and a tenth of a cell: crease length 25.0 against the exact 19.956); a flip
+  // puts the edge along it instead. Each flip passes the collapse's tests (shape, distance
+  // from F = 0, facing out, every sample still covered, no intersection). Returns the flips.
+  std::size_t flipTowardsCreases(RegionOutput& out) {
+    std::size_t flips = 0;
+    for (std::uint32_t f = 0; f < faces_.size(); ++f) {
+      if (frozenFace_[f] || deadFace_[f] != kLive) continue;
+      for (int k = 0; k < 3; ++k) {
+        const Triangle& t = faces_[f];
+        const std::uint32_t u = t[k], v = t[(k + 1) % 3];
+        const std::uint32_t g = across(f, u, v);
+        // each edge once (from the face with the lower index), both faces free to change
+        if (g == kNone || g < f || frozenFace_[g]) continue;
+        if (turn(f, g) <= kFlipTurn) continue;
+        if (tryFlip(f, g, u, v, out)) {
+          ++flips;
+          break;  // (f changed: its edges are the new ones)
+        }
+      }
+    }
+    out.flips += flips;
+    return flips;
+  }
+
+  // The live face other than f on the edge u -> v of f (the one with v -> u), or kNone.
+  std::uint32_t across(std::uint32_t f, std::uint32_t u, std::uint32_t v) const {
+    const std::uint32_t l = local(u);
+    if (l == kNone) return kNone;
+    for (std::uint32_t g : around_[l]) {
+      if (g == f || deadFace_[g] != kLive) continue;
+      const Triangle& t = faces_[g];
+      for (int k = 0; k < 3; ++k)
+        if (t[k] == v && t[(k + 1) % 3] == u) return g;
+    }
+    return kNone;
+  }
+
+  // The angle (radians) by which faces f and g turn across their common edge.
+  double turn(std::uint32_t f, std::uint32_t g) const {
+    const Vec3 a = faceNormal(s_.pos, faces_[f]), b = faceNormal(s_.pos, faces_[g]);
+    const double l = std::sqrt(dot(a, a) * dot(b, b));
+    return l > 0.0 ? std::acos(std::clamp(dot(a, b) / l, -1.0, 1.0)) : 3.141592653589793;
+  }
+
+  // Length x turning angle of edge u -> v of face f (0 where the edge has no other face).
+  double turning(std::uint32_t f, std::uint32_t u, std::uint32_t v) const {
+    const std::uint32_t g = across(f, u, v);
+    if (g == kNone) return 0.0;
+    const Vec3 d = sub(toVec3(s_.pos[u]), toVec3(s_.pos[v]));
+    return std::sqrt(dot(d, d)) * turn(f, g);
+  }
+
+  // Flips edge u -> v of face f (f = (u, v, a), g = (v, u, b)) when that lowers the quad's
+  // turning and every test passes; unchanged otherwise.
+  bool tryFlip(std::uint32_t f, std::uint32_t g, std::uint32_t u, std::uint32_t v,
+               RegionOutput& out) {
+    auto third = [&](std::uint32_t face) {
+      const Triangle& t = faces_[face];
+      return t[0] != u && t[0] != v ? t[0] : (t[1] != u && t[1] != v ? t[1] : t[2]);
+    };
+    const std::uint32_t a = third(f), b = third(g);
+    const std::uint32_t lu = local(u), lv = local(v), la = local(a), lb = local(b);
+    if (a == b || lu == kNone || lv == kNone || la == kNone || lb == kNone) return false;
+    // u and v keep three faces each; a and b are not joined already (the edge would double)
+    if (around_[lu].size() <= 3 || around_[lv].size() <= 3) return false;
+    ring(la, a, neighboursU_);
+    if (std::find(neighboursU_.begin(), neighboursU_.end(), b) != neighboursU_.end()) return false;
+    ring(lb, b, neighboursU_);
+    if (std::find(neighboursU_.begin(), neighboursU_.end(), a) != neighboursU_.end()) return false;
+    const double before = turning(f, u, v) + turning(f, v, a) + turning(f, a, u) +
+                          turning(g, u, b) + turning(g, b, v);
+    changed_.assign({f, g});
+    const double worstBefore = recordBefore(changed_);
+    const double allowed = allowedFor(changed_, nullptr, 0);
+    const Triangle oldF = faces_[f], oldG = faces_[g];
+    faces_[f] = {v, a, b};
+    faces_[g] = {u, b, a};
+    auto restore = [&] {
+      faces_[f] = oldF;
+      faces_[g] = oldG;
+    };
+    // (around_ still lists f at u and g at v, and neither at b or a: across() below reads the
+    // outer edges, each of which keeps its face)
+    const double after =
+        turning(f, v, a) + turning(f, b, v) + turning(g, u, b) + turning(g, a, u) + [&] {
+          const Vec3 d = sub(toVec3(s_.pos[a]), toVec3(s_.pos[b]));
+          return std::sqrt(dot(d, d)) * turn(f, g);
+        }();
+    if (!(after < before * (1.0 - kFlipGain))) {
+      restore();
+      return false;
+    }
+    // The surface moves most along the two diagonals (centres alone miss a crease or corner
+    // cut off): the new one's midpoint stays within reach of F = 0, and the surface point
+    // nearest the old one's midpoint stays within reach of the new faces.
+    {
+      auto midpoint = [&](std::uint32_t x, std::uint32_t y) {
+        const Vec3 p = toVec3(s_.pos[x]), q = toVec3(s_.pos[y]);
+        return Vec3{0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]), 0.5 * (p[2] + q[2])};
+      };
+      double value;
+      Vec3 n;
+      const Vec3 across = midpoint(a, b), along = midpoint(u, v);
+      bool near = region_->plane(across, &value, &n) && std::abs(value) <= allowed &&
+                  region_->plane(along, &value, &n);
+      if (near) {
+        const Vec3 foot{along[0] - value * n[0], along[1] - value * n[1],
+                        along[2] - value * n[2]};
+        double closest = HUGE_VAL;
+        for (std::uint32_t face : {f, g}) {
+          const Triangle& t = faces_[face];
+          closest = std::min(closest, pointTriangleDistance(foot, toVec3(s_.pos[t[0]]),
+                                                            toVec3(s_.pos[t[1]]),
+                                                            toVec3(s_.pos[t[2]])));
+        }
+        near = closest <= allowed;
+      }
+      if (!near) {
+        restore();
+        return false;
+      }
+    }
+    auto drop = [](std::vector<std::uint32_t>& list, std::uint32_t face) {
+      list.erase(std::find(list.begin(), list.end(), face));
+    };
+    // the stars as they will be: u loses f, v loses g, b gains f, a gains g
+    drop(around_[lu], f);
+    drop(around_[lv], g);
+    around_[lb].push_back(f);
+    around_[la].push_back(g);
+    vMoves_ = false;
+    featureMove_ = true;  // (the faces turn by design: the outward test guards against folds)
+    flipCorners_ = {u, v, a, b};
+    const bool ok = acceptable(changed_, worstBefore, kNone, kNone, allowed, out);
+    if (!ok) {
+      around_[lu].push_back(f);
+      around_[lv].push_back(g);
+      drop(around_[lb], f);
+      drop(around_[la], g);
+      restore();
+      return false;
+    }
+    keepDeviations(changed_);
+    for (std::uint32_t face : changed_) {
+      faceBox_[face] = boxOf(faces_[face]);
+      insert(face);
+    }
+    for (std::uint32_t l : {lu, lv, la, lb}) ++stamp_[l];
+    // samples handed to another corner: copied there, then dropped here (from the back)
+    for (const SampleMove& m : sampleMoves_)
+      s_.samples[flipCorners_[m.to]].push_back(s_.samples[flipCorners_[m.from]][m.index]);
+    for (auto m = sampleMoves_.rbegin(); m != sampleMoves_.rend(); ++m) {
+      std::vector<Vec3f>& from = s_.samples[flipCorners_[m->from]];
+      from.erase(from.begin() + m->index);
+    }
+    return true;
+  }
+
   // Whether each sample of v (and, in a collapse, of u: gu, else kNone) is within the
   // tolerance of v's star as it stands (the collapse applied: u's faces are v's).
   bool samplesCovered(std::uint32_t gv, std::uint32_t gu) {
@@ -490,6 +663,49 @@ class RegionSimplifier {
     if (gu != kNone)
       for (const Vec3f& q : s_.samples[gu])
         if (!covered(q)) return false;
+    return true;
+  }
+
+  // A flip's samples: each sample of the quad's four corners within the tolerance of a face
+  // of one of their stars, and if not of its own corner's, handed (sampleMoves_, made when
+  // the flip is) to a corner whose star has such a face, so that every sample stays covered
+  // by the star of the vertex that holds it.
+  bool quadSamplesCovered() {
+    star_.clear();
+    for (std::uint32_t w : flipCorners_)
+      for (std::uint32_t f : around_[local(w)])
+        if (deadFace_[f] == kLive) star_.push_back(f);
+    std::sort(star_.begin(), star_.end());
+    star_.erase(std::unique(star_.begin(), star_.end()), star_.end());
+    const double limit = o_.tolerance * (1 + 1e-9);
+    auto near = [&](const Vec3f& q, std::uint32_t f) {
+      const Triangle& t = faces_[f];
+      return pointTriangleDistance(Vec3d{q[0], q[1], q[2]}, toVec3(s_.pos[t[0]]),
+                                   toVec3(s_.pos[t[1]]), toVec3(s_.pos[t[2]])) <= limit;
+    };
+    sampleMoves_.clear();
+    for (int c = 0; c < 4; ++c) {
+      const std::uint32_t w = flipCorners_[c];
+      const std::vector<Vec3f>& samples = s_.samples[w];
+      for (std::uint32_t i = 0; i < samples.size(); ++i) {
+        bool own = false;
+        for (std::uint32_t f : around_[local(w)])
+          if (deadFace_[f] == kLive && near(samples[i], f)) {
+            own = true;
+            break;
+          }
+        if (own) continue;
+        int to = -1;
+        for (std::uint32_t f : star_) {
+          if (!near(samples[i], f)) continue;
+          for (int k = 0; k < 4 && to < 0; ++k)
+            if (holds(faces_[f], flipCorners_[k])) to = k;
+          break;
+        }
+        if (to < 0) return false;
+        sampleMoves_.push_back({c, i, to});
+      }
+    }
     return true;
   }
 
@@ -696,7 +912,7 @@ class RegionSimplifier {
     }
     // every surface point v now stands for (u's and v's) stays within the tolerance of v's
     // faces as they will be
-    if (!samplesCovered(gv, gu)) return false;
+    if (gv == kNone ? !quadSamplesCovered() : !samplesCovered(gv, gu)) return false;
     // no changed face meets another face (the changed ones among themselves too: the grid
     // still lists them where they were)
     // (only pairs whose boxes meet can intersect: the check tests no others either)
@@ -770,6 +986,13 @@ class RegionSimplifier {
   bool vMoves_ = false;           // the collapse under test moves v
   std::vector<std::uint32_t> star_;
   bool featureMove_ = false;      // ... onto a crease or a corner
+  std::array<std::uint32_t, 4> flipCorners_{};  // the flip under test's quad
+  struct SampleMove {
+    int from;
+    std::uint32_t index;
+    int to;
+  };
+  std::vector<SampleMove> sampleMoves_;  // ... and the samples it hands between its corners
 };
 
 void validate(const SimplifyOptions& o) {
@@ -810,7 +1033,7 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field,
   });
 
   std::vector<Triangle> faces = mesh.triangles;
-  std::size_t collapses = 0;
+  std::size_t collapses = 0, flips = 0;
   double largest = 0.0;
   const double side = o.cell * o.regionCells;
   const double shifts[4] = {0.0, 0.5, 0.25, 0.75};
@@ -874,6 +1097,7 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field,
     for (RegionOutput& r : results) {
       next.insert(next.end(), r.faces.begin(), r.faces.end());
       collapses += r.collapses;
+      flips += r.flips;
       largest = std::max(largest, r.largestDistance);
     }
     faces.swap(next);
@@ -906,6 +1130,7 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field,
     stats->trianglesBefore = mesh.triangles.size();
     stats->trianglesAfter = result.triangles.size();
     stats->collapses = collapses;
+    stats->flips = flips;
     stats->largestDistance = largest;
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }

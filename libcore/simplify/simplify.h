@@ -33,6 +33,11 @@ struct SimplifyOptions {
   double tolerance = 0.0;  // how far the surface may move from F = 0 (absolute, > 0)
   double maxEdge = 0.0;    // the longest edge a collapse may make (0: no bound)
   bool sharpFeatures = true;
+  // With sharp features: after the collapses, edges that turn by over 10 degrees are flipped
+  // where that lowers the turning (length x angle) of the faces round them, so that the long
+  // faces of a simplified crease follow it instead of zig-zagging across (each flip under the
+  // collapses' tests). Off: the collapses alone.
+  bool creaseFlips = true;
   int regionCells = 16;  // region edge, in cells
   int passes = 3;
   // fraction done (0..1), from the calling thread; false cancels (throws Cancelled)
@@ -41,6 +46,7 @@ struct SimplifyOptions {
 
 struct SimplifyStats {
   std::size_t trianglesBefore = 0, trianglesAfter = 0, collapses = 0;
+  std::size_t flips = 0;  // edges flipped to follow a crease
   // The largest distance from F = 0 of a face the simplifier made (estimated at its centre):
   // at most the tolerance, except where the mesher's faces were farther already (a crease
   // the grid cut off), which are only ever made better.
