@@ -276,7 +276,7 @@ TEST(Accuracy, SharpFeaturesBringTheCubesEdgesBack) {
   const AccuracyReport grid = measureAccuracy(mesh, p, o), placed = measureAccuracy(sharp, p, o);
   EXPECT_GT(grid.surfaceToMesh, 0.5 * cell);
   EXPECT_LT(placed.hausdorff, 0.5 * cell) << "grid's " << grid.hausdorff / cell << " cells";
-  // (measured 13.4, 14.2 without crease flips: some crease edges still zigzag by a fraction
+  // (measured 12.5, 14.2 without crease flips: some crease edges still zigzag by a fraction
   // of a cell; the grid's 21.4)
   EXPECT_NEAR(placed.creaseLength, 12.0, 2.5) << "grid's " << grid.creaseLength;
   EXPECT_GT(grid.creaseLength, 18.0);
@@ -410,7 +410,7 @@ TEST(AccuracyAcceptance, TwistWithinHalfACellAtTheIssuesResolutions) {
 
 // Collapses leave the long faces of a simplified crease cutting across it; the crease flips
 // put edges along it instead. The twist at 128 cells and a tenth of a cell: the crease length
-// (exact 19.956) comes at least a fifth nearer (25.0 -> 22.8 when written), and the mesh
+// (exact 19.956) comes at least a fifth nearer (25.0 -> 23.2 when written), and the mesh
 // stays printable and within half a cell of the surface.
 TEST(Simplify, CreaseFlipsStraightenTheTwistsSimplifiedCreases) {
   const Model m = loadModel(std::string(FREP_SOURCE_DIR) + "/examples/twist.json");

@@ -11,7 +11,9 @@
 //   were farther already (creases the grid cut off), gets no farther.
 // Merged vertices are placed by the quadric of the field's tangent planes at the vertices
 // they replace (dual contouring's Hermite data), so creases and corners the grid cut off
-// come back; without sharp features a vertex stays where one of the two already was.
+// come back; without sharp features a vertex stays where one of the two already was. With
+// them, edge flips under the same tests then let the edges of a crease follow it
+// (creaseFlips).
 // Collapses run in parallel in cubic regions: a region changes only the faces whose three
 // vertices lie in it, and keeps moved vertices in it, so regions never meet; the faces
 // crossing regions are frozen in one pass and inner in the next (regions shift between
