@@ -146,9 +146,10 @@ struct RegionInput {
   std::size_t innerCount;
   const std::uint32_t* frozen;  // faces crossing regions whose box meets this region
   std::size_t frozenCount;
-  // Crease flips are made in the last two passes only: made earlier, they leave the gyroid
-  // 1.6 % more triangles and take 10 % longer (its sheets turn everywhere), for a little
-  // straighter creases (the twist at 128 cells: 22.8 against 23.2).
+  // Crease flips are made in the last two passes only: made in all three (and from 10
+  // degrees), they left the gyroid 1.6 % more triangles and took 10 to 13 % longer (its
+  // sheets turn everywhere), for a little straighter creases (the twist at 128 cells: 22.8
+  // against 23.1).
   bool flipPass;
 };
 
@@ -482,7 +483,7 @@ class RegionSimplifier {
   }
 
   // Edge flips that let the mesh's edges follow a crease (data-dependent triangulation, Dyn,
-  // Levin and Rippa's least total turning): where an edge turns by over kFlipTurn, the two
+  // Levin and Rippa's least total turning): where an edge turns by over 20 degrees, the two
   // faces on it, (u, v, a) and (v, u, b), become (v, a, b) and (u, b, a) when that lowers
   // the sum over the quad's five edges of length x the angle their faces turn by. Collapses
   // leave the long faces of a simplified crease cutting across it, zig-zagging (the twist at
