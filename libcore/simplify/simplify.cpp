@@ -937,6 +937,23 @@ class RegionSimplifier {
     // (only pairs whose boxes meet can intersect: the check tests no others either)
     // One search for the whole fan (its faces share most of their cells), then each
     // candidate against each changed face whose box it meets.
+    // Two faces of v's fan cannot meet where the fan is proved embedded (the check's own proof,
+    // check/face_pair_test.h): every changed face is one of them, so then only the faces off
+    // the fan are tested. (A flip changes two faces of no one vertex's fan.)
+    bool fanProved = false;
+    if (gv != kNone) {
+      sectors_.clear();
+      for (std::uint32_t l : {local(gv), gu == kNone ? kNone : local(gu)}) {
+        if (l == kNone) continue;
+        for (std::uint32_t f : around_[l]) {  // (u's faces hold v now)
+          if (deadFace_[f] != kLive) continue;
+          const Triangle& t = faces_[f];
+          const int k = t[0] == gv ? 0 : (t[1] == gv ? 1 : 2);
+          sectors_.emplace_back(t[(k + 1) % 3], t[(k + 2) % 3]);
+        }
+      }
+      fanProved = fanProvedEmbedded(s_.pos, gv, sectors_.data(), sectors_.size());
+    }
     boxes_.resize(changed.size());
     FaceBox all = boxOf(faces_[changed[0]]);
     for (std::size_t i = 0; i < changed.size(); ++i) {
@@ -949,12 +966,12 @@ class RegionSimplifier {
     for (std::uint32_t g : nearby_) {
       if (visit_[g] == visitStamp_) continue;
       const FaceBox& bg = faceBox_[g];
-      if (!all.meets(bg)) continue;
+      if (!all.meets(bg) || (fanProved && holds(faces_[g], gv))) continue;
       for (std::size_t i = 0; i < changed.size(); ++i)
         if (boxes_[i].meets(bg) && facesIntersect(s_.pos, faces_[changed[i]], faces_[g]))
           return false;
     }
-    for (std::size_t i = 0; i < changed.size(); ++i)
+    for (std::size_t i = 0; i < changed.size() && !fanProved; ++i)
       for (std::size_t j = i + 1; j < changed.size(); ++j)
         if (boxes_[i].meets(boxes_[j]) &&
             facesIntersect(s_.pos, faces_[changed[i]], faces_[changed[j]]))
@@ -1004,6 +1021,7 @@ class RegionSimplifier {
   std::vector<FaceBox> faceBox_;  // every face's box as it stands
   bool vMoves_ = false;           // the collapse under test moves v
   std::vector<std::uint32_t> star_;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> sectors_;  // v's fan, for its proof
   bool featureMove_ = false;      // ... onto a crease or a corner
   std::array<std::uint32_t, 4> flipCorners_{};  // the flip under test's quad
   struct SampleMove {
