@@ -410,7 +410,7 @@ TEST(AccuracyAcceptance, TwistWithinHalfACellAtTheIssuesResolutions) {
 
 // Collapses leave the long faces of a simplified crease cutting across it; the crease flips
 // put edges along it instead. The twist at 128 cells and a tenth of a cell: the crease length
-// (exact 19.956) comes at least a fifth nearer (25.0 -> 23.2 when written), and the mesh
+// (exact 19.956) comes at least a fifth nearer (25.0 -> 23.1 when written), and the mesh
 // stays printable and within half a cell of the surface.
 TEST(Simplify, CreaseFlipsStraightenTheTwistsSimplifiedCreases) {
   const Model m = loadModel(std::string(FREP_SOURCE_DIR) + "/examples/twist.json");

@@ -35,7 +35,7 @@ struct SimplifyOptions {
   double tolerance = 0.0;  // how far the surface may move from F = 0 (absolute, > 0)
   double maxEdge = 0.0;    // the longest edge a collapse may make (0: no bound)
   bool sharpFeatures = true;
-  // With sharp features: after the collapses, edges that turn by over 10 degrees are flipped
+  // With sharp features: after the collapses, edges that turn by over 20 degrees are flipped
   // where that lowers the turning (length x angle) of the faces round them, so that the long
   // faces of a simplified crease follow it instead of zig-zagging across (each flip under the
   // collapses' tests). Off: the collapses alone.
