@@ -656,6 +656,21 @@ class RegionSimplifier {
     return true;
   }
 
+  // Whether sample q lies within the tolerance of face f as it stands. Most faces of a star
+  // are far from a given sample: their box, grown by the tolerance (and a millionth of it,
+  // so that no rounding can turn away a face the exact distance would take), rules them out
+  // before the distance is computed.
+  bool sampleNear(const Vec3f& q, std::uint32_t f) const {
+    const Triangle& t = faces_[f];
+    const Vec3f &a = s_.pos[t[0]], &b = s_.pos[t[1]], &c = s_.pos[t[2]];
+    const double limit = o_.tolerance * (1 + 1e-9), reach = o_.tolerance * (1 + 1e-6);
+    for (int k = 0; k < 3; ++k)
+      if (double(q[k]) < double(std::min({a[k], b[k], c[k]})) - reach ||
+          double(q[k]) > double(std::max({a[k], b[k], c[k]})) + reach)
+        return false;
+    return pointTriangleDistance(Vec3d{q[0], q[1], q[2]}, toVec3(a), toVec3(b), toVec3(c)) <= limit;
+  }
+
   // Whether each sample of v (and, in a collapse, of u: gu, else kNone) is within the
   // tolerance of v's star as it stands (the collapse applied: u's faces are v's).
   bool samplesCovered(std::uint32_t gv, std::uint32_t gu) {
@@ -666,15 +681,9 @@ class RegionSimplifier {
     if (gu != kNone)
       for (std::uint32_t f : around_[local(gu)])
         if (deadFace_[f] == kLive) star_.push_back(f);
-    const double limit = o_.tolerance * (1 + 1e-9);
     auto covered = [&](const Vec3f& q) {
-      const Vec3d p{q[0], q[1], q[2]};
-      for (std::uint32_t f : star_) {
-        const Triangle& t = faces_[f];
-        if (pointTriangleDistance(p, toVec3(s_.pos[t[0]]), toVec3(s_.pos[t[1]]),
-                                  toVec3(s_.pos[t[2]])) <= limit)
-          return true;
-      }
+      for (std::uint32_t f : star_)
+        if (sampleNear(q, f)) return true;
       return false;
     };
     for (const Vec3f& q : s_.samples[gv])
@@ -696,12 +705,7 @@ class RegionSimplifier {
         if (deadFace_[f] == kLive) star_.push_back(f);
     std::sort(star_.begin(), star_.end());
     star_.erase(std::unique(star_.begin(), star_.end()), star_.end());
-    const double limit = o_.tolerance * (1 + 1e-9);
-    auto near = [&](const Vec3f& q, std::uint32_t f) {
-      const Triangle& t = faces_[f];
-      return pointTriangleDistance(Vec3d{q[0], q[1], q[2]}, toVec3(s_.pos[t[0]]),
-                                   toVec3(s_.pos[t[1]]), toVec3(s_.pos[t[2]])) <= limit;
-    };
+    auto near = [&](const Vec3f& q, std::uint32_t f) { return sampleNear(q, f); };
     sampleMoves_.clear();
     for (int c = 0; c < 4; ++c) {
       const std::uint32_t w = flipCorners_[c];
