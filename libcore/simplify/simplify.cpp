@@ -943,7 +943,7 @@ class RegionSimplifier {
     // candidate against each changed face whose box it meets.
     // Two faces of v's fan cannot meet where the fan is proved embedded (the check's own proof,
     // check/face_pair_test.h): every changed face is one of them, so then only the faces off
-    // the fan are tested. (A flip changes two faces of no one vertex's fan.)
+    // the fan are tested. (A flip has no such vertex: its faces are tested pair by pair.)
     bool fanProved = false;
     if (gv != kNone) {
       sectors_.clear();
