@@ -549,29 +549,22 @@ class RegionSimplifier {
                                     across(g, b, v)};
     for (std::uint32_t h : outer)
       if (h == kNone) return false;
-    const Vec3 P[4] = {toVec3(s_.pos[u]), toVec3(s_.pos[v]), toVec3(s_.pos[a]), toVec3(s_.pos[b])};
-    auto normal = [](const Vec3& x, const Vec3& y, const Vec3& z) {
-      const Vec3 e = sub(y, x), k = sub(z, x);
-      return Vec3{e[1] * k[2] - e[2] * k[1], e[2] * k[0] - e[0] * k[2], e[0] * k[1] - e[1] * k[0]};
-    };
-    const Vec3 nf = normal(P[0], P[1], P[2]), ng = normal(P[1], P[0], P[3]);    // (u v a), (v u b)
-    const Vec3 nf2 = normal(P[1], P[2], P[3]), ng2 = normal(P[0], P[3], P[2]);  // (v a b), (u b a)
+    const Vec3f &pu = s_.pos[u], &pv = s_.pos[v], &pa = s_.pos[a], &pb = s_.pos[b];
+    const Vec3 nf = triangleCross(pu, pv, pa), ng = triangleCross(pv, pu, pb);    // old pair
+    const Vec3 nf2 = triangleCross(pv, pa, pb), ng2 = triangleCross(pu, pb, pa);  // new pair
     auto angle = [](const Vec3& x, const Vec3& y) {
       const double l = std::sqrt(dot(x, x) * dot(y, y));
       return l > 0.0 ? std::acos(std::clamp(dot(x, y) / l, -1.0, 1.0)) : 3.141592653589793;
     };
-    auto length = [](const Vec3& x, const Vec3& y) {
-      const Vec3 d = sub(x, y);
-      return std::sqrt(dot(d, d));
-    };
+    auto length = [](const Vec3f& x, const Vec3f& y) { return norm(sub(toVec3(x), toVec3(y))); };
     Vec3 nh[4];
     for (int i = 0; i < 4; ++i) nh[i] = faceNormal(s_.pos, faces_[outer[i]]);
-    const double sides[4] = {length(P[1], P[2]), length(P[2], P[0]), length(P[0], P[3]),
-                             length(P[3], P[1])};  // (v a), (a u), (u b), (b v)
-    const double before = length(P[0], P[1]) * angle(nf, ng) + sides[0] * angle(nf, nh[0]) +
+    const double sides[4] = {length(pv, pa), length(pa, pu), length(pu, pb),
+                             length(pb, pv)};  // (v a), (a u), (u b), (b v)
+    const double before = length(pu, pv) * angle(nf, ng) + sides[0] * angle(nf, nh[0]) +
                           sides[1] * angle(nf, nh[1]) + sides[2] * angle(ng, nh[2]) +
                           sides[3] * angle(ng, nh[3]);
-    const double after = length(P[2], P[3]) * angle(nf2, ng2) + sides[0] * angle(nf2, nh[0]) +
+    const double after = length(pa, pb) * angle(nf2, ng2) + sides[0] * angle(nf2, nh[0]) +
                          sides[1] * angle(ng2, nh[1]) + sides[2] * angle(ng2, nh[2]) +
                          sides[3] * angle(nf2, nh[3]);
     if (!(after < before * (1.0 - kFlipGain))) return false;
@@ -705,7 +698,6 @@ class RegionSimplifier {
         if (deadFace_[f] == kLive) star_.push_back(f);
     std::sort(star_.begin(), star_.end());
     star_.erase(std::unique(star_.begin(), star_.end()), star_.end());
-    auto near = [&](const Vec3f& q, std::uint32_t f) { return sampleNear(q, f); };
     sampleMoves_.clear();
     for (int c = 0; c < 4; ++c) {
       const std::uint32_t w = flipCorners_[c];
@@ -713,14 +705,14 @@ class RegionSimplifier {
       for (std::uint32_t i = 0; i < samples.size(); ++i) {
         bool own = false;
         for (std::uint32_t f : around_[local(w)])
-          if (deadFace_[f] == kLive && near(samples[i], f)) {
+          if (deadFace_[f] == kLive && sampleNear(samples[i], f)) {
             own = true;
             break;
           }
         if (own) continue;
         int to = -1;
         for (std::uint32_t f : star_) {
-          if (!near(samples[i], f)) continue;
+          if (!sampleNear(samples[i], f)) continue;
           for (int k = 0; k < 4 && to < 0; ++k)
             if (holds(faces_[f], flipCorners_[k])) to = k;
           break;
