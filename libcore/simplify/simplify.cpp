@@ -873,6 +873,38 @@ class RegionSimplifier {
     return true;
   }
 
+  // Whether faces f and g share a vertex other than `skip` whose fan, as it stands, is proved
+  // embedded (check/face_pair_test.h): then the two are faces of one embedded fan and cannot
+  // intersect. A changed face meets most of its candidates in such a vertex (the link of the
+  // collapse, whose fans hold the changed faces and the faces round them), so one proof per
+  // link vertex stands for most pair tests. Proofs are made when first asked, once per test.
+  bool inProvedFan(const Triangle& f, const Triangle& g, std::uint32_t skip) {
+    for (std::uint32_t w : f) {
+      if (w == skip || !holds(g, w)) continue;
+      if (linkProved(w)) return true;
+    }
+    return false;
+  }
+
+  bool linkProved(std::uint32_t w) {
+    for (const auto& [vertex, proved] : linkProofs_)
+      if (vertex == w) return proved;
+    const std::uint32_t l = local(w);
+    bool proved = false;
+    if (l != kNone) {  // (a vertex outside the region: not all its faces are listed here)
+      sectors_.clear();
+      for (std::uint32_t f : around_[l]) {
+        if (deadFace_[f] != kLive) continue;
+        const Triangle& t = faces_[f];
+        const int k = t[0] == w ? 0 : (t[1] == w ? 1 : 2);
+        sectors_.emplace_back(t[(k + 1) % 3], t[(k + 2) % 3]);
+      }
+      proved = fanProvedEmbedded(s_.pos, w, sectors_.data(), sectors_.size());
+    }
+    linkProofs_.emplace_back(w, proved);
+    return proved;
+  }
+
   // The tests on the applied collapse: shape, turn, distance, and no intersection.
   // `allowed`: how far from F = 0 the changed faces may be (the tolerance, or the worst of
   // the faces they replace where that was worse already: a crease the grid cut off is put
@@ -959,17 +991,20 @@ class RegionSimplifier {
     near(all, nearby_);  // (sets visit_ of every face found to visitStamp_)
     ++visitStamp_;
     for (std::uint32_t f : changed) visit_[f] = visitStamp_;  // the changed ones: below
+    linkProofs_.clear();
     for (std::uint32_t g : nearby_) {
       if (visit_[g] == visitStamp_) continue;
       const FaceBox& bg = faceBox_[g];
       if (!all.meets(bg) || (fanProved && holds(faces_[g], gv))) continue;
       for (std::size_t i = 0; i < changed.size(); ++i)
-        if (boxes_[i].meets(bg) && facesIntersect(s_.pos, faces_[changed[i]], faces_[g]))
+        if (boxes_[i].meets(bg) && !inProvedFan(faces_[changed[i]], faces_[g], gv) &&
+            facesIntersect(s_.pos, faces_[changed[i]], faces_[g]))
           return false;
     }
     for (std::size_t i = 0; i < changed.size() && !fanProved; ++i)
       for (std::size_t j = i + 1; j < changed.size(); ++j)
         if (boxes_[i].meets(boxes_[j]) &&
+            !inProvedFan(faces_[changed[i]], faces_[changed[j]], gv) &&
             facesIntersect(s_.pos, faces_[changed[i]], faces_[changed[j]]))
           return false;
     out.largestDistance = std::max(out.largestDistance, largest);
@@ -1017,7 +1052,8 @@ class RegionSimplifier {
   std::vector<FaceBox> faceBox_;  // every face's box as it stands
   bool vMoves_ = false;           // the collapse under test moves v
   std::vector<std::uint32_t> star_;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> sectors_;  // v's fan, for its proof
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> sectors_;  // a fan, for its proof
+  std::vector<std::pair<std::uint32_t, bool>> linkProofs_;        // the test's fan proofs so far
   bool featureMove_ = false;      // ... onto a crease or a corner
   std::array<std::uint32_t, 4> flipCorners_{};  // the flip under test's quad
   struct SampleMove {
