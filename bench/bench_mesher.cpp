@@ -120,6 +120,38 @@ void BM_SimplifySphere(benchmark::State& s) { simplifyAcross(s, "sphere"); }
 void BM_SimplifyCsg(benchmark::State& s) { simplifyAcross(s, "csg"); }
 void BM_SimplifyHelix(benchmark::State& s) { simplifyAcross(s, "helix"); }
 
+// The search for parts thinner than a cell (MeshingOptions::findThinParts) off and on, the
+// reference models at 256 cells without normals: BM_ThinParts/csg/256/0 against .../1.
+void thinParts(benchmark::State& state, const std::string& name) {
+  auto [program, options] = across(name, state.range(0), false);
+  options.findThinParts = state.range(1) != 0;
+  meshRepeatedly(state, program, options);
+}
+void BM_ThinPartsCsg(benchmark::State& s) {
+  thinParts(s, "csg");
+}
+void BM_ThinPartsHelix(benchmark::State& s) {
+  thinParts(s, "helix");
+}
+void BM_ThinPartsGyroid(benchmark::State& s) {
+  thinParts(s, "gyroid");
+}
+BENCHMARK(BM_ThinPartsCsg)
+    ->Args({256, 0})
+    ->Args({256, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_ThinPartsHelix)
+    ->Args({256, 0})
+    ->Args({256, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_ThinPartsGyroid)
+    ->Args({256, 0})
+    ->Args({256, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
 // Without vertex normals: what an STL export and a workbench preview mesh.
 void BM_AcrossHelixNoNormals(benchmark::State& s) { meshAcross(s, "helix", false); }
 void BM_AcrossCsgNoNormals(benchmark::State& s) { meshAcross(s, "csg", false); }

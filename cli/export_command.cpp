@@ -175,6 +175,24 @@ ExportOptions parseExportOptions(const Args& args) {
   return o;
 }
 
+// Parts of the solid thinner than the cell that the grid passed between with no surface near
+// (docs/mesher.md, "Parts thinner than a cell"): the mesh is printable, but not all of the
+// model. (Crease tips cut short are only in --stats: every crease has them.)
+void printThinParts(const MeshingStats& stats, double cell) {
+  if (stats.thinSolidEdges == 0 && stats.thinGapEdges == 0) return;
+  const Vec3& p = stats.thinExample;
+  if (stats.thinSolidEdges > 0)
+    std::cerr << "frepcad: warning: solid thinner than a cell (" << cell << ") passes between "
+              << "the grid's points at " << stats.thinSolidEdges
+              << " grid edges: the mesh leaves it out there\n";
+  if (stats.thinGapEdges > 0)
+    std::cerr << "frepcad: warning: gaps narrower than a cell (" << cell << ") pass between "
+              << "the grid's points at " << stats.thinGapEdges
+              << " grid edges: the mesh closes them there\n";
+  std::cerr << "  for example at (" << p[0] << ", " << p[1] << ", " << p[2]
+            << "); more cells (--cells or --resolution) keep more of the model\n";
+}
+
 int exportModel(const ExportOptions& opt) {
   const Model model = loadModel(opt.input);
   const Program program = compile(model.root);
@@ -245,6 +263,7 @@ int exportModel(const ExportOptions& opt) {
               << (r.simplify.largestDistance > *opt.tolerance
                       ? "; where the grid had cut a crease off by more, only made better)\n"
                       : ")\n");
+  printThinParts(r.stats, r.box.resolution);
   if (r.simplificationRefused)
     std::cerr << "frepcad: warning: the simplified mesh failed the check (a bug: please "
                  "report it with the model); the unsimplified mesh, which passed, is written\n";
@@ -266,7 +285,10 @@ int exportModel(const ExportOptions& opt) {
               << "                       largest at " << point(a.surfaceToMeshAt) << "\n"
               << "  volume               " << a.volume << "\n"
               << "  crease length        " << a.creaseLength << " (edges whose faces turn by over "
-              << AccuracyOptions().creaseAngleDeg << " degrees)\n";
+              << AccuracyOptions().creaseAngleDeg << " degrees)\n"
+              << "  thinner than a cell  grid edges crossed between two grid points: "
+              << r.stats.thinSolidEdges << " solid, " << r.stats.thinGapEdges
+              << " gaps (no surface near), " << r.stats.tipEdges << " tips\n";
   }
   if (!r.written) {
     std::cerr << "frepcad: refusing to write " << opt.output

@@ -43,6 +43,13 @@ expect 0 "Hausdorff distance   [0-9.e-]+ \([0-9.e-]+ cells\)" -- "$frepcad" expo
 expect 0 "^ +largest at \([-0-9.e]+, [-0-9.e]+, [-0-9.e]+\)$" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/st.stl" --resolution 0.1 --stats
 expect 0 "crease length        [0-9.e-]+" -- "$frepcad" export "$src/examples/csg.json" -o "$work/st.stl" --resolution 0.1 --tolerance 0.01 --stats
 expect 0 "wrote" -- "$frepcad" export "$src/examples/csg.json" -o "$work/ns.stl" --resolution 0.1 --no-sharp
+# a ball and a fin 0.3 cell thick between two layers of grid points: printable, with a warning
+echo '{"root": {"type": "union", "inputs": [{"type": "sphere", "params": {"radius": 0.5}},
+  {"type": "box", "params": {"corner": [-0.015, 0.6, 0.6], "size": [0.03, 0.3, 0.3]}}]},
+  "export": {"bbox": [-1, -1, -1, 1, 1, 1], "resolution": 0.1}}' >"$work/fin.json"
+expect 0 "warning: solid thinner than a cell \(0.1\) passes between the grid's points at 9 grid edges" -- "$frepcad" export "$work/fin.json" -o "$work/fin.stl"
+expect 0 "for example at \([-0-9.e]+, 0.65, 0.65\)" -- "$frepcad" export "$work/fin.json" -o "$work/fin.stl"
+expect 0 "thinner than a cell  grid edges crossed between two grid points: 9 solid, 0 gaps \(no surface near\), 0 tips" -- "$frepcad" export "$work/fin.json" -o "$work/fin.stl" --stats
 expect 0 "wrote" -- "$frepcad" export "$src/examples/csg.json" -o "$work/tetra.stl" --resolution 0.1 --mesher tetra
 # flat vertices dropped by default: printable, fewer triangles than with --keep-flat-vertices,
 # and the same mesh as with --fewer-triangles (the default, still accepted)

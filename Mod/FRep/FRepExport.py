@@ -93,11 +93,13 @@ def export_objects(objects, filename, progress=None, cells=None, fmt="", resolut
 
     def work(tick):
         try:
-            return solid.export(filename, resolution=cell, bbox=box, format=fmt, progress=tick,
-                                force=force, tolerance=tolerance, sharp=sharp, mesher=mesher,
-                                fewer_triangles=fewer)
+            report = solid.export(filename, resolution=cell, bbox=box, format=fmt,
+                                  progress=tick, force=force, tolerance=tolerance, sharp=sharp,
+                                  mesher=mesher, fewer_triangles=fewer)
         except frepcore.Cancelled:
             raise RuntimeError("export of %s cancelled; no file written" % name)
+        FRepMeshing.warn_thin_parts(name, report and report.get("thin_parts"))
+        return report
 
     if progress is not None:
         return work(progress)
@@ -132,6 +134,7 @@ def _export_3mf(objects, filename, progress, cells, resolution, bbox, force, tol
             mesh = solid.node.mesh(box, cell, lambda f, i=i: tick(i * share + f * share), False,
                                    tol, sh, FRepPolygonize.mesher_of(obj) if meshed else "cubes",
                                    FRepPolygonize.fewer_triangles(obj) if meshed else True)
+            FRepMeshing.warn_thin_parts(obj.Label, getattr(mesh, "thin_parts", None))
             meshes.append((obj.Label, mesh))
         doc = objects[0].Document
         report = frepcore.write_3mf(

@@ -70,6 +70,25 @@ def display_box(label, shape, cells, bounds):
     return frepcore.automatic_box(shape, cells=cells, bbox=(lo, hi))
 
 
+def warn_thin_parts(label, thin):
+    """Says in the report view where parts thinner than a cell passed between the grid's
+    points with no surface near (frepcore's Mesh.thin_parts): the mesh is printable, but
+    those parts are missing from it (solid) or closed in it (gaps). Crease tips cut short
+    are not warned of: every crease off the grid has them."""
+    if not thin or not (thin["solid"] or thin["gaps"]):
+        return
+    parts = []
+    if thin["solid"]:
+        parts.append("solid thinner than a cell passes between the grid's points at %d grid "
+                     "edges and is left out" % thin["solid"])
+    if thin["gaps"]:
+        parts.append("gaps narrower than a cell pass between the grid's points at %d grid "
+                     "edges and are closed" % thin["gaps"])
+    FreeCAD.Console.PrintWarning(
+        "%s: %s, for example at (%.4g, %.4g, %.4g); more Cells or a smaller Resolution keep "
+        "more of the model.\n" % ((label, "; ".join(parts)) + tuple(thin["example"])))
+
+
 # A memory file system where there is one: the hand-over file lives for milliseconds, and
 # frepcore syncs what it writes to disk (it is built for exports that must survive a crash).
 _HAND_OVER_DIR = "/dev/shm" if os.access("/dev/shm", os.W_OK) else None

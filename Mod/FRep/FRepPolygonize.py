@@ -84,6 +84,7 @@ class Polygonize(FeatureProxy):
             "Polygonizing %s" % obj.Source.Label,
             lambda progress: _mesh_or_cancel(obj, shape, box, cell, progress))
         obj.Triangles = mesh.triangle_count
+        FRepMeshing.warn_thin_parts(obj.Label, getattr(mesh, "thin_parts", None))
         FRepMeshing.set_mesh(obj, FRepMeshing.to_freecad_mesh(mesh))
 
 

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <future>
 #include <limits>
 #include <mutex>
@@ -20,6 +21,7 @@
 #include "mesh/crease_flips.h"
 #include "mesh/cube_loops.h"
 #include "mesh/flat_vertex_removal.h"
+#include "mesh/hidden_parts.h"
 #include "mesh/kuhn_tetrahedra.h"
 
 namespace frep {
@@ -160,6 +162,14 @@ struct BrickResult {
   std::vector<Vec3f> normals;            // when asked for; NaN for the vertices other bricks own
   std::vector<Triangle> triangles;       // local vertex ids
   std::vector<std::uint32_t> flippable;  // triangles crease flips may pair (local indices)
+  // Grid edges this brick owns that a part thinner than a cell crosses between two grid points
+  // of the other side (hidden_parts.h): seen nowhere near (solid, gaps), or beside the surface
+  // the mesh draws (tips); and an example, the first (by key: grid point x 3 + axis) of the
+  // first kind where there is one, so that it is the same whatever the bricks.
+  std::size_t thinSolid = 0, thinGaps = 0, tips = 0;
+  bool exampleUnseen = false;
+  std::uint64_t exampleKey = std::numeric_limits<std::uint64_t>::max();
+  Vec3 example = {0, 0, 0};
 };
 
 struct Scratch {
@@ -198,6 +208,15 @@ struct Scratch {
   std::vector<std::uint32_t> regionIndex;
   FlatVertexRemoval plan;
   std::vector<std::uint8_t> dropped;
+  // parts thinner than a cell: tent candidates (point id x 3 + axis) and where on the edge,
+  // the points beside them this brick does not hold (evaluated with the whole field), and
+  // the points on the edges evaluated to prove them
+  std::vector<std::uint32_t> tentEdge;
+  std::vector<double> tentBefore, tentAfter;
+  std::vector<double> lx, ly, lz, lf;
+  std::vector<std::uint32_t> lazyOf;  // per such point: candidate index x 2 + (0 before, 1 after)
+  std::vector<double> tentFlags, tentPassBefore, tentPassAfter;  // one row's sieve
+  std::vector<std::uint8_t> rowEvaluated;
 };
 
 // The float32 vertex at parameter t along root-finding edge e.
@@ -254,8 +273,9 @@ class BrickMesher {
     // 1. Field at the grid points of the brick. Sub-blocks of kSubCells^3 cells that
     // intervals prove uniform need no values: none of their cells is crossed, and every
     // crossed edge lies in a cell of an unproven sub-block, whose corners are all evaluated.
-    // Their other points get a stand-in of the proven sign, read only by the cell masks, so
-    // the mesh is the same as with every point evaluated.
+    // Their other points get a stand-in of the proven sign, an infinity, read only by the
+    // cell masks and the sieve for thin parts (sieveTentRow), so the mesh is the same as with
+    // every point evaluated.
     s.f.resize(count);
     s.need.assign(count, 0);
     s.standIn.assign(count, 0);
@@ -305,8 +325,9 @@ class BrickMesher {
       for (std::int64_t j = 0; j < n[1]; ++j)
         for (std::int64_t i = 0; i < n[0]; ++i, ++id)
           s.f[id] = s.need[id] ? combine(qf[q++], g_.boxField(cx[i], cy[j], cz[k]))
-                               : static_cast<double>(s.standIn[id]);
-    const std::size_t evaluated = qx.size();
+                               : s.standIn[id] * std::numeric_limits<double>::infinity();
+    const std::size_t evaluated =
+        qx.size() + (opt_.findThinParts ? findThinParts(field, whole, r, n, s, out) : 0);
 
     // 2. The crossed cubes. With the cube extraction a cube whose surface meets its faces in
     // one loop is capped by a fan over that loop (after the roots are known); any other
@@ -511,6 +532,208 @@ class BrickMesher {
   }
 
  private:
+  // Parts thinner than a cell (mesh/hidden_parts.h): along every grid line, each edge whose
+  // two points are evaluated and share a side, where the values at the points beside it make
+  // a tent that crosses zero, gets the field evaluated where the tent's lines meet; a point
+  // of the other side there proves a hidden part. Edges of a proven sub-block need no test:
+  // its intervals hold for every point of its box. Counts the edges this brick owns; returns
+  // the evaluations made.
+  std::size_t findThinParts(const Field& field, const Field& whole, const CellRange& r,
+                            const std::int64_t n[3], Scratch& s, BrickResult& out) const {
+    out.thinSolid = out.thinGaps = out.tips = 0;
+    out.exampleUnseen = false;
+    out.exampleKey = std::numeric_limits<std::uint64_t>::max();
+    siftTents(r, n, s);
+    if (s.tentEdge.empty()) return 0;
+    std::size_t evaluations = s.lx.size();
+    if (!s.lx.empty()) {  // the points beside the candidates that the brick does not hold
+      s.lf.resize(s.lx.size());
+      whole.evalBatch(s.lx.data(), s.ly.data(), s.lz.data(), s.lx.size(), s.lf.data());
+      for (std::size_t i = 0; i < s.lx.size(); ++i) {
+        const double v = combine(s.lf[i], g_.boxField(s.lx[i], s.ly[i], s.lz[i]));
+        (s.lazyOf[i] % 2 ? s.tentAfter : s.tentBefore)[s.lazyOf[i] / 2] = v;
+      }
+    }
+    // the tents, and the points where their lines meet, evaluated in one batch
+    const std::int64_t stride[3] = {1, n[0], n[0] * n[1]};
+    const double* f = s.f.data();
+    for (auto* v : {&s.lx, &s.ly, &s.lz}) v->clear();
+    s.lazyOf.clear();
+    for (std::size_t c = 0; c < s.tentEdge.size(); ++c) {
+      const std::uint32_t id = s.tentEdge[c] / 3;
+      const int a = static_cast<int>(s.tentEdge[c] % 3);
+      double t;
+      if (!tentCrossesZero(s.tentBefore[c], f[id], f[id + stride[a]], s.tentAfter[c], &t)) continue;
+      const std::int64_t l[3] = {id % n[0], (id / n[0]) % n[1], id / (n[0] * n[1])};
+      Vec3 p;
+      for (int b = 0; b < 3; ++b) p[b] = g_.coord(b, r.lo[b] + l[b]);
+      p[a] += t * (g_.coord(a, r.lo[a] + l[a] + 1) - p[a]);
+      s.lx.push_back(p[0]);
+      s.ly.push_back(p[1]);
+      s.lz.push_back(p[2]);
+      s.lazyOf.push_back(static_cast<std::uint32_t>(c));
+    }
+    if (s.lx.empty()) return evaluations;
+    evaluations += s.lx.size();
+    s.lf.resize(s.lx.size());
+    field.evalBatch(s.lx.data(), s.ly.data(), s.lz.data(), s.lx.size(), s.lf.data());
+    for (std::size_t i = 0; i < s.lx.size(); ++i) {
+      const std::uint32_t edge = s.tentEdge[s.lazyOf[i]], id = edge / 3;
+      const int a = static_cast<int>(edge % 3);
+      const bool inside = isInside(f[id]);
+      if (isInside(combine(s.lf[i], g_.boxField(s.lx[i], s.ly[i], s.lz[i]))) == inside) continue;
+      const std::int64_t l[3] = {id % n[0], (id / n[0]) % n[1], id / (n[0] * n[1])};
+      bool mine = true;  // (the edge's owner: as for its vertex, the brick of its lower point)
+      for (int b = 0; b < 3; ++b)
+        mine = mine && (r.lo[b] + l[b] < r.hi[b] || r.hi[b] == g_.points[b] - 1);
+      if (!mine) continue;
+      const bool unseen = seenNowhereNear(whole, r, n, l, a, inside, s, &evaluations);
+      if (unseen)
+        ++(inside ? out.thinGaps : out.thinSolid);
+      else
+        ++out.tips;
+      const std::uint64_t key = g_.linear(r.lo[0] + l[0], r.lo[1] + l[1], r.lo[2] + l[2]) * 3 +
+                                static_cast<std::uint64_t>(a);
+      // the example: of a part seen nowhere near where there is one
+      if (unseen > out.exampleUnseen || (unseen == out.exampleUnseen && key < out.exampleKey)) {
+        out.exampleUnseen = unseen;
+        out.exampleKey = key;
+        out.example = {s.lx[i], s.ly[i], s.lz[i]};
+      }
+    }
+    return evaluations;
+  }
+
+  // The candidates for findThinParts (s.tentEdge, with the values beside each edge, NaN where
+  // the brick does not hold the point, which is then queued in s.lx/ly/lz for the whole field:
+  // beyond the brick's faces, or in a sub-block proven uniform). Every row is sifted in bulk
+  // first (sieveTentRow); a neighbour the brick does not hold passes the sieve, and is queued
+  // only where the other side's line could make a tent crossing zero within the edge.
+  void siftTents(const CellRange& r, const std::int64_t n[3], Scratch& s) const {
+    s.tentEdge.clear();
+    s.tentBefore.clear();
+    s.tentAfter.clear();
+    for (auto* v : {&s.lx, &s.ly, &s.lz}) v->clear();
+    s.lazyOf.clear();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double inf = std::numeric_limits<double>::infinity();
+    const std::int64_t stride[3] = {1, n[0], n[0] * n[1]};
+    const double* f = s.f.data();
+    const char* need = s.need.data();
+    auto queue = [&](const std::int64_t l[3], int a, std::int64_t step, std::uint32_t slot) {
+      std::int64_t q[3] = {r.lo[0] + l[0], r.lo[1] + l[1], r.lo[2] + l[2]};
+      q[a] += step;
+      s.lx.push_back(g_.coord(0, q[0]));
+      s.ly.push_back(g_.coord(1, q[1]));
+      s.lz.push_back(g_.coord(2, q[2]));
+      s.lazyOf.push_back(slot);
+    };
+    auto consider = [&](const std::int64_t l[3], int a) {
+      const std::int64_t d = stride[a];
+      const std::int64_t id = l[0] + n[0] * (l[1] + n[1] * l[2]);
+      const std::int64_t globalLow = r.lo[a] + l[a];
+      if (globalLow < 1 || globalLow + 2 >= g_.points[a]) return;  // the outer layer
+      const bool heldBefore = l[a] >= 1 && need[id - d];
+      const bool heldAfter = l[a] + 2 < n[a] && need[id + 2 * d];
+      const double before = heldBefore ? f[id - d] : nan, after = heldAfter ? f[id + 2 * d] : nan;
+      if (heldBefore && !heldAfter && !sideCrossesZero(f[id], before)) return;
+      if (heldAfter && !heldBefore && !sideCrossesZero(f[id + d], after)) return;
+      const std::uint32_t c = static_cast<std::uint32_t>(s.tentEdge.size());
+      s.tentEdge.push_back(static_cast<std::uint32_t>(id) * 3 + static_cast<std::uint32_t>(a));
+      s.tentBefore.push_back(before);
+      s.tentAfter.push_back(after);
+      if (!heldBefore) queue(l, a, -1, c * 2);
+      if (!heldAfter) queue(l, a, 2, c * 2 + 1);
+    };
+    std::vector<double>& flags = s.tentFlags;
+    std::vector<double>& passBefore = s.tentPassBefore;
+    std::vector<double>& passAfter = s.tentPassAfter;
+    flags.resize(static_cast<std::size_t>(n[0]));
+    passBefore.resize(static_cast<std::size_t>(n[0]));
+    passAfter.resize(static_cast<std::size_t>(n[0]));
+    // per row along x: whether it holds an evaluated point (an edge needs two; the rows of a
+    // proven sub-block hold none)
+    std::vector<std::uint8_t>& rowEvaluated = s.rowEvaluated;
+    rowEvaluated.resize(static_cast<std::size_t>(n[1] * n[2]));
+    for (std::int64_t q = 0; q < n[1] * n[2]; ++q)
+      rowEvaluated[q] = std::memchr(need + q * n[0], 1, static_cast<std::size_t>(n[0])) != nullptr;
+    for (int a = 0; a < 3; ++a) {
+      const std::int64_t d = stride[a];
+      std::int64_t l[3] = {0, 0, 0};
+      for (l[2] = 0; l[2] < n[2]; ++l[2])
+        for (l[1] = 0; l[1] < n[1]; ++l[1]) {
+          if (a > 0 && l[a] + 1 >= n[a]) continue;  // no edge along a from this row
+          const std::int64_t rowIndex = l[1] + n[1] * l[2], row = n[0] * rowIndex;
+          const double* here = f + row;
+          if (!rowEvaluated[rowIndex]) continue;
+          if (a == 0) {
+            // along the row: its inner edges in bulk, the first and last one by one
+            if (sieveTentRow(here, here + 1, here + 2, here + 3, n[0] - 3, flags.data()))
+              for (std::int64_t i = 0; i + 3 < n[0]; ++i)
+                if (flags[i] != 0.0) {
+                  l[0] = i + 1;
+                  consider(l, a);
+                }
+            for (std::int64_t i : {std::int64_t(0), n[0] - 2}) {
+              l[0] = i;
+              if (need[row + i] && need[row + i + 1] && isInside(here[i]) == isInside(here[i + 1]))
+                consider(l, a);
+            }
+            continue;
+          }
+          if (!rowEvaluated[rowIndex + (a == 1 ? 1 : n[1])]) continue;
+          // across rows: a neighbour layer beyond the brick's face is not held; a value of
+          // the ends' side at infinity lets the sieve pass it, to be queued if need be
+          const double* before = here - d;
+          const double* after = here + 2 * d;
+          if (l[a] < 1) {
+            for (std::int64_t i = 0; i < n[0]; ++i) passBefore[i] = here[i] < 0.0 ? -inf : inf;
+            before = passBefore.data();
+          }
+          if (l[a] + 2 >= n[a]) {
+            for (std::int64_t i = 0; i < n[0]; ++i) passAfter[i] = here[i + d] < 0.0 ? -inf : inf;
+            after = passAfter.data();
+          }
+          if (!sieveTentRow(before, here, here + d, after, n[0], flags.data())) continue;
+          for (std::int64_t i = 0; i < n[0]; ++i)
+            if (flags[i] != 0.0) {
+              l[0] = i;
+              consider(l, a);
+            }
+        }
+    }
+  }
+
+  // Whether the edge from local point l along axis a (its ends on the side `inside`) has all
+  // eighteen points of its four cubes on that side: then no surface the mesh draws comes
+  // within a cell of the hidden part it crosses. Points beyond the brick: the whole field.
+  bool seenNowhereNear(const Field& whole, const CellRange& r, const std::int64_t n[3],
+                       const std::int64_t l[3], int a, bool inside, const Scratch& s,
+                       std::size_t* evaluations) const {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    for (int k = 0; k < 18; ++k) {
+      std::int64_t q[3] = {l[0], l[1], l[2]};
+      q[a] += k % 2;
+      q[b] += (k / 2) % 3 - 1;
+      q[c] += k / 6 - 1;
+      bool held = true;
+      for (int e = 0; e < 3; ++e) held = held && q[e] >= 0 && q[e] < n[e];
+      double v;
+      if (held) {
+        v = s.f[static_cast<std::size_t>(q[0] + n[0] * (q[1] + n[1] * q[2]))];
+      } else {
+        std::int64_t gq[3];
+        for (int e = 0; e < 3; ++e) gq[e] = r.lo[e] + q[e];
+        if (gq[b] < 0 || gq[c] < 0 || gq[b] >= g_.points[b] || gq[c] >= g_.points[c]) continue;
+        const double x = g_.coord(0, gq[0]), y = g_.coord(1, gq[1]), z = g_.coord(2, gq[2]);
+        v = combine(whole.eval(x, y, z), g_.boxField(x, y, z));
+        ++*evaluations;
+      }
+      if (isInside(v) != inside) return false;
+    }
+    return true;
+  }
+
   // The centre of face f (2a + s) of the cube whose lowest grid point is g: computed from the
   // face's own grid lines, so the two cubes sharing it compute the same point.
   Vec3 faceCentre(const std::int64_t g[3], int f) const {
@@ -1543,6 +1766,25 @@ std::size_t meshBricks(const Field& field, const Grid& g, const MeshingOptions& 
   return evaluated;
 }
 
+// The bricks' parts thinner than a cell, summed into the stats (before the weld frees them).
+void countThinParts(const std::vector<BrickResult>& results, MeshingStats* stats) {
+  if (!stats) return;
+  bool unseen = false;
+  std::uint64_t first = std::numeric_limits<std::uint64_t>::max();
+  stats->thinSolidEdges = stats->thinGapEdges = stats->tipEdges = 0;
+  for (const BrickResult& b : results) {
+    stats->thinSolidEdges += b.thinSolid;
+    stats->thinGapEdges += b.thinGaps;
+    stats->tipEdges += b.tips;
+    if (b.exampleKey != std::numeric_limits<std::uint64_t>::max() &&
+        (b.exampleUnseen > unseen || (b.exampleUnseen == unseen && b.exampleKey < first))) {
+      unseen = b.exampleUnseen;
+      first = b.exampleKey;
+      stats->thinExample = b.example;
+    }
+  }
+}
+
 // A brick job's bricks welded by key (each key once, sorted), positions from any brick that
 // made the vertex (all make it bit-identically); the fan triangles crease flips may pair.
 MeshPiece weldPiece(std::vector<BrickResult>& results, std::vector<std::uint32_t>* flippable) {
@@ -1590,6 +1832,7 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
 
   std::vector<BrickResult> results;
   const std::size_t evaluated = meshBricks(field, g, opt, bricks, results);
+  countThinParts(results, stats);
   bool bySorting = false;
   std::vector<std::uint32_t> flippable;
   TriangleMesh mesh = weld(g, bc, b1, bricks, results, opt.normals, &bySorting, &flippable);
@@ -1631,6 +1874,7 @@ MeshPiece polygonizePiece(const Field& field, const MeshingOptions& opt,
   withoutNormals.normals = false;  // a piece carries positions only (STL and 3MF need no more)
   std::vector<BrickResult> results;
   const std::size_t evaluated = meshBricks(field, g, withoutNormals, bricks, results);
+  countThinParts(results, stats);
   std::vector<std::uint32_t> flippable;
   MeshPiece piece = weldPiece(results, &flippable);
   for (int a = 0; a < 3; ++a) {

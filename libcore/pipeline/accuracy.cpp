@@ -153,6 +153,7 @@ AccuracyReport measureAccuracy(const TriangleMesh& mesh, const Field& field,
   fine.resolution = o.cell / o.sampleRefinement;
   fine.normals = false;
   fine.flatVertices = false;  // (every vertex a sample)
+  fine.findThinParts = false;
   const TriangleMesh samples = polygonize(field, fine);
   const TriangleGrid fineGrid(samples, o.cell);
 

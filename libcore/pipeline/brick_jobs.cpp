@@ -29,6 +29,8 @@ MeshingOptions brickMeshingOptions(const BrickJobPlan& plan) {
   o.extraction = plan.extraction;
   o.flatVertices = plan.flatVertices;
   o.normals = false;
+  // (a piece carries no stats: brick jobs do not report thin parts yet)
+  o.findThinParts = false;
   return o;
 }
 

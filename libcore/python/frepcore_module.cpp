@@ -323,6 +323,16 @@ py::object fromJson(const std::string& text) {
 
 // The export's report dict: the check's report (with 'text'), or printable None when there
 // was no check; 'written', 'triangles', 'box', 'resolution', 'seconds' per stage.
+// Parts thinner than a cell the grid passed between (MeshingStats): grid edges of each kind.
+py::dict thinPartsDict(const MeshingStats& s) {
+  py::dict d;
+  d["solid"] = s.thinSolidEdges;
+  d["gaps"] = s.thinGapEdges;
+  d["tips"] = s.tipEdges;
+  d["example"] = py::make_tuple(s.thinExample[0], s.thinExample[1], s.thinExample[2]);
+  return d;
+}
+
 py::dict exportResultDict(const ExportResult& result, const std::string& path) {
   py::dict d;
   if (result.checked) {
@@ -334,6 +344,7 @@ py::dict exportResultDict(const ExportResult& result, const std::string& path) {
   }
   d["written"] = result.written;
   d["triangles"] = result.triangles;
+  d["thin_parts"] = thinPartsDict(result.stats);
   d["checked_in_parts"] = result.checkedInParts;
   d["box"] = fromBox(result.box.box);
   d["resolution"] = result.box.resolution;
@@ -644,16 +655,19 @@ PYBIND11_MODULE(_frepcore, m) {
             }
             n.compiled();
             std::shared_ptr<const Program> program = n.program;
-            return runWithProgress<TriangleMesh>(
-                [program, o, so, simplify](std::function<bool(double)> tick) mutable {
+            auto stats = std::make_shared<MeshingStats>();
+            py::object mesh = py::cast(runWithProgress<TriangleMesh>(
+                [program, o, so, simplify, stats](std::function<bool(double)> tick) mutable {
                   // with a simplification: meshing the first half of the bar, it the second
                   o.progress = [tick, simplify](double f) { return tick(simplify ? f / 2 : f); };
-                  TriangleMesh mesh = polygonize(*program, o);
+                  TriangleMesh mesh = polygonize(*program, o, stats.get());
                   if (!simplify) return mesh;
                   so.progress = [tick](double f) { return tick(0.5 + f / 2); };
                   return simplifyMesh(mesh, *program, so);
                 },
-                progress);
+                progress));
+            mesh.attr("thin_parts") = thinPartsDict(*stats);
+            return mesh;
           },
           py::arg("bbox"), py::arg("resolution"), py::arg("progress") = py::none(),
           py::arg("normals") = false, py::arg("tolerance") = py::none(), py::arg("sharp") = true,
@@ -666,7 +680,10 @@ PYBIND11_MODULE(_frepcore, m) {
           "mesh is then simplified within it of the surface (creases and corners placed "
           "unless sharp=False). progress(fraction) is called on this thread; returning False "
           "cancels "
-          "(raises Cancelled).")
+          "(raises Cancelled). The mesh's thin_parts says where parts thinner than a cell "
+          "passed between the grid's points: {'solid': grid edges of solid left out, 'gaps': "
+          "of gaps closed (both with no surface near), 'tips': of crease tips cut short, "
+          "'example': a point on one}.")
       .def(
           "to_vdb",
           [](PyNode& n, const std::string& path, py::object bbox, double voxel, double halfWidth,
@@ -769,7 +786,8 @@ PYBIND11_MODULE(_frepcore, m) {
       "OpenVDB's volumeToMesh of a grid of a .vdb file (the first float or double grid when "
       "`grid` is empty), outward-oriented; judge it with Mesh.check() before printing.");
 
-  py::class_<TriangleMesh>(m, "Mesh", "An indexed triangle mesh (float coordinates).")
+  py::class_<TriangleMesh>(m, "Mesh", py::dynamic_attr(),
+                           "An indexed triangle mesh (float coordinates).")
       .def(py::init([](const std::vector<Vec3f>& points, const std::vector<Triangle>& triangles) {
              TriangleMesh t;
              t.positions = points;

@@ -130,6 +130,7 @@ TriangleMesh rebuildThroughLevelSet(const TriangleMesh& closed, double voxel,
   mo.bbox = box;
   mo.resolution = voxel;
   mo.normals = false;
+  mo.findThinParts = false;
   mo.progress = [&](double f) { return !progress || progress(0.5 + 0.3 * f); };
   const TriangleMesh fine = polygonize(*field, mo);
   // The mesher's triangles are a few per voxel wherever the surface goes; guarded collapses

@@ -124,6 +124,28 @@ def test_unbounded_result_previews_but_cannot_be_polygonized(doc, tmp_path):
     assert not os.path.exists(out)
 
 
+def test_polygonize_warns_of_parts_thinner_than_a_cell(doc, monkeypatch):
+    # a fin 0.3 cell thick between two layers of grid points (20 cells across [-1, 1] mm)
+    fin = F.make("box", doc, name="Fin", size=(0.03, 0.3, 0.3), corner=(-0.015, 0.6, 0.6))
+    part = F.make("union", doc, name="Part", inputs=[F.make("sphere", doc, radius=0.5), fin])
+    p = FRepPolygonize.make(part, doc, name="Mesh", AutoBounds=False, Cells=20,
+                            BoundsMin=FreeCAD.Vector(-1, -1, -1),
+                            BoundsMax=FreeCAD.Vector(1, 1, 1))
+    said = []
+    monkeypatch.setattr(FreeCAD.Console, "PrintWarning", said.append)
+    doc.recompute()
+    assert p.isValid() and p.Triangles > 0
+    thin = [w for w in said if "thinner than a cell" in w]
+    assert len(thin) == 1 and thin[0].startswith("Mesh: solid thinner than a cell passes "
+                                                 "between the grid's points at 9 grid edges")
+    assert ", 0.65, 0.65)" in thin[0]
+    # a part with nothing thin says nothing
+    said.clear()
+    fin.Size = FreeCAD.Vector(0.3, 0.3, 0.3)
+    doc.recompute()
+    assert not [w for w in said if "thinner than a cell" in w]
+
+
 def test_polygonize_and_export_checked(doc, tmp_path):
     part = FRepExamples.build_csg(doc)
     p = FRepPolygonize.make(part, doc, Cells=64)

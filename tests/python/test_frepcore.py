@@ -68,6 +68,19 @@ def test_bounds_and_mesh_volume():
         (fc.sphere(1) & fc.sphere(1, (3, 0, 0))).mesh()
 
 
+def test_a_mesh_says_where_parts_thinner_than_a_cell_were_passed_over(tmp_path):
+    # a fin 0.3 cell thick between two layers of grid points (x = -0.05 and 0.05)
+    fin = fc.sphere(0.5) | fc.box((0.03, 0.3, 0.3), corner=(-0.015, 0.6, 0.6))
+    box = ((-1, -1, -1), (1, 1, 1))
+    thin = fin.mesh(0.1, bbox=box).thin_parts
+    assert (thin["solid"], thin["gaps"], thin["tips"]) == (9, 0, 0)
+    assert thin["example"][1:] == pytest.approx((0.65, 0.65))
+    assert abs(thin["example"][0]) <= 0.015
+    assert fc.sphere(0.5).mesh(0.1, bbox=box).thin_parts["solid"] == 0
+    report = fin.export(str(tmp_path / "fin.stl"), 0.1, bbox=box)
+    assert report["thin_parts"]["solid"] == 9
+
+
 def test_a_preview_too_large_for_the_memory_is_refused_with_the_figures():
     # a unit sphere at 1e-4: about 6e10 triangles, refused before any allocation
     with pytest.raises(ValueError, match=r"million triangles.*GB.*use a cell size of at least"):

@@ -123,7 +123,10 @@ class Shape:
         corners get vertices unless sharp=False; mesher='tetra' is the marching-tetrahedra
         mesher of before 0.3 (three times the triangles); the vertices where the surface is
         flat within a fiftieth of a cell are dropped unless fewer_triangles=False. With a
-        tolerance the mesh is simplified, kept within it of the surface."""
+        tolerance the mesh is simplified, kept within it of the surface. The mesh's
+        thin_parts dict counts the grid edges where parts thinner than a cell passed between
+        the grid's points: 'solid' left out and 'gaps' closed with no surface near, 'tips' of
+        creases cut short; 'example' is a point on one."""
         box, cell = automatic_box(self, resolution=resolution, bbox=bbox, cells=cells)
         return self.node.mesh(box, cell, progress, normals, tolerance, sharp, mesher,
                               fewer_triangles)
@@ -132,7 +135,8 @@ class Shape:
                progress=None, force=False, tolerance=None, sharp=True, mesher="cubes",
                fewer_triangles=True):
         """Meshes, checks with CGAL and writes path atomically (libcore's export pipeline,
-        the same as `frepcad export`); returns the check report (a dict with 'text').
+        the same as `frepcad export`); returns the check report (a dict with 'text', and
+        'thin_parts' as in mesh()).
         Creases and corners get vertices unless sharp=False; mesher='tetra' meshes by
         marching tetrahedra (`--mesher tetra`); the vertices where the surface is flat within a
         fiftieth of a cell are dropped unless fewer_triangles=False (`--keep-flat-vertices`).
