@@ -44,7 +44,7 @@ struct MeshingOptions {
   // (docs/performance.md). Needs an even brickCells.
   bool flatVertices = true;
   // Look for parts thinner than a cell that pass between the grid's points (MeshingStats's
-  // thin parts; docs/mesher.md): the mesh is the same either way, and looking costs 2 to 7 %
+  // thin parts; docs/mesher.md): the mesh is the same either way, and looking costs 4 to 9 %
   // of the meshing time (docs/performance.md).
   bool findThinParts = true;
   double resolution = 0.05;  // target cell size; the grid fits the box exactly (cells <= this)
