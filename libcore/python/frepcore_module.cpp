@@ -321,8 +321,6 @@ py::object fromJson(const std::string& text) {
   return py::module_::import("json").attr("loads")(text);
 }
 
-// The export's report dict: the check's report (with 'text'), or printable None when there
-// was no check; 'written', 'triangles', 'box', 'resolution', 'seconds' per stage.
 // Parts thinner than a cell the grid passed between (MeshingStats): grid edges of each kind.
 py::dict thinPartsDict(const MeshingStats& s) {
   py::dict d;
@@ -333,6 +331,8 @@ py::dict thinPartsDict(const MeshingStats& s) {
   return d;
 }
 
+// The export's report dict: the check's report (with 'text'), or printable None when there
+// was no check; 'written', 'triangles', 'thin_parts', 'box', 'resolution', 'seconds' per stage.
 py::dict exportResultDict(const ExportResult& result, const std::string& path) {
   py::dict d;
   if (result.checked) {
