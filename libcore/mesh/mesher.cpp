@@ -23,6 +23,8 @@
 #include "mesh/flat_vertex_removal.h"
 #include "mesh/hidden_parts.h"
 #include "mesh/kuhn_tetrahedra.h"
+#include "mesh/local_refinement.h"
+#include "mesh/sampling_grid.h"
 
 namespace frep {
 
@@ -74,42 +76,6 @@ constexpr double kReachAtLeast = 0.1;
 // triangle is thinner than this triangleQuality (an equilateral one has 0.29).
 constexpr double kFlatDeviation = 0.02;
 constexpr double kFlatQuality = 0.02;
-
-// The sampling grid. Grid point j on an axis sits at lo + (j - 0.5) h, j = 0 .. n + 1: points 0
-// and n + 1 lie half a cell outside the box, so the surface closes there (box caps).
-struct Grid {
-  Vec3 lo, hi;
-  double h[3];
-  std::int64_t points[3];  // grid points per axis (n + 2)
-
-  double coord(int axis, std::int64_t j) const {
-    return lo[axis] + (static_cast<double>(j) - 0.5) * h[axis];
-  }
-  // Halfway between grid points j and j + 1: a cube's or a face's centre on that axis, the
-  // same wherever it is computed (the value evaluated there and the edges from there agree).
-  double mid(int axis, std::int64_t j) const { return 0.5 * (coord(axis, j) + coord(axis, j + 1)); }
-  std::uint64_t linear(std::int64_t i, std::int64_t j, std::int64_t k) const {
-    return static_cast<std::uint64_t>(i + points[0] * (j + points[1] * k));
-  }
-  // The key of the vertex on the edge from the centre of the cube whose lowest grid point is
-  // (i, j, k) to its corner c: after the keys of every grid edge (point x 7 + direction).
-  std::uint64_t centreEdgeKey(std::int64_t i, std::int64_t j, std::int64_t k, int c) const {
-    const std::uint64_t edges = static_cast<std::uint64_t>(points[0] * points[1] * points[2]) * 7;
-    return edges + linear(i, j, k) * 8 + static_cast<std::uint64_t>(c);
-  }
-  // The box as a field: positive inside, intersected (min) with the model's field.
-  double boxField(double x, double y, double z) const {
-    const double dx = std::min(x - lo[0], hi[0] - x), dy = std::min(y - lo[1], hi[1] - y),
-                 dz = std::min(z - lo[2], hi[2] - z);
-    return std::min(dx, std::min(dy, dz));
-  }
-  Interval boxField(const Interval& x, const Interval& y, const Interval& z) const {
-    const Interval dx = min(x - Interval(lo[0]), Interval(hi[0]) - x);
-    const Interval dy = min(y - Interval(lo[1]), Interval(hi[1]) - y);
-    const Interval dz = min(z - Interval(lo[2]), Interval(hi[2]) - z);
-    return min(dx, min(dy, dz));
-  }
-};
 
 // min(F, B) that keeps a NaN from F (NaN counts as outside).
 inline double combine(double f, double b) {
@@ -170,6 +136,7 @@ struct BrickResult {
   bool exampleUnseen = false;
   std::uint64_t exampleKey = std::numeric_limits<std::uint64_t>::max();
   Vec3 example = {0, 0, 0};
+  std::vector<std::uint64_t> hiddenEdges;  // those of the first kind, by key (for refinement)
 };
 
 struct Scratch {
@@ -223,19 +190,6 @@ struct Scratch {
 Vec3f vertexAt(const Scratch& s, std::size_t e, double t) {
   return {static_cast<float>(s.px[e] + t * s.dx[e]), static_cast<float>(s.py[e] + t * s.dy[e]),
           static_cast<float>(s.pz[e] + t * s.dz[e])};
-}
-
-// The unit normal at a vertex from the field's value and gradient there: minus the gradient
-// of the box-capped field (the field grows inward), so the box face on a box cap.
-Vec3f vertexNormal(const Dual& d, const Grid& g, const Vec3f& p) {
-  const Dual c = cappedByBox(d, Box3{g.lo, g.hi}, Vec3{p[0], p[1], p[2]});
-  double n[3] = {-d.d[0], -d.d[1], -d.d[2]};
-  if (c.v < d.v)  // a cap: the face's outward normal (+0 across it, as files have always had)
-    for (int a = 0; a < 3; ++a) n[a] = c.d[a] != 0.0 ? -c.d[a] : 0.0;
-  const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  return len > 0 && std::isfinite(len)
-             ? Vec3f{float(n[0] / len), float(n[1] / len), float(n[2] / len)}
-             : Vec3f{0.f, 0.f, 0.f};
 }
 
 // The local key of the grid edge `e` of the cube whose lowest grid point is `base`: its
@@ -541,6 +495,7 @@ class BrickMesher {
   std::size_t findThinParts(const Field& field, const Field& whole, const CellRange& r,
                             const std::int64_t n[3], Scratch& s, BrickResult& out) const {
     out.thinSolid = out.thinGaps = out.tips = 0;
+    out.hiddenEdges.clear();
     out.exampleUnseen = false;
     out.exampleKey = std::numeric_limits<std::uint64_t>::max();
     siftTents(r, n, s);
@@ -594,6 +549,7 @@ class BrickMesher {
         ++out.tips;
       const std::uint64_t key = g_.linear(r.lo[0] + l[0], r.lo[1] + l[1], r.lo[2] + l[2]) * 3 +
                                 static_cast<std::uint64_t>(a);
+      out.hiddenEdges.push_back(key);
       // the example: of a part seen nowhere near where there is one
       if (unseen > out.exampleUnseen || (unseen == out.exampleUnseen && key < out.exampleKey)) {
         out.exampleUnseen = unseen;
@@ -1833,10 +1789,24 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
   std::vector<BrickResult> results;
   const std::size_t evaluated = meshBricks(field, g, opt, bricks, results);
   countThinParts(results, stats);
+  std::vector<std::uint64_t> hiddenEdges;
+  if (opt.refineThinParts)
+    for (const BrickResult& b : results)
+      hiddenEdges.insert(hiddenEdges.end(), b.hiddenEdges.begin(), b.hiddenEdges.end());
   bool bySorting = false;
   std::vector<std::uint32_t> flippable;
   TriangleMesh mesh = weld(g, bc, b1, bricks, results, opt.normals, &bySorting, &flippable);
   flipCreases(mesh, flippable);
+  if (!hiddenEdges.empty()) {
+    std::sort(hiddenEdges.begin(), hiddenEdges.end());
+    LocalRefinementStats rs;
+    refineHiddenParts(field, g, hiddenEdges, opt.refinementCubes, mesh, &rs);
+    if (stats) {
+      stats->refinedCubes = rs.cubes;
+      stats->refinementSkipped = rs.skipped;
+      stats->pointsEvaluated += rs.evaluations;
+    }
+  }
   if (opt.progress) opt.progress(1.0);
 
   if (stats) {

@@ -12,11 +12,12 @@
 
 #include <cstddef>
 #include <functional>
+#include <string>
 
-#include "frep/field.h"
-#include "base/vec.h"
 #include "base/mesh_piece.h"
 #include "base/triangle_mesh.h"
+#include "base/vec.h"
+#include "frep/field.h"
 
 namespace frep {
 
@@ -47,6 +48,10 @@ struct MeshingOptions {
   // thin parts; docs/mesher.md): the mesh is the same either way, and looking costs 4 to 9 %
   // of the meshing time (docs/performance.md).
   bool findThinParts = true;
+  // Mesh the cubes round the parts findThinParts sees nowhere near again at half a cell
+  // (mesh/local_refinement.h), up to this many cubes.
+  bool refineThinParts = false;
+  std::size_t refinementCubes = 200000;
   double resolution = 0.05;  // target cell size; the grid fits the box exactly (cells <= this)
   int brickCells = 16;       // cells per brick edge: the unit of pruning and of threading
   int rootIterations = 8;    // Illinois iterations per edge vertex
@@ -79,6 +84,9 @@ struct MeshingStats {
   // second where there is none).
   std::size_t thinSolidEdges = 0, thinGapEdges = 0, tipEdges = 0;
   Vec3 thinExample = {0, 0, 0};
+  // Local refinement (refineThinParts): the cubes meshed at half a cell, or why none were.
+  std::size_t refinedCubes = 0;
+  std::string refinementSkipped;
   double seconds = 0.0;
 };
 

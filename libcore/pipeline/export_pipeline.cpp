@@ -131,6 +131,7 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
   o.extraction = request.extraction;
   o.sharpFeatures = request.sharpFeatures;
   o.flatVertices = request.flatVertices;
+  o.refineThinParts = request.refineThinParts;
   // Vertex normals only where the file keeps them: STL's facet normals come from the
   // triangles, FreeCAD computes its own for .bms.
   o.normals = request.normals && (format == MeshFormat::Obj || format == MeshFormat::Ply);

@@ -79,6 +79,7 @@ struct ExportRequest {
   // Creases and corners get vertices on them: in the mesher's cubes, and in the simplifier.
   bool sharpFeatures = true;
   bool flatVertices = true;  // the mesher's flat vertices removed (MeshingOptions::flatVertices)
+  bool refineThinParts = false;               // MeshingOptions::refineThinParts
   Extraction extraction = Extraction::Cubes;  // Tetrahedra: the old mesher (one release)
   // Measure the written mesh against the exact surface (pipeline/accuracy.h): distances
   // both ways, volume, crease length. Costs a mesh at half the cell size.

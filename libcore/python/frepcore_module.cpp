@@ -328,6 +328,8 @@ py::dict thinPartsDict(const MeshingStats& s) {
   d["gaps"] = s.thinGapEdges;
   d["tips"] = s.tipEdges;
   d["example"] = py::make_tuple(s.thinExample[0], s.thinExample[1], s.thinExample[2]);
+  d["refined_cubes"] = s.refinedCubes;
+  if (!s.refinementSkipped.empty()) d["refinement_skipped"] = s.refinementSkipped;
   return d;
 }
 
@@ -505,10 +507,11 @@ PYBIND11_MODULE(_frepcore, m) {
           [](PyNode& n, const std::string& path, py::object bbox, py::object resolution,
              py::object cells, const std::string& format, bool check, bool force,
              py::object progress, py::object tolerance, bool sharp, const std::string& mesher,
-             bool fewerTriangles) {
+             bool fewerTriangles, bool refineThinParts) {
             ExportRequest r;
             r.extraction = parseMesher(mesher);
             r.flatVertices = fewerTriangles;
+            r.refineThinParts = refineThinParts;
             r.box = boxRequest(bbox, resolution, cells, kPaddingCells);
             r.known = structuralBounds(n.node);
             if (!format.empty()) r.format = parseFormat(format);
@@ -537,10 +540,11 @@ PYBIND11_MODULE(_frepcore, m) {
           py::arg("cells") = py::none(), py::arg("format") = "", py::arg("check") = true,
           py::arg("force") = false, py::arg("progress") = py::none(),
           py::arg("tolerance") = py::none(), py::arg("sharp") = true, py::arg("mesher") = "cubes",
-          py::arg("fewer_triangles") = true,
+          py::arg("fewer_triangles") = true, py::arg("refine_thin_parts") = false,
           "The export pipeline: box policy, mesh (mesher 'cubes' or 'tetra'; creases and "
           "corners placed unless sharp=False; the vertices where the surface is flat within a "
-          "fiftieth of a cell dropped unless fewer_triangles=False), (simplify within "
+          "fiftieth of a cell dropped unless fewer_triangles=False; parts thinner than a cell "
+          "meshed again at half a cell with refine_thin_parts=True), (simplify within "
           "`tolerance` of the surface), "
           "CGAL check, atomic write. Returns the check "
           "report dict plus 'written'; a refused mesh is not written unless force.")
@@ -633,11 +637,13 @@ PYBIND11_MODULE(_frepcore, m) {
       .def(
           "mesh",
           [](PyNode& n, py::object bbox, double resolution, py::object progress, bool normals,
-             py::object tolerance, bool sharp, const std::string& mesher, bool fewerTriangles) {
+             py::object tolerance, bool sharp, const std::string& mesher, bool fewerTriangles,
+             bool refineThinParts) {
             MeshingOptions o;
             o.extraction = parseMesher(mesher);
             o.sharpFeatures = sharp;
             o.flatVertices = fewerTriangles;
+            o.refineThinParts = refineThinParts;
             o.bbox = toBox(bbox.cast<py::sequence>());
             o.resolution = resolution;
             o.normals = normals;
@@ -672,6 +678,7 @@ PYBIND11_MODULE(_frepcore, m) {
           py::arg("bbox"), py::arg("resolution"), py::arg("progress") = py::none(),
           py::arg("normals") = false, py::arg("tolerance") = py::none(), py::arg("sharp") = true,
           py::arg("mesher") = "cubes", py::arg("fewer_triangles") = true,
+          py::arg("refine_thin_parts") = false,
           "Polygonises inside bbox with cells of at most `resolution` (mesher 'cubes', or "
           "'tetra': marching tetrahedra, three times the triangles; the vertices where the "
           "surface is flat within a fiftieth of a cell dropped unless fewer_triangles=False); with "
@@ -683,7 +690,8 @@ PYBIND11_MODULE(_frepcore, m) {
           "(raises Cancelled). The mesh's thin_parts says where parts thinner than a cell "
           "passed between the grid's points: {'solid': grid edges of solid left out, 'gaps': "
           "of gaps closed (both with no surface near), 'tips': of crease tips cut short, "
-          "'example': a point on one}.")
+          "'example': a point on one, 'refined_cubes': the cubes round them meshed again at "
+          "half a cell with refine_thin_parts=True}.")
       .def(
           "to_vdb",
           [](PyNode& n, const std::string& path, py::object bbox, double voxel, double halfWidth,

@@ -79,6 +79,20 @@ def test_a_mesh_says_where_parts_thinner_than_a_cell_were_passed_over(tmp_path):
     assert fc.sphere(0.5).mesh(0.1, bbox=box).thin_parts["solid"] == 0
     report = fin.export(str(tmp_path / "fin.stl"), 0.1, bbox=box)
     assert report["thin_parts"]["solid"] == 9
+    assert thin["refined_cubes"] == 0
+
+
+def test_refine_thin_parts_meshes_the_fin_the_grid_missed(tmp_path):
+    fin = fc.sphere(0.5) | fc.box((0.03, 0.3, 0.3), corner=(-0.015, 0.6, 0.6))
+    box = ((-1, -1, -1), (1, 1, 1))
+    plain = fin.mesh(0.1, bbox=box)
+    refined = fin.mesh(0.1, bbox=box, refine_thin_parts=True)
+    assert refined.thin_parts["refined_cubes"] > 0
+    # the fin (0.03 x 0.3 x 0.3 = 0.0027) is there now, as a second piece
+    assert refined.volume() - plain.volume() == pytest.approx(0.0027, rel=0.2)
+    report = fin.export(str(tmp_path / "fin.stl"), 0.1, bbox=box, refine_thin_parts=True)
+    assert report["printable"] and report["components"] == 2
+    assert report["thin_parts"]["refined_cubes"] == refined.thin_parts["refined_cubes"]
 
 
 def test_a_preview_too_large_for_the_memory_is_refused_with_the_figures():

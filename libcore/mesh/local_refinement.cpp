@@ -1,0 +1,1976 @@
+#include "mesh/local_refinement.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <stdexcept>
+#include <tuple>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "base/qef.h"
+#include "base/triangle_geometry.h"
+#include "mesh/crease_flips.h"
+
+namespace frep {
+
+// Why no triangle can cross another (docs/mesher.md, "Local refinement"):
+// - Region. Every triangle whose box reaches into the open inside of a refined cube is taken
+//   out, and every cube its box reaches into joins the region, until none does: what is left
+//   lies outside the region's open cubes and meets the region's boundary only along lines of
+//   the cube extraction on its faces (a triangle of a cube meets the cube's faces only along
+//   its loop's lines; flat-vertex and crease-flip triangles span several cubes, which then
+//   all join). Those lines are the open edges the removal leaves (the seam).
+// - Half cubes. A refined cube's 27 points give eight half cubes. A point of the half-cell
+//   grid is sampled (its own sign) where every cube that holds it is refined, else it takes
+//   the sign the seam's lines give it (virtual): the side of the coarse vertex on a grid edge,
+//   or of the seam's lines on a face, so the half cubes draw the seam exactly, its lines cut
+//   where they cross the face's midlines (points inserted into the outside triangles too).
+//   Every other face of a half cube draws straight lines between its crossings, paired by
+//   one rule both half cubes sharing it apply alike. A half cube's lines form loops on its
+//   boundary; one loop is fanned from a point inside the half cube: every ray from there
+//   leaves the convex half cube once, so the fan is embedded and meets the half cube's faces
+//   only along the loop, which its neighbours draw alike. So triangles of different half
+//   cubes, and of a half cube and the outside, meet only in shared edges and vertices.
+
+namespace {
+
+constexpr double kFeatureCos = 0.8;      // as the cube extraction's (mesher.cpp)
+constexpr double kFeatureCutoff = 0.02;  // ditto
+constexpr double kApexMargin = 0.05;     // of a half cell: the fan's apex off the half cube's faces
+constexpr double kEdgeMargin = 0.01;     // of an edge: a vertex off the edge's ends
+// Where a vertex goes on an edge whose ends the field does not put on two sides (an end's side
+// is the seam's): off the middle, where a split cell samples.
+constexpr double kNoRoot = 0.4375;
+constexpr int kMaxDepth = 2;  // a half cube is split at most this many times more
+
+bool isIn(double v) {
+  return v >= 0.0;
+}
+
+struct Abort : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// A case the refinement does not handle in these cubes: they stay as the cube extraction
+// made them, and the refinement starts again without them.
+struct CubeFailure {
+  std::vector<std::uint64_t> cubes;  // left out
+  std::vector<std::uint64_t> extra;  // refined too (the seam moves past a doubtful face)
+};
+
+// Starts again without the cubes at most this many times.
+constexpr int kMaxRestarts = 200;
+
+// A directed line of the seam or of a half cube's face, by mesh vertex.
+struct Seg {
+  std::uint32_t from, to;
+};
+
+// A face of the region's boundary: the seam's lines on it (as the outside triangles run
+// them), the points where they cross its two midlines, and its centre's sign.
+struct SeamFace {
+  int axis = 0;                      // the face's normal
+  std::int64_t cell[3] = {0, 0, 0};  // its lowest grid point
+  std::vector<Seg> lines;
+  // per half midline (0, 1: the midline across axis b, lower and upper half along c; 2, 3:
+  // across c, halves along b): (coordinate along it, vertex), sorted
+  std::vector<std::pair<float, std::uint32_t>> halfMid[4];
+  std::vector<Seg> quarter[4];  // pieces per quarter (qb + 2 qc), as the region runs them
+  bool centreInside = false;
+};
+
+class Refiner {
+ public:
+  Refiner(const Field& field, const Grid& g, TriangleMesh& mesh, LocalRefinementStats& stats)
+      : field_(field), g_(g), mesh_(mesh), stats_(stats) {
+    for (int a = 0; a < 3; ++a) {
+      P_[a] = g.points[a];
+      F_[a] = 2 * g.points[a] - 1;
+    }
+  }
+
+  void run(const std::vector<std::uint64_t>& seedEdges, std::size_t maxCubes) {
+    const TriangleMesh original = mesh_;
+    for (int attempt = 0;; ++attempt) {
+      try {
+        grow(seedEdges, maxCubes);
+        if (omega_.empty()) return;
+        close(maxCubes);
+        findSeam();
+        for (auto& [key, face] : seam_) {
+          try {
+            cutSeamFace(face);
+          } catch (const Abort& x) {
+            note(x.what());
+            std::int64_t below[3] = {face.cell[0], face.cell[1], face.cell[2]};
+            below[face.axis] -= 1;
+            failed_.extra.push_back(inOmega(below)
+                                        ? cubeId(face.cell[0], face.cell[1], face.cell[2])
+                                        : cubeId(below[0], below[1], below[2]));
+          }
+        }
+        throwFailures();
+        meshHalfCubes();
+        splitTriangles();
+        assemble();
+        return;
+      } catch (const CubeFailure& f) {
+        if (attempt == kMaxRestarts) throw Abort("too many cubes left out");
+        banned_.insert(f.cubes.begin(), f.cubes.end());
+        for (std::uint64_t id : f.extra)
+          if (!banned_.count(id)) forced_.insert(id);
+        stats_.cubesLeftOut = banned_.size();
+        reset(original);
+      }
+    }
+  }
+
+ private:
+  void reset(const TriangleMesh& original) {
+    mesh_ = original;
+    omega_.clear();
+    cubes_.clear();
+    removed_.clear();
+    seam_.clear();
+    centreKnown_.clear();
+    cuts_.clear();
+    cutVertex_.clear();
+    flippable_.clear();
+    edgeVertex_.clear();
+    rootVertex_.clear();
+    roots_.clear();
+    added_.clear();
+    stats_.cubes = stats_.trianglesRemoved = stats_.trianglesAdded = 0;
+  }
+
+  // ---- indices
+  std::uint64_t cubeId(std::int64_t i, std::int64_t j, std::int64_t k) const {
+    return static_cast<std::uint64_t>(i + P_[0] * (j + P_[1] * k));
+  }
+  void cubeOf(std::uint64_t id, std::int64_t c[3]) const {
+    c[0] = static_cast<std::int64_t>(id % P_[0]);
+    c[1] = static_cast<std::int64_t>((id / P_[0]) % P_[1]);
+    c[2] = static_cast<std::int64_t>(id / (P_[0] * P_[1]));
+  }
+  bool validCube(const std::int64_t c[3]) const {
+    for (int a = 0; a < 3; ++a)
+      if (c[a] < 0 || c[a] > P_[a] - 2) return false;
+    return true;
+  }
+  bool inOmega(const std::int64_t c[3]) const {
+    return validCube(c) && omega_.count(cubeId(c[0], c[1], c[2])) != 0;
+  }
+  std::uint64_t fineKey(const std::int64_t f[3]) const {
+    return static_cast<std::uint64_t>(f[0] + F_[0] * (f[1] + F_[1] * f[2]));
+  }
+  double fineCoord(int a, std::int64_t f) const {
+    return (f % 2 == 0) ? g_.coord(a, f / 2) : g_.mid(a, f / 2);
+  }
+  float fineF(int a, std::int64_t f) const { return static_cast<float>(fineCoord(a, f)); }
+  float planeF(int a, std::int64_t j) const { return static_cast<float>(g_.coord(a, j)); }
+
+  // ---- values of the half-cell grid
+  void evaluate(const std::vector<std::array<std::int64_t, 3>>& points) {
+    std::vector<double> x, y, z, v;
+    std::vector<std::uint64_t> keys;
+    for (const auto& p : points) {
+      const std::uint64_t k = fineKey(p.data());
+      if (values_.count(k)) continue;
+      values_[k] = 0.0;  // (reserved: filled below)
+      keys.push_back(k);
+      x.push_back(fineCoord(0, p[0]));
+      y.push_back(fineCoord(1, p[1]));
+      z.push_back(fineCoord(2, p[2]));
+    }
+    if (keys.empty()) return;
+    v.resize(keys.size());
+    field_.evalBatch(x.data(), y.data(), z.data(), keys.size(), v.data());
+    stats_.evaluations += keys.size();
+    for (std::size_t i = 0; i < keys.size(); ++i)
+      values_[keys[i]] = combine(v[i], g_.boxField(x[i], y[i], z[i]));
+  }
+  static double combine(double f, double b) { return b < f ? b : f; }
+  void evaluateCubes(const std::vector<std::uint64_t>& cubes) {
+    std::vector<std::array<std::int64_t, 3>> pts;
+    for (std::uint64_t id : cubes) {
+      std::int64_t c[3];
+      cubeOf(id, c);
+      for (int d = 0; d < 27; ++d)
+        pts.push_back({2 * c[0] + d % 3, 2 * c[1] + (d / 3) % 3, 2 * c[2] + d / 9});
+    }
+    evaluate(pts);
+  }
+  double value(const std::int64_t f[3]) const {
+    const auto it = values_.find(fineKey(f));
+    if (it == values_.end()) throw Abort("a point of the half-cell grid was not evaluated");
+    return it->second;
+  }
+
+  // ---- 1. the region: cubes where the half-cell grid shows what the corners miss
+  void grow(const std::vector<std::uint64_t>& seedEdges, std::size_t maxCubes) {
+    std::vector<std::uint64_t> candidates;
+    for (std::uint64_t e : seedEdges) {
+      const int a = static_cast<int>(e % 3);
+      std::int64_t l[3];
+      cubeOf(e / 3, l);
+      const int b = (a + 1) % 3, c = (a + 2) % 3;
+      for (int d = 0; d < 4; ++d) {
+        std::int64_t q[3] = {l[0], l[1], l[2]};
+        q[b] -= d & 1;
+        q[c] -= d >> 1;
+        if (validCube(q)) candidates.push_back(cubeId(q[0], q[1], q[2]));
+      }
+    }
+    std::unordered_set<std::uint64_t> tried;
+    while (!candidates.empty() && omega_.size() < maxCubes) {
+      std::sort(candidates.begin(), candidates.end());
+      candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+      std::vector<std::uint64_t> fresh;
+      for (std::uint64_t c : candidates)
+        if (!banned_.count(c) && tried.insert(c).second) fresh.push_back(c);
+      evaluateCubes(fresh);
+      std::vector<std::uint64_t> next;
+      for (std::uint64_t id : fresh) {
+        if (omega_.size() >= maxCubes) break;
+        std::int64_t c[3];
+        cubeOf(id, c);
+        if (!hidesSomething(c, &next)) continue;
+        omega_.insert(id);
+      }
+      candidates.swap(next);
+    }
+    std::vector<std::uint64_t> forced;
+    for (std::uint64_t id : forced_)
+      if (!banned_.count(id) && !omega_.count(id)) forced.push_back(id);
+    std::sort(forced.begin(), forced.end());
+    evaluateCubes(forced);
+    omega_.insert(forced.begin(), forced.end());
+  }
+
+  // Whether the cube's 27 points show a side its corners miss (an edge whose midpoint differs
+  // from both its ends, a face or the cube whose corners share a side another point lacks);
+  // the cubes across such edges and faces are queued.
+  bool hidesSomething(const std::int64_t c[3], std::vector<std::uint64_t>* next) const {
+    auto in = [&](int dx, int dy, int dz) {
+      const std::int64_t f[3] = {2 * c[0] + dx, 2 * c[1] + dy, 2 * c[2] + dz};
+      return isIn(value(f));
+    };
+    auto at = [&](int a, int da, int b, int db, int cc, int dc) {
+      int d[3];
+      d[a] = da;
+      d[b] = db;
+      d[cc] = dc;
+      return in(d[0], d[1], d[2]);
+    };
+    bool any = false;
+    auto queue = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
+      const std::int64_t q[3] = {x, y, z};
+      if (validCube(q)) next->push_back(cubeId(x, y, z));
+    };
+    for (int a = 0; a < 3; ++a) {
+      const int b = (a + 1) % 3, cc = (a + 2) % 3;
+      for (int e = 0; e < 4; ++e) {  // the cube's four edges along a
+        const int db = 2 * (e & 1), dc = 2 * (e >> 1);
+        const bool s0 = at(a, 0, b, db, cc, dc), s2 = at(a, 2, b, db, cc, dc);
+        if (s0 != s2 || at(a, 1, b, db, cc, dc) == s0) continue;
+        any = true;
+        for (int d = 0; d < 4; ++d) {  // the four cubes round that edge
+          std::int64_t q[3] = {c[0], c[1], c[2]};
+          q[b] += db / 2 - (d & 1);
+          q[cc] += dc / 2 - (d >> 1);
+          queue(q[0], q[1], q[2]);
+        }
+      }
+      for (int side = 0; side <= 2; side += 2) {  // the faces across a
+        const bool s = at(a, side, b, 0, cc, 0);
+        bool uniform = true, hidden = false;
+        for (int db = 0; db <= 2; ++db)
+          for (int dc = 0; dc <= 2; ++dc) {
+            const bool v = at(a, side, b, db, cc, dc);
+            if (db != 1 && dc != 1)
+              uniform = uniform && v == s;
+            else
+              hidden = hidden || v != s;
+          }
+        if (!uniform || !hidden) continue;
+        any = true;
+        std::int64_t q[3] = {c[0], c[1], c[2]};
+        q[a] += side == 0 ? -1 : 1;
+        queue(q[0], q[1], q[2]);
+      }
+    }
+    bool corners = true;
+    const bool s = in(0, 0, 0);
+    for (int d = 1; d < 8; ++d) corners = corners && in(2 * (d & 1), (d & 2), (d & 4) / 2) == s;
+    return any || (corners && in(1, 1, 1) != s);
+  }
+
+  // ---- 2. closure: every triangle reaching into the region goes, its cubes join
+  // The cubes along axis a whose open inside the span [mn, mx] reaches into (both cubes
+  // beside a grid plane when the span is that plane).
+  void span(int a, float mn, float mx, std::int64_t* lo, std::int64_t* hi) const {
+    std::int64_t j = static_cast<std::int64_t>(std::floor((mn - g_.coord(a, 0)) / g_.h[a]));
+    j = std::clamp<std::int64_t>(j, 0, P_[a] - 2);
+    while (j > 0 && planeF(a, j) > mn) --j;
+    while (j < P_[a] - 2 && planeF(a, j + 1) <= mn) ++j;
+    if (mn == mx && mn == planeF(a, j)) {
+      *lo = std::max<std::int64_t>(j - 1, 0);
+      *hi = j;
+      return;
+    }
+    *lo = j;
+    std::int64_t k = j;
+    while (k + 1 <= P_[a] - 2 && planeF(a, k + 1) < mx) ++k;
+    *hi = k;
+  }
+
+  // The zone: blocks of kBlock^3 cubes within kZoneReach cubes of the region. Only the
+  // triangles whose box reaches into it are looked at again while the region closes.
+  static constexpr std::int64_t kBlock = 4, kZoneReach = 4;
+  std::uint64_t blockOf(std::int64_t i, std::int64_t j, std::int64_t k) const {
+    const std::int64_t nb0 = P_[0] / kBlock + 1, nb1 = P_[1] / kBlock + 1;
+    return static_cast<std::uint64_t>(i / kBlock + nb0 * (j / kBlock + nb1 * (k / kBlock)));
+  }
+  // Whether every cube within `reach` of cube c lies in the zone.
+  bool inZone(const std::int64_t c[3], std::int64_t reach) const {
+    std::int64_t lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::max<std::int64_t>(c[a] - reach, 0);
+      hi[a] = std::min<std::int64_t>(c[a] + reach, P_[a] - 2);
+    }
+    for (std::int64_t k = lo[2]; k <= hi[2]; k += 1)
+      for (std::int64_t j = lo[1]; j <= hi[1]; j += 1)
+        for (std::int64_t i = lo[0]; i <= hi[0]; i += 1)
+          if (!zone_.count(blockOf(i, j, k))) return false;
+    return true;
+  }
+  void buildZone() {
+    zone_.clear();
+    for (std::uint64_t id : omega_) {
+      std::int64_t c[3];
+      cubeOf(id, c);
+      for (std::int64_t k = std::max<std::int64_t>(c[2] - kZoneReach, 0); k <= c[2] + kZoneReach;
+           ++k)
+        for (std::int64_t j = std::max<std::int64_t>(c[1] - kZoneReach, 0); j <= c[1] + kZoneReach;
+             ++j)
+          for (std::int64_t i = std::max<std::int64_t>(c[0] - kZoneReach, 0);
+               i <= c[0] + kZoneReach; ++i)
+            zone_.insert(blockOf(i, j, k));
+    }
+    // the triangles reaching into it, with the cubes their boxes reach into
+    const auto& P = mesh_.positions;
+    nearby_.clear();
+    for (std::size_t t = 0; t < mesh_.triangles.size(); ++t) {
+      const Triangle& tr = mesh_.triangles[t];
+      Near n;
+      n.t = static_cast<std::uint32_t>(t);
+      for (int a = 0; a < 3; ++a) {
+        const float mn = std::min({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]});
+        const float mx = std::max({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]});
+        span(a, mn, mx, &n.lo[a], &n.hi[a]);
+      }
+      if (zone_.count(blockOf(n.lo[0], n.lo[1], n.lo[2])) ||
+          zone_.count(blockOf(n.hi[0], n.hi[1], n.hi[2])))
+        nearby_.push_back(n);
+    }
+    flipEdge_.clear();
+    for (std::size_t ni = 0; ni < nearby_.size(); ++ni) {
+      const Near& n = nearby_[ni];
+      int axes = 0;
+      for (int a = 0; a < 3; ++a) axes += n.hi[a] > n.lo[a];
+      if (axes != 1) continue;
+      const Triangle& tr = mesh_.triangles[n.t];
+      for (int e = 0; e < 3; ++e)
+        flipEdge_[dirKey(tr[e], tr[(e + 1) % 3])] = static_cast<std::uint32_t>(ni);
+    }
+    byCube_.clear();
+    for (std::size_t ni = 0; ni < nearby_.size(); ++ni) {
+      const Near& n = nearby_[ni];
+      for (std::int64_t k = n.lo[2]; k <= n.hi[2]; ++k)
+        for (std::int64_t j = n.lo[1]; j <= n.hi[1]; ++j)
+          for (std::int64_t i = n.lo[0]; i <= n.hi[0]; ++i)
+            byCube_[cubeId(i, j, k)].push_back(static_cast<std::uint32_t>(ni));
+    }
+  }
+  struct Near {
+    std::uint32_t t;
+    std::int64_t lo[3], hi[3];
+  };
+  bool inSpan(const Near& n, std::uint64_t id) const {
+    std::int64_t c[3];
+    cubeOf(id, c);
+    for (int a = 0; a < 3; ++a)
+      if (c[a] < n.lo[a] || c[a] > n.hi[a]) return false;
+    return true;
+  }
+  void setSpan(Near& n) const {
+    const auto& P = mesh_.positions;
+    const Triangle& tr = mesh_.triangles[n.t];
+    for (int a = 0; a < 3; ++a) {
+      const float mn = std::min({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]});
+      const float mx = std::max({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]});
+      span(a, mn, mx, &n.lo[a], &n.hi[a]);
+    }
+  }
+  // A crease flip's pair (mesh/crease_flips.h), (v1, a, v2) and (v1, v2, b) with v1 and v2
+  // feature vertices inside two cubes sharing a face and a, b on it, is turned back into the
+  // two cubes' own fan triangles (v1, a, b) and (v2, b, a), as the cube extraction made them
+  // (embedded by its own argument), so that refining one cube does not pull in the other.
+  bool unflip(std::uint32_t ni) {
+    Near& n = nearby_[ni];
+    int axis = -1;
+    for (int a = 0; a < 3; ++a) {
+      if (n.hi[a] == n.lo[a]) continue;
+      if (axis >= 0 || n.hi[a] != n.lo[a] + 1) return false;
+      axis = a;
+    }
+    if (axis < 0) return false;
+    const float plane = planeF(axis, n.hi[axis]);
+    const auto& P = mesh_.positions;
+    auto inner = [&](std::uint32_t v) {
+      for (int a = 0; a < 3; ++a)
+        if (planeAt(a, P[v][a]) >= 0) return false;
+      return true;
+    };
+    Triangle t = mesh_.triangles[n.t];
+    for (int r = 0; r < 3; ++r) {
+      const std::uint32_t v1 = t[r], a = t[(r + 1) % 3], v2 = t[(r + 2) % 3];
+      if (P[a][axis] != plane || !inner(v1) || !inner(v2)) continue;
+      if ((P[v1][axis] < plane) == (P[v2][axis] < plane)) continue;
+      const auto it = flipEdge_.find(dirKey(v1, v2));
+      if (it == flipEdge_.end()) return false;
+      Near& m = nearby_[it->second];
+      if (removed_[m.t]) return false;
+      const Triangle u = mesh_.triangles[m.t];
+      int s = 0;
+      while (s < 3 && !(u[s] == v1 && u[(s + 1) % 3] == v2)) ++s;
+      if (s == 3) return false;
+      const std::uint32_t b = u[(s + 2) % 3];
+      if (P[b][axis] != plane) return false;
+      mesh_.triangles[n.t] = {v1, a, b};
+      mesh_.triangles[m.t] = {v2, b, a};
+      setSpan(n);
+      setSpan(m);
+      flipEdge_.erase(dirKey(v1, v2));
+      flipEdge_.erase(dirKey(v2, v1));
+      ++stats_.unflipped;
+      return true;
+    }
+    return false;
+  }
+
+  void close(std::size_t maxCubes) {
+    const std::size_t T = mesh_.triangles.size();
+    removed_.assign(T, 0);
+    buildZone();
+    std::vector<std::uint64_t> queue(omega_.begin(), omega_.end());
+    for (;;) {
+      // triangles reaching into the cubes queued go; the cubes they reach into join
+      std::vector<std::uint64_t> joined;
+      for (std::uint64_t id : queue) {
+        const auto it = byCube_.find(id);
+        if (it == byCube_.end()) continue;
+        for (std::uint32_t ni : it->second) {
+          if (removed_[nearby_[ni].t]) continue;
+          if (unflip(ni) && !inSpan(nearby_[ni], id)) continue;  // now in the other cube alone
+          const Near& n = nearby_[ni];
+          removed_[n.t] = 1;
+          std::vector<std::uint64_t> range;
+          for (std::int64_t k = n.lo[2]; k <= n.hi[2]; ++k)
+            for (std::int64_t j = n.lo[1]; j <= n.hi[1]; ++j)
+              for (std::int64_t i = n.lo[0]; i <= n.hi[0]; ++i) range.push_back(cubeId(i, j, k));
+          join(range, &joined);
+        }
+      }
+      throwFailures();
+      if (joined.empty()) {
+        // A refined cube's crossed grid edge with no vertex: flat-vertex removal took it and
+        // fanned its four cubes together, so they are refined together.
+        findEdgeVertices();
+        for (std::uint64_t id : omega_) {
+          std::int64_t c[3];
+          cubeOf(id, c);
+          for (int a = 0; a < 3; ++a) {
+            const int b = (a + 1) % 3, cc = (a + 2) % 3;
+            for (int e = 0; e < 4; ++e) {
+              std::int64_t l[3] = {c[0], c[1], c[2]};
+              l[b] += e & 1;
+              l[cc] += e >> 1;
+              const std::int64_t f0[3] = {2 * l[0], 2 * l[1], 2 * l[2]};
+              std::int64_t f2[3] = {f0[0], f0[1], f0[2]};
+              f2[a] += 2;
+              if (isIn(value(f0)) == isIn(value(f2))) continue;
+              if (edgeVertex_.count(g_.linear(l[0], l[1], l[2]) * 3 +
+                                    static_cast<std::uint64_t>(a)))
+                continue;
+              std::vector<std::uint64_t> round;
+              for (int d = 0; d < 4; ++d) {
+                std::int64_t q[3] = {l[0], l[1], l[2]};
+                q[b] -= d & 1;
+                q[cc] -= d >> 1;
+                if (validCube(q)) round.push_back(cubeId(q[0], q[1], q[2]));
+              }
+              join(round, &joined);
+            }
+          }
+        }
+        throwFailures();
+        if (joined.empty()) break;
+      }
+      std::sort(joined.begin(), joined.end());
+      joined.erase(std::unique(joined.begin(), joined.end()), joined.end());
+      if (omega_.size() + joined.size() > 2 * maxCubes)
+        throw Abort("the region grew past its limit");
+      evaluateCubes(joined);
+      omega_.insert(joined.begin(), joined.end());
+      queue = joined;
+      // a cube joined near the zone's rim: the zone grows (triangles beyond it may reach in)
+      bool rim = false;
+      for (std::uint64_t id : joined) {
+        std::int64_t c[3];
+        cubeOf(id, c);
+        if (!inZone(c, 2)) rim = true;
+      }
+      if (rim) {
+        buildZone();
+        queue.assign(omega_.begin(), omega_.end());
+      }
+    }
+    cubes_.assign(omega_.begin(), omega_.end());
+    std::sort(cubes_.begin(), cubes_.end());
+  }
+
+  // Cubes that must be refined together with the refined ones among them: queued to join,
+  // or, where one of them was left out, the refined ones are left out too.
+  void join(const std::vector<std::uint64_t>& cubes, std::vector<std::uint64_t>* joined) {
+    bool conflict = false;
+    for (std::uint64_t id : cubes) conflict = conflict || banned_.count(id) != 0;
+    if (!conflict) {
+      for (std::uint64_t id : cubes)
+        if (!omega_.count(id)) joined->push_back(id);
+      return;
+    }
+    note("a cube left out would have to join");
+    for (std::uint64_t id : cubes)
+      if (omega_.count(id)) failed_.cubes.push_back(id);
+  }
+
+  // The grid-edge vertices of the removed triangles: the coarse crossings virtual edges keep.
+  void findEdgeVertices() {
+    const auto& P = mesh_.positions;
+    edgeVertex_.clear();
+    std::vector<std::uint8_t> seen(P.size(), 0);
+    for (std::size_t t = 0; t < mesh_.triangles.size(); ++t) {
+      if (!removed_[t]) continue;
+      for (std::uint32_t v : mesh_.triangles[t]) {
+        if (seen[v]) continue;
+        seen[v] = 1;
+        int on = 0, along = -1;
+        std::int64_t l[3];
+        for (int a = 0; a < 3; ++a) {
+          l[a] = planeAt(a, P[v][a]);
+          if (l[a] >= 0)
+            ++on;
+          else
+            along = a;
+        }
+        if (on != 2) continue;
+        l[along] = cellAt(along, P[v][along]);
+        if (l[along] < 0) continue;
+        edgeVertex_[g_.linear(l[0], l[1], l[2]) * 3 + static_cast<std::uint64_t>(along)] = v;
+      }
+    }
+  }
+
+  // ---- 3. the seam: open edges the removal leaves, each on a face of the region's boundary
+  // The grid plane index j with planeF(a, j) == x, or -1.
+  std::int64_t planeAt(int a, float x) const {
+    const std::int64_t j =
+        static_cast<std::int64_t>(std::llround((double(x) - g_.coord(a, 0)) / g_.h[a]));
+    return (j >= 0 && j < P_[a] && planeF(a, j) == x) ? j : -1;
+  }
+  // The cube index u along a with planeF(a, u) < x < planeF(a, u + 1), or -1.
+  std::int64_t cellAt(int a, double x) const {
+    std::int64_t u = static_cast<std::int64_t>(std::floor((x - g_.coord(a, 0)) / g_.h[a]));
+    u = std::clamp<std::int64_t>(u, 0, P_[a] - 2);
+    while (u > 0 && planeF(a, u) >= x) --u;
+    while (u < P_[a] - 2 && planeF(a, u + 1) <= x) ++u;
+    return (planeF(a, u) < x && x < planeF(a, u + 1)) ? static_cast<std::int64_t>(u) : -1;
+  }
+  static std::uint64_t dirKey(std::uint32_t a, std::uint32_t b) {
+    return (std::uint64_t(a) << 32) | b;
+  }
+
+  void findSeam() {
+    const auto& P = mesh_.positions;
+    const std::size_t T = mesh_.triangles.size(), V = P.size();
+    std::vector<std::uint8_t> touched(V, 0);
+    std::unordered_set<std::uint64_t> removedEdges;
+    for (std::size_t t = 0; t < T; ++t) {
+      if (!removed_[t]) continue;
+      const Triangle& tr = mesh_.triangles[t];
+      for (int e = 0; e < 3; ++e) {
+        touched[tr[e]] = 1;
+        removedEdges.insert(dirKey(tr[e], tr[(e + 1) % 3]));
+      }
+      ++stats_.trianglesRemoved;
+    }
+    std::size_t open = 0;  // removed edges whose partner stays
+    for (std::uint64_t k : removedEdges)
+      if (!removedEdges.count((k << 32) | (k >> 32))) ++open;
+    std::size_t seamEdges = 0;
+    for (std::size_t t = 0; t < T; ++t) {
+      if (removed_[t]) continue;
+      const Triangle& tr = mesh_.triangles[t];
+      for (int e = 0; e < 3; ++e) {
+        const std::uint32_t p = tr[e], q = tr[(e + 1) % 3];
+        if (!touched[p] || !touched[q] || !removedEdges.count(dirKey(q, p))) continue;
+        ++seamEdges;
+        addSeamLine(p, q);
+      }
+    }
+    throwFailures();
+    if (seamEdges != open) throw Abort("the removed triangles do not close up with the rest");
+  }
+
+  void addSeamLine(std::uint32_t p, std::uint32_t q) {
+    try {
+      addSeamLineOrFail(p, q);
+    } catch (const Abort& x) {
+      // the cubes round both ends join, so the seam moves away from the line
+      note(x.what());
+      for (const Vec3f& x : {mesh_.positions[p], mesh_.positions[q]}) {
+        std::int64_t lo[3], hi[3];
+        for (int a = 0; a < 3; ++a) span(a, x[a], x[a], &lo[a], &hi[a]);
+        for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
+          for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
+            for (std::int64_t i = lo[0]; i <= hi[0]; ++i)
+              if (!omega_.count(cubeId(i, j, k))) failed_.extra.push_back(cubeId(i, j, k));
+      }
+    }
+  }
+  // (what went wrong in a cube that is left out or joined: not reported, the refinement
+  // simply starts again without it or with its neighbour)
+  void note(const char*) {}
+  void throwFailures() {
+    if (failed_.cubes.empty() && failed_.extra.empty()) return;
+    CubeFailure f;
+    std::swap(f, failed_);
+    throw f;
+  }
+
+  void addSeamLineOrFail(std::uint32_t p, std::uint32_t q) {
+    const auto& P = mesh_.positions;
+    int axis = -1;
+    std::int64_t plane = -1;
+    for (int a = 0; a < 3; ++a) {
+      if (P[p][a] != P[q][a]) continue;
+      const std::int64_t j = planeAt(a, P[p][a]);
+      if (j < 0) continue;
+      if (axis >= 0) throw Abort("a seam line runs along a grid line");
+      axis = a;
+      plane = j;
+    }
+    if (axis < 0) throw Abort("a seam line lies on no face of the grid");
+    std::int64_t cell[3];
+    cell[axis] = plane;
+    for (int b = 0; b < 3; ++b) {
+      if (b == axis) continue;
+      cell[b] = cellAt(b, 0.5 * (double(P[p][b]) + double(P[q][b])));
+      if (cell[b] < 0) throw Abort("a seam line's midpoint lies on a grid line");
+    }
+    std::int64_t below[3] = {cell[0], cell[1], cell[2]};
+    below[axis] -= 1;
+    if (inOmega(below) == inOmega(cell))
+      throw Abort("a seam line lies on a face inside or outside the region");
+    const std::uint64_t key =
+        g_.linear(cell[0], cell[1], cell[2]) * 3 + static_cast<std::uint64_t>(axis);
+    SeamFace& f = seam_[key];
+    f.axis = axis;
+    for (int a = 0; a < 3; ++a) f.cell[a] = cell[a];
+    f.lines.push_back({p, q});
+  }
+
+  // ---- 4. a seam face cut at its midlines; its centre's side from the cuts
+  std::uint32_t newVertex(const Vec3f& p) {
+    mesh_.positions.push_back(p);
+    return static_cast<std::uint32_t>(mesh_.positions.size() - 1);
+  }
+
+  void cutSeamFace(SeamFace& f) {
+    const auto& P = mesh_.positions;
+    const int a = f.axis, b = (a + 1) % 3, c = (a + 2) % 3;
+    const float midB = static_cast<float>(g_.mid(b, f.cell[b])),
+                midC = static_cast<float>(g_.mid(c, f.cell[c]));
+    for (const Seg& s : f.lines) {
+      const Vec3f p = P[s.from], q = P[s.to];
+      // the cuts along the line: (parameter, midline axis)
+      std::vector<std::pair<double, int>> cuts;
+      for (int m : {b, c}) {
+        const float at = m == b ? midB : midC;
+        if (p[m] == at || q[m] == at) throw Abort("a seam line ends on a midline");
+        if ((p[m] < at) != (q[m] < at))
+          cuts.push_back({(double(at) - p[m]) / (double(q[m]) - p[m]), m});
+      }
+      std::sort(cuts.begin(), cuts.end());
+      if (cuts.size() == 2 && cuts[0].first == cuts[1].first)
+        throw Abort("a seam line passes a face's centre");
+      std::vector<std::uint32_t> chain = {s.from};
+      for (const auto& [u, m] : cuts) {
+        Vec3f x;
+        for (int k = 0; k < 3; ++k) x[k] = static_cast<float>(p[k] + u * (double(q[k]) - p[k]));
+        x[a] = p[a];
+        x[m] = m == b ? midB : midC;
+        const int o = m == b ? c : b;  // the coordinate along the midline
+        const float oMid = o == b ? midB : midC;
+        if (x[o] == oMid || x == p || x == q) throw Abort("a seam cut falls on a point");
+        const std::uint32_t v = newVertex(x);
+        chain.push_back(v);
+        // half midline: across b (0, 1 by c's half) or across c (2, 3 by b's half)
+        const int half = (m == b ? 0 : 2) + (x[o] > oMid ? 1 : 0);
+        f.halfMid[half].push_back({x[o], v});
+      }
+      chain.push_back(s.to);
+      recordCuts(s.from, s.to, std::vector<std::uint32_t>(chain.begin() + 1, chain.end() - 1));
+      for (std::size_t i = 0; i + 1 < chain.size(); ++i) {
+        const Vec3f& u = mesh_.positions[chain[i]];
+        const Vec3f& w = mesh_.positions[chain[i + 1]];
+        const double mb = 0.5 * (double(u[b]) + w[b]), mc = 0.5 * (double(u[c]) + w[c]);
+        const int quarter = (mb > midB ? 1 : 0) + (mc > midC ? 2 : 0);
+        f.quarter[quarter].push_back({chain[i + 1], chain[i]});  // the region's way round
+      }
+    }
+    for (auto& h : f.halfMid) std::sort(h.begin(), h.end());
+    // the centre's side from each half midline: its outer end's side, flipped at each cut
+    int centre = -1;
+    for (int half = 0; half < 4; ++half) {
+      std::int64_t e[3];  // the fine point at the half midline's outer end
+      for (int k = 0; k < 3; ++k) e[k] = 2 * f.cell[k];
+      const int along = half < 2 ? c : b, across = half < 2 ? b : c;
+      e[across] += 1;
+      e[along] += (half % 2) ? 2 : 0;
+      const bool end = virtualSign(e);
+      const int s = (end ? 1 : 0) ^ static_cast<int>(f.halfMid[half].size() % 2);
+      if (centre >= 0 && s != centre) throw Abort("a seam face's centre has no one side");
+      centre = s;
+    }
+    f.centreInside = centre == 1;
+  }
+
+  // ---- the side of a point of the half-cell grid: its own where every cube holding it is
+  // refined, else what the seam gives it
+  bool fineSign(const std::int64_t f[3]) const {
+    int odd = 0;
+    for (int a = 0; a < 3; ++a) odd += static_cast<int>(f[a] & 1);
+    if (odd == 0 || odd == 3 || sampled(f)) return isIn(value(f));
+    return virtualSign(f);
+  }
+  // Whether every cube holding this point (on a grid edge or face) is refined.
+  bool sampled(const std::int64_t f[3]) const {
+    int odd = 0;
+    for (int a = 0; a < 3; ++a) odd += static_cast<int>(f[a] & 1);
+    if (odd == 0) return true;
+    if (odd == 3) return true;
+    std::int64_t lo[3];
+    for (int a = 0; a < 3; ++a) lo[a] = f[a] / 2;  // odd: the cell; even: the plane
+    // cubes round: along an even axis, the cubes below and above the plane
+    std::int64_t q[3];
+    for (int d = 0; d < 8; ++d) {
+      bool skip = false;
+      for (int a = 0; a < 3; ++a) {
+        const int bit = (d >> a) & 1;
+        if (f[a] & 1) {
+          if (bit) skip = true;
+          q[a] = lo[a];
+        } else {
+          q[a] = lo[a] - bit;
+        }
+      }
+      if (skip) continue;
+      if (!inOmega(q)) return false;
+    }
+    return true;
+  }
+  bool virtualSign(const std::int64_t f[3]) const {
+    int odd = 0, oddAxis = -1, evenAxis = -1;
+    for (int a = 0; a < 3; ++a) {
+      if (f[a] & 1) {
+        ++odd;
+        oddAxis = a;
+      } else {
+        evenAxis = a;
+      }
+    }
+    if (odd == 0 || odd == 3) return isIn(value(f));
+    if (odd == 1) {  // a grid edge's midpoint: the side of the edge's vertex
+      std::int64_t e0[3] = {f[0], f[1], f[2]}, e1[3] = {f[0], f[1], f[2]};
+      e0[oddAxis] -= 1;
+      e1[oddAxis] += 1;
+      const bool s0 = isIn(value(e0)), s1 = isIn(value(e1));
+      if (s0 == s1) return s0;
+      std::int64_t l[3] = {f[0] / 2, f[1] / 2, f[2] / 2};
+      const auto it =
+          edgeVertex_.find(g_.linear(l[0], l[1], l[2]) * 3 + static_cast<std::uint64_t>(oddAxis));
+      if (it == edgeVertex_.end()) throw Abort("a crossed grid edge of the seam has no vertex");
+      const float x = mesh_.positions[it->second][oddAxis];
+      const float mid = fineF(oddAxis, f[oddAxis]);
+      if (x == mid) throw Abort("a grid edge's vertex lies at its midpoint");
+      return x < mid ? s1 : s0;
+    }
+    // a face's centre: from the seam face, or the corners' side where no line crosses it
+    std::int64_t cell[3] = {f[0] / 2, f[1] / 2, f[2] / 2};
+    const std::uint64_t key =
+        g_.linear(cell[0], cell[1], cell[2]) * 3 + static_cast<std::uint64_t>(evenAxis);
+    const auto it = seam_.find(key);
+    if (it != seam_.end() && !it->second.lines.empty()) {
+      if (!centreKnown_.count(key)) throw Abort("a seam face's centre was asked before it was cut");
+      return it->second.centreInside;
+    }
+    const int b = (evenAxis + 1) % 3, c = (evenAxis + 2) % 3;
+    std::int64_t k0[3] = {f[0], f[1], f[2]};
+    k0[b] -= 1;
+    k0[c] -= 1;
+    const bool s = isIn(value(k0));
+    for (int d = 1; d < 4; ++d) {
+      std::int64_t k[3] = {k0[0], k0[1], k0[2]};
+      k[b] += 2 * (d & 1);
+      k[c] += 2 * (d >> 1);
+      if (isIn(value(k)) != s) throw Abort("a crossed face of the seam has no lines");
+    }
+    return s;
+  }
+
+  // ---- 5. the half cubes: lines on their faces, loops, fans
+  // The vertices on a fine edge (lower fine point f, along axis d), in order along d.
+  std::vector<std::uint32_t> crossings(const std::int64_t f[3], int d) {
+    const int b = (d + 1) % 3, c = (d + 2) % 3;
+    std::int64_t f1[3] = {f[0], f[1], f[2]};
+    f1[d] += 1;
+    const bool oddB = f[b] & 1, oddC = f[c] & 1;
+    if (!oddB && !oddC) {  // on a grid edge
+      if (!sampled(f[d] % 2 ? f : f1)) {
+        // virtual: the coarse vertex, where it lies in this half
+        std::int64_t e0[3] = {f[0], f[1], f[2]};
+        e0[d] = f[d] - (f[d] & 1);
+        std::int64_t e2[3] = {e0[0], e0[1], e0[2]};
+        e2[d] += 2;
+        if (isIn(value(e0)) == isIn(value(e2))) return {};
+        std::int64_t l[3] = {e0[0] / 2, e0[1] / 2, e0[2] / 2};
+        const auto it =
+            edgeVertex_.find(g_.linear(l[0], l[1], l[2]) * 3 + static_cast<std::uint64_t>(d));
+        if (it == edgeVertex_.end()) throw Abort("a crossed grid edge of the seam has no vertex");
+        const float x = mesh_.positions[it->second][d];
+        const float mid = fineF(d, e0[d] + 1);
+        const bool lowerHalf = (f[d] & 1) == 0;
+        if ((x < mid) == lowerHalf) return {it->second};
+        return {};
+      }
+    } else if (oddB != oddC) {                       // on a grid face, along a midline
+      const int n = oddB ? c : b, o = oddB ? b : c;  // the face's normal; the odd axis
+      std::int64_t cell[3] = {f[0] / 2, f[1] / 2, f[2] / 2};
+      std::int64_t below[3] = {cell[0], cell[1], cell[2]};
+      below[n] -= 1;
+      if (inOmega(below) != inOmega(cell)) {  // a seam face
+        const std::uint64_t key =
+            g_.linear(cell[0], cell[1], cell[2]) * 3 + static_cast<std::uint64_t>(n);
+        const auto it = seam_.find(key);
+        if (it == seam_.end()) return {};
+        const SeamFace& sf = it->second;
+        const int fb = (n + 1) % 3;
+        // the midline across o, halves along d
+        const int half = (o == fb ? 0 : 2) + static_cast<int>(f[d] & 1);
+        std::vector<std::uint32_t> out;
+        for (const auto& [x, v] : sf.halfMid[half]) out.push_back(v);
+        return out;
+      }
+    }
+    if (fineSign(f) == fineSign(f1)) return {};
+    const std::uint64_t key = fineKey(f) * 3 + static_cast<std::uint64_t>(d);
+    const auto it = rootVertex_.find(key);
+    if (it != rootVertex_.end()) return {it->second};
+    const std::uint32_t v = newVertex({0.f, 0.f, 0.f});
+    rootVertex_[key] = v;
+    roots_.push_back({{f[0], f[1], f[2]}, d, v});
+    return {v};
+  }
+
+  // A cell (a half cube, or an eighth of one) with the lines its neighbours draw on its faces,
+  // as it runs them, and its corners' sides (corner d at lo + (d & 1, d & 2, d & 4) of the way).
+  struct Cell {
+    double lo[3], hi[3];
+    std::vector<Seg> face[6];  // face 2a + side
+    bool inside[8];
+  };
+
+  void meshHalfCubes() {
+    // seam faces are cut before any half cube asks their centres
+    for (auto& [key, face] : seam_) centreKnown_.insert(key);
+    // every half cube's lines first (their vertices on the half-cell grid's edges found in
+    // one batch), then the cells
+    std::vector<Cell> cells;
+    std::vector<std::uint64_t> cellCube;
+    for (std::uint64_t id : cubes_) {
+      std::int64_t c[3];
+      cubeOf(id, c);
+      try {
+        for (int h = 0; h < 8; ++h) {
+          const std::int64_t f0[3] = {2 * c[0] + (h & 1), 2 * c[1] + ((h >> 1) & 1),
+                                      2 * c[2] + ((h >> 2) & 1)};
+          cells.push_back(halfCube(f0));
+          cellCube.push_back(id);
+        }
+      } catch (const Abort& e) {
+        note(e.what());
+        failed_.cubes.push_back(id);
+      }
+    }
+    throwFailures();
+    findRoots();
+    std::uint64_t last = UINT64_MAX;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      if (cellCube[i] == last && !failed_.cubes.empty() && failed_.cubes.back() == last) continue;
+      try {
+        meshCell(cells[i], 0);
+      } catch (const Abort& e) {
+        note(e.what());
+        failed_.cubes.push_back(cellCube[i]);
+      }
+      if (cellCube[i] != last) ++stats_.cubes;
+      last = cellCube[i];
+    }
+    throwFailures();
+    flipHalfCubeCreases();
+  }
+
+  Cell halfCube(const std::int64_t f0[3]) {
+    Cell cell;
+    for (int a = 0; a < 3; ++a) {
+      cell.lo[a] = fineCoord(a, f0[a]);
+      cell.hi[a] = fineCoord(a, f0[a] + 1);
+      for (int side = 0; side < 2; ++side) faceLines(f0, a, side, &cell.face[2 * a + side]);
+    }
+    for (int d = 0; d < 8; ++d) {
+      const std::int64_t f[3] = {f0[0] + (d & 1), f0[1] + ((d >> 1) & 1), f0[2] + ((d >> 2) & 1)};
+      cell.inside[d] = fineSign(f);
+    }
+    return cell;
+  }
+
+  // One loop: a fan from a point inside. Several: the cell is split in eight with its faces'
+  // lines kept (cut where they cross the faces' midlines), down to kMaxDepth.
+  void meshCell(const Cell& cell, int depth) {
+    std::vector<Seg> segs;
+    for (const auto& f : cell.face) segs.insert(segs.end(), f.begin(), f.end());
+    if (segs.empty()) return;
+    std::unordered_map<std::uint32_t, std::uint32_t> next;
+    for (const Seg& s : segs)
+      if (!next.emplace(s.from, s.to).second) throw Abort("a cell's lines meet at a vertex");
+    std::vector<std::uint32_t> loop = {segs[0].from};
+    for (std::uint32_t v = segs[0].to; v != segs[0].from;) {
+      loop.push_back(v);
+      const auto it = next.find(v);
+      if (it == next.end()) throw Abort("a cell's lines do not close");
+      v = it->second;
+      if (loop.size() > segs.size()) throw Abort("a cell's lines do not close");
+    }
+    if (loop.size() != segs.size()) {
+      if (depth >= kMaxDepth) {
+        ++stats_.conedCells;
+        coneCell(cell);
+        return;
+      }
+      ++stats_.splitCells;
+      splitCell(cell, depth);
+      return;
+    }
+    // the apex: where the loop's tangent planes meet (a crease or corner), else the loop's
+    // mean, kept inside the cell
+    Vec3f apex;
+    const bool feature = depth >= 0 && featureApex(cell, loop, &apex);
+    if (!feature) {
+      double m[3] = {0, 0, 0};
+      for (std::uint32_t v : loop)
+        for (int a = 0; a < 3; ++a) m[a] += mesh_.positions[v][a];
+      for (int a = 0; a < 3; ++a) m[a] /= static_cast<double>(loop.size());
+      apex = clampInto(cell, m);
+    }
+    const std::uint32_t v = newVertex(apex);
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+      const std::uint32_t a = loop[i], b = loop[(i + 1) % loop.size()];
+      // a feature half cube's triangle over the only line on a face may be flipped with its
+      // neighbour's (the two half cubes form a box, as two cubes do: mesh/crease_flips.h)
+      if (feature && depth == 0) {
+        int f = -1;
+        for (int k = 0; k < 6 && f < 0; ++k)
+          for (const Seg& sg : cell.face[k])
+            if (sg.from == a && sg.to == b) f = k;
+        if (f >= 0 && cell.face[f].size() == 1)
+          flippable_[dirKey(a, b)] = static_cast<std::uint32_t>(added_.size());
+      }
+      added_.push_back({v, a, b});
+    }
+  }
+
+  Vec3f clampInto(const Cell& cell, const double x[3]) const {
+    Vec3f p;
+    for (int a = 0; a < 3; ++a) {
+      const double margin = kApexMargin * (cell.hi[a] - cell.lo[a]);
+      p[a] = static_cast<float>(std::clamp(x[a], cell.lo[a] + margin, cell.hi[a] - margin));
+      if (!(p[a] > static_cast<float>(cell.lo[a]) && p[a] < static_cast<float>(cell.hi[a])))
+        throw Abort("a cell is too small for float32");
+    }
+    return p;
+  }
+
+  const Vec3f& unitNormal(std::uint32_t v) {
+    const auto it = normal_.find(v);
+    if (it != normal_.end()) return it->second;
+    const Vec3f& p = mesh_.positions[v];
+    ++stats_.evaluations;
+    return normal_[v] = vertexNormal(field_.evalGradient(p[0], p[1], p[2]), g_, p);
+  }
+
+  // Sharp features as the cube extraction places them (mesher.cpp, placeFeature): where the
+  // loop's normals spread by over 37 degrees, the point its tangent planes meet (on a crease
+  // line, moved along it into the cell where it lies outside, or a corner), within a cell of
+  // the cell and kept inside it; refused where a fan triangle would face against its
+  // vertices' normals.
+  bool featureApex(const Cell& cell, const std::vector<std::uint32_t>& loop, Vec3f* apex) {
+    double leastCos = 1.0;
+    std::size_t spreadA = 0, spreadB = 0;
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+      const Vec3f a = unitNormal(loop[i]);
+      if (a[0] == 0 && a[1] == 0 && a[2] == 0) return false;
+      for (std::size_t j = 0; j < i; ++j) {
+        const Vec3f& b = unitNormal(loop[j]);
+        const double c = double(a[0]) * b[0] + double(a[1]) * b[1] + double(a[2]) * b[2];
+        if (c < leastCos) {
+          leastCos = c;
+          spreadA = i;
+          spreadB = j;
+        }
+      }
+    }
+    if (leastCos > kFeatureCos) return false;
+    Quadric q;
+    for (std::uint32_t v : loop) {
+      const Vec3f& p = mesh_.positions[v];
+      const Vec3f& u = unitNormal(v);
+      q.addPlane(Vec3{p[0], p[1], p[2]}, Vec3{u[0], u[1], u[2]});
+    }
+    int rank = 0;
+    Vec3 x = q.minimiser(kFeatureCutoff, &rank);
+    if (rank < 2) return false;
+    if (rank == 2) {  // a crease whose nearest point lies outside may still cross the cell
+      const Vec3f &na = unitNormal(loop[spreadA]), &nb = unitNormal(loop[spreadB]);
+      const double d[3] = {double(na[1]) * nb[2] - double(na[2]) * nb[1],
+                           double(na[2]) * nb[0] - double(na[0]) * nb[2],
+                           double(na[0]) * nb[1] - double(na[1]) * nb[0]};
+      double t0 = -std::numeric_limits<double>::infinity(), t1 = -t0;
+      for (int a = 0; a < 3; ++a) {
+        if (d[a] == 0.0) {
+          if (x[a] < cell.lo[a] || x[a] > cell.hi[a]) t0 = t1 + 1.0;
+          continue;
+        }
+        double u = (cell.lo[a] - x[a]) / d[a], w = (cell.hi[a] - x[a]) / d[a];
+        if (u > w) std::swap(u, w);
+        t0 = std::max(t0, u);
+        t1 = std::min(t1, w);
+      }
+      if (t0 <= t1) {
+        const double t = std::clamp(0.0, t0, t1);
+        for (int a = 0; a < 3; ++a) x[a] += t * d[a];
+      }
+    }
+    for (int a = 0; a < 3; ++a) {
+      const double h = cell.hi[a] - cell.lo[a];
+      if (!(x[a] > cell.lo[a] - h && x[a] < cell.hi[a] + h)) return false;
+    }
+    const double xd[3] = {x[0], x[1], x[2]};
+    const Vec3f at = clampInto(cell, xd);
+    for (std::size_t j = 0; j < loop.size(); ++j) {
+      const std::uint32_t u = loop[j], w = loop[(j + 1) % loop.size()];
+      const Vec3d nt = triangleCross(at, mesh_.positions[u], mesh_.positions[w]);
+      double dot = 0.0;
+      for (int a = 0; a < 3; ++a) dot += nt[a] * (double(unitNormal(u)[a]) + unitNormal(w)[a]);
+      if (!(dot > 0.0)) return false;
+    }
+    *apex = at;
+    return true;
+  }
+
+  // Crease flips between neighbouring feature half cubes (as the cube extraction's), where
+  // no split cell cut the line they share.
+  void flipHalfCubeCreases() {
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    for (const auto& [key, t] : flippable_) {
+      const std::uint32_t a = static_cast<std::uint32_t>(key >> 32),
+                          b = static_cast<std::uint32_t>(key);
+      if (a > b) continue;  // each pair once
+      const auto it = flippable_.find(dirKey(b, a));
+      if (it == flippable_.end() || cuts_.count(undirected(a, b))) continue;
+      pairs.push_back({t, it->second});
+    }
+    std::sort(pairs.begin(), pairs.end());
+    for (const auto& [t1, t2] : pairs) {
+      Triangle f1, f2;
+      if (flipCrease(added_[t1], added_[t2], mesh_.positions, &f1, &f2)) {
+        added_[t1] = f1;
+        added_[t2] = f2;
+        ++stats_.flips;
+      }
+    }
+  }
+
+  // ---- several loops at the finest split: marching tetrahedra on a cone of tetrahedra from
+  // the cell's centre over its faces, each face cut by its lines into regions (convex: a
+  // chord cuts a convex polygon into two) and each region fanned from its centroid. The
+  // lines' vertices are the surface's own (value zero), every other vertex has a side, and
+  // each tetrahedron holds the centre and one region's points, so the surface in it is one
+  // triangle, through the line's vertices where the region meets a line: it meets the faces
+  // only along the lines, and the tetrahedra tile the cell.
+  struct BPoint {
+    Vec3f pos;
+    std::uint32_t v;  // the mesh vertex of a line's point, else UINT32_MAX
+    int side;         // 1 inside, 0 outside, -1 on a line
+    int id;           // a corner 0..7, or a region's centroid 8 + k, or -1
+  };
+
+  void coneCell(const Cell& cell) {
+    double c[3];
+    for (int a = 0; a < 3; ++a) c[a] = 0.5 * (cell.lo[a] + cell.hi[a]);
+    const double cv = sampleAt(c[0], c[1], c[2]);
+    const int sc = isIn(cv) ? 1 : 0;
+    std::map<int, std::uint32_t> spokeVertex;  // corner or centroid id -> vertex on its spoke
+    int centroids = 0;
+    auto spoke = [&](const BPoint& x) {
+      const auto it = spokeVertex.find(x.id);
+      if (it != spokeVertex.end()) return it->second;
+      const double b[3] = {x.pos[0], x.pos[1], x.pos[2]};
+      const std::uint32_t v = newVertex(rootAlong(c, cv, b));
+      spokeVertex[x.id] = v;
+      return v;
+    };
+    auto corner = [&](int d) {
+      BPoint p;
+      for (int a = 0; a < 3; ++a)
+        p.pos[a] = static_cast<float>((d >> a) & 1 ? cell.hi[a] : cell.lo[a]);
+      p.v = UINT32_MAX;
+      p.side = cell.inside[d] ? 1 : 0;
+      p.id = d;
+      return p;
+    };
+    for (int a = 0; a < 3; ++a) {
+      const int b = (a + 1) % 3, cc = (a + 2) % 3;
+      for (int side = 0; side < 2; ++side) {
+        const std::vector<Seg>& lines = cell.face[2 * a + side];
+        // the face's boundary, counterclockwise seen from outside: corners and lines' ends
+        static const int ccw[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+        std::vector<BPoint> ring;
+        for (int k = 0; k < 4; ++k) {
+          const int i = side == 1 ? k : (4 - k) % 4, j = side == 1 ? (k + 1) % 4 : (4 - k + 3) % 4;
+          const int d0 = (side << a) | (ccw[i][0] << b) | (ccw[i][1] << cc);
+          const int d1 = (side << a) | (ccw[j][0] << b) | (ccw[j][1] << cc);
+          const BPoint p = corner(d0), q = corner(d1);
+          ring.push_back(p);
+          int x = -1;
+          for (int t = 0; t < 3; ++t)
+            if (p.pos[t] != q.pos[t]) x = t;
+          std::vector<std::pair<float, std::uint32_t>> on;
+          for (const Seg& s : lines)
+            for (std::uint32_t v : {s.from, s.to}) {
+              const Vec3f& y = mesh_.positions[v];
+              bool along = true;
+              for (int t = 0; t < 3; ++t)
+                if (t != x && y[t] != p.pos[t]) along = false;
+              if (along) on.push_back({y[x], v});
+            }
+          std::sort(on.begin(), on.end());
+          on.erase(std::unique(on.begin(), on.end()), on.end());
+          if (q.pos[x] < p.pos[x]) std::reverse(on.begin(), on.end());
+          for (const auto& [coord, v] : on) ring.push_back({mesh_.positions[v], v, -1, -1});
+        }
+        // chords: the lines chained from one boundary point to another
+        std::unordered_map<std::uint32_t, std::uint32_t> next;
+        std::unordered_set<std::uint32_t> onRing, hasPrev;
+        for (const BPoint& p : ring)
+          if (p.v != UINT32_MAX) onRing.insert(p.v);
+        for (const Seg& s : lines) {
+          next[s.from] = s.to;
+          hasPrev.insert(s.to);
+        }
+        std::vector<std::vector<std::uint32_t>> chords;
+        for (const Seg& s : lines) {
+          if (!onRing.count(s.from)) continue;
+          std::vector<std::uint32_t> chord = {s.from};
+          std::uint32_t v = s.to;
+          while (!onRing.count(v)) {
+            chord.push_back(v);
+            const auto it = next.find(v);
+            if (it == next.end() || chord.size() > lines.size())
+              throw Abort("a face's line does not end on its rim");
+            v = it->second;
+          }
+          chord.push_back(v);
+          chords.push_back(chord);
+        }
+        // regions: the ring split chord by chord; the region on a chord's right is inside
+        struct Region {
+          std::vector<BPoint> poly;
+          int side;
+        };
+        std::vector<Region> regions = {{ring, -1}};
+        for (const auto& chord : chords) {
+          bool done = false;
+          for (std::size_t r = 0; r < regions.size() && !done; ++r) {
+            auto& poly = regions[r].poly;
+            int ia = -1, ib = -1;
+            for (std::size_t i = 0; i < poly.size(); ++i) {
+              if (poly[i].v == chord.front()) ia = static_cast<int>(i);
+              if (poly[i].v == chord.back()) ib = static_cast<int>(i);
+            }
+            if (ia < 0 || ib < 0) continue;
+            // from A round to B, closed by the chord back: on the chord's right (inside)
+            std::vector<BPoint> right, left;
+            for (int i = ia;; i = (i + 1) % static_cast<int>(poly.size())) {
+              right.push_back(poly[i]);
+              if (i == ib) break;
+            }
+            for (std::size_t k = chord.size() - 2; k >= 1; --k)
+              right.push_back({mesh_.positions[chord[k]], chord[k], -1, -1});
+            for (int i = ib;; i = (i + 1) % static_cast<int>(poly.size())) {
+              left.push_back(poly[i]);
+              if (i == ia) break;
+            }
+            for (std::size_t k = 1; k + 1 < chord.size(); ++k)
+              left.push_back({mesh_.positions[chord[k]], chord[k], -1, -1});
+            regions[r] = {right, 1};
+            regions.push_back({left, 0});
+            done = true;
+          }
+          if (!done) throw Abort("a face's lines cross");
+        }
+        for (Region& r : regions) {
+          // its side: its corners' (and the chords' sides must agree)
+          int s = -1;
+          for (const BPoint& p : r.poly)
+            if (p.side >= 0) {
+              if (s >= 0 && p.side != s) throw Abort("a face region holds both sides");
+              s = p.side;
+            }
+          if (s < 0) s = r.side;
+          if (s < 0) throw Abort("a face region has no side");
+          if (r.side >= 0 && r.side != s) throw Abort("a face region's side disagrees");
+          // its centroid, in the face's plane
+          double m[3] = {0, 0, 0};
+          for (const BPoint& p : r.poly)
+            for (int t = 0; t < 3; ++t) m[t] += p.pos[t];
+          BPoint cen;
+          for (int t = 0; t < 3; ++t) cen.pos[t] = static_cast<float>(m[t] / r.poly.size());
+          cen.pos[a] = static_cast<float>(side ? cell.hi[a] : cell.lo[a]);
+          cen.v = UINT32_MAX;
+          cen.side = s;
+          cen.id = 8 + centroids++;
+          for (std::size_t i = 0; i < r.poly.size(); ++i) {
+            const BPoint& p = r.poly[i];
+            const BPoint& q = r.poly[(i + 1) % r.poly.size()];
+            // the fan triangle must wind as the face does (counterclockwise from outside)
+            const double u0 = double(p.pos[b]) - cen.pos[b], u1 = double(p.pos[cc]) - cen.pos[cc];
+            const double w0 = double(q.pos[b]) - cen.pos[b], w1 = double(q.pos[cc]) - cen.pos[cc];
+            const double turn = (u0 * w1 - u1 * w0) * (side ? 1.0 : -1.0);
+            if (!(turn > 0.0)) throw Abort("a face region is not convex");
+            if (s == sc) continue;
+            // the surface in tetrahedron (centre, centroid, p, q)
+            std::uint32_t t0 = spoke(cen);
+            std::uint32_t t1 = p.side < 0 ? p.v : spoke(p);
+            std::uint32_t t2 = q.side < 0 ? q.v : spoke(q);
+            emitFacing(t0, t1, t2, c, sc, cen.pos);
+          }
+        }
+      }
+    }
+  }
+
+  // Triangle (a, b, c), turned to face from the inside to the outside: away from the centre
+  // `o` when it is inside, towards it when not (`toward` lies on the other side from o).
+  void emitFacing(std::uint32_t a, std::uint32_t b, std::uint32_t c, const double o[3], int so,
+                  const Vec3f& toward) {
+    const Vec3f& A = mesh_.positions[a];
+    const Vec3f& B = mesh_.positions[b];
+    const Vec3f& C = mesh_.positions[c];
+    double u[3], w[3], n[3], d[3];
+    for (int k = 0; k < 3; ++k) {
+      u[k] = double(B[k]) - A[k];
+      w[k] = double(C[k]) - A[k];
+      d[k] = double(toward[k]) - o[k];
+    }
+    n[0] = u[1] * w[2] - u[2] * w[1];
+    n[1] = u[2] * w[0] - u[0] * w[2];
+    n[2] = u[0] * w[1] - u[1] * w[0];
+    const double nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+    const double uu = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+    const double ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+    if (!(nn > 1e-12 * uu * ww)) throw Abort("a cone triangle is degenerate");
+    const double s = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
+    if (s == 0.0) throw Abort("a cone triangle faces no way");
+    if ((s > 0.0) == (so == 1))
+      added_.push_back({a, b, c});
+    else
+      added_.push_back({a, c, b});
+  }
+
+  // The vertex on the segment from a (value fa) to b: Illinois where the field changes sign,
+  // else off the middle; kept off both ends.
+  Vec3f rootAlong(const double a[3], double fa, const double b[3]) {
+    double ta = 0.0, tb = 1.0, va = fa, vb = sampleAt(b[0], b[1], b[2]);
+    double t = kNoRoot;
+    if (isIn(va) != isIn(vb)) {
+      int last = 0;
+      for (int it = 0; it < 40 && tb - ta > 1e-7; ++it) {
+        double u = (ta * vb - tb * va) / (vb - va);
+        if (!(u > ta && u < tb)) u = 0.5 * (ta + tb);
+        t = u;
+        const double v =
+            sampleAt(a[0] + u * (b[0] - a[0]), a[1] + u * (b[1] - a[1]), a[2] + u * (b[2] - a[2]));
+        if (v == 0.0 || std::isnan(v)) break;
+        if (isIn(v) == isIn(va)) {
+          ta = u;
+          va = v;
+          if (last == -1) vb *= 0.5;
+          last = -1;
+        } else {
+          tb = u;
+          vb = v;
+          if (last == 1) va *= 0.5;
+          last = 1;
+        }
+      }
+    }
+    t = std::clamp(t, kEdgeMargin, 1.0 - kEdgeMargin);
+    Vec3f p;
+    for (int k = 0; k < 3; ++k) p[k] = static_cast<float>(a[k] + t * (b[k] - a[k]));
+    return p;
+  }
+
+  // The vertex where line p-q crosses the plane x[m] = at (on the face with normal a), the
+  // same for both cells that share the line (computed from its lower-numbered end).
+  std::uint32_t cutVertex(std::uint32_t p, std::uint32_t q, int m, float at, int a) {
+    const std::uint32_t lo = std::min(p, q), hi = std::max(p, q);
+    const auto key = std::make_tuple(lo, hi, m);
+    const auto it = cutVertex_.find(key);
+    if (it != cutVertex_.end()) return it->second;
+    const Vec3f P = mesh_.positions[lo], Q = mesh_.positions[hi];
+    const double u = (double(at) - P[m]) / (double(Q[m]) - P[m]);
+    Vec3f x;
+    for (int k = 0; k < 3; ++k) x[k] = static_cast<float>(P[k] + u * (double(Q[k]) - P[k]));
+    x[m] = at;
+    x[a] = P[a];
+    if (x == P || x == Q) throw Abort("a cut falls on a line's end");
+    const std::uint32_t v = newVertex(x);
+    cutVertex_[key] = v;
+    return v;
+  }
+
+  // Records that line p-q now runs through `chain` (from p to q): every triangle with that
+  // edge takes them as vertices at the end.
+  void recordCuts(std::uint32_t p, std::uint32_t q, std::vector<std::uint32_t> chain) {
+    if (chain.empty()) return;
+    if (p > q) std::reverse(chain.begin(), chain.end());
+    cuts_.emplace(undirected(p, q), std::move(chain));
+  }
+  static std::uint64_t undirected(std::uint32_t a, std::uint32_t b) {
+    return a < b ? dirKey(a, b) : dirKey(b, a);
+  }
+
+  struct FaceCut {
+    std::vector<Seg> quarter[4];                              // qb + 2 qc
+    std::vector<std::pair<float, std::uint32_t>> halfMid[4];  // as SeamFace::halfMid
+  };
+
+  void cutFace(int a, const std::vector<Seg>& segs, const float midF[3], FaceCut* out) {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    for (const Seg& s : segs) {
+      const Vec3f p = mesh_.positions[s.from], q = mesh_.positions[s.to];
+      std::vector<std::pair<double, int>> cuts;
+      for (int m : {b, c}) {
+        const float at = midF[m];
+        if (p[m] == at || q[m] == at) throw Abort("a line ends on a midline");
+        if ((p[m] < at) != (q[m] < at))
+          cuts.push_back({(double(at) - p[m]) / (double(q[m]) - p[m]), m});
+      }
+      std::sort(cuts.begin(), cuts.end());
+      if (cuts.size() == 2 && cuts[0].first == cuts[1].first)
+        throw Abort("a line passes a face's centre");
+      std::vector<std::uint32_t> chain = {s.from};
+      for (const auto& [u, m] : cuts) {
+        const std::uint32_t v = cutVertex(s.from, s.to, m, midF[m], a);
+        const Vec3f& x = mesh_.positions[v];
+        const int o = m == b ? c : b;
+        if (x[o] == midF[o]) throw Abort("a cut falls on a face's centre");
+        chain.push_back(v);
+        out->halfMid[(m == b ? 0 : 2) + (x[o] > midF[o] ? 1 : 0)].push_back({x[o], v});
+      }
+      chain.push_back(s.to);
+      recordCuts(s.from, s.to, std::vector<std::uint32_t>(chain.begin() + 1, chain.end() - 1));
+      for (std::size_t i = 0; i + 1 < chain.size(); ++i) {
+        const Vec3f& u = mesh_.positions[chain[i]];
+        const Vec3f& w = mesh_.positions[chain[i + 1]];
+        const double mb = 0.5 * (double(u[b]) + w[b]), mc = 0.5 * (double(u[c]) + w[c]);
+        out->quarter[(mb > midF[b] ? 1 : 0) + (mc > midF[c] ? 2 : 0)].push_back(
+            {chain[i], chain[i + 1]});
+      }
+    }
+    for (auto& h : out->halfMid) std::sort(h.begin(), h.end());
+  }
+
+  void splitCell(const Cell& cell, int depth) {
+    float loF[3], hiF[3], midF[3];
+    double mid[3];
+    for (int a = 0; a < 3; ++a) {
+      loF[a] = static_cast<float>(cell.lo[a]);
+      hiF[a] = static_cast<float>(cell.hi[a]);
+      mid[a] = 0.5 * (cell.lo[a] + cell.hi[a]);
+      midF[a] = static_cast<float>(mid[a]);
+      if (!(loF[a] < midF[a] && midF[a] < hiF[a])) throw Abort("a cell is too small for float32");
+    }
+    auto pos = [&](int a, int d) { return d == 0 ? cell.lo[a] : d == 1 ? mid[a] : cell.hi[a]; };
+    // sides at the 27 points (index d0 + 3 d1 + 9 d2), from the corners and the lines
+    int sign[27];
+    for (int& x : sign) x = -1;
+    for (int d = 0; d < 8; ++d)
+      sign[2 * (d & 1) + 3 * (d & 2) + 9 * ((d & 4) / 2)] = cell.inside[d] ? 1 : 0;
+    // the cell's edges: the lines' ends on each, the midpoint's side by parity
+    for (int a = 0; a < 3; ++a) {
+      const int b = (a + 1) % 3, c = (a + 2) % 3;
+      for (int e = 0; e < 4; ++e) {
+        const int db = 2 * (e & 1), dc = 2 * (e >> 1);
+        const float atB = db ? hiF[b] : loF[b], atC = dc ? hiF[c] : loF[c];
+        std::vector<std::uint32_t> ends;
+        for (const auto& f : cell.face)
+          for (const Seg& s : f)
+            for (std::uint32_t v : {s.from, s.to}) {
+              const Vec3f& x = mesh_.positions[v];
+              if (x[b] == atB && x[c] == atC) ends.push_back(v);
+            }
+        std::sort(ends.begin(), ends.end());
+        ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+        int below = 0;
+        for (std::uint32_t v : ends) {
+          const float x = mesh_.positions[v][a];
+          if (x == midF[a]) throw Abort("a line ends at an edge's midpoint");
+          below += x < midF[a];
+        }
+        int d0[3], d2[3], d1[3];
+        d0[a] = 0, d2[a] = 2, d1[a] = 1;
+        d0[b] = d2[b] = d1[b] = db;
+        d0[c] = d2[c] = d1[c] = dc;
+        const int s0 = sign[d0[0] + 3 * d0[1] + 9 * d0[2]],
+                  s2 = sign[d2[0] + 3 * d2[1] + 9 * d2[2]];
+        if ((s0 ^ static_cast<int>(ends.size() % 2)) != s2)
+          throw Abort("a cell's edge is crossed inconsistently");
+        sign[d1[0] + 3 * d1[1] + 9 * d1[2]] = s0 ^ (below % 2);
+      }
+    }
+    // the faces: lines cut at the midlines, the centre's side by parity
+    FaceCut cut[6];
+    for (int a = 0; a < 3; ++a) {
+      const int b = (a + 1) % 3, c = (a + 2) % 3;
+      for (int side = 0; side < 2; ++side) {
+        FaceCut& fc = cut[2 * a + side];
+        cutFace(a, cell.face[2 * a + side], midF, &fc);
+        int centre = -1;
+        for (int half = 0; half < 4; ++half) {
+          int d[3];
+          d[a] = 2 * side;
+          const int along = half < 2 ? c : b, across = half < 2 ? b : c;
+          d[across] = 1;
+          d[along] = (half % 2) ? 2 : 0;
+          const int end = sign[d[0] + 3 * d[1] + 9 * d[2]];
+          const int x = end ^ static_cast<int>(fc.halfMid[half].size() % 2);
+          if (centre >= 0 && x != centre) throw Abort("a cell's face centre has no one side");
+          centre = x;
+        }
+        int d[3];
+        d[a] = 2 * side;
+        d[b] = d[c] = 1;
+        sign[d[0] + 3 * d[1] + 9 * d[2]] = centre;
+      }
+    }
+    // the centre, sampled; the six edges from it to the face centres
+    const double centreValue = sampleAt(mid[0], mid[1], mid[2]);
+    sign[13] = isIn(centreValue) ? 1 : 0;
+    std::uint32_t spoke[6];  // vertex on the edge to face 2a + side, or UINT32_MAX
+    for (int a = 0; a < 3; ++a)
+      for (int side = 0; side < 2; ++side) {
+        int d[3] = {1, 1, 1};
+        d[a] = 2 * side;
+        spoke[2 * a + side] = UINT32_MAX;
+        if (sign[d[0] + 3 * d[1] + 9 * d[2]] == sign[13]) continue;
+        double fp[3] = {mid[0], mid[1], mid[2]};
+        fp[a] = side ? cell.hi[a] : cell.lo[a];
+        spoke[2 * a + side] = newVertex(rootOnSegment(mid, centreValue, fp, a));
+      }
+    // the eight children
+    for (int h = 0; h < 8; ++h) {
+      const int hb[3] = {h & 1, (h >> 1) & 1, (h >> 2) & 1};
+      Cell child;
+      for (int a = 0; a < 3; ++a) {
+        child.lo[a] = hb[a] ? mid[a] : cell.lo[a];
+        child.hi[a] = hb[a] ? cell.hi[a] : mid[a];
+      }
+      for (int d = 0; d < 8; ++d) {
+        const int i =
+            (hb[0] + (d & 1)) + 3 * (hb[1] + ((d >> 1) & 1)) + 9 * (hb[2] + ((d >> 2) & 1));
+        child.inside[d] = sign[i] == 1;
+      }
+      for (int a = 0; a < 3; ++a) {
+        const int b = (a + 1) % 3, c = (a + 2) % 3;
+        for (int side = 0; side < 2; ++side) {
+          std::vector<Seg>& out = child.face[2 * a + side];
+          if (hb[a] == side) {  // on the cell's face: its pieces in this quarter
+            out = cut[2 * a + side].quarter[hb[b] + 2 * hb[c]];
+            continue;
+          }
+          // inside the cell (the plane through its centre): lines by the rule
+          static const int ccw[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+          int corner[4][3];
+          for (int k = 0; k < 4; ++k) {
+            const int i = side == 1 ? k : (4 - k) % 4;
+            corner[k][a] = 1;
+            corner[k][b] = hb[b] + ccw[i][0];
+            corner[k][c] = hb[c] + ccw[i][1];
+          }
+          std::vector<WalkStep> walk;
+          for (int k = 0; k < 4; ++k) {
+            const int* p = corner[k];
+            const int* q = corner[(k + 1) % 4];
+            walk.push_back({true, sign[p[0] + 3 * p[1] + 9 * p[2]] == 1, 0});
+            int x = -1;
+            for (int t = 0; t < 3; ++t)
+              if (p[t] != q[t]) x = t;
+            const int y = x == b ? c : b;  // the other in-plane axis
+            std::vector<std::uint32_t> xs;
+            const bool upper = std::max(p[x], q[x]) == 2;
+            if (p[y] != 1) {  // on the cell's face (y, p[y] / 2), its midline across a
+              const FaceCut& fc = cut[2 * y + p[y] / 2];
+              const int half = (a == (y + 1) % 3 ? 0 : 2) + (upper ? 1 : 0);
+              for (const auto& [coord, v] : fc.halfMid[half]) xs.push_back(v);
+            } else {  // the edge from the centre to face (x, side)
+              const std::uint32_t v = spoke[2 * x + (upper ? 1 : 0)];
+              if (v != UINT32_MAX) xs.push_back(v);
+            }
+            if (q[x] < p[x]) std::reverse(xs.begin(), xs.end());
+            for (std::uint32_t v : xs) walk.push_back({false, false, v});
+          }
+          double centre[3];
+          for (int t = 0; t < 3; ++t)
+            centre[t] = 0.5 * (pos(t, corner[0][t]) + pos(t, corner[2][t]));
+          pairCrossings(walk, centre, &out);
+        }
+      }
+      meshCell(child, depth + 1);
+    }
+  }
+
+  struct WalkStep {
+    bool corner;
+    bool inside;      // corners
+    std::uint32_t v;  // crossings
+  };
+
+  // The lines across a face from its walk (corners counterclockwise seen from outside, each
+  // followed by the crossings on the edge to the next): each arc of one side is cut off, the
+  // inside ones unless there are over two crossings and the face's centre is inside.
+  void pairCrossings(const std::vector<WalkStep>& walk, const double centre[3],
+                     std::vector<Seg>* out) {
+    const std::size_t n = walk.size();
+    std::vector<std::size_t> xs;
+    for (std::size_t i = 0; i < n; ++i)
+      if (!walk[i].corner) xs.push_back(i);
+    if (xs.empty()) return;
+    bool s = walk[0].inside;
+    std::vector<int> arcAfter(n, -1);
+    for (std::size_t i = 1; i <= n; ++i) {
+      const WalkStep& st = walk[i % n];
+      if (st.corner) {
+        if (st.inside != s) throw Abort("a face is crossed inconsistently");
+      } else {
+        s = !s;
+        arcAfter[i % n] = s ? 1 : 0;
+      }
+    }
+    bool cutInside = true;
+    if (xs.size() > 2) cutInside = !isIn(sampleAt(centre[0], centre[1], centre[2]));
+    for (std::size_t k = 0; k < xs.size(); ++k) {
+      const std::size_t i = xs[k], j = xs[(k + 1) % xs.size()];
+      const bool arcInside = arcAfter[i] == 1;
+      if (arcInside != cutInside) continue;
+      if (arcInside)
+        out->push_back({walk[i].v, walk[j].v});
+      else
+        out->push_back({walk[j].v, walk[i].v});
+    }
+  }
+
+  double sampleAt(double x, double y, double z) {
+    ++stats_.evaluations;
+    return combine(field_.eval(x, y, z), g_.boxField(x, y, z));
+  }
+
+  // rootAlong on an edge along `axis`: the other coordinates exactly the edge's.
+  Vec3f rootOnSegment(const double a[3], double fa, const double b[3], int axis) {
+    Vec3f p = rootAlong(a, fa, b);
+    for (int k = 0; k < 3; ++k)
+      if (k != axis) p[k] = static_cast<float>(a[k]);
+    const float lo = static_cast<float>(std::min(a[axis], b[axis]));
+    const float hi = static_cast<float>(std::max(a[axis], b[axis]));
+    if (!(p[axis] > lo && p[axis] < hi)) throw Abort("a cell is too small for float32");
+    return p;
+  }
+
+  // The lines on face (a, side) of the half cube at f0, as that half cube runs them.
+  void faceLines(const std::int64_t f0[3], int a, int side, std::vector<Seg>* out) {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    std::int64_t fp[3] = {f0[0], f0[1], f0[2]};
+    fp[a] += side;
+    if ((fp[a] & 1) == 0) {  // on a grid face: a seam face gives its pieces
+      std::int64_t cell[3] = {fp[0] / 2, fp[1] / 2, fp[2] / 2};
+      std::int64_t below[3] = {cell[0], cell[1], cell[2]};
+      below[a] -= 1;
+      if (inOmega(below) != inOmega(cell)) {
+        const std::uint64_t key =
+            g_.linear(cell[0], cell[1], cell[2]) * 3 + static_cast<std::uint64_t>(a);
+        const auto it = seam_.find(key);
+        if (it == seam_.end()) return;
+        const int quarter = static_cast<int>(fp[b] & 1) + 2 * static_cast<int>(fp[c] & 1);
+        for (const Seg& s : it->second.quarter[quarter]) out->push_back(s);
+        return;
+      }
+    }
+    // the face's corners counterclockwise seen from outside the half cube
+    static const int ccw[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    std::int64_t corner[4][3];
+    for (int k = 0; k < 4; ++k) {
+      const int i = side == 1 ? k : (4 - k) % 4;
+      for (int x = 0; x < 3; ++x) corner[k][x] = fp[x];
+      corner[k][b] += ccw[i][0];
+      corner[k][c] += ccw[i][1];
+    }
+    // walk: corner k, then the crossings on the edge to corner k + 1
+    struct Step {
+      bool corner;
+      bool inside;      // corners
+      std::uint32_t v;  // crossings
+    };
+    std::vector<Step> walk;
+    int crossingCount = 0;
+    for (int k = 0; k < 4; ++k) {
+      const std::int64_t* p = corner[k];
+      const std::int64_t* q = corner[(k + 1) % 4];
+      walk.push_back({true, fineSign(p), 0});
+      int d = -1;
+      for (int x = 0; x < 3; ++x)
+        if (p[x] != q[x]) d = x;
+      const bool forward = q[d] > p[d];
+      std::int64_t lower[3] = {p[0], p[1], p[2]};
+      lower[d] = std::min(p[d], q[d]);
+      std::vector<std::uint32_t> xs = crossings(lower, d);
+      if (!forward) std::reverse(xs.begin(), xs.end());
+      for (std::uint32_t v : xs) walk.push_back({false, false, v});
+      crossingCount += static_cast<int>(xs.size());
+    }
+    if (crossingCount == 0) return;
+    // sides along the walk; each crossing flips it, and each corner must agree
+    const std::size_t n = walk.size();
+    std::size_t start = 0;  // a corner to start from
+    bool s = walk[0].inside;
+    std::vector<int> arcAfter(n, -1);  // at each crossing: the side after it
+    for (std::size_t i = 1; i <= n; ++i) {
+      const Step& st = walk[i % n];
+      if (st.corner) {
+        if (st.inside != s) throw Abort("a half cube's face is crossed inconsistently");
+      } else {
+        s = !s;
+        arcAfter[i % n] = s ? 1 : 0;
+      }
+    }
+    (void)start;
+    // which arcs the lines cut off: the inside ones, unless the face's centre is inside
+    // and there are more than two crossings (then the outside ones)
+    bool cutInside = true;
+    if (crossingCount > 2) {
+      double mid[3];
+      for (int x = 0; x < 3; ++x)
+        mid[x] = 0.5 * (fineCoord(x, corner[0][x]) + fineCoord(x, corner[2][x]));
+      const double v =
+          combine(field_.eval(mid[0], mid[1], mid[2]), g_.boxField(mid[0], mid[1], mid[2]));
+      ++stats_.evaluations;
+      cutInside = !isIn(v);
+    }
+    std::vector<std::size_t> xs;
+    for (std::size_t i = 0; i < n; ++i)
+      if (!walk[i].corner) xs.push_back(i);
+    for (std::size_t k = 0; k < xs.size(); ++k) {
+      const std::size_t i = xs[k], j = xs[(k + 1) % xs.size()];
+      const bool arcInside = arcAfter[i] == 1;
+      if (arcInside != cutInside) continue;
+      // inside arcs run from their start to their end; outside ones the other way
+      if (arcInside)
+        out->push_back({walk[i].v, walk[j].v});
+      else
+        out->push_back({walk[j].v, walk[i].v});
+    }
+  }
+
+  // ---- 6. the vertices on the half-cell grid's edges: Illinois on the field where it
+  // changes sign between the ends, else the edge's middle (a virtual end)
+  struct Root {
+    std::int64_t f[3];
+    int d;
+    std::uint32_t v;
+  };
+
+  void findRoots() {
+    const std::size_t n = roots_.size();
+    if (n == 0) return;
+    std::vector<double> ta(n, 0.0), tb(n, 1.0), fa(n), fb(n), t(n, kNoRoot);
+    std::vector<int> side(n, 0);
+    std::vector<char> active(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      std::int64_t f1[3] = {roots_[i].f[0], roots_[i].f[1], roots_[i].f[2]};
+      f1[roots_[i].d] += 1;
+      fa[i] = value(roots_[i].f);
+      fb[i] = value(f1);
+      active[i] = isIn(fa[i]) != isIn(fb[i]);
+    }
+    std::vector<double> x, y, z, v;
+    std::vector<std::size_t> which;
+    for (int it = 0; it < 40; ++it) {
+      x.clear();
+      y.clear();
+      z.clear();
+      which.clear();
+      for (std::size_t i = 0; i < n; ++i) {
+        if (!active[i]) continue;
+        double u = (ta[i] * fb[i] - tb[i] * fa[i]) / (fb[i] - fa[i]);
+        if (!(u > ta[i] && u < tb[i])) u = 0.5 * (ta[i] + tb[i]);
+        t[i] = u;
+        const Root& r = roots_[i];
+        double p[3];
+        for (int k = 0; k < 3; ++k) p[k] = fineCoord(k, r.f[k]);
+        p[r.d] += u * (fineCoord(r.d, r.f[r.d] + 1) - p[r.d]);
+        x.push_back(p[0]);
+        y.push_back(p[1]);
+        z.push_back(p[2]);
+        which.push_back(i);
+      }
+      if (which.empty()) break;
+      v.resize(which.size());
+      field_.evalBatch(x.data(), y.data(), z.data(), which.size(), v.data());
+      stats_.evaluations += which.size();
+      for (std::size_t w = 0; w < which.size(); ++w) {
+        const std::size_t i = which[w];
+        const double fv = combine(v[w], g_.boxField(x[w], y[w], z[w]));
+        if (fv == 0.0 || std::isnan(fv)) {
+          active[i] = 0;
+          continue;
+        }
+        if (isIn(fv) == isIn(fa[i])) {
+          ta[i] = t[i];
+          fa[i] = fv;
+          if (side[i] == -1) fb[i] *= 0.5;  // Illinois
+          side[i] = -1;
+        } else {
+          tb[i] = t[i];
+          fb[i] = fv;
+          if (side[i] == 1) fa[i] *= 0.5;
+          side[i] = 1;
+        }
+        if (tb[i] - ta[i] < 1e-7) active[i] = 0;
+      }
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const Root& r = roots_[i];
+      const double u = std::clamp(t[i], kEdgeMargin, 1.0 - kEdgeMargin);
+      Vec3f p;
+      for (int k = 0; k < 3; ++k) p[k] = fineF(k, r.f[k]);
+      const double a0 = fineCoord(r.d, r.f[r.d]), a1 = fineCoord(r.d, r.f[r.d] + 1);
+      p[r.d] = static_cast<float>(a0 + u * (a1 - a0));
+      if (!(p[r.d] > fineF(r.d, r.f[r.d]) && p[r.d] < fineF(r.d, r.f[r.d] + 1)))
+        throw Abort("a half cell is too small for float32");
+      mesh_.positions[r.v] = p;
+    }
+  }
+
+  // ---- 7. every triangle with an edge that was cut (on the seam, or between a split cell
+  // and its neighbour) takes the cuts as vertices: a fan from its opposite corner over one cut
+  // edge, from its centroid (in its plane) over several
+  std::vector<std::uint32_t> between(std::uint32_t u, std::uint32_t w) const {
+    std::vector<std::uint32_t> r;
+    const auto it = cuts_.find(undirected(u, w));
+    if (it == cuts_.end()) return r;
+    std::vector<std::uint32_t> list = it->second;
+    if (u > w) std::reverse(list.begin(), list.end());
+    std::uint32_t prev = u;
+    for (std::uint32_t v : list) {
+      const std::vector<std::uint32_t> sub = between(prev, v);
+      r.insert(r.end(), sub.begin(), sub.end());
+      r.push_back(v);
+      prev = v;
+    }
+    const std::vector<std::uint32_t> sub = between(prev, w);
+    r.insert(r.end(), sub.begin(), sub.end());
+    return r;
+  }
+
+  bool splitTriangle(const Triangle& tr, std::vector<Triangle>* out) {
+    std::vector<std::uint32_t> on[3];
+    int cutEdges = 0, which = 0;
+    for (int e = 0; e < 3; ++e) {
+      on[e] = between(tr[e], tr[(e + 1) % 3]);
+      if (!on[e].empty()) {
+        ++cutEdges;
+        which = e;
+      }
+    }
+    if (cutEdges == 0) return false;
+    if (cutEdges == 1) {
+      std::vector<std::uint32_t> chain = {tr[which]};
+      chain.insert(chain.end(), on[which].begin(), on[which].end());
+      chain.push_back(tr[(which + 1) % 3]);
+      for (std::size_t i = 0; i + 1 < chain.size(); ++i)
+        out->push_back({tr[(which + 2) % 3], chain[i], chain[i + 1]});
+      return true;
+    }
+    std::vector<std::uint32_t> poly;
+    for (int e = 0; e < 3; ++e) {
+      poly.push_back(tr[e]);
+      poly.insert(poly.end(), on[e].begin(), on[e].end());
+    }
+    Vec3f cen;
+    for (int k = 0; k < 3; ++k)
+      cen[k] = static_cast<float>((double(mesh_.positions[tr[0]][k]) + mesh_.positions[tr[1]][k] +
+                                   mesh_.positions[tr[2]][k]) /
+                                  3.0);
+    const std::uint32_t v = newVertex(cen);
+    for (std::size_t i = 0; i < poly.size(); ++i)
+      out->push_back({v, poly[i], poly[(i + 1) % poly.size()]});
+    return true;
+  }
+
+  void splitTriangles() {
+    if (cuts_.empty()) return;
+    std::vector<std::uint8_t> mark(mesh_.positions.size(), 0);
+    for (const auto& [k, list] : cuts_) {
+      mark[k >> 32] = 1;
+      mark[k & 0xffffffffu] = 1;
+    }
+    auto marked = [&](const Triangle& t) {
+      int n = 0;
+      for (std::uint32_t v : t) n += v < mark.size() && mark[v];
+      return n >= 2;
+    };
+    std::vector<Triangle> outside;
+    for (std::size_t t = 0; t < mesh_.triangles.size(); ++t) {
+      if (removed_[t] || !marked(mesh_.triangles[t])) continue;
+      const Triangle tr = mesh_.triangles[t];
+      if (splitTriangle(tr, &outside)) removed_[t] = 1;
+    }
+    std::vector<Triangle> inside;
+    inside.reserve(added_.size());
+    for (const Triangle& tr : added_)
+      if (!marked(tr) || !splitTriangle(tr, &inside)) inside.push_back(tr);
+    added_ = std::move(inside);
+    added_.insert(added_.end(), outside.begin(), outside.end());
+  }
+
+  // ---- 8. the mesh: the triangles kept, the new ones, unused vertices dropped, normals
+  void assemble() {
+    std::vector<Triangle> tris;
+    tris.reserve(mesh_.triangles.size() + added_.size());
+    for (std::size_t t = 0; t < mesh_.triangles.size(); ++t)
+      if (!removed_[t]) tris.push_back(mesh_.triangles[t]);
+    stats_.trianglesAdded = added_.size();
+    tris.insert(tris.end(), added_.begin(), added_.end());
+    const std::size_t oldCount = mesh_.normals.size();
+    std::vector<std::uint32_t> remap(mesh_.positions.size(), UINT32_MAX);
+    for (const Triangle& t : tris)
+      for (std::uint32_t v : t) remap[v] = 0;
+    std::vector<Vec3f> positions, normals;
+    std::vector<std::uint32_t> fresh;  // new vertices (their new index) for normals
+    const bool withNormals = oldCount > 0;
+    for (std::size_t v = 0; v < remap.size(); ++v) {
+      if (remap[v] == UINT32_MAX) continue;
+      remap[v] = static_cast<std::uint32_t>(positions.size());
+      positions.push_back(mesh_.positions[v]);
+      if (withNormals) {
+        normals.push_back(v < oldCount ? mesh_.normals[v] : Vec3f{0.f, 0.f, 0.f});
+        if (v >= oldCount) fresh.push_back(remap[v]);
+      }
+    }
+    for (Triangle& t : tris)
+      for (std::uint32_t& v : t) v = remap[v];
+    for (std::uint32_t i : fresh) {
+      const Vec3f& p = positions[i];
+      normals[i] = vertexNormal(field_.evalGradient(p[0], p[1], p[2]), g_, p);
+    }
+    mesh_.positions = std::move(positions);
+    mesh_.normals = std::move(normals);
+    mesh_.triangles = std::move(tris);
+  }
+
+  const Field& field_;
+  const Grid& g_;
+  TriangleMesh& mesh_;
+  LocalRefinementStats& stats_;
+  std::int64_t P_[3], F_[3];
+  std::unordered_map<std::uint64_t, double> values_;
+  std::unordered_set<std::uint64_t> omega_;
+  std::vector<std::uint64_t> cubes_;
+  std::vector<std::uint8_t> removed_;
+  std::unordered_map<std::uint64_t, SeamFace> seam_;
+  std::unordered_set<std::uint64_t> centreKnown_;
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cuts_;  // line -> its cuts
+  std::map<std::tuple<std::uint32_t, std::uint32_t, int>, std::uint32_t> cutVertex_;
+  std::unordered_map<std::uint64_t, std::uint32_t> edgeVertex_;
+  std::unordered_map<std::uint64_t, std::uint32_t> rootVertex_;
+  std::vector<Root> roots_;
+  std::vector<Triangle> added_;
+  std::unordered_set<std::uint64_t> banned_;
+  CubeFailure failed_;
+  std::unordered_set<std::uint64_t> forced_;
+  std::unordered_set<std::uint64_t> zone_;
+  std::vector<Near> nearby_;
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> byCube_;
+  std::unordered_map<std::uint64_t, std::uint32_t> flipEdge_;
+  std::unordered_map<std::uint64_t, std::uint32_t> flippable_;  // half cube fan edge -> triangle
+  std::unordered_map<std::uint32_t, Vec3f> normal_;             // spanning triangles' edges
+};
+
+}  // namespace
+
+void refineHiddenParts(const Field& field, const Grid& g,
+                       const std::vector<std::uint64_t>& seedEdges, std::size_t maxCubes,
+                       TriangleMesh& mesh, LocalRefinementStats* stats) {
+  LocalRefinementStats local;
+  LocalRefinementStats& s = stats ? *stats : local;
+  s = LocalRefinementStats();
+  if (seedEdges.empty()) return;
+  TriangleMesh work = mesh;
+  try {
+    Refiner r(field, g, work, s);
+    r.run(seedEdges, maxCubes);
+  } catch (const Abort& e) {
+    const std::size_t evaluations = s.evaluations;
+    s = LocalRefinementStats();
+    s.evaluations = evaluations;
+    s.skipped = e.what();
+    return;
+  }
+  if (s.cubes > 0) mesh = std::move(work);
+}
+
+}  // namespace frep

@@ -1,0 +1,152 @@
+// Local refinement (mesh/local_refinement.h, MeshingOptions::refineThinParts): parts thinner
+// than a cell that the grid passes between are meshed at half a cell, and every mesh stays
+// printable (CGAL's check), the same whatever the bricks.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "check/mesh_check.h"
+#include "frep/model_json.h"
+#include "mesh/mesher.h"
+#include "random_trees.h"
+
+namespace frep {
+namespace {
+
+std::string reasonsOf(const CheckReport& r) {
+  std::string s;
+  for (const auto& x : r.reasons) s += x + "; ";
+  return s;
+}
+
+std::vector<std::array<float, 9>> sortedTriangles(const TriangleMesh& mesh) {
+  std::vector<std::array<float, 9>> t;
+  for (const auto& tri : mesh.triangles) {
+    std::array<Vec3f, 3> c = {mesh.positions[tri[0]], mesh.positions[tri[1]],
+                              mesh.positions[tri[2]]};
+    std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
+    t.push_back({c[0][0], c[0][1], c[0][2], c[1][0], c[1][1], c[1][2], c[2][0], c[2][1], c[2][2]});
+  }
+  std::sort(t.begin(), t.end());
+  return t;
+}
+
+TriangleMesh meshModel(const std::string& json, bool refine, int brick, MeshingStats* stats) {
+  const Model m = parseModel(json, "refine", ".");
+  MeshingOptions o;
+  o.bbox = *m.bbox;
+  o.resolution = *m.resolution;
+  o.brickCells = brick;
+  o.flatVertices = brick % 2 == 0;
+  o.refineThinParts = refine;
+  return polygonize(compile(m.root), o, stats);
+}
+
+// A wall 0.3 cell thick between two layers of grid points: the grid never sees it, so the
+// mesh is empty; refined, the half-cell points in the middle of its cubes see it, and it is
+// meshed, closed, with about its volume (0.03).
+const char* kWall = R"({"frepcad": 1, "root": {"type": "box", "params":
+  {"corner": [-0.015, -0.5, -0.5], "size": [0.03, 1, 1]}},
+  "export": {"bbox": [-1, -1, -1, 1, 1, 1], "resolution": 0.1}})";
+
+TEST(LocalRefinement, AWallBetweenTheGridsPointsIsMeshedAtHalfACell) {
+  MeshingStats plain;
+  EXPECT_EQ(meshModel(kWall, false, 16, &plain).triangleCount(), 0u);
+  EXPECT_EQ(plain.refinedCubes, 0u);
+  EXPECT_GT(plain.thinSolidEdges, 0u);
+  MeshingStats stats;
+  const TriangleMesh mesh = meshModel(kWall, true, 16, &stats);
+  ASSERT_GT(mesh.triangleCount(), 0u) << stats.refinementSkipped;
+  EXPECT_TRUE(stats.refinementSkipped.empty()) << stats.refinementSkipped;
+  EXPECT_GE(stats.refinedCubes, 100u);  // the 10 x 10 cubes on either side at least
+  const CheckReport r = checkMesh(mesh);
+  EXPECT_TRUE(r.printable()) << reasonsOf(r);
+  EXPECT_EQ(r.components, 1u);
+  EXPECT_NEAR(r.volume, 0.03, 0.003);
+  // the same mesh whatever the bricks (the refinement works on the welded mesh)
+  for (int brick : {4, 10}) {
+    MeshingStats other;
+    EXPECT_EQ(sortedTriangles(meshModel(kWall, true, brick, &other)), sortedTriangles(mesh))
+        << brick;
+  }
+}
+
+// A slit 0.3 cell wide through a cube: the grid closes it; refined, it is cut open again and
+// the volume falls by about the slit's (0.03).
+TEST(LocalRefinement, ASlitTheGridClosesIsOpenedAgain) {
+  const char* slit = R"({"frepcad": 1, "root": {"type": "difference", "inputs": [
+    {"type": "box", "params": {"corner": [-0.5, -0.5, -0.5], "size": [1, 1, 1]}},
+    {"type": "box", "params": {"corner": [-0.015, -1, -1], "size": [0.03, 2, 2]}}]},
+    "export": {"bbox": [-1, -1, -1, 1, 1, 1], "resolution": 0.1}})";
+  MeshingStats plain, stats;
+  const CheckReport closed = checkMesh(meshModel(slit, false, 16, &plain));
+  const TriangleMesh mesh = meshModel(slit, true, 16, &stats);
+  const CheckReport open = checkMesh(mesh);
+  ASSERT_TRUE(open.printable()) << reasonsOf(open);
+  EXPECT_NEAR(closed.volume, 1.0, 0.01);
+  EXPECT_NEAR(open.volume, 0.97, 0.01);
+  EXPECT_EQ(open.components, 2u);  // the two halves
+}
+
+// Models with nothing hidden are left as they were.
+TEST(LocalRefinement, ASphereIsLeftAsItWas) {
+  const char* sphere = R"({"frepcad": 1, "root": {"type": "sphere", "params": {"radius": 0.8}},
+    "export": {"bbox": [-1, -1, -1, 1, 1, 1], "resolution": 0.05}})";
+  MeshingStats plain, stats;
+  const TriangleMesh a = meshModel(sphere, false, 16, &plain);
+  const TriangleMesh b = meshModel(sphere, true, 16, &stats);
+  EXPECT_EQ(stats.refinedCubes, 0u);
+  EXPECT_EQ(sortedTriangles(a), sortedTriangles(b));
+}
+
+// Random trees (thin walls, tangent contacts, sharp CSG, faces on grid planes) refined: every
+// mesh printable by the check, whatever was refined, sharp features on and off; and the same
+// mesh for two brick sizes. 96 trees here, 1,000 in the acceptance tier.
+void refineRandomTrees(unsigned seed, int trees) {
+  testing::RandomTrees rng(seed);
+  const double resolutions[] = {1.0 / 8, 1.0 / 12, 1.0 / 16, 1.0 / 20};
+  int refined = 0;
+  for (int i = 0; i < trees; ++i) {
+    const NodePtr tree = rng.tree(rng.integer(1, 4));
+    const Program program = compile(tree);
+    MeshingOptions o;
+    o.bbox = {{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}};
+    o.resolution = resolutions[rng.integer(0, 3)];
+    o.brickCells = 16;
+    o.flatVertices = rng.integer(0, 1) == 1;
+    o.sharpFeatures = rng.integer(0, 3) != 0;
+    o.refineThinParts = true;
+    MeshingStats stats;
+    const TriangleMesh mesh = polygonize(program, o, &stats);
+    refined += stats.refinedCubes > 0;
+    if (mesh.triangleCount() == 0) continue;
+    const CheckReport r = checkMesh(mesh);
+    ASSERT_TRUE(r.printable()) << "tree " << i << " at " << o.resolution << " ("
+                               << stats.refinedCubes << " cubes refined): " << reasonsOf(r) << "\n"
+                               << modelToJson(Model{tree, o.bbox, o.resolution, ""});
+    if (i % 8 == 0 && o.flatVertices) {
+      MeshingOptions other = o;
+      other.brickCells = 6;
+      EXPECT_EQ(sortedTriangles(polygonize(program, other)), sortedTriangles(mesh)) << "tree " << i;
+    }
+  }
+  EXPECT_GT(refined, trees / 10);  // the trees have thin parts to refine
+}
+
+TEST(LocalRefinement, RandomTreesStayPrintable) {
+  refineRandomTrees(7100, 250);
+}
+
+class LocalRefinementShard : public ::testing::TestWithParam<int> {};
+
+TEST_P(LocalRefinementShard, RandomTreesStayPrintableAcceptance) {
+  refineRandomTrees(7200 + static_cast<unsigned>(GetParam()), 125);
+}
+
+INSTANTIATE_TEST_SUITE_P(Shards, LocalRefinementShard, ::testing::Range(0, 8));
+
+}  // namespace
+}  // namespace frep
