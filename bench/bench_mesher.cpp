@@ -152,6 +152,34 @@ BENCHMARK(BM_ThinPartsGyroid)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// Local refinement (MeshingOptions::refineThinParts, refineTips) off, thin parts only (1) and
+// with the tips (2), at N cells without normals: BM_RefineGyroid/256/0 against .../2.
+void refine(benchmark::State& state, const std::string& name) {
+  auto [program, options] = across(name, state.range(0), false);
+  options.refineThinParts = state.range(1) >= 1;
+  options.refineTips = state.range(1) == 2;
+  meshRepeatedly(state, program, options);
+}
+void BM_RefineTwist(benchmark::State& s) {
+  refine(s, "twist");
+}
+void BM_RefineGyroid(benchmark::State& s) {
+  refine(s, "gyroid");
+}
+BENCHMARK(BM_RefineTwist)
+    ->Args({256, 0})
+    ->Args({256, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_RefineGyroid)
+    ->Args({128, 0})
+    ->Args({128, 1})
+    ->Args({128, 2})
+    ->Args({256, 0})
+    ->Args({256, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
 // Without vertex normals: what an STL export and a workbench preview mesh.
 void BM_AcrossHelixNoNormals(benchmark::State& s) { meshAcross(s, "helix", false); }
 void BM_AcrossCsgNoNormals(benchmark::State& s) { meshAcross(s, "csg", false); }

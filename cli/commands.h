@@ -33,6 +33,7 @@ struct ExportOptions {
   // the default (kept for scripts of 0.3); unset: true for JSON models
   std::optional<bool> flatVertices;
   bool refineThinParts = false;     // --refine-thin-parts
+  bool refineTips = false;          // --refine-tips
   bool stats = false;               // --stats: the accuracy report
   bool fog = false;                 // --fog: a .vdb fog volume instead of a level set
   std::vector<std::string> sets;  // --set Object.Property=VALUE (documents only)

@@ -45,6 +45,8 @@ const char* const kExportHelp =
     "                          with --tolerance, the simplifier's): edges are chamfered\n"
     "  --refine-thin-parts     mesh the cubes where a part thinner than a cell hides between the\n"
     "                          grid's points again at half a cell (docs/mesher.md)\n"
+    "  --refine-tips           ... and the cubes round the tips of creases and slivers too\n"
+    "                          (the gyroid's; creases then come out less clean)\n"
     "  --keep-flat-vertices    keep the vertices where the surface is flat within a fiftieth\n"
     "                          of a cell, which are dropped by default (6 to 15 % fewer\n"
     "                          triangles, the same accuracy): a little faster meshing\n"
@@ -116,6 +118,8 @@ ExportOptions parseExportOptions(const Args& args) {
     } else if (a == "--no-sharp") o.sharp = false;
     else if (a == "--refine-thin-parts")
       o.refineThinParts = true;
+    else if (a == "--refine-tips")
+      o.refineTips = true;
     else if (a == "--fewer-triangles" || a == "--keep-flat-vertices")
       o.flatVertices = a == "--fewer-triangles";
     else if (a == "--mesher") {
@@ -232,6 +236,7 @@ int exportModel(const ExportOptions& opt) {
   request.sharpFeatures = opt.sharp;
   if (opt.flatVertices) request.flatVertices = *opt.flatVertices;  // (else the pipeline's default)
   request.refineThinParts = opt.refineThinParts;
+  request.refineTips = opt.refineTips;
   request.extraction = opt.tetra ? Extraction::Tetrahedra : Extraction::Cubes;
   request.stats = opt.stats;
   // The box policy is the pipeline's; the CLI only adds where the user gives a box.

@@ -119,6 +119,7 @@ void refineRandomTrees(unsigned seed, int trees) {
     o.flatVertices = rng.integer(0, 1) == 1;
     o.sharpFeatures = rng.integer(0, 3) != 0;
     o.refineThinParts = true;
+    o.refineTips = rng.integer(0, 3) != 0;
     MeshingStats stats;
     const TriangleMesh mesh = polygonize(program, o, &stats);
     refined += stats.refinedCubes > 0;
@@ -137,7 +138,7 @@ void refineRandomTrees(unsigned seed, int trees) {
 }
 
 TEST(LocalRefinement, RandomTreesStayPrintable) {
-  refineRandomTrees(7100, 250);
+  refineRandomTrees(7100, 120);
 }
 
 class LocalRefinementShard : public ::testing::TestWithParam<int> {};

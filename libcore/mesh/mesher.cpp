@@ -136,7 +136,7 @@ struct BrickResult {
   bool exampleUnseen = false;
   std::uint64_t exampleKey = std::numeric_limits<std::uint64_t>::max();
   Vec3 example = {0, 0, 0};
-  std::vector<std::uint64_t> hiddenEdges;  // those of the first kind, by key (for refinement)
+  std::vector<std::uint64_t> hiddenEdges, tipEdges;  // by kind and key (for refinement)
 };
 
 struct Scratch {
@@ -496,6 +496,7 @@ class BrickMesher {
                             const std::int64_t n[3], Scratch& s, BrickResult& out) const {
     out.thinSolid = out.thinGaps = out.tips = 0;
     out.hiddenEdges.clear();
+    out.tipEdges.clear();
     out.exampleUnseen = false;
     out.exampleKey = std::numeric_limits<std::uint64_t>::max();
     siftTents(r, n, s);
@@ -549,7 +550,7 @@ class BrickMesher {
         ++out.tips;
       const std::uint64_t key = g_.linear(r.lo[0] + l[0], r.lo[1] + l[1], r.lo[2] + l[2]) * 3 +
                                 static_cast<std::uint64_t>(a);
-      out.hiddenEdges.push_back(key);
+      (unseen ? out.hiddenEdges : out.tipEdges).push_back(key);
       // the example: of a part seen nowhere near where there is one
       if (unseen > out.exampleUnseen || (unseen == out.exampleUnseen && key < out.exampleKey)) {
         out.exampleUnseen = unseen;
@@ -1790,9 +1791,11 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
   const std::size_t evaluated = meshBricks(field, g, opt, bricks, results);
   countThinParts(results, stats);
   std::vector<std::uint64_t> hiddenEdges;
-  if (opt.refineThinParts)
-    for (const BrickResult& b : results)
+  for (const BrickResult& b : results) {
+    if (opt.refineThinParts || opt.refineTips)
       hiddenEdges.insert(hiddenEdges.end(), b.hiddenEdges.begin(), b.hiddenEdges.end());
+    if (opt.refineTips) hiddenEdges.insert(hiddenEdges.end(), b.tipEdges.begin(), b.tipEdges.end());
+  }
   bool bySorting = false;
   std::vector<std::uint32_t> flippable;
   TriangleMesh mesh = weld(g, bc, b1, bricks, results, opt.normals, &bySorting, &flippable);

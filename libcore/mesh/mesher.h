@@ -48,9 +48,12 @@ struct MeshingOptions {
   // thin parts; docs/mesher.md): the mesh is the same either way, and looking costs 4 to 9 %
   // of the meshing time (docs/performance.md).
   bool findThinParts = true;
-  // Mesh the cubes round the parts findThinParts sees nowhere near again at half a cell
-  // (mesh/local_refinement.h), up to this many cubes.
+  // Mesh the cubes round the parts findThinParts sees nowhere near (solid left out, gaps
+  // closed) again at half a cell (mesh/local_refinement.h), and with refineTips those round
+  // the tips too (the gyroid's slivers; crease tips, whose creases then come out less
+  // clean), up to refinementCubes cubes.
   bool refineThinParts = false;
+  bool refineTips = false;
   std::size_t refinementCubes = 200000;
   double resolution = 0.05;  // target cell size; the grid fits the box exactly (cells <= this)
   int brickCells = 16;       // cells per brick edge: the unit of pruning and of threading

@@ -132,6 +132,7 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
   o.sharpFeatures = request.sharpFeatures;
   o.flatVertices = request.flatVertices;
   o.refineThinParts = request.refineThinParts;
+  o.refineTips = request.refineTips;
   // Vertex normals only where the file keeps them: STL's facet normals come from the
   // triangles, FreeCAD computes its own for .bms.
   o.normals = request.normals && (format == MeshFormat::Obj || format == MeshFormat::Ply);

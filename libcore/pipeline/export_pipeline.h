@@ -80,6 +80,7 @@ struct ExportRequest {
   bool sharpFeatures = true;
   bool flatVertices = true;  // the mesher's flat vertices removed (MeshingOptions::flatVertices)
   bool refineThinParts = false;               // MeshingOptions::refineThinParts
+  bool refineTips = false;                    // MeshingOptions::refineTips
   Extraction extraction = Extraction::Cubes;  // Tetrahedra: the old mesher (one release)
   // Measure the written mesh against the exact surface (pipeline/accuracy.h): distances
   // both ways, volume, crease length. Costs a mesh at half the cell size.

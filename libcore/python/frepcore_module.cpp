@@ -507,11 +507,12 @@ PYBIND11_MODULE(_frepcore, m) {
           [](PyNode& n, const std::string& path, py::object bbox, py::object resolution,
              py::object cells, const std::string& format, bool check, bool force,
              py::object progress, py::object tolerance, bool sharp, const std::string& mesher,
-             bool fewerTriangles, bool refineThinParts) {
+             bool fewerTriangles, bool refineThinParts, bool refineTips) {
             ExportRequest r;
             r.extraction = parseMesher(mesher);
             r.flatVertices = fewerTriangles;
             r.refineThinParts = refineThinParts;
+            r.refineTips = refineTips;
             r.box = boxRequest(bbox, resolution, cells, kPaddingCells);
             r.known = structuralBounds(n.node);
             if (!format.empty()) r.format = parseFormat(format);
@@ -541,10 +542,12 @@ PYBIND11_MODULE(_frepcore, m) {
           py::arg("force") = false, py::arg("progress") = py::none(),
           py::arg("tolerance") = py::none(), py::arg("sharp") = true, py::arg("mesher") = "cubes",
           py::arg("fewer_triangles") = true, py::arg("refine_thin_parts") = false,
+          py::arg("refine_tips") = false,
           "The export pipeline: box policy, mesh (mesher 'cubes' or 'tetra'; creases and "
           "corners placed unless sharp=False; the vertices where the surface is flat within a "
           "fiftieth of a cell dropped unless fewer_triangles=False; parts thinner than a cell "
-          "meshed again at half a cell with refine_thin_parts=True), (simplify within "
+          "meshed again at half a cell with refine_thin_parts=True, and the tips of creases and "
+          "slivers with refine_tips=True), (simplify within "
           "`tolerance` of the surface), "
           "CGAL check, atomic write. Returns the check "
           "report dict plus 'written'; a refused mesh is not written unless force.")
@@ -638,12 +641,13 @@ PYBIND11_MODULE(_frepcore, m) {
           "mesh",
           [](PyNode& n, py::object bbox, double resolution, py::object progress, bool normals,
              py::object tolerance, bool sharp, const std::string& mesher, bool fewerTriangles,
-             bool refineThinParts) {
+             bool refineThinParts, bool refineTips) {
             MeshingOptions o;
             o.extraction = parseMesher(mesher);
             o.sharpFeatures = sharp;
             o.flatVertices = fewerTriangles;
             o.refineThinParts = refineThinParts;
+            o.refineTips = refineTips;
             o.bbox = toBox(bbox.cast<py::sequence>());
             o.resolution = resolution;
             o.normals = normals;
@@ -678,7 +682,7 @@ PYBIND11_MODULE(_frepcore, m) {
           py::arg("bbox"), py::arg("resolution"), py::arg("progress") = py::none(),
           py::arg("normals") = false, py::arg("tolerance") = py::none(), py::arg("sharp") = true,
           py::arg("mesher") = "cubes", py::arg("fewer_triangles") = true,
-          py::arg("refine_thin_parts") = false,
+          py::arg("refine_thin_parts") = false, py::arg("refine_tips") = false,
           "Polygonises inside bbox with cells of at most `resolution` (mesher 'cubes', or "
           "'tetra': marching tetrahedra, three times the triangles; the vertices where the "
           "surface is flat within a fiftieth of a cell dropped unless fewer_triangles=False); with "
@@ -691,7 +695,7 @@ PYBIND11_MODULE(_frepcore, m) {
           "passed between the grid's points: {'solid': grid edges of solid left out, 'gaps': "
           "of gaps closed (both with no surface near), 'tips': of crease tips cut short, "
           "'example': a point on one, 'refined_cubes': the cubes round them meshed again at "
-          "half a cell with refine_thin_parts=True}.")
+          "half a cell with refine_thin_parts=True (and round the tips with refine_tips=True)}.")
       .def(
           "to_vdb",
           [](PyNode& n, const std::string& path, py::object bbox, double voxel, double halfWidth,

@@ -119,7 +119,7 @@ class Shape:
     # -- meshing and export ---------------------------------------------------------------
     def mesh(self, resolution=None, bbox=None, cells=None, progress=None, normals=False,
              tolerance=None, sharp=True, mesher="cubes", fewer_triangles=True,
-             refine_thin_parts=False):
+             refine_thin_parts=False, refine_tips=False):
         """Polygonises the solid; bbox and resolution default to automatic_box. Creases and
         corners get vertices unless sharp=False; mesher='tetra' is the marching-tetrahedra
         mesher of before 0.3 (three times the triangles); the vertices where the surface is
@@ -128,15 +128,16 @@ class Shape:
         thin_parts dict counts the grid edges where parts thinner than a cell passed between
         the grid's points: 'solid' left out and 'gaps' closed with no surface near, 'tips' of
         creases cut short; 'example' is a point on one. With refine_thin_parts=True the
-        cubes round them are meshed again at half a cell (`--refine-thin-parts`;
-        'refined_cubes' counts them)."""
+        cubes round the solid and gaps are meshed again at half a cell
+        (`--refine-thin-parts`; 'refined_cubes' counts them), with refine_tips=True those round
+        the tips too (`--refine-tips`)."""
         box, cell = automatic_box(self, resolution=resolution, bbox=bbox, cells=cells)
         return self.node.mesh(box, cell, progress, normals, tolerance, sharp, mesher,
-                              fewer_triangles, refine_thin_parts)
+                              fewer_triangles, refine_thin_parts, refine_tips)
 
     def export(self, path, resolution=None, bbox=None, cells=None, format="", check=True,
                progress=None, force=False, tolerance=None, sharp=True, mesher="cubes",
-               fewer_triangles=True, refine_thin_parts=False):
+               fewer_triangles=True, refine_thin_parts=False, refine_tips=False):
         """Meshes, checks with CGAL and writes path atomically (libcore's export pipeline,
         the same as `frepcad export`); returns the check report (a dict with 'text', and
         'thin_parts' as in mesh()).
@@ -144,7 +145,8 @@ class Shape:
         marching tetrahedra (`--mesher tetra`); the vertices where the surface is flat within a
         fiftieth of a cell are dropped unless fewer_triangles=False (`--keep-flat-vertices`);
         parts thinner than a cell are meshed again at half a cell with refine_thin_parts=True
-        (`--refine-thin-parts`). With a tolerance (model units) the mesh is
+        (`--refine-thin-parts`), and round the tips of creases and slivers too with
+        refine_tips=True (`--refine-tips`). With a tolerance (model units) the mesh is
         simplified first, kept within it of the surface (`frepcad export --tolerance`); the
         report then has 'triangles_before_simplify' and 'largest_distance'.
 
@@ -155,7 +157,8 @@ class Shape:
                                   format=format, check=check, force=force, progress=progress,
                                   tolerance=tolerance, sharp=sharp, mesher=mesher,
                                   fewer_triangles=fewer_triangles,
-                                  refine_thin_parts=refine_thin_parts)
+                                  refine_thin_parts=refine_thin_parts,
+                                  refine_tips=refine_tips)
         if check and not report["printable"] and not force:
             raise NotPrintable("%s: not written, the mesh is not printable: %s"
                                % (path, "; ".join(report["reasons"])), report)
