@@ -50,6 +50,9 @@ echo '{"root": {"type": "union", "inputs": [{"type": "sphere", "params": {"radiu
 expect 0 "warning: solid thinner than a cell \(0.1\) passes between the grid's points at 9 grid edges" -- "$frepcad" export "$work/fin.json" -o "$work/fin.stl"
 expect 0 "for example at \([-0-9.e]+, 0.65, 0.65\)" -- "$frepcad" export "$work/fin.json" -o "$work/fin.stl"
 expect 0 "thinner than a cell  grid edges crossed between two grid points: 9 solid, 0 gaps \(no surface near\), 0 tips" -- "$frepcad" export "$work/fin.json" -o "$work/fin.stl" --stats
+# refined: the fin is meshed at half a cell, a second piece of the printable mesh
+expect 0 "cubes round parts thinner than a cell meshed again at half a cell" -- "$frepcad" export "$work/fin.json" -o "$work/fin.stl" --refine-thin-parts
+expect 0 "components +2" -- "$frepcad" export "$work/fin.json" -o "$work/fin.stl" --refine-thin-parts --stats
 expect 0 "wrote" -- "$frepcad" export "$src/examples/csg.json" -o "$work/tetra.stl" --resolution 0.1 --mesher tetra
 # flat vertices dropped by default: printable, fewer triangles than with --keep-flat-vertices,
 # and the same mesh as with --fewer-triangles (the default, still accepted)
