@@ -12,6 +12,7 @@
 #include "frep/model_json.h"
 #include "mesh/mesher.h"
 #include "random_trees.h"
+#include "sorted_triangles.h"
 
 namespace frep {
 namespace {
@@ -22,17 +23,7 @@ std::string reasonsOf(const CheckReport& r) {
   return s;
 }
 
-std::vector<std::array<float, 9>> sortedTriangles(const TriangleMesh& mesh) {
-  std::vector<std::array<float, 9>> t;
-  for (const auto& tri : mesh.triangles) {
-    std::array<Vec3f, 3> c = {mesh.positions[tri[0]], mesh.positions[tri[1]],
-                              mesh.positions[tri[2]]};
-    std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
-    t.push_back({c[0][0], c[0][1], c[0][2], c[1][0], c[1][1], c[1][2], c[2][0], c[2][1], c[2][2]});
-  }
-  std::sort(t.begin(), t.end());
-  return t;
-}
+using testing::sortedTriangles;
 
 TriangleMesh meshModel(const std::string& json, bool refine, int brick, MeshingStats* stats) {
   const Model m = parseModel(json, "refine", ".");

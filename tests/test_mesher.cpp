@@ -18,6 +18,7 @@
 #include "mesh/flat_vertex_removal.h"
 #include "mesh/mesher.h"
 #include "random_trees.h"
+#include "sorted_triangles.h"
 
 namespace frep {
 namespace {
@@ -175,17 +176,7 @@ TEST(Mesher, NormalsComeFromTheGradient) {
   }
 }
 
-std::vector<std::array<float, 9>> sortedTriangles(const TriangleMesh& mesh) {
-  std::vector<std::array<float, 9>> t;
-  for (const auto& tri : mesh.triangles) {
-    std::array<Vec3f, 3> c = {mesh.positions[tri[0]], mesh.positions[tri[1]],
-                              mesh.positions[tri[2]]};
-    std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
-    t.push_back({c[0][0], c[0][1], c[0][2], c[1][0], c[1][1], c[1][2], c[2][0], c[2][1], c[2][2]});
-  }
-  std::sort(t.begin(), t.end());
-  return t;
-}
+using testing::sortedTriangles;
 
 TEST(Mesher, SameMeshWhateverTheBrickSize) {
   // Bricks only split the work: vertices on brick faces weld exactly.

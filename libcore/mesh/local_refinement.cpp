@@ -13,6 +13,7 @@
 #include "base/qef.h"
 #include "base/triangle_geometry.h"
 #include "mesh/crease_flips.h"
+#include "mesh/feature_point.h"
 
 namespace frep {
 
@@ -103,8 +104,7 @@ class Refiner {
         for (auto& [key, face] : seam_) {
           try {
             cutSeamFace(face);
-          } catch (const Abort& x) {
-            note(x.what());
+          } catch (const Abort&) {
             std::int64_t below[3] = {face.cell[0], face.cell[1], face.cell[2]};
             below[face.axis] -= 1;
             failed_.extra.push_back(inOmega(below)
@@ -139,6 +139,7 @@ class Refiner {
     cuts_.clear();
     cutVertex_.clear();
     flippable_.clear();
+    normal_.clear();  // (keyed by vertex: new vertices are numbered again)
     edgeVertex_.clear();
     rootVertex_.clear();
     roots_.clear();
@@ -553,7 +554,6 @@ class Refiner {
         if (!omega_.count(id)) joined->push_back(id);
       return;
     }
-    note("a cube left out would have to join");
     for (std::uint64_t id : cubes)
       if (omega_.count(id)) failed_.cubes.push_back(id);
   }
@@ -639,9 +639,8 @@ class Refiner {
   void addSeamLine(std::uint32_t p, std::uint32_t q) {
     try {
       addSeamLineOrFail(p, q);
-    } catch (const Abort& x) {
+    } catch (const Abort&) {
       // the cubes round both ends join, so the seam moves away from the line
-      note(x.what());
       for (const Vec3f& x : {mesh_.positions[p], mesh_.positions[q]}) {
         std::int64_t lo[3], hi[3];
         for (int a = 0; a < 3; ++a) span(a, x[a], x[a], &lo[a], &hi[a]);
@@ -652,9 +651,6 @@ class Refiner {
       }
     }
   }
-  // (what went wrong in a cube that is left out or joined: not reported, the refinement
-  // simply starts again without it or with its neighbour)
-  void note(const char*) {}
   void throwFailures() {
     if (failed_.cubes.empty() && failed_.extra.empty()) return;
     CubeFailure f;
@@ -701,49 +697,16 @@ class Refiner {
   }
 
   void cutSeamFace(SeamFace& f) {
-    const auto& P = mesh_.positions;
     const int a = f.axis, b = (a + 1) % 3, c = (a + 2) % 3;
-    const float midB = static_cast<float>(g_.mid(b, f.cell[b])),
-                midC = static_cast<float>(g_.mid(c, f.cell[c]));
-    for (const Seg& s : f.lines) {
-      const Vec3f p = P[s.from], q = P[s.to];
-      // the cuts along the line: (parameter, midline axis)
-      std::vector<std::pair<double, int>> cuts;
-      for (int m : {b, c}) {
-        const float at = m == b ? midB : midC;
-        if (p[m] == at || q[m] == at) throw Abort("a seam line ends on a midline");
-        if ((p[m] < at) != (q[m] < at))
-          cuts.push_back({(double(at) - p[m]) / (double(q[m]) - p[m]), m});
-      }
-      std::sort(cuts.begin(), cuts.end());
-      if (cuts.size() == 2 && cuts[0].first == cuts[1].first)
-        throw Abort("a seam line passes a face's centre");
-      std::vector<std::uint32_t> chain = {s.from};
-      for (const auto& [u, m] : cuts) {
-        Vec3f x;
-        for (int k = 0; k < 3; ++k) x[k] = static_cast<float>(p[k] + u * (double(q[k]) - p[k]));
-        x[a] = p[a];
-        x[m] = m == b ? midB : midC;
-        const int o = m == b ? c : b;  // the coordinate along the midline
-        const float oMid = o == b ? midB : midC;
-        if (x[o] == oMid || x == p || x == q) throw Abort("a seam cut falls on a point");
-        const std::uint32_t v = newVertex(x);
-        chain.push_back(v);
-        // half midline: across b (0, 1 by c's half) or across c (2, 3 by b's half)
-        const int half = (m == b ? 0 : 2) + (x[o] > oMid ? 1 : 0);
-        f.halfMid[half].push_back({x[o], v});
-      }
-      chain.push_back(s.to);
-      recordCuts(s.from, s.to, std::vector<std::uint32_t>(chain.begin() + 1, chain.end() - 1));
-      for (std::size_t i = 0; i + 1 < chain.size(); ++i) {
-        const Vec3f& u = mesh_.positions[chain[i]];
-        const Vec3f& w = mesh_.positions[chain[i + 1]];
-        const double mb = 0.5 * (double(u[b]) + w[b]), mc = 0.5 * (double(u[c]) + w[c]);
-        const int quarter = (mb > midB ? 1 : 0) + (mc > midC ? 2 : 0);
-        f.quarter[quarter].push_back({chain[i + 1], chain[i]});  // the region's way round
-      }
+    float midF[3] = {0.f, 0.f, 0.f};
+    midF[b] = static_cast<float>(g_.mid(b, f.cell[b]));
+    midF[c] = static_cast<float>(g_.mid(c, f.cell[c]));
+    FaceCut cut;
+    cutFace(a, f.lines, midF, &cut);
+    for (int q = 0; q < 4; ++q) {
+      f.halfMid[q] = std::move(cut.halfMid[q]);
+      for (const Seg& piece : cut.quarter[q]) f.quarter[q].push_back({piece.to, piece.from});
     }
-    for (auto& h : f.halfMid) std::sort(h.begin(), h.end());
     // the centre's side from each half midline: its outer end's side, flipped at each cut
     int centre = -1;
     for (int half = 0; half < 4; ++half) {
@@ -922,8 +885,7 @@ class Refiner {
           cells.push_back(halfCube(f0));
           cellCube.push_back(id);
         }
-      } catch (const Abort& e) {
-        note(e.what());
+      } catch (const Abort&) {
         failed_.cubes.push_back(id);
       }
     }
@@ -934,8 +896,7 @@ class Refiner {
       if (cellCube[i] == last && !failed_.cubes.empty() && failed_.cubes.back() == last) continue;
       try {
         meshCell(cells[i], 0);
-      } catch (const Abort& e) {
-        note(e.what());
+      } catch (const Abort&) {
         failed_.cubes.push_back(cellCube[i]);
       }
       if (cellCube[i] != last) ++stats_.cubes;
@@ -1064,27 +1025,9 @@ class Refiner {
     int rank = 0;
     Vec3 x = q.minimiser(kFeatureCutoff, &rank);
     if (rank < 2) return false;
-    if (rank == 2) {  // a crease whose nearest point lies outside may still cross the cell
-      const Vec3f &na = unitNormal(loop[spreadA]), &nb = unitNormal(loop[spreadB]);
-      const double d[3] = {double(na[1]) * nb[2] - double(na[2]) * nb[1],
-                           double(na[2]) * nb[0] - double(na[0]) * nb[2],
-                           double(na[0]) * nb[1] - double(na[1]) * nb[0]};
-      double t0 = -std::numeric_limits<double>::infinity(), t1 = -t0;
-      for (int a = 0; a < 3; ++a) {
-        if (d[a] == 0.0) {
-          if (x[a] < cell.lo[a] || x[a] > cell.hi[a]) t0 = t1 + 1.0;
-          continue;
-        }
-        double u = (cell.lo[a] - x[a]) / d[a], w = (cell.hi[a] - x[a]) / d[a];
-        if (u > w) std::swap(u, w);
-        t0 = std::max(t0, u);
-        t1 = std::min(t1, w);
-      }
-      if (t0 <= t1) {
-        const double t = std::clamp(0.0, t0, t1);
-        for (int a = 0; a < 3; ++a) x[a] += t * d[a];
-      }
-    }
+    if (rank == 2)  // a crease whose nearest point lies outside may still cross the cell
+      moveAlongCreaseIntoBox(x, unitNormal(loop[spreadA]), unitNormal(loop[spreadB]), cell.lo,
+                             cell.hi);
     for (int a = 0; a < 3; ++a) {
       const double h = cell.hi[a] - cell.lo[a];
       if (!(x[a] > cell.lo[a] - h && x[a] < cell.hi[a] + h)) return false;

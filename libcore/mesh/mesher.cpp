@@ -20,6 +20,7 @@
 #include "mesh/centred_cube.h"
 #include "mesh/crease_flips.h"
 #include "mesh/cube_loops.h"
+#include "mesh/feature_point.h"
 #include "mesh/flat_vertex_removal.h"
 #include "mesh/hidden_parts.h"
 #include "mesh/kuhn_tetrahedra.h"
@@ -1083,27 +1084,8 @@ class BrickMesher {
     // A crease whose point nearest the planes' mean lies outside the cube may still cross
     // it: then the vertex goes where the crease line does, inside (the two most different
     // normals give its direction); else to the cube's point nearest the minimiser.
-    if (rank == 2) {
-      const Vec3f &na = s.unit[L[2 * spreadA]], &nb = s.unit[L[2 * spreadB]];
-      const double d[3] = {double(na[1]) * nb[2] - double(na[2]) * nb[1],
-                           double(na[2]) * nb[0] - double(na[0]) * nb[2],
-                           double(na[0]) * nb[1] - double(na[1]) * nb[0]};
-      double t0 = -std::numeric_limits<double>::infinity(), t1 = -t0;
-      for (int a = 0; a < 3; ++a) {
-        if (d[a] == 0.0) {
-          if (x[a] < lo[a] || x[a] > hi[a]) t0 = t1 + 1.0;  // parallel, outside: no crossing
-          continue;
-        }
-        double u = (lo[a] - x[a]) / d[a], w = (hi[a] - x[a]) / d[a];
-        if (u > w) std::swap(u, w);
-        t0 = std::max(t0, u);
-        t1 = std::min(t1, w);
-      }
-      if (t0 <= t1) {
-        const double t = std::clamp(0.0, t0, t1);
-        for (int a = 0; a < 3; ++a) x[a] += t * d[a];
-      }
-    }
+    if (rank == 2)
+      moveAlongCreaseIntoBox(x, s.unit[L[2 * spreadA]], s.unit[L[2 * spreadB]], lo, hi);
     Vec3f at;
     int beyond = 0, outAxis = -1;  // the axes on which the point lies off the inner box
     for (int a = 0; a < 3; ++a) {
