@@ -1551,6 +1551,7 @@ class Refiner {
       const std::size_t i = xs[k], j = xs[(k + 1) % xs.size()];
       const bool arcInside = arcAfter[i] == 1;
       if (arcInside != cutInside) continue;
+      // inside arcs run from their start to their end; outside ones the other way
       if (arcInside)
         out->push_back({walk[i].v, walk[j].v});
       else
@@ -1603,13 +1604,7 @@ class Refiner {
       corner[k][c] += ccw[i][1];
     }
     // walk: corner k, then the crossings on the edge to corner k + 1
-    struct Step {
-      bool corner;
-      bool inside;      // corners
-      std::uint32_t v;  // crossings
-    };
-    std::vector<Step> walk;
-    int crossingCount = 0;
+    std::vector<WalkStep> walk;
     for (int k = 0; k < 4; ++k) {
       const std::int64_t* p = corner[k];
       const std::int64_t* q = corner[(k + 1) % 4];
@@ -1617,55 +1612,16 @@ class Refiner {
       int d = -1;
       for (int x = 0; x < 3; ++x)
         if (p[x] != q[x]) d = x;
-      const bool forward = q[d] > p[d];
       std::int64_t lower[3] = {p[0], p[1], p[2]};
       lower[d] = std::min(p[d], q[d]);
       std::vector<std::uint32_t> xs = crossings(lower, d);
-      if (!forward) std::reverse(xs.begin(), xs.end());
+      if (q[d] < p[d]) std::reverse(xs.begin(), xs.end());
       for (std::uint32_t v : xs) walk.push_back({false, false, v});
-      crossingCount += static_cast<int>(xs.size());
     }
-    if (crossingCount == 0) return;
-    // sides along the walk; each crossing flips it, and each corner must agree
-    const std::size_t n = walk.size();
-    std::size_t start = 0;  // a corner to start from
-    bool s = walk[0].inside;
-    std::vector<int> arcAfter(n, -1);  // at each crossing: the side after it
-    for (std::size_t i = 1; i <= n; ++i) {
-      const Step& st = walk[i % n];
-      if (st.corner) {
-        if (st.inside != s) throw Abort("a half cube's face is crossed inconsistently");
-      } else {
-        s = !s;
-        arcAfter[i % n] = s ? 1 : 0;
-      }
-    }
-    (void)start;
-    // which arcs the lines cut off: the inside ones, unless the face's centre is inside
-    // and there are more than two crossings (then the outside ones)
-    bool cutInside = true;
-    if (crossingCount > 2) {
-      double mid[3];
-      for (int x = 0; x < 3; ++x)
-        mid[x] = 0.5 * (fineCoord(x, corner[0][x]) + fineCoord(x, corner[2][x]));
-      const double v =
-          combine(field_.eval(mid[0], mid[1], mid[2]), g_.boxField(mid[0], mid[1], mid[2]));
-      ++stats_.evaluations;
-      cutInside = !isIn(v);
-    }
-    std::vector<std::size_t> xs;
-    for (std::size_t i = 0; i < n; ++i)
-      if (!walk[i].corner) xs.push_back(i);
-    for (std::size_t k = 0; k < xs.size(); ++k) {
-      const std::size_t i = xs[k], j = xs[(k + 1) % xs.size()];
-      const bool arcInside = arcAfter[i] == 1;
-      if (arcInside != cutInside) continue;
-      // inside arcs run from their start to their end; outside ones the other way
-      if (arcInside)
-        out->push_back({walk[i].v, walk[j].v});
-      else
-        out->push_back({walk[j].v, walk[i].v});
-    }
+    double mid[3];
+    for (int x = 0; x < 3; ++x)
+      mid[x] = 0.5 * (fineCoord(x, corner[0][x]) + fineCoord(x, corner[2][x]));
+    pairCrossings(walk, mid, out);
   }
 
   // ---- 6. the vertices on the half-cell grid's edges: Illinois on the field where it
