@@ -74,7 +74,15 @@ def warn_thin_parts(label, thin):
     """Says in the report view where parts thinner than a cell passed between the grid's
     points with no surface near (frepcore's Mesh.thin_parts): the mesh is printable, but
     those parts are missing from it (solid) or closed in it (gaps). Crease tips cut short
-    are not warned of: every crease off the grid has them."""
+    are not warned of: every crease off the grid has them. Where they were meshed again at
+    half a cell (RefineThinParts), it says so instead."""
+    if thin and thin.get("refinement_skipped"):
+        FreeCAD.Console.PrintWarning("%s: the thin parts were not refined: %s\n"
+                                     % (label, thin["refinement_skipped"]))
+    if thin and thin.get("refined_cubes"):
+        FreeCAD.Console.PrintMessage("%s: %d cubes round parts thinner than a cell meshed again "
+                                     "at half a cell.\n" % (label, thin["refined_cubes"]))
+        return
     if not thin or not (thin["solid"] or thin["gaps"]):
         return
     parts = []

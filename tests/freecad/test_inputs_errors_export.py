@@ -139,6 +139,19 @@ def test_polygonize_warns_of_parts_thinner_than_a_cell(doc, monkeypatch):
     assert len(thin) == 1 and thin[0].startswith("Mesh: solid thinner than a cell passes "
                                                  "between the grid's points at 9 grid edges")
     assert ", 0.65, 0.65)" in thin[0]
+    # refined, the fin is meshed (a second piece) and the warning gives way to a message
+    assert p.RefineThinParts == "Off"
+    before = p.Mesh.Volume
+    told = []
+    monkeypatch.setattr(FreeCAD.Console, "PrintMessage", told.append)
+    said.clear()
+    p.RefineThinParts = "Thin parts"
+    doc.recompute()
+    assert p.isValid(), p.getStatusString()
+    assert p.Mesh.Volume - before == pytest.approx(0.0027, rel=0.2)
+    assert not [w for w in said if "thinner than a cell" in w]
+    assert [m for m in told if m.startswith("Mesh: ") and "meshed again at half a cell" in m]
+    p.RefineThinParts = "Off"
     # a part with nothing thin says nothing
     said.clear()
     fin.Size = FreeCAD.Vector(0.3, 0.3, 0.3)
