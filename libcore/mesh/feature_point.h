@@ -3,12 +3,38 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
+#include <cstddef>
 #include <limits>
 
 #include "base/triangle_mesh.h"
 #include "base/vec.h"
 
 namespace frep {
+
+// The two most different of n unit normals (normal(i) gives the i-th): the least cosine
+// between two of them, and which two (*a > *b). False where a normal is zero or not finite
+// (no feature can be judged).
+template <class NormalAt>
+bool mostDifferentNormals(std::size_t n, NormalAt normal, double* leastCos, std::size_t* a,
+                          std::size_t* b) {
+  *leastCos = 1.0;
+  *a = *b = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3f u = normal(i);
+    if (!(std::isfinite(u[0]) && (u[0] != 0 || u[1] != 0 || u[2] != 0))) return false;
+    for (std::size_t j = 0; j < i; ++j) {
+      const Vec3f w = normal(j);
+      const double c = double(u[0]) * w[0] + double(u[1]) * w[1] + double(u[2]) * w[2];
+      if (c < *leastCos) {
+        *leastCos = c;
+        *a = i;
+        *b = j;
+      }
+    }
+  }
+  return true;
+}
 
 // A crease line through x (the tangent planes' point nearest their mean) along na x nb (the
 // two most different normals) may cross the box [lo, hi] although x lies outside it: then x

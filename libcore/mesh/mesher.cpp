@@ -1052,22 +1052,12 @@ class BrickMesher {
                     std::uint32_t base, std::uint32_t mask, const std::uint32_t* L,
                     std::uint32_t len, Scratch& s, BrickResult& out) const {
     const std::vector<Vec3f>& P = out.positions;
-    double leastCos = 1.0;
-    std::uint32_t spreadA = 0, spreadB = 0;  // the two most different normals
-    for (std::uint32_t i = 0; i < len; ++i) {
-      const Vec3f& a = s.unit[L[2 * i]];
-      if (!(std::isfinite(a[0]) && (a[0] != 0 || a[1] != 0 || a[2] != 0))) return false;
-      for (std::uint32_t j = 0; j < i; ++j) {
-        const Vec3f& b = s.unit[L[2 * j]];
-        const double c = double(a[0]) * b[0] + double(a[1]) * b[1] + double(a[2]) * b[2];
-        if (c < leastCos) {
-          leastCos = c;
-          spreadA = i;
-          spreadB = j;
-        }
-      }
-    }
-    if (leastCos > kFeatureCos) return false;
+    double leastCos;
+    std::size_t spreadA, spreadB;  // the two most different normals
+    if (!mostDifferentNormals(
+            len, [&](std::size_t i) { return s.unit[L[2 * i]]; }, &leastCos, &spreadA, &spreadB) ||
+        leastCos > kFeatureCos)
+      return false;
     Quadric q;
     Vec3 normalSum{0, 0, 0};
     for (std::uint32_t i = 0; i < len; ++i) {
