@@ -63,6 +63,7 @@ struct SeamFace {
   std::vector<std::pair<float, std::uint32_t>> halfMid[4];
   std::vector<Seg> quarter[4];  // pieces per quarter (qb + 2 qc), as the region runs them
   bool centreInside = false;
+  bool cut = false;  // cutSeamFace has run: the centre's side is known
 };
 
 class Refiner {
@@ -117,7 +118,6 @@ class Refiner {
     cubes_.clear();
     removed_.clear();
     seam_.clear();
-    centreKnown_.clear();
     cells_.clear();
     edgeVertex_.clear();
     rootVertex_.clear();
@@ -692,17 +692,16 @@ class Refiner {
       centre = s;
     }
     f.centreInside = centre == 1;
+    f.cut = true;
   }
 
   // ---- the side of a point of the half-cell grid: its own where every cube holding it is
   // refined, else what the seam gives it
   bool fineSign(const std::int64_t f[3]) const {
-    int odd = 0;
-    for (int a = 0; a < 3; ++a) odd += static_cast<int>(f[a] & 1);
-    if (odd == 0 || odd == 3 || sampled(f)) return isIn(value(f));
-    return virtualSign(f);
+    return sampled(f) ? isIn(value(f)) : virtualSign(f);
   }
-  // Whether every cube holding this point (on a grid edge or face) is refined.
+  // Whether every cube holding this point is refined (always so for a grid point, whose
+  // side is the grid's, and a cube's centre).
   bool sampled(const std::int64_t f[3]) const {
     int odd = 0;
     for (int a = 0; a < 3; ++a) odd += static_cast<int>(f[a] & 1);
@@ -728,6 +727,20 @@ class Refiner {
     }
     return true;
   }
+  // The cube extraction's vertex on the crossed grid edge from grid point l along `axis` (the
+  // seam keeps it), and whether it lies in the edge's lower half.
+  std::uint32_t coarseVertex(const std::int64_t l[3], int axis, bool* lowerHalf) const {
+    const auto it =
+        edgeVertex_.find(g_.linear(l[0], l[1], l[2]) * 3 + static_cast<std::uint64_t>(axis));
+    if (it == edgeVertex_.end()) throw Abort("a crossed grid edge of the seam has no vertex");
+    const float x = mesh_.positions[it->second][axis];
+    const float mid = static_cast<float>(g_.mid(axis, l[axis]));
+    if (x == mid) throw Abort("a grid edge's vertex lies at its midpoint");
+    *lowerHalf = x < mid;
+    return it->second;
+  }
+
+  // The side the seam gives a point on a grid edge or face (not sampled).
   bool virtualSign(const std::int64_t f[3]) const {
     int odd = 0, oddAxis = -1, evenAxis = -1;
     for (int a = 0; a < 3; ++a) {
@@ -738,21 +751,16 @@ class Refiner {
         evenAxis = a;
       }
     }
-    if (odd == 0 || odd == 3) return isIn(value(f));
     if (odd == 1) {  // a grid edge's midpoint: the side of the edge's vertex
       std::int64_t e0[3] = {f[0], f[1], f[2]}, e1[3] = {f[0], f[1], f[2]};
       e0[oddAxis] -= 1;
       e1[oddAxis] += 1;
       const bool s0 = isIn(value(e0)), s1 = isIn(value(e1));
       if (s0 == s1) return s0;
-      std::int64_t l[3] = {f[0] / 2, f[1] / 2, f[2] / 2};
-      const auto it =
-          edgeVertex_.find(g_.linear(l[0], l[1], l[2]) * 3 + static_cast<std::uint64_t>(oddAxis));
-      if (it == edgeVertex_.end()) throw Abort("a crossed grid edge of the seam has no vertex");
-      const float x = mesh_.positions[it->second][oddAxis];
-      const float mid = fineF(oddAxis, f[oddAxis]);
-      if (x == mid) throw Abort("a grid edge's vertex lies at its midpoint");
-      return x < mid ? s1 : s0;
+      const std::int64_t l[3] = {f[0] / 2, f[1] / 2, f[2] / 2};
+      bool lowerHalf;
+      coarseVertex(l, oddAxis, &lowerHalf);
+      return lowerHalf ? s1 : s0;
     }
     // a face's centre: from the seam face, or the corners' side where no line crosses it
     std::int64_t cell[3] = {f[0] / 2, f[1] / 2, f[2] / 2};
@@ -760,7 +768,7 @@ class Refiner {
         g_.linear(cell[0], cell[1], cell[2]) * 3 + static_cast<std::uint64_t>(evenAxis);
     const auto it = seam_.find(key);
     if (it != seam_.end() && !it->second.lines.empty()) {
-      if (!centreKnown_.count(key)) throw Abort("a seam face's centre was asked before it was cut");
+      if (!it->second.cut) throw Abort("a seam face's centre was asked before it was cut");
       return it->second.centreInside;
     }
     const int b = (evenAxis + 1) % 3, c = (evenAxis + 2) % 3;
@@ -792,14 +800,10 @@ class Refiner {
         std::int64_t e2[3] = {e0[0], e0[1], e0[2]};
         e2[d] += 2;
         if (isIn(value(e0)) == isIn(value(e2))) return {};
-        std::int64_t l[3] = {e0[0] / 2, e0[1] / 2, e0[2] / 2};
-        const auto it =
-            edgeVertex_.find(g_.linear(l[0], l[1], l[2]) * 3 + static_cast<std::uint64_t>(d));
-        if (it == edgeVertex_.end()) throw Abort("a crossed grid edge of the seam has no vertex");
-        const float x = mesh_.positions[it->second][d];
-        const float mid = fineF(d, e0[d] + 1);
-        const bool lowerHalf = (f[d] & 1) == 0;
-        if ((x < mid) == lowerHalf) return {it->second};
+        const std::int64_t l[3] = {e0[0] / 2, e0[1] / 2, e0[2] / 2};
+        bool lowerHalf;
+        const std::uint32_t v = coarseVertex(l, d, &lowerHalf);
+        if (lowerHalf == ((f[d] & 1) == 0)) return {v};
         return {};
       }
     } else if (oddB != oddC) {                       // on a grid face, along a midline
@@ -832,8 +836,6 @@ class Refiner {
   }
 
   void meshHalfCubes() {
-    // seam faces are cut before any half cube asks their centres
-    for (auto& [key, face] : seam_) centreKnown_.insert(key);
     // every half cube's lines first (their vertices on the half-cell grid's edges found in
     // one batch), then the cells
     std::vector<Cell> cells;
@@ -1124,7 +1126,6 @@ class Refiner {
   std::vector<std::uint64_t> cubes_;
   std::vector<std::uint8_t> removed_;
   std::unordered_map<std::uint64_t, SeamFace> seam_;
-  std::unordered_set<std::uint64_t> centreKnown_;
   std::unordered_map<std::uint64_t, std::uint32_t> edgeVertex_;
   std::unordered_map<std::uint64_t, std::uint32_t> rootVertex_;
   std::vector<Root> roots_;

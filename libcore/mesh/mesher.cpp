@@ -551,7 +551,8 @@ class BrickMesher {
         ++out.tips;
       const std::uint64_t key = g_.linear(r.lo[0] + l[0], r.lo[1] + l[1], r.lo[2] + l[2]) * 3 +
                                 static_cast<std::uint64_t>(a);
-      (unseen ? out.hiddenEdges : out.tipEdges).push_back(key);
+      if (opt_.refineThinParts || opt_.refineTips)
+        (unseen ? out.hiddenEdges : out.tipEdges).push_back(key);
       // the example: of a part seen nowhere near where there is one
       if (unseen > out.exampleUnseen || (unseen == out.exampleUnseen && key < out.exampleKey)) {
         out.exampleUnseen = unseen;
