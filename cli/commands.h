@@ -29,6 +29,7 @@ struct ExportOptions {
   std::optional<double> tolerance;  // --tolerance D: simplify within D of the surface
   bool tetra = false;               // --mesher tetra: marching tetrahedra, as before mesher v2
   bool sharp = true;                // --no-sharp: merged vertices stay where a vertex was
+  bool straightenCreases = false;   // --straighten-creases
   // --keep-flat-vertices: false (the mesher's flat vertices stay); --fewer-triangles: true,
   // the default (kept for scripts of 0.3); unset: true for JSON models
   std::optional<bool> flatVertices;

@@ -43,6 +43,15 @@ expect 0 "Hausdorff distance   [0-9.e-]+ \([0-9.e-]+ cells\)" -- "$frepcad" expo
 expect 0 "^ +largest at \([-0-9.e]+, [-0-9.e]+, [-0-9.e]+\)$" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/st.stl" --resolution 0.1 --stats
 expect 0 "crease length        [0-9.e-]+" -- "$frepcad" export "$src/examples/csg.json" -o "$work/st.stl" --resolution 0.1 --tolerance 0.01 --stats
 expect 0 "wrote" -- "$frepcad" export "$src/examples/csg.json" -o "$work/ns.stl" --resolution 0.1 --no-sharp
+# --straighten-creases: the twist's creases merged onto and flipped along, checked, written;
+# the crease length comes nearer the exact 19.956
+expect 0 "straightened creases: [1-9][0-9]* vertices merged onto them and [0-9]+ edges flipped along them" -- "$frepcad" export "$src/examples/twist.json" -o "$work/sc.stl" --cells 48 --straighten-creases
+crease() { "$frepcad" export "$src/examples/twist.json" -o "$work/sc.stl" --cells 64 --stats "$@" | sed -n 's/^  crease length *\([0-9.]*\).*/\1/p'; }
+plain=$(crease); straight=$(crease --straighten-creases)
+awk -v a="$plain" -v b="$straight" 'BEGIN { exit !(a - 19.956 > 3 * (b - 19.956 < 0 ? 19.956 - b : b - 19.956)) }' ||
+  { echo "FAIL: --straighten-creases did not bring the crease length nearer ($plain -> $straight)"; failures=$((failures + 1)); }
+expect 2 "--straighten-creases needs the creases' vertices: drop --no-sharp" -- "$frepcad" export "$src/examples/twist.json" -o "$work/x.stl" --straighten-creases --no-sharp
+expect 2 "--straighten-creases applies to meshes, not .vdb" -- "$frepcad" export "$src/examples/twist.json" -o "$work/x.vdb" --straighten-creases
 # a ball and a fin 0.3 cell thick between two layers of grid points: printable, with a warning
 echo '{"root": {"type": "union", "inputs": [{"type": "sphere", "params": {"radius": 0.5}},
   {"type": "box", "params": {"corner": [-0.015, 0.6, 0.6], "size": [0.03, 0.3, 0.3]}}]},

@@ -83,12 +83,10 @@ def export_objects(objects, filename, progress=None, cells=None, fmt="", resolut
     if filename.lower().endswith(".vdb"):
         return _export_level_set(solid, box, cell, filename, progress)
     # a single Polygonize feature exports as it meshes: with its Method and Tolerance
-    mesher, fewer, refine = "cubes", True, (False, False)
+    keywords = {}
     if (len(objects) == 1
             and isinstance(getattr(objects[0], "Proxy", None), FRepPolygonize.Polygonize)):
-        mesher = FRepPolygonize.mesher_of(objects[0])
-        fewer = FRepPolygonize.fewer_triangles(objects[0])
-        refine = FRepPolygonize.refinement_of(objects[0])
+        keywords = FRepPolygonize.mesh_keywords(objects[0])
         if tolerance is None:
             tolerance, sharp = FRepPolygonize.simplification(objects[0])
 
@@ -96,8 +94,7 @@ def export_objects(objects, filename, progress=None, cells=None, fmt="", resolut
         try:
             report = solid.export(filename, resolution=cell, bbox=box, format=fmt,
                                   progress=tick, force=force, tolerance=tolerance, sharp=sharp,
-                                  mesher=mesher, fewer_triangles=fewer,
-                                  refine_thin_parts=refine[0], refine_tips=refine[1])
+                                  **keywords)
         except frepcore.Cancelled:
             raise RuntimeError("export of %s cancelled; no file written" % name)
         FRepMeshing.warn_thin_parts(name, report and report.get("thin_parts"))
@@ -134,10 +131,8 @@ def _export_3mf(objects, filename, progress, cells, resolution, bbox, force, tol
             if meshed and (tol is None or own):
                 tol, sh = FRepPolygonize.simplification(obj)
             mesh = solid.node.mesh(box, cell, lambda f, i=i: tick(i * share + f * share), False,
-                                   tol, sh, FRepPolygonize.mesher_of(obj) if meshed else "cubes",
-                                   FRepPolygonize.fewer_triangles(obj) if meshed else True,
-                                   *(FRepPolygonize.refinement_of(obj) if meshed
-                                     else (False, False)))
+                                   tol, sh,
+                                   **(FRepPolygonize.mesh_keywords(obj) if meshed else {}))
             FRepMeshing.warn_thin_parts(obj.Label, getattr(mesh, "thin_parts", None))
             meshes.append((obj.Label, mesh))
         doc = objects[0].Document

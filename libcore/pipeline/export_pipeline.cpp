@@ -137,10 +137,19 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
   // triangles, FreeCAD computes its own for .bms.
   o.normals = request.normals && (format == MeshFormat::Obj || format == MeshFormat::Ply);
   o.memoryBudget = request.memoryBudget ? *request.memoryBudget : availableMemory();
-  o.bytesPerTriangle = kMesherBytesPerTriangle + (request.check ? kCheckBytesPerTriangle : 0.0) +
-                       (request.tolerance ? kSimplifyBytesPerTriangle : 0.0);
-  // with a simplification, meshing is the first half of the stage's bar and it the second
-  const double meshShare = request.tolerance ? 0.5 : 1.0;
+  o.bytesPerTriangle =
+      kMesherBytesPerTriangle + (request.check ? kCheckBytesPerTriangle : 0.0) +
+      (request.tolerance || request.straightenCreases ? kSimplifyBytesPerTriangle : 0.0);
+  if (request.straightenCreases && !request.sharpFeatures)
+    throw ModelError(name +
+                     ": straightening creases needs sharp features (they find the "
+                     "creases); turn sharp features on or leave the creases as meshed");
+  // The stage's bar: meshing first, then straightening and simplifying, a share each of
+  // what they are asked (a straightening costs about what meshing does, a simplification
+  // as much again).
+  const double straightenShare = request.straightenCreases ? 0.3 : 0.0;
+  const double simplifyShare = request.tolerance ? 0.5 - straightenShare / 2 : 0.0;
+  const double meshShare = 1.0 - straightenShare - simplifyShare;
   if (request.progress)
     o.progress = [&](double f) { return request.progress(ExportStage::Mesh, meshShare * f); };
   SimplifyOptions so;
@@ -153,14 +162,32 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
       throw ModelError(name + ": tolerance must be a distance > 0 (model units), got " +
                        std::to_string(so.tolerance));
     if (request.progress)
-      so.progress = [&](double f) { return request.progress(ExportStage::Mesh, 0.5 + 0.5 * f); };
+      so.progress = [&](double f) {
+        return request.progress(ExportStage::Mesh, 1.0 - simplifyShare + simplifyShare * f);
+      };
   }
   TriangleMesh mesh, unsimplified;
   try {
     mesh = polygonize(field, o, &result.stats);
+    // The mesher's mesh is kept (for a refused check) and any other given up as it is
+    // replaced: no copies.
+    bool changed = false;
+    auto replace = [&](TriangleMesh next) {
+      if (!changed) unsimplified = std::move(mesh);
+      mesh = std::move(next);
+      changed = true;
+    };
+    if (request.straightenCreases) {
+      StraightenOptions st{o.bbox, o.resolution, {}};
+      if (request.progress)
+        st.progress = [&](double f) {
+          return request.progress(ExportStage::Mesh, meshShare + straightenShare * f);
+        };
+      replace(straightenCreases(mesh, field, st, &result.straighten));
+      result.straightened = true;
+    }
     if (request.tolerance) {
-      unsimplified = simplifyMesh(mesh, field, so, &result.simplify);
-      std::swap(mesh, unsimplified);
+      replace(simplifyMesh(mesh, field, so, &result.simplify));
       result.simplified = true;
     }
   } catch (const TooLargeError& e) {
@@ -213,7 +240,7 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
     if (writing.valid()) pending = writing.get();  // (a write error is thrown here)
     // Every collapse was proved safe, so a refused simplification is a bug; the mesher's
     // own mesh is checked then and written if printable, and the result says so.
-    if (!result.report.printable() && result.simplified) {
+    if (!result.report.printable() && (result.simplified || result.straightened)) {
       CheckReport original = checkMesh(unsimplified);  // (progress stays at the end)
       if (original.printable()) {
         pending.reset();  // (the file holds the refused mesh)
@@ -221,6 +248,7 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
         result.triangles = mesh.triangleCount();
         result.report = std::move(original);
         result.simplified = false;
+        result.straightened = false;
         result.simplificationRefused = true;
       }
     }

@@ -17,6 +17,7 @@
 #include "mesh/mesher.h"
 #include "pipeline/accuracy.h"
 #include "simplify/simplify.h"
+#include "simplify/straighten_creases.h"
 
 namespace frep {
 
@@ -78,6 +79,9 @@ struct ExportRequest {
   std::optional<double> tolerance;
   // Creases and corners get vertices on them: in the mesher's cubes, and in the simplifier.
   bool sharpFeatures = true;
+  // The mesher's creases straightened (simplify/straighten_creases.h), before any
+  // simplification; needs sharpFeatures.
+  bool straightenCreases = false;
   bool flatVertices = true;  // the mesher's flat vertices removed (MeshingOptions::flatVertices)
   bool refineThinParts = false;               // MeshingOptions::refineThinParts
   bool refineTips = false;                    // MeshingOptions::refineTips
@@ -102,8 +106,10 @@ struct ExportResult {
   std::size_t triangles = 0;
   bool simplified = false;
   SimplifyStats simplify;            // when simplified (its seconds are part of meshing's)
-  // The simplified mesh failed the check (a bug: please report it) and the mesher's own,
-  // printable, was written instead.
+  bool straightened = false;
+  SimplifyStats straighten;  // when creases were straightened (seconds: as simplify's)
+  // The simplified or straightened mesh failed the check (a bug: please report it) and the
+  // mesher's own, printable, was written instead.
   bool simplificationRefused = false;
   std::optional<AccuracyReport> accuracy;  // when stats were asked for
   // exportPieces (brick jobs): the check judged the pieces one by one and the zone where

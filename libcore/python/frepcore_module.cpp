@@ -13,38 +13,39 @@
 #include <condition_variable>
 #include <exception>
 #include <filesystem>
-#include <mutex>
 #include <map>
+#include <mutex>
 #include <thread>
 
-#include "python/bindings.h"
+#include "base/atomic_file.h"
+#include "base/errors.h"
+#include "base/process_memory.h"
+#include "base/triangle_geometry.h"
 #include "check/mesh_check.h"
 #include "check/mesh_deviation.h"
 #include "check/printability.h"
-#include "io/mesh_3mf.h"
-#include "repair/repair.h"
 #include "frep/bounds.h"
-#include "frep/structural_bounds.h"
-#include "base/errors.h"
 #include "frep/model_json.h"
 #include "frep/registry.h"
 #include "frep/registry_docs.h"
+#include "frep/structural_bounds.h"
 #include "frep/tree.h"
+#include "io/mesh_3mf.h"
 #include "io/mesh_io.h"
-#include "mesh/mesher.h"
-#include "base/triangle_geometry.h"
-#include "pipeline/export_pipeline.h"
-#include "pipeline/brick_jobs.h"
-#include "base/atomic_file.h"
-#include "base/process_memory.h"
 #include "io/mesh_piece_file.h"
-#include "volume/field_sources.h"
-#include "volume/grid_set.h"
-#include "volume/level_sets.h"
 #include "lattice/ffd_lattice.h"
 #include "lattice/lattice_file.h"
 #include "mesh/mesh_ffd.h"
+#include "mesh/mesher.h"
+#include "pipeline/brick_jobs.h"
+#include "pipeline/export_pipeline.h"
+#include "python/bindings.h"
+#include "repair/repair.h"
+#include "simplify/straighten_creases.h"
+#include "volume/field_sources.h"
 #include "volume/grid_ffd.h"
+#include "volume/grid_set.h"
+#include "volume/level_sets.h"
 
 namespace py = pybind11;
 
@@ -507,8 +508,9 @@ PYBIND11_MODULE(_frepcore, m) {
           [](PyNode& n, const std::string& path, py::object bbox, py::object resolution,
              py::object cells, const std::string& format, bool check, bool force,
              py::object progress, py::object tolerance, bool sharp, const std::string& mesher,
-             bool fewerTriangles, bool refineThinParts, bool refineTips) {
+             bool fewerTriangles, bool refineThinParts, bool refineTips, bool straightenCreases) {
             ExportRequest r;
+            r.straightenCreases = straightenCreases;
             r.extraction = parseMesher(mesher);
             r.flatVertices = fewerTriangles;
             r.refineThinParts = refineThinParts;
@@ -535,6 +537,10 @@ PYBIND11_MODULE(_frepcore, m) {
               d["triangles_before_simplify"] = result.simplify.trianglesBefore;
               d["largest_distance"] = result.simplify.largestDistance;
             }
+            if (result.straightened)
+              d["straightened"] = py::dict(py::arg("merged") = result.straighten.collapses,
+                                           py::arg("flipped") = result.straighten.flips,
+                                           py::arg("seconds") = result.straighten.seconds);
             return d;
           },
           py::arg("path"), py::arg("bbox") = py::none(), py::arg("resolution") = py::none(),
@@ -542,13 +548,13 @@ PYBIND11_MODULE(_frepcore, m) {
           py::arg("force") = false, py::arg("progress") = py::none(),
           py::arg("tolerance") = py::none(), py::arg("sharp") = true, py::arg("mesher") = "cubes",
           py::arg("fewer_triangles") = true, py::arg("refine_thin_parts") = false,
-          py::arg("refine_tips") = false,
+          py::arg("refine_tips") = false, py::arg("straighten_creases") = false,
           "The export pipeline: box policy, mesh (mesher 'cubes' or 'tetra'; creases and "
           "corners placed unless sharp=False; the vertices where the surface is flat within a "
           "fiftieth of a cell dropped unless fewer_triangles=False; parts thinner than a cell "
           "meshed again at half a cell with refine_thin_parts=True, and the tips of creases and "
-          "slivers with refine_tips=True), (simplify within "
-          "`tolerance` of the surface), "
+          "slivers with refine_tips=True), (creases straightened with straighten_creases=True: "
+          "'straightened' in the dict), (simplify within `tolerance` of the surface), "
           "CGAL check, atomic write. Returns the check "
           "report dict plus 'written'; a refused mesh is not written unless force.")
       .def(
@@ -641,7 +647,11 @@ PYBIND11_MODULE(_frepcore, m) {
           "mesh",
           [](PyNode& n, py::object bbox, double resolution, py::object progress, bool normals,
              py::object tolerance, bool sharp, const std::string& mesher, bool fewerTriangles,
-             bool refineThinParts, bool refineTips) {
+             bool refineThinParts, bool refineTips, bool straighten) {
+            if (straighten && !sharp)
+              throw ModelError(
+                  "straighten_creases needs sharp=True (the creases are found by "
+                  "the sharp features)");
             MeshingOptions o;
             o.extraction = parseMesher(mesher);
             o.sharpFeatures = sharp;
@@ -661,18 +671,29 @@ PYBIND11_MODULE(_frepcore, m) {
               so.cell = resolution;
               so.tolerance = tolerance.cast<double>();
               so.sharpFeatures = sharp;
-              o.bytesPerTriangle += kSimplifyBytesPerTriangle;
             }
+            if (simplify || straighten) o.bytesPerTriangle += kSimplifyBytesPerTriangle;
+            StraightenOptions st{o.bbox, resolution, {}};
             n.compiled();
             std::shared_ptr<const Program> program = n.program;
             auto stats = std::make_shared<MeshingStats>();
             py::object mesh = py::cast(runWithProgress<TriangleMesh>(
-                [program, o, so, simplify, stats](std::function<bool(double)> tick) mutable {
-                  // with a simplification: meshing the first half of the bar, it the second
-                  o.progress = [tick, simplify](double f) { return tick(simplify ? f / 2 : f); };
+                [program, o, so, st, simplify, straighten,
+                 stats](std::function<bool(double)> tick) mutable {
+                  // the bar: meshing, then straightening and simplifying, a share each
+                  const int steps = 1 + straighten + simplify;
+                  int step = 0;
+                  auto share = [tick, steps, &step](double f) { return tick((step + f) / steps); };
+                  o.progress = share;
                   TriangleMesh mesh = polygonize(*program, o, stats.get());
+                  if (straighten) {
+                    ++step;
+                    st.progress = share;
+                    mesh = straightenCreases(mesh, *program, st);
+                  }
                   if (!simplify) return mesh;
-                  so.progress = [tick](double f) { return tick(0.5 + f / 2); };
+                  ++step;
+                  so.progress = share;
                   return simplifyMesh(mesh, *program, so);
                 },
                 progress));
@@ -683,13 +704,15 @@ PYBIND11_MODULE(_frepcore, m) {
           py::arg("normals") = false, py::arg("tolerance") = py::none(), py::arg("sharp") = true,
           py::arg("mesher") = "cubes", py::arg("fewer_triangles") = true,
           py::arg("refine_thin_parts") = false, py::arg("refine_tips") = false,
+          py::arg("straighten_creases") = false,
           "Polygonises inside bbox with cells of at most `resolution` (mesher 'cubes', or "
           "'tetra': marching tetrahedra, three times the triangles; the vertices where the "
           "surface is flat within a fiftieth of a cell dropped unless fewer_triangles=False); with "
           "a "
           "tolerance the "
           "mesh is then simplified within it of the surface (creases and corners placed "
-          "unless sharp=False). progress(fraction) is called on this thread; returning False "
+          "unless sharp=False), after its creases are straightened with "
+          "straighten_creases=True. progress(fraction) is called on this thread; returning False "
           "cancels "
           "(raises Cancelled). The mesh's thin_parts says where parts thinner than a cell "
           "passed between the grid's points: {'solid': grid edges of solid left out, 'gaps': "

@@ -220,8 +220,9 @@ class RegionSimplifier {
         };
         c.at = fixed_[c.v] ? here : best;
         featureMove_ = !fixed_[c.v] && rank >= 2;
+        if (o_.creaseCollapsesOnly && !featureMove_) continue;
         bool done = admissible(c.at) && collapse(c, out);
-        if (!done && toVec3f(c.at) != s_.pos[gid_[c.v]]) {
+        if (!done && !o_.creaseCollapsesOnly && toVec3f(c.at) != s_.pos[gid_[c.v]]) {
           c.at = here;
           featureMove_ = false;
           done = admissible(here) && collapse(c, out);
@@ -1072,6 +1073,8 @@ void validate(const SimplifyOptions& o) {
   if (!(o.maxEdge >= 0.0)) bad("maxEdge must be 0 (no bound) or a positive length");
   if (o.regionCells < 4 || o.regionCells > 256) bad("regionCells must be 4 to 256");
   if (o.passes < 1 || o.passes > 16) bad("passes must be 1 to 16");
+  if (o.creaseCollapsesOnly && !o.sharpFeatures)
+    bad("collapses onto creases only need sharp features (the creases are found by them)");
 }
 
 }  // namespace

@@ -40,6 +40,11 @@ struct SimplifyOptions {
   // faces of a simplified crease follow it instead of zig-zagging across (each flip under the
   // collapses' tests). Off: the collapses alone.
   bool creaseFlips = true;
+  // Only the collapses whose merged vertex goes onto a crease or a corner (its planes' rank
+  // is 2 or 3; needs sharpFeatures): the vertices either side of a chamfered or zig-zagging
+  // crease are merged onto it and flat parts are left alone (straightenCreases). Off: any
+  // collapse the tests allow.
+  bool creaseCollapsesOnly = false;
   int regionCells = 16;  // region edge, in cells
   int passes = 3;
   // fraction done (0..1), from the calling thread; false cancels (throws Cancelled)

@@ -219,6 +219,44 @@ def test_polygonize_with_a_tolerance_simplifies_and_exports_alike(doc, tmp_path)
     assert simple.Triangles == full.Triangles
 
 
+def test_polygonize_straightens_creases_and_exports_alike(doc, tmp_path):
+    # the twist (a box turned by 180 degrees over its height): its helical creases
+    box = F.make("box", doc, corner=(-0.5, -0.5, -1), size=(1, 1, 2))
+    twist = F.make("twist", doc, inputs=[box], axis=(0, 0, 1), rate=90)
+    plain = FRepPolygonize.make(twist, doc, Cells=48)
+    straight = FRepPolygonize.make(twist, doc, name="Straight", Cells=48)
+    assert not straight.StraightenCreases
+    straight.StraightenCreases = True
+    doc.recompute()
+    assert straight.isValid(), straight.getStatusString()
+    # vertices either side of the creases merged onto them
+    assert straight.Triangles < plain.Triangles
+    assert straight.Triangles == straight.Mesh.CountFacets
+    assert abs(straight.Mesh.Volume - 2.0) < 0.01
+    out = str(tmp_path / "straight.stl")
+    written = FRepExport.export_objects([straight], out)
+    assert written["printable"] and written["triangles"] == straight.Triangles
+    assert written["straightened"]["merged"] > 0
+    # saved and reopened, it keeps the setting
+    path = str(tmp_path / "straight.FCStd")
+    doc.saveCopy(path)
+    again = FreeCAD.openDocument(path)
+    try:
+        assert again.getObject("Straight").StraightenCreases
+        assert not again.getObject(plain.Name).StraightenCreases
+    finally:
+        FreeCAD.closeDocument(again.Name)
+    # without sharp features it cannot find the creases: the error names both properties
+    straight.SharpFeatures = False
+    doc.recompute()
+    assert not straight.isValid()
+    message = straight.getStatusString()
+    assert "StraightenCreases" in message and "SharpFeatures" in message
+    straight.StraightenCreases = False
+    doc.recompute()
+    assert straight.isValid(), straight.getStatusString()
+
+
 def test_polygonize_drops_flat_vertices_by_default_and_exports_alike(doc, tmp_path):
     part = FRepExamples.build_csg(doc)
     full = FRepPolygonize.make(part, doc, Cells=48, FewerTriangles=False)

@@ -8,6 +8,8 @@ import pytest
 
 import frepcore as fc
 
+SOURCE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+
 
 def csg():
     part = fc.box((2, 2, 2), corner=(-1, -1, -1)) & fc.sphere(1.3)
@@ -93,6 +95,24 @@ def test_refine_thin_parts_meshes_the_fin_the_grid_missed(tmp_path):
     report = fin.export(str(tmp_path / "fin.stl"), 0.1, bbox=box, refine_thin_parts=True)
     assert report["printable"] and report["components"] == 2
     assert report["thin_parts"]["refined_cubes"] == refined.thin_parts["refined_cubes"]
+
+
+def test_straighten_creases_merges_onto_the_twists_creases(tmp_path):
+    twist, _ = fc.load(os.path.join(SOURCE, "examples", "twist.json"))
+    plain = twist.mesh(cells=48)
+    straight = twist.mesh(cells=48, straighten_creases=True)
+    assert straight.triangle_count < plain.triangle_count
+    assert straight.volume() == pytest.approx(2.0, rel=0.005)
+    assert straight.check()["printable"]
+    # before a simplification: fewer triangles still
+    simple = twist.mesh(cells=48, straighten_creases=True, tolerance=0.005)
+    assert simple.triangle_count < straight.triangle_count / 4
+    report = twist.export(str(tmp_path / "t.stl"), cells=48, straighten_creases=True)
+    assert report["printable"] and report["triangles"] == straight.triangle_count
+    assert report["straightened"]["merged"] > 0 and report["straightened"]["seconds"] > 0
+    assert "straightened" not in twist.export(str(tmp_path / "p.stl"), cells=48)
+    with pytest.raises(ValueError, match="straighten_creases needs sharp=True"):
+        twist.mesh(cells=48, straighten_creases=True, sharp=False)
 
 
 def test_a_preview_too_large_for_the_memory_is_refused_with_the_figures():

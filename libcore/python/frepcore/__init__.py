@@ -119,7 +119,7 @@ class Shape:
     # -- meshing and export ---------------------------------------------------------------
     def mesh(self, resolution=None, bbox=None, cells=None, progress=None, normals=False,
              tolerance=None, sharp=True, mesher="cubes", fewer_triangles=True,
-             refine_thin_parts=False, refine_tips=False):
+             refine_thin_parts=False, refine_tips=False, straighten_creases=False):
         """Polygonises the solid; bbox and resolution default to automatic_box. Creases and
         corners get vertices unless sharp=False; mesher='tetra' is the marching-tetrahedra
         mesher of before 0.3 (three times the triangles); the vertices where the surface is
@@ -130,14 +130,18 @@ class Shape:
         creases cut short; 'example' is a point on one. With refine_thin_parts=True the
         cubes round the solid and gaps are meshed again at half a cell
         (`--refine-thin-parts`; 'refined_cubes' counts them), with refine_tips=True those round
-        the tips too (`--refine-tips`)."""
+        the tips too (`--refine-tips`). With straighten_creases=True the vertices either side
+        of a chamfered or zig-zagging crease are merged onto it and its edges flipped along
+        it, within a third of a cell (`--straighten-creases`; before any simplification)."""
         box, cell = automatic_box(self, resolution=resolution, bbox=bbox, cells=cells)
         return self.node.mesh(box, cell, progress, normals, tolerance, sharp, mesher,
-                              fewer_triangles, refine_thin_parts, refine_tips)
+                              fewer_triangles, refine_thin_parts, refine_tips,
+                              straighten_creases)
 
     def export(self, path, resolution=None, bbox=None, cells=None, format="", check=True,
                progress=None, force=False, tolerance=None, sharp=True, mesher="cubes",
-               fewer_triangles=True, refine_thin_parts=False, refine_tips=False):
+               fewer_triangles=True, refine_thin_parts=False, refine_tips=False,
+               straighten_creases=False):
         """Meshes, checks with CGAL and writes path atomically (libcore's export pipeline,
         the same as `frepcad export`); returns the check report (a dict with 'text', and
         'thin_parts' as in mesh()).
@@ -146,7 +150,9 @@ class Shape:
         fiftieth of a cell are dropped unless fewer_triangles=False (`--keep-flat-vertices`);
         parts thinner than a cell are meshed again at half a cell with refine_thin_parts=True
         (`--refine-thin-parts`), and round the tips of creases and slivers too with
-        refine_tips=True (`--refine-tips`). With a tolerance (model units) the mesh is
+        refine_tips=True (`--refine-tips`); creases are straightened with
+        straighten_creases=True (`--straighten-creases`; the report's 'straightened' has
+        'merged', 'flipped' and 'seconds'). With a tolerance (model units) the mesh is
         simplified first, kept within it of the surface (`frepcad export --tolerance`); the
         report then has 'triangles_before_simplify' and 'largest_distance'.
 
@@ -158,7 +164,8 @@ class Shape:
                                   tolerance=tolerance, sharp=sharp, mesher=mesher,
                                   fewer_triangles=fewer_triangles,
                                   refine_thin_parts=refine_thin_parts,
-                                  refine_tips=refine_tips)
+                                  refine_tips=refine_tips,
+                                  straighten_creases=straighten_creases)
         if check and not report["printable"] and not force:
             raise NotPrintable("%s: not written, the mesh is not printable: %s"
                                % (path, "; ".join(report["reasons"])), report)
