@@ -30,6 +30,16 @@ constexpr double kFeatureQuality = 0.01;
 // The quadric's directions weaker than this fraction of its strongest are left at the mean:
 // low enough that a corner met by one plane among ten on its faces still counts.
 constexpr double kPlaneCutoff = 0.02;
+// With collapses onto creases only: a crease is where planes differ by over 30 degrees
+// (the eigenvalue ratio of two planes at angle a is tan^2(a / 2)). Curved parts whose
+// neighbouring planes differ by 16 to 30 degrees (the gyroid's sheets at 256 cells) are no
+// creases to straighten: merged there they cost 60,000 collapses and 8 s for nothing sharper.
+constexpr double kCreasePlaneCutoff = 0.0718;
+// and the faces near one: a face whose normal is over 12 degrees from the surface's at one of
+// its vertices (a chamfer's faces turn by half the crease's angle, 15 degrees and more, from
+// either side). Only regions holding such faces are worked on, and only edges and snaps at
+// their vertices tried: a sphere is left alone at the cost of one pass over its faces.
+constexpr double kNearCreaseCos = 0.978;  // cos 12 degrees
 // A changed face's normal may turn by less than this cosine's angle (about 72 degrees).
 constexpr double kTurn = 0.3;
 // Edges whose two faces turn by more than this angle (its cosine: 20 degrees) are where edge
@@ -134,6 +144,10 @@ struct State {
   std::vector<Vec3f> pos;
   std::vector<Quadric> quadric;
   std::vector<std::uint8_t> removed, moved;
+  // With collapses onto creases only: the surface's outward unit normal at each vertex as
+  // meshed (zero where the gradient vanishes), and, per pass, the vertices of faces near a crease.
+  std::vector<Vec3f> normal;
+  std::vector<std::uint8_t> nearCrease;
   // The mesher's vertices (points on the surface) a vertex stands for: its own, and those of
   // the vertices merged into it. The mesh must stay within the tolerance of each, so the
   // surface cannot recede from the mesh either (the other side of the Hausdorff distance).
@@ -175,6 +189,7 @@ class RegionSimplifier {
     heap_.clear();
     auto push = [&](std::uint32_t a, std::uint32_t b) {
       if (a == kNone || b == kNone || (fixed_[a] && fixed_[b])) return;
+      if (o_.creaseCollapsesOnly && !s_.nearCrease[gid_[a]] && !s_.nearCrease[gid_[b]]) return;
       const Vec3 d = sub(toVec3(s_.pos[gid_[a]]), toVec3(s_.pos[gid_[b]]));
       heap_.push_back({dot(d, d), a, b, stamp_[a], stamp_[b]});
       std::push_heap(heap_.begin(), heap_.end(), std::greater<EdgeEntry>());
@@ -210,7 +225,7 @@ class RegionSimplifier {
         if (o_.sharpFeatures) {
           q = merged(c.u, c.v);
           if (q.count > 0.0) {
-            best = q.minimiser(kPlaneCutoff, &rank);
+            best = q.minimiser(planeCutoff(), &rank);
             least = q.error(best);
           }
         }
@@ -248,6 +263,8 @@ class RegionSimplifier {
   }
 
  private:
+  double planeCutoff() const { return o_.creaseCollapsesOnly ? kCreasePlaneCutoff : kPlaneCutoff; }
+
   struct FaceBox {
     float lo[3], hi[3];
     void grow(const FaceBox& b) {
@@ -463,12 +480,13 @@ class RegionSimplifier {
     for (std::uint32_t l = 0; l < gid_.size(); ++l) {
       if (fixed_[l] || removedLocal_[l]) continue;
       const std::uint32_t g = gid_[l];
+      if (o_.creaseCollapsesOnly && !s_.nearCrease[g]) continue;
       Quadric q = s_.quadric[g];
       ring(l, g, neighboursU_);
       for (std::uint32_t w : neighboursU_) q += s_.quadric[w];
       if (q.count <= 0.0) continue;
       int rank = 0;
-      const Vec3 p = q.minimiser(kPlaneCutoff, &rank), here = toVec3(s_.pos[g]);
+      const Vec3 p = q.minimiser(planeCutoff(), &rank), here = toVec3(s_.pos[g]);
       if (rank < 2) continue;  // a plane: nothing sharp to put back
       const Vec3 d = sub(p, here);
       // only a move the own planes allow, by less than two cells (a corner the grid cut off
@@ -844,6 +862,8 @@ class RegionSimplifier {
     removedLocal_[u] = 1;
     s_.removed[gu] = 1;
     if (moves) s_.moved[gv] = 1;
+    // (a merged vertex sits on the crease now: its new neighbours are near it)
+    if (!s_.nearCrease.empty()) s_.nearCrease[gv] = 1;
     s_.quadric[gv] += s_.quadric[gu];
     s_.samples[gv].insert(s_.samples[gv].end(), s_.samples[gu].begin(), s_.samples[gu].end());
     std::vector<Vec3f>().swap(s_.samples[gu]);
@@ -1065,6 +1085,35 @@ class RegionSimplifier {
   std::vector<SampleMove> sampleMoves_;  // ... and the samples it hands between its corners
 };
 
+// The vertices of the faces near a crease (kNearCreaseCos), and those moved before: a face
+// whose normal turns from the surface's at a vertex (or that has no normal there).
+void markNearCreases(State& s, const std::vector<Triangle>& faces) {
+  std::vector<std::uint8_t> near(faces.size());
+  tbb::parallel_for(std::size_t(0), faces.size(), [&](std::size_t f) {
+    const Triangle& t = faces[f];
+    const Vec3 n = faceNormal(s.pos, t);
+    const double length = norm(n);
+    bool turns = !(length > 0.0);
+    for (int k = 0; k < 3 && !turns; ++k) {
+      const Vec3 m = toVec3(s.normal[t[k]]);
+      turns = s.moved[t[k]] || !(dot(n, m) > kNearCreaseCos * length);
+    }
+    near[f] = turns;
+  });
+  std::fill(s.nearCrease.begin(), s.nearCrease.end(), 0);
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    if (near[f])
+      for (std::uint32_t v : faces[f]) s.nearCrease[v] = 1;
+}
+
+bool anyNearCrease(const State& s, const std::vector<Triangle>& faces, const std::uint32_t* list,
+                   std::size_t count) {
+  for (std::size_t i = 0; i < count; ++i)
+    for (std::uint32_t v : faces[list[i]])
+      if (s.nearCrease[v]) return true;
+  return false;
+}
+
 void validate(const SimplifyOptions& o) {
   auto bad = [](const std::string& what) { throw ModelError("simplify: " + what); };
   if (!(o.cell > 0.0) || !std::isfinite(o.cell)) bad("cell must be a positive number");
@@ -1092,6 +1141,10 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field,
   s.moved.assign(nv, 0);
   s.samples.resize(nv);
   for (std::size_t v = 0; v < nv; ++v) s.samples[v].assign(1, s.pos[v]);
+  if (o.creaseCollapsesOnly) {
+    s.normal.assign(nv, Vec3f{0, 0, 0});
+    s.nearCrease.assign(nv, 0);
+  }
   // Hermite data: each vertex's tangent plane of the meshed surface
   tbb::parallel_for(std::size_t(0), nv, [&](std::size_t v) {
     const Vec3 p = toVec3(s.pos[v]);
@@ -1101,6 +1154,7 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field,
       // the plane through the surface point nearest p along n
       const Vec3 foot{p[0] - value * n[0], p[1] - value * n[1], p[2] - value * n[2]};
       s.quadric[v].addPlane(foot, n);
+      if (!s.normal.empty()) s.normal[v] = toVec3f({-n[0], -n[1], -n[2]});  // (F grows inwards)
     }
   });
 
@@ -1139,6 +1193,7 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field,
           for (std::int64_t i = lo[0]; i <= hi[0]; ++i)
             frozen.emplace_back(Regions::key(i, j, k), f);
     }
+    if (o.creaseCollapsesOnly) markNearCreases(s, faces);
     tbb::parallel_sort(inner.begin(), inner.end());
     tbb::parallel_sort(frozen.begin(), frozen.end());
     std::vector<std::uint32_t> innerFaces(inner.size()), frozenFaces(frozen.size());
@@ -1148,6 +1203,11 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field,
     for (std::size_t i = 0; i < inner.size();) {
       std::size_t j = i;
       while (j < inner.size() && inner[j].first == inner[i].first) ++j;
+      if (o.creaseCollapsesOnly && !anyNearCrease(s, faces, innerFaces.data() + i, j - i)) {
+        crossing.insert(crossing.end(), innerFaces.begin() + i, innerFaces.begin() + j);
+        i = j;
+        continue;  // (no crease: its faces stay as they are)
+      }
       const auto range = std::equal_range(
           frozen.begin(), frozen.end(), std::make_pair(inner[i].first, std::uint32_t(0)),
           [](const auto& a, const auto& b) { return a.first < b.first; });
