@@ -1,18 +1,18 @@
 // Meshing speed and memory of the reference models (make bench). Peak memory is the process's
 // resident high-water mark over each benchmark (reset before it through /proc/self/clear_refs).
 #include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <fstream>
 #include <string>
 
-#include <tbb/global_control.h>
-
-#include "frep/model_json.h"
 #include "base/process_memory.h"
 #include "check/mesh_check.h"
+#include "frep/model_json.h"
 #include "mesh/mesher.h"
 #include "simplify/simplify.h"
+#include "simplify/straighten_creases.h"
 
 namespace {
 
@@ -119,6 +119,34 @@ void simplifyAcross(benchmark::State& state, const std::string& name) {
 void BM_SimplifySphere(benchmark::State& s) { simplifyAcross(s, "sphere"); }
 void BM_SimplifyCsg(benchmark::State& s) { simplifyAcross(s, "csg"); }
 void BM_SimplifyHelix(benchmark::State& s) { simplifyAcross(s, "helix"); }
+
+// Straightened creases (simplify/straighten_creases.h) on the mesher's mesh at N cells, the
+// straightening's seconds alone (the mesh is made once): beside BM_Across* for the meshing.
+void straightenAcross(benchmark::State& state, const std::string& name) {
+  const auto [program, options] = across(name, state.range(0), false);
+  const frep::TriangleMesh mesh = frep::polygonize(program, options);
+  const frep::StraightenOptions so{options.bbox, options.resolution, {}};
+  frep::SimplifyStats stats;
+  for (auto _ : state) {
+    const frep::TriangleMesh s = frep::straightenCreases(mesh, program, so, &stats);
+    benchmark::DoNotOptimize(s.triangles.data());
+  }
+  state.counters["triangles_in"] = static_cast<double>(mesh.triangleCount());
+  state.counters["triangles"] = static_cast<double>(stats.trianglesAfter);
+  state.counters["merged"] = static_cast<double>(stats.collapses);
+}
+void BM_StraightenSphere(benchmark::State& s) {
+  straightenAcross(s, "sphere");
+}
+void BM_StraightenTwist(benchmark::State& s) {
+  straightenAcross(s, "twist");
+}
+void BM_StraightenCsg(benchmark::State& s) {
+  straightenAcross(s, "csg");
+}
+BENCHMARK(BM_StraightenSphere)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StraightenTwist)->Arg(128)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StraightenCsg)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The search for parts thinner than a cell (MeshingOptions::findThinParts) off and on, the
 // reference models at 256 cells without normals: BM_ThinParts/csg/256/0 against .../1.

@@ -3,6 +3,7 @@
 // check and a cancel at the write leave no file, no temporary, and an older file untouched.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -81,6 +82,48 @@ TEST_F(Pipeline, ACancelDuringTheCheckOrTheWriteLeavesTheOldFileAlone) {
     EXPECT_EQ(contents(out), "the old file");
     EXPECT_TRUE(others("ball.stl").empty()) << "a temporary was left";
   }
+}
+
+// Meshing, straightening the creases and simplifying share the meshing stage's bar: it rises
+// monotonically to its end; a cancel while the creases are straightened (past meshing's
+// share) leaves no file; without sharp features straightening is refused, naming the solid.
+TEST_F(Pipeline, StraighteningAndSimplifyingShareTheMeshingBar) {
+  const NodePtr cube = makeNode(
+      "box", {{"corner", vec3Value({-0.8, -0.8, -0.8})}, {"size", vec3Value({1.6, 1.6, 1.6})}}, {});
+  const Program turned = compile(makeNode(
+      "rotate", {{"axis", vec3Value({1.0, 1.0, 0.0})}, {"angle", realValue(25.0)}}, {cube}));
+  const fs::path out = dir_ / "cube.stl";
+  ExportRequest r = request();
+  r.straightenCreases = true;
+  r.tolerance = 0.01;
+  std::vector<double> seen;
+  r.progress = [&seen](ExportStage s, double f) {
+    if (s == ExportStage::Mesh) seen.push_back(f);
+    return true;
+  };
+  const ExportResult done = exportField(turned, r, out.string(), "cube");
+  ASSERT_TRUE(done.written && done.straightened && done.simplified);
+  EXPECT_GT(done.straighten.collapses, 0u);
+  EXPECT_EQ(done.simplify.trianglesBefore, done.straighten.trianglesAfter);
+  ASSERT_FALSE(seen.empty());
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+  EXPECT_DOUBLE_EQ(seen.back(), 1.0);
+  fs::remove(out);
+  // with both asked, meshing takes the bar to 0.35 and straightening to 0.65
+  r.progress = [](ExportStage s, double f) { return !(s == ExportStage::Mesh && f > 0.4); };
+  EXPECT_THROW(exportField(turned, r, out.string(), "cube"), Cancelled);
+  EXPECT_TRUE(others().empty());
+  r.progress = nullptr;
+  r.sharpFeatures = false;
+  try {
+    exportField(turned, r, out.string(), "cube");
+    FAIL() << "no error";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("cube: straightening creases needs sharp features"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_TRUE(others().empty());
 }
 
 }  // namespace
