@@ -40,6 +40,14 @@ constexpr double kCreasePlaneCutoff = 0.0718;
 // either side). Only regions holding such faces are worked on, and only edges and snaps at
 // their vertices tried: a sphere is left alone at the cost of one pass over its faces.
 constexpr double kNearCreaseCos = 0.978;  // cos 12 degrees
+// and the point a vertex goes to must lie on the surface, within this fraction of a cell: on a
+// crease the tangent planes of its two sides meet on it, where on a curved part two planes 30
+// degrees apart meet outside it (a sphere of radius R: R (1 / cos 15 degrees - 1) = 0.035 R),
+// so a curve is not taken for a crease. Without it the twist at 24 and 32 cells (its faces
+// turn by 20 degrees within 2.5 cells there) came out dented: crease length 22.5 and 21.7
+// (the mesher's 20.1 and 20.7), with it 21.2 and 20.4; 0.05 cell refused merges the twist's
+// slightly curved faces need at 64 cells (20.06 -> 20.26).
+constexpr double kOnCreaseCells = 0.08;
 // A changed face's normal may turn by less than this cosine's angle (about 72 degrees).
 constexpr double kTurn = 0.3;
 // Edges whose two faces turn by more than this angle (its cosine: 20 degrees) are where edge
@@ -235,7 +243,7 @@ class RegionSimplifier {
         };
         c.at = fixed_[c.v] ? here : best;
         featureMove_ = !fixed_[c.v] && rank >= 2;
-        if (o_.creaseCollapsesOnly && !featureMove_) continue;
+        if (o_.creaseCollapsesOnly && !(featureMove_ && onCrease(c.at))) continue;
         bool done = admissible(c.at) && collapse(c, out);
         if (!done && !o_.creaseCollapsesOnly && toVec3f(c.at) != s_.pos[gid_[c.v]]) {
           c.at = here;
@@ -263,6 +271,12 @@ class RegionSimplifier {
   }
 
  private:
+  // (collapses onto creases only) whether p lies on the surface (kOnCreaseCells)
+  bool onCrease(const Vec3& p) const {
+    double value;
+    Vec3 n;
+    return region_->plane(p, &value, &n) && std::abs(value) <= kOnCreaseCells * o_.cell;
+  }
   double planeCutoff() const { return o_.creaseCollapsesOnly ? kCreasePlaneCutoff : kPlaneCutoff; }
 
   struct FaceBox {
@@ -496,6 +510,7 @@ class RegionSimplifier {
       if (own.count > 0.0 && own.error(p) > own.error(here) + o_.tolerance * o_.tolerance)
         continue;
       if (q.error(p) + o_.tolerance * o_.tolerance >= q.error(here)) continue;  // no gain
+      if (o_.creaseCollapsesOnly && !onCrease(p)) continue;
       moved += relocate(l, p, out);
     }
     return moved;
