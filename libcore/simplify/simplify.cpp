@@ -271,6 +271,10 @@ class RegionSimplifier {
   }
 
  private:
+  // (collapses onto creases only) whether a vertex of t is near a crease
+  bool nearCrease(const Triangle& t) const {
+    return s_.nearCrease[t[0]] || s_.nearCrease[t[1]] || s_.nearCrease[t[2]];
+  }
   // (collapses onto creases only) whether p lies on the surface (kOnCreaseCells)
   bool onCrease(const Vec3& p) const {
     double value;
@@ -528,6 +532,7 @@ class RegionSimplifier {
     std::size_t flips = 0;
     for (std::uint32_t f = 0; f < faces_.size(); ++f) {
       if (frozenFace_[f] || deadFace_[f] != kLive) continue;
+      if (o_.creaseCollapsesOnly && !nearCrease(faces_[f])) continue;
       for (int k = 0; k < 3; ++k) {
         const Triangle& t = faces_[f];
         const std::uint32_t u = t[k], v = t[(k + 1) % 3];
