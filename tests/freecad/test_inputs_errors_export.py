@@ -219,6 +219,18 @@ def test_polygonize_with_a_tolerance_simplifies_and_exports_alike(doc, tmp_path)
     assert simple.Triangles == full.Triangles
 
 
+def assert_reopened_with(doc, tmp_path, prop, on, off):
+    """Saved and reopened, the feature `on` has the boolean property `prop` set, `off` not."""
+    path = str(tmp_path / (prop + ".FCStd"))
+    doc.saveCopy(path)
+    again = FreeCAD.openDocument(path)
+    try:
+        assert getattr(again.getObject(on.Name), prop)
+        assert not getattr(again.getObject(off.Name), prop)
+    finally:
+        FreeCAD.closeDocument(again.Name)
+
+
 def test_polygonize_straightens_creases_and_exports_alike(doc, tmp_path):
     # the twist (a box turned by 180 degrees over its height): its helical creases
     box = F.make("box", doc, corner=(-0.5, -0.5, -1), size=(1, 1, 2))
@@ -237,15 +249,8 @@ def test_polygonize_straightens_creases_and_exports_alike(doc, tmp_path):
     written = FRepExport.export_objects([straight], out)
     assert written["printable"] and written["triangles"] == straight.Triangles
     assert written["straightened"]["merged"] > 0
-    # saved and reopened, it keeps the setting
-    path = str(tmp_path / "straight.FCStd")
-    doc.saveCopy(path)
-    again = FreeCAD.openDocument(path)
-    try:
-        assert again.getObject("Straight").StraightenCreases
-        assert not again.getObject(plain.Name).StraightenCreases
-    finally:
-        FreeCAD.closeDocument(again.Name)
+    # saved and reopened, each keeps its setting
+    assert_reopened_with(doc, tmp_path, "StraightenCreases", on=straight, off=plain)
     # without sharp features it cannot find the creases: the error names both properties
     straight.SharpFeatures = False
     doc.recompute()
@@ -270,14 +275,7 @@ def test_polygonize_drops_flat_vertices_by_default_and_exports_alike(doc, tmp_pa
     written = FRepExport.export_objects([fewer], out)
     assert written["printable"] and written["triangles"] == fewer.Triangles
     # saved and reopened, each keeps its setting; off, the full mesh
-    path = str(tmp_path / "fewer.FCStd")
-    doc.saveCopy(path)
-    again = FreeCAD.openDocument(path)
-    try:
-        assert again.getObject("Fewer").FewerTriangles
-        assert not again.getObject(full.Name).FewerTriangles
-    finally:
-        FreeCAD.closeDocument(again.Name)
+    assert_reopened_with(doc, tmp_path, "FewerTriangles", on=fewer, off=full)
     fewer.FewerTriangles = False
     doc.recompute()
     assert fewer.Triangles == full.Triangles
