@@ -45,7 +45,7 @@ const char* const kExportHelp =
     "                          with --tolerance, the simplifier's): edges are chamfered\n"
     "  --straighten-creases    merge the vertices either side of a chamfered or zig-zagging\n"
     "                          crease onto it and flip its edges along it (within a third of\n"
-    "                          a cell; about as long again as meshing): clean, straight\n"
+    "                          a cell; a few times the meshing's time): clean, straight\n"
     "                          creases (JSON models)\n"
     "  --refine-thin-parts     mesh the cubes where a part thinner than a cell hides between the\n"
     "                          grid's points again at half a cell (docs/mesher.md)\n"

@@ -109,8 +109,8 @@ TEST_F(Pipeline, StraighteningAndSimplifyingShareTheMeshingBar) {
   EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
   EXPECT_DOUBLE_EQ(seen.back(), 1.0);
   fs::remove(out);
-  // with both asked, meshing takes the bar to 0.35 and straightening to 0.65
-  r.progress = [](ExportStage s, double f) { return !(s == ExportStage::Mesh && f > 0.4); };
+  // with both asked, meshing takes the bar to 0.25 and straightening to 0.5
+  r.progress = [](ExportStage s, double f) { return !(s == ExportStage::Mesh && f > 0.3); };
   EXPECT_THROW(exportField(turned, r, out.string(), "cube"), Cancelled);
   EXPECT_TRUE(others().empty());
   r.progress = nullptr;

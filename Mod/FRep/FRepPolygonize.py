@@ -69,8 +69,8 @@ class Polygonize(FeatureProxy):
         # (a document saved without it gets it off: the mesh it had)
         add("App::PropertyBool", "StraightenCreases", "Merge the vertices either side of a "
             "chamfered or zig-zagging crease onto it and flip its edges along it (within a "
-            "third of a cell): clean, straight creases. Needs SharpFeatures; takes about as "
-            "long again as meshing.", False)
+            "third of a cell): clean, straight creases. Needs SharpFeatures; takes a few "
+            "times as long as meshing.", False)
         if "Triangles" not in obj.PropertiesList:
             obj.addProperty("App::PropertyInteger", "Triangles", GROUP,
                             "Triangles in the mesh (read-only).")

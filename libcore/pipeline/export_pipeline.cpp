@@ -144,11 +144,11 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
     throw ModelError(name +
                      ": straightening creases needs sharp features (they find the "
                      "creases); turn sharp features on or leave the creases as meshed");
-  // The stage's bar: meshing first, then straightening and simplifying, a share each of
-  // what they are asked (a straightening costs about what meshing does, a simplification
-  // as much again).
-  const double straightenShare = request.straightenCreases ? 0.3 : 0.0;
-  const double simplifyShare = request.tolerance ? 0.5 - straightenShare / 2 : 0.0;
+  // The stage's bar: meshing first, then straightening and simplifying (each takes a few
+  // times the meshing's time): half for the simplification, and half of the rest for the
+  // straightening.
+  const double simplifyShare = request.tolerance ? 0.5 : 0.0;
+  const double straightenShare = request.straightenCreases ? 0.5 * (1.0 - simplifyShare) : 0.0;
   const double meshShare = 1.0 - straightenShare - simplifyShare;
   if (request.progress)
     o.progress = [&](double f) { return request.progress(ExportStage::Mesh, meshShare * f); };
