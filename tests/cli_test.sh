@@ -52,6 +52,8 @@ awk -v a="$plain" -v b="$straight" 'BEGIN { exit !(a - 19.956 > 3 * (b - 19.956 
   { echo "FAIL: --straighten-creases did not bring the crease length nearer ($plain -> $straight)"; failures=$((failures + 1)); }
 expect 2 "--straighten-creases needs the creases' vertices: drop --no-sharp" -- "$frepcad" export "$src/examples/twist.json" -o "$work/x.stl" --straighten-creases --no-sharp
 expect 2 "--straighten-creases applies to meshes, not .vdb" -- "$frepcad" export "$src/examples/twist.json" -o "$work/x.vdb" --straighten-creases
+expect 2 "--straighten-creases applies to a mesh exported from a JSON model \(a document's Polygonize feature has a StraightenCreases property\)" -- "$frepcad" export "$work/doc.FCStd" -o "$work/x.stl" --straighten-creases
+expect 2 "--bricks cannot be combined with --straighten-creases yet" -- "$frepcad" export "$src/examples/twist.json" -o "$work/x.stl" --straighten-creases --bricks 8
 # a ball and a fin 0.3 cell thick between two layers of grid points: printable, with a warning
 echo '{"root": {"type": "union", "inputs": [{"type": "sphere", "params": {"radius": 0.5}},
   {"type": "box", "params": {"corner": [-0.015, 0.6, 0.6], "size": [0.03, 0.3, 0.3]}}]},
