@@ -33,11 +33,8 @@ namespace {
 
 using refinement::Abort;
 using refinement::Cell;
-using refinement::combine;
 using refinement::dirKey;
 using refinement::FaceCut;
-using refinement::isIn;
-using refinement::kEdgeMargin;
 using refinement::kNoRoot;
 using refinement::Seg;
 using refinement::WalkStep;
@@ -234,7 +231,7 @@ class Refiner {
   bool hidesSomething(const std::int64_t c[3], std::vector<std::uint64_t>* next) const {
     auto in = [&](int dx, int dy, int dz) {
       const std::int64_t f[3] = {2 * c[0] + dx, 2 * c[1] + dy, 2 * c[2] + dz};
-      return isIn(value(f));
+      return isInside(value(f));
     };
     auto at = [&](int a, int da, int b, int db, int cc, int dc) {
       int d[3];
@@ -480,7 +477,7 @@ class Refiner {
               const std::int64_t f0[3] = {2 * l[0], 2 * l[1], 2 * l[2]};
               std::int64_t f2[3] = {f0[0], f0[1], f0[2]};
               f2[a] += 2;
-              if (isIn(value(f0)) == isIn(value(f2))) continue;
+              if (isInside(value(f0)) == isInside(value(f2))) continue;
               if (edgeVertex_.count(g_.linear(l[0], l[1], l[2]) * 3 +
                                     static_cast<std::uint64_t>(a)))
                 continue;
@@ -698,7 +695,7 @@ class Refiner {
   // ---- the side of a point of the half-cell grid: its own where every cube holding it is
   // refined, else what the seam gives it
   bool fineSign(const std::int64_t f[3]) const {
-    return sampled(f) ? isIn(value(f)) : virtualSign(f);
+    return sampled(f) ? isInside(value(f)) : virtualSign(f);
   }
   // Whether every cube holding this point is refined (always so for a grid point, whose
   // side is the grid's, and a cube's centre).
@@ -755,7 +752,7 @@ class Refiner {
       std::int64_t e0[3] = {f[0], f[1], f[2]}, e1[3] = {f[0], f[1], f[2]};
       e0[oddAxis] -= 1;
       e1[oddAxis] += 1;
-      const bool s0 = isIn(value(e0)), s1 = isIn(value(e1));
+      const bool s0 = isInside(value(e0)), s1 = isInside(value(e1));
       if (s0 == s1) return s0;
       const std::int64_t l[3] = {f[0] / 2, f[1] / 2, f[2] / 2};
       bool lowerHalf;
@@ -775,12 +772,12 @@ class Refiner {
     std::int64_t k0[3] = {f[0], f[1], f[2]};
     k0[b] -= 1;
     k0[c] -= 1;
-    const bool s = isIn(value(k0));
+    const bool s = isInside(value(k0));
     for (int d = 1; d < 4; ++d) {
       std::int64_t k[3] = {k0[0], k0[1], k0[2]};
       k[b] += 2 * (d & 1);
       k[c] += 2 * (d >> 1);
-      if (isIn(value(k)) != s) throw Abort("a crossed face of the seam has no lines");
+      if (isInside(value(k)) != s) throw Abort("a crossed face of the seam has no lines");
     }
     return s;
   }
@@ -799,7 +796,7 @@ class Refiner {
         e0[d] = f[d] - (f[d] & 1);
         std::int64_t e2[3] = {e0[0], e0[1], e0[2]};
         e2[d] += 2;
-        if (isIn(value(e0)) == isIn(value(e2))) return {};
+        if (isInside(value(e0)) == isInside(value(e2))) return {};
         const std::int64_t l[3] = {e0[0] / 2, e0[1] / 2, e0[2] / 2};
         bool lowerHalf;
         const std::uint32_t v = coarseVertex(l, d, &lowerHalf);
@@ -945,15 +942,15 @@ class Refiner {
   void findRoots() {
     const std::size_t n = roots_.size();
     if (n == 0) return;
-    std::vector<double> ta(n, 0.0), tb(n, 1.0), fa(n), fb(n), t(n, kNoRoot);
-    std::vector<int> side(n, 0);
+    std::vector<IllinoisBracket> b(n);
+    std::vector<double> t(n, kNoRoot);
     std::vector<char> active(n, 0);
     for (std::size_t i = 0; i < n; ++i) {
       std::int64_t f1[3] = {roots_[i].f[0], roots_[i].f[1], roots_[i].f[2]};
       f1[roots_[i].d] += 1;
-      fa[i] = value(roots_[i].f);
-      fb[i] = value(f1);
-      active[i] = isIn(fa[i]) != isIn(fb[i]);
+      b[i].fa = value(roots_[i].f);
+      b[i].fb = value(f1);
+      active[i] = isInside(b[i].fa) != isInside(b[i].fb);
     }
     std::vector<double> x, y, z, v;
     std::vector<std::size_t> which;
@@ -964,8 +961,7 @@ class Refiner {
       which.clear();
       for (std::size_t i = 0; i < n; ++i) {
         if (!active[i]) continue;
-        double u = (ta[i] * fb[i] - tb[i] * fa[i]) / (fb[i] - fa[i]);
-        if (!(u > ta[i] && u < tb[i])) u = 0.5 * (ta[i] + tb[i]);
+        const double u = illinoisEstimate(b[i]);
         t[i] = u;
         const Root& r = roots_[i];
         double p[3];
@@ -987,18 +983,8 @@ class Refiner {
           active[i] = 0;
           continue;
         }
-        if (isIn(fv) == isIn(fa[i])) {
-          ta[i] = t[i];
-          fa[i] = fv;
-          if (side[i] == -1) fb[i] *= 0.5;  // Illinois
-          side[i] = -1;
-        } else {
-          tb[i] = t[i];
-          fb[i] = fv;
-          if (side[i] == 1) fa[i] *= 0.5;
-          side[i] = 1;
-        }
-        if (tb[i] - ta[i] < 1e-7) active[i] = 0;
+        illinoisUpdate(b[i], t[i], fv);
+        if (b[i].tb - b[i].ta < 1e-7) active[i] = 0;
       }
     }
     for (std::size_t i = 0; i < n; ++i) {

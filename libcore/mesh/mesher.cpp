@@ -20,6 +20,7 @@
 #include "mesh/centred_cube.h"
 #include "mesh/crease_flips.h"
 #include "mesh/cube_loops.h"
+#include "mesh/edge_roots.h"
 #include "mesh/feature_point.h"
 #include "mesh/flat_vertex_removal.h"
 #include "mesh/hidden_parts.h"
@@ -31,9 +32,7 @@ namespace frep {
 
 namespace {
 
-// A vertex is kept at least this fraction of its edge away from both grid points, so no two
-// vertices coincide and no triangle degenerates, whatever the field does at grid points.
-constexpr double kEdgeMargin = 0.01;
+// (A vertex is kept kEdgeMargin of its edge away from both grid points: mesh/edge_roots.h.)
 // The least number of float32 steps a cell must span (so kEdgeMargin is a few steps).
 constexpr double kMinCellFloatSteps = 256.0;
 // Triangles per cell of a brick's face, for the memory estimate: marching tetrahedra's (5 to
@@ -77,14 +76,6 @@ constexpr double kReachAtLeast = 0.1;
 // triangle is thinner than this triangleQuality (an equilateral one has 0.29).
 constexpr double kFlatDeviation = 0.02;
 constexpr double kFlatQuality = 0.02;
-
-// min(F, B) that keeps a NaN from F (NaN counts as outside).
-inline double combine(double f, double b) {
-  return b < f ? b : f;
-}
-inline bool isInside(double g) {
-  return g >= 0.0;
-}
 
 struct CellRange {
   std::int64_t lo[3], hi[3];  // cells [lo, hi) per axis
@@ -1282,10 +1273,7 @@ class BrickMesher {
     t.resize(m);
     ft.resize(m);
     auto interpolate = [&](std::size_t e) {
-      const double a = s.ta[e], b = s.tb[e], fa = s.fa[e], fb = s.fb[e];
-      double x = (a * fb - b * fa) / (fb - fa);
-      if (!(x > a && x < b)) x = 0.5 * (a + b);  // NaN, infinities, flat: bisect
-      return x;
+      return illinoisEstimate(s.ta[e], s.tb[e], s.fa[e], s.fb[e]);
     };
     // An edge leaves the iteration once its bracket is narrower than kRootBracket of the edge,
     // or the next estimate (the one the vertex gets) moves less than kRootStep or gives the
@@ -1310,17 +1298,7 @@ class BrickMesher {
       for (std::size_t q = 0; q < na; ++q) {
         const std::uint32_t e = active[q];
         const double v = combine(ft[q], g_.boxField(qx[q], qy[q], qz[q]));
-        if (isInside(v) == isInside(s.fa[e])) {
-          s.ta[e] = t[e];
-          s.fa[e] = v;
-          if (s.lastSide[e] == 1) s.fb[e] *= 0.5;
-          s.lastSide[e] = 1;
-        } else {
-          s.tb[e] = t[e];
-          s.fb[e] = v;
-          if (s.lastSide[e] == -1) s.fa[e] *= 0.5;
-          s.lastSide[e] = -1;
-        }
+        illinoisUpdate(s.ta[e], s.tb[e], s.fa[e], s.fb[e], s.lastSide[e], t[e], v);
         if (v == 0.0) {  // the root exactly: the final interpolation returns it
           s.ta[e] = s.tb[e] = t[e];
           continue;

@@ -181,7 +181,7 @@ void CellMesher::coneCell(const Cell& cell) {
   double c[3];
   for (int a = 0; a < 3; ++a) c[a] = 0.5 * (cell.lo[a] + cell.hi[a]);
   const double cv = sampleAt(c[0], c[1], c[2]);
-  const int sc = isIn(cv) ? 1 : 0;
+  const int sc = isInside(cv) ? 1 : 0;
   std::map<int, std::uint32_t> spokeVertex;  // corner or centroid id -> vertex on its spoke
   int centroids = 0;
   auto spoke = [&](const BPoint& x) {
@@ -363,28 +363,18 @@ void CellMesher::emitFacing(std::uint32_t a, std::uint32_t b, std::uint32_t c, c
 // The vertex on the segment from a (value fa) to b: Illinois where the field changes sign,
 // else off the middle; kept off both ends.
 Vec3f CellMesher::rootAlong(const double a[3], double fa, const double b[3]) {
-  double ta = 0.0, tb = 1.0, va = fa, vb = sampleAt(b[0], b[1], b[2]);
+  IllinoisBracket r;
+  r.fa = fa;
+  r.fb = sampleAt(b[0], b[1], b[2]);
   double t = kNoRoot;
-  if (isIn(va) != isIn(vb)) {
-    int last = 0;
-    for (int it = 0; it < 40 && tb - ta > 1e-7; ++it) {
-      double u = (ta * vb - tb * va) / (vb - va);
-      if (!(u > ta && u < tb)) u = 0.5 * (ta + tb);
+  if (isInside(r.fa) != isInside(r.fb)) {
+    for (int it = 0; it < 40 && r.tb - r.ta > 1e-7; ++it) {
+      const double u = illinoisEstimate(r);
       t = u;
       const double v =
           sampleAt(a[0] + u * (b[0] - a[0]), a[1] + u * (b[1] - a[1]), a[2] + u * (b[2] - a[2]));
       if (v == 0.0 || std::isnan(v)) break;
-      if (isIn(v) == isIn(va)) {
-        ta = u;
-        va = v;
-        if (last == -1) vb *= 0.5;
-        last = -1;
-      } else {
-        tb = u;
-        vb = v;
-        if (last == 1) va *= 0.5;
-        last = 1;
-      }
+      illinoisUpdate(r, u, v);
     }
   }
   t = std::clamp(t, kEdgeMargin, 1.0 - kEdgeMargin);
@@ -533,7 +523,7 @@ void CellMesher::splitCell(const Cell& cell, int depth) {
   }
   // the centre, sampled; the six edges from it to the face centres
   const double centreValue = sampleAt(mid[0], mid[1], mid[2]);
-  sign[13] = isIn(centreValue) ? 1 : 0;
+  sign[13] = isInside(centreValue) ? 1 : 0;
   std::uint32_t spoke[6];  // vertex on the edge to face 2a + side, or UINT32_MAX
   for (int a = 0; a < 3; ++a)
     for (int side = 0; side < 2; ++side) {
@@ -627,7 +617,7 @@ void CellMesher::pairCrossings(const std::vector<WalkStep>& walk, const double c
     }
   }
   bool cutInside = true;
-  if (xs.size() > 2) cutInside = !isIn(sampleAt(centre[0], centre[1], centre[2]));
+  if (xs.size() > 2) cutInside = !isInside(sampleAt(centre[0], centre[1], centre[2]));
   for (std::size_t k = 0; k < xs.size(); ++k) {
     const std::size_t i = xs[k], j = xs[(k + 1) % xs.size()];
     const bool arcInside = arcAfter[i] == 1;

@@ -13,22 +13,16 @@
 
 #include "base/triangle_mesh.h"
 #include "frep/field.h"
+#include "mesh/edge_roots.h"
 #include "mesh/local_refinement.h"
 #include "mesh/sampling_grid.h"
 
 namespace frep::refinement {
 
-constexpr double kEdgeMargin = 0.01;  // of an edge: a vertex off the edge's ends
 // Where a vertex goes on an edge whose ends the field does not put on two sides (an end's side
 // is the seam's): off the middle, where a split cell samples.
 constexpr double kNoRoot = 0.4375;
 
-inline bool isIn(double v) {
-  return v >= 0.0;
-}
-inline double combine(double f, double b) {
-  return b < f ? b : f;
-}
 inline std::uint64_t dirKey(std::uint32_t a, std::uint32_t b) {
   return (std::uint64_t(a) << 32) | b;
 }
