@@ -1126,14 +1126,6 @@ void markNearCreases(State& s, const std::vector<Triangle>& faces) {
       for (std::uint32_t v : faces[f]) s.nearCrease[v] = 1;
 }
 
-bool anyNearCrease(const State& s, const std::vector<Triangle>& faces, const std::uint32_t* list,
-                   std::size_t count) {
-  for (std::size_t i = 0; i < count; ++i)
-    for (std::uint32_t v : faces[list[i]])
-      if (s.nearCrease[v]) return true;
-  return false;
-}
-
 void validate(const SimplifyOptions& o) {
   auto bad = [](const std::string& what) { throw ModelError("simplify: " + what); };
   if (!(o.cell > 0.0) || !std::isfinite(o.cell)) bad("cell must be a positive number");
@@ -1192,11 +1184,30 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field,
     // faces inside one region, grouped by it; faces crossing regions, frozen
     std::vector<std::pair<std::uint64_t, std::uint32_t>> inner, frozen;
     std::vector<std::uint32_t> crossing;
+    // With collapses onto creases only, the regions holding a face near a crease (the others'
+    // faces stay as they are and are not sorted in: most of the mesh)
+    std::vector<std::uint64_t> active;
+    auto isActive = [&](std::uint64_t r) {
+      return !o.creaseCollapsesOnly || std::binary_search(active.begin(), active.end(), r);
+    };
+    if (o.creaseCollapsesOnly) {
+      markNearCreases(s, faces);
+      for (const Triangle& t : faces) {
+        if (!(s.nearCrease[t[0]] || s.nearCrease[t[1]] || s.nearCrease[t[2]])) continue;
+        const std::uint64_t r = regions.of(s.pos[t[0]]);
+        if (regions.of(s.pos[t[1]]) == r && regions.of(s.pos[t[2]]) == r) active.push_back(r);
+      }
+      std::sort(active.begin(), active.end());
+      active.erase(std::unique(active.begin(), active.end()), active.end());
+    }
     for (std::uint32_t f = 0; f < faces.size(); ++f) {
       const Triangle& t = faces[f];
       const std::uint64_t r = regions.of(s.pos[t[0]]);
       if (regions.of(s.pos[t[1]]) == r && regions.of(s.pos[t[2]]) == r) {
-        inner.emplace_back(r, f);
+        if (isActive(r))
+          inner.emplace_back(r, f);
+        else
+          crossing.push_back(f);  // (left as it is)
         continue;
       }
       crossing.push_back(f);
@@ -1211,9 +1222,8 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field,
       for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
         for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
           for (std::int64_t i = lo[0]; i <= hi[0]; ++i)
-            frozen.emplace_back(Regions::key(i, j, k), f);
+            if (isActive(Regions::key(i, j, k))) frozen.emplace_back(Regions::key(i, j, k), f);
     }
-    if (o.creaseCollapsesOnly) markNearCreases(s, faces);
     tbb::parallel_sort(inner.begin(), inner.end());
     tbb::parallel_sort(frozen.begin(), frozen.end());
     std::vector<std::uint32_t> innerFaces(inner.size()), frozenFaces(frozen.size());
@@ -1223,11 +1233,6 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field,
     for (std::size_t i = 0; i < inner.size();) {
       std::size_t j = i;
       while (j < inner.size() && inner[j].first == inner[i].first) ++j;
-      if (o.creaseCollapsesOnly && !anyNearCrease(s, faces, innerFaces.data() + i, j - i)) {
-        crossing.insert(crossing.end(), innerFaces.begin() + i, innerFaces.begin() + j);
-        i = j;
-        continue;  // (no crease: its faces stay as they are)
-      }
       const auto range = std::equal_range(
           frozen.begin(), frozen.end(), std::make_pair(inner[i].first, std::uint32_t(0)),
           [](const auto& a, const auto& b) { return a.first < b.first; });
