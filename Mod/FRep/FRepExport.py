@@ -98,6 +98,7 @@ def export_objects(objects, filename, progress=None, cells=None, fmt="", resolut
         except frepcore.Cancelled:
             raise RuntimeError("export of %s cancelled; no file written" % name)
         FRepMeshing.warn_thin_parts(name, report and report.get("thin_parts"))
+        FRepMeshing.report_straightened(name, report and report.get("straightened"))
         return report
 
     if progress is not None:
@@ -134,6 +135,7 @@ def _export_3mf(objects, filename, progress, cells, resolution, bbox, force, tol
                                    tol, sh,
                                    **(FRepPolygonize.mesh_keywords(obj) if meshed else {}))
             FRepMeshing.warn_thin_parts(obj.Label, getattr(mesh, "thin_parts", None))
+            FRepMeshing.report_straightened(obj.Label, getattr(mesh, "straightened", None))
             meshes.append((obj.Label, mesh))
         doc = objects[0].Document
         report = frepcore.write_3mf(

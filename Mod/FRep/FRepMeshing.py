@@ -97,6 +97,15 @@ def warn_thin_parts(label, thin):
         "more of the model.\n" % ((label, "; ".join(parts)) + tuple(thin["example"])))
 
 
+def report_straightened(label, straightened):
+    """Says in the report view what straightening the creases did (frepcore's
+    'straightened': vertices merged onto creases, edges flipped along them)."""
+    if straightened:
+        FreeCAD.Console.PrintMessage(
+            "%s: creases straightened: %d vertices merged onto them, %d edges flipped along "
+            "them.\n" % (label, straightened["merged"], straightened["flipped"]))
+
+
 # A memory file system where there is one: the hand-over file lives for milliseconds, and
 # frepcore syncs what it writes to disk (it is built for exports that must survive a crash).
 _HAND_OVER_DIR = "/dev/shm" if os.access("/dev/shm", os.W_OK) else None

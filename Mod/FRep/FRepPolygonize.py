@@ -99,6 +99,7 @@ class Polygonize(FeatureProxy):
             lambda progress: _mesh_or_cancel(obj, shape, box, cell, progress))
         obj.Triangles = mesh.triangle_count
         FRepMeshing.warn_thin_parts(obj.Label, getattr(mesh, "thin_parts", None))
+        FRepMeshing.report_straightened(obj.Label, getattr(mesh, "straightened", None))
         FRepMeshing.set_mesh(obj, FRepMeshing.to_freecad_mesh(mesh))
 
 

@@ -677,9 +677,10 @@ PYBIND11_MODULE(_frepcore, m) {
             n.compiled();
             std::shared_ptr<const Program> program = n.program;
             auto stats = std::make_shared<MeshingStats>();
+            auto straightened = std::make_shared<SimplifyStats>();
             py::object mesh = py::cast(runWithProgress<TriangleMesh>(
-                [program, o, so, st, simplify, straighten,
-                 stats](std::function<bool(double)> tick) mutable {
+                [program, o, so, st, simplify, straighten, stats,
+                 straightened](std::function<bool(double)> tick) mutable {
                   // the bar: meshing, then straightening and simplifying, a share each
                   const int steps = 1 + straighten + simplify;
                   int step = 0;
@@ -689,7 +690,7 @@ PYBIND11_MODULE(_frepcore, m) {
                   if (straighten) {
                     ++step;
                     st.progress = share;
-                    mesh = straightenCreases(mesh, *program, st);
+                    mesh = straightenCreases(mesh, *program, st, straightened.get());
                   }
                   if (!simplify) return mesh;
                   ++step;
@@ -698,6 +699,10 @@ PYBIND11_MODULE(_frepcore, m) {
                 },
                 progress));
             mesh.attr("thin_parts") = thinPartsDict(*stats);
+            if (straighten)
+              mesh.attr("straightened") = py::dict(py::arg("merged") = straightened->collapses,
+                                                   py::arg("flipped") = straightened->flips,
+                                                   py::arg("seconds") = straightened->seconds);
             return mesh;
           },
           py::arg("bbox"), py::arg("resolution"), py::arg("progress") = py::none(),
@@ -712,7 +717,8 @@ PYBIND11_MODULE(_frepcore, m) {
           "tolerance the "
           "mesh is then simplified within it of the surface (creases and corners placed "
           "unless sharp=False), after its creases are straightened with "
-          "straighten_creases=True. progress(fraction) is called on this thread; returning False "
+          "straighten_creases=True (the mesh's straightened then says {'merged', 'flipped', "
+          "'seconds'}). progress(fraction) is called on this thread; returning False "
           "cancels "
           "(raises Cancelled). The mesh's thin_parts says where parts thinner than a cell "
           "passed between the grid's points: {'solid': grid edges of solid left out, 'gaps': "

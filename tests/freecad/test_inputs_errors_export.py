@@ -231,16 +231,21 @@ def assert_reopened_with(doc, tmp_path, prop, on, off):
         FreeCAD.closeDocument(again.Name)
 
 
-def test_polygonize_straightens_creases_and_exports_alike(doc, tmp_path):
+def test_polygonize_straightens_creases_and_exports_alike(doc, tmp_path, monkeypatch):
     # the twist (a box turned by 180 degrees over its height): its helical creases
     box = F.make("box", doc, corner=(-0.5, -0.5, -1), size=(1, 1, 2))
     twist = F.make("twist", doc, inputs=[box], axis=(0, 0, 1), rate=90)
     plain = FRepPolygonize.make(twist, doc, Cells=48)
     straight = FRepPolygonize.make(twist, doc, name="Straight", Cells=48)
     assert not straight.StraightenCreases
+    told = []
+    monkeypatch.setattr(FreeCAD.Console, "PrintMessage", told.append)
     straight.StraightenCreases = True
     doc.recompute()
     assert straight.isValid(), straight.getStatusString()
+    # the report view says what it did
+    assert [m for m in told if m.startswith("Straight: creases straightened: ")
+            and "vertices merged onto them" in m]
     # vertices either side of the creases merged onto them
     assert straight.Triangles < plain.Triangles
     assert straight.Triangles == straight.Mesh.CountFacets

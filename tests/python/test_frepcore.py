@@ -102,6 +102,7 @@ def test_straighten_creases_merges_onto_the_twists_creases(tmp_path):
     plain = twist.mesh(cells=48)
     straight = twist.mesh(cells=48, straighten_creases=True)
     assert straight.triangle_count < plain.triangle_count
+    assert straight.straightened["merged"] > 0 and not hasattr(plain, "straightened")
     assert straight.volume() == pytest.approx(2.0, rel=0.005)
     assert straight.check()["printable"]
     # before a simplification: fewer triangles still
