@@ -41,6 +41,15 @@ double Quadric::error(const Vec3& x) const {
   return e > 0.0 ? e : 0.0;  // rounding
 }
 
+bool Quadric::mayBeSharp(double relativeCutoff) const {
+  if (count <= 0.0) return false;
+  const double t = a[0] + a[3] + a[5];
+  const double m =
+      (a[0] * a[3] - a[1] * a[1]) + (a[0] * a[5] - a[2] * a[2]) + (a[3] * a[5] - a[4] * a[4]);
+  // (with a margin, so that rounding never hides a direction the solve would count)
+  return !(t > 0.0) || 9.0 * m > 0.5 * relativeCutoff * t * t;
+}
+
 Vec3 Quadric::minimiser(double relativeCutoff, int* rank) const {
   if (rank) *rank = 0;
   if (count <= 0.0) return {0, 0, 0};

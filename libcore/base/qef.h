@@ -25,6 +25,10 @@ struct Quadric {
   // there are no planes. *rank (when given): the directions solved (1 a plane, 2 a crease
   // line, 3 a corner point).
   Vec3 minimiser(double relativeCutoff = 0.1, int* rank = nullptr) const;
+  // False only where minimiser(relativeCutoff) would solve one direction at most (a plane):
+  // a bound from the planes' normal matrix's trace T and principal minors M, whose second
+  // eigenvalue over its largest is at most 9 M / T^2, without the eigen solve.
+  bool mayBeSharp(double relativeCutoff) const;
 };
 
 }  // namespace frep

@@ -232,6 +232,8 @@ class RegionSimplifier {
         int rank = 0;
         if (o_.sharpFeatures) {
           q = merged(c.u, c.v);
+          // (onto creases only: a merge whose planes cannot make a crease is not one)
+          if (o_.creaseCollapsesOnly && !q.mayBeSharp(planeCutoff())) continue;
           if (q.count > 0.0) {
             best = q.minimiser(planeCutoff(), &rank);
             least = q.error(best);
@@ -503,6 +505,7 @@ class RegionSimplifier {
       ring(l, g, neighboursU_);
       for (std::uint32_t w : neighboursU_) q += s_.quadric[w];
       if (q.count <= 0.0) continue;
+      if (o_.creaseCollapsesOnly && !q.mayBeSharp(planeCutoff())) continue;  // (a plane)
       int rank = 0;
       const Vec3 p = q.minimiser(planeCutoff(), &rank), here = toVec3(s_.pos[g]);
       if (rank < 2) continue;  // a plane: nothing sharp to put back
