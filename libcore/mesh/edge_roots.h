@@ -11,6 +11,11 @@ namespace frep {
 // A vertex is kept at least this fraction of its edge away from both ends, so no two vertices
 // coincide and no triangle degenerates, whatever the field does at the samples.
 constexpr double kEdgeMargin = 0.01;
+// Root finding stops on an edge once its bracket is this narrow (a fraction of the edge) ...
+constexpr double kRootBracket = 1e-7;
+// ... or after this many steps where nothing else stops it (the refinement's edges, which
+// have no float32 vertex test; the mesher stops at MeshingOptions::rootIterations)
+constexpr int kMaxRootSteps = 40;
 
 // The side of a field value: inside where F >= 0 (NaN counts as outside).
 inline bool isInside(double v) {

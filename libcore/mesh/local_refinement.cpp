@@ -954,7 +954,7 @@ class Refiner {
     }
     std::vector<double> x, y, z, v;
     std::vector<std::size_t> which;
-    for (int it = 0; it < 40; ++it) {
+    for (int it = 0; it < kMaxRootSteps; ++it) {
       x.clear();
       y.clear();
       z.clear();
@@ -984,7 +984,7 @@ class Refiner {
           continue;
         }
         illinoisUpdate(b[i], t[i], fv);
-        if (b[i].tb - b[i].ta < 1e-7) active[i] = 0;
+        if (b[i].tb - b[i].ta < kRootBracket) active[i] = 0;
       }
     }
     for (std::size_t i = 0; i < n; ++i) {

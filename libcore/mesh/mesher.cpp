@@ -46,9 +46,8 @@ constexpr double kCubeTrianglesPerFaceCell = 2.5;
 // kernels), so 4-cell sub-blocks evaluated fewer points but took longer (the helix at 256
 // cells: 2.7 million points in 0.53 s against 4.0 million in 0.38 s with octants).
 constexpr std::int64_t kSubCells = 8;
-// Root finding stops on an edge once its bracket is this narrow (a fraction of the edge).
-constexpr double kRootBracket = 1e-7;
-// ... or once the next estimate would move the vertex by less than this fraction of the edge.
+// Root finding stops on an edge once its bracket is kRootBracket narrow (mesh/edge_roots.h),
+// or once the next estimate would move the vertex by less than this fraction of the edge.
 // Illinois converges superlinearly, so the vertex is then far closer than this to the root
 // (the reference models at 256 cells: mean distance 1e-4 of a cell, as with full
 // convergence), at about half the evaluations (2.1 instead of 5.2 per vertex on the helix).

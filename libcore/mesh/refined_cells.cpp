@@ -368,7 +368,7 @@ Vec3f CellMesher::rootAlong(const double a[3], double fa, const double b[3]) {
   r.fb = sampleAt(b[0], b[1], b[2]);
   double t = kNoRoot;
   if (isInside(r.fa) != isInside(r.fb)) {
-    for (int it = 0; it < 40 && r.tb - r.ta > 1e-7; ++it) {
+    for (int it = 0; it < kMaxRootSteps && r.tb - r.ta > kRootBracket; ++it) {
       const double u = illinoisEstimate(r);
       t = u;
       const double v =

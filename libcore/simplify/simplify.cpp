@@ -162,6 +162,11 @@ struct State {
   std::vector<std::vector<Vec3f>> samples;
 };
 
+// (collapses onto creases only) whether a vertex of t is near a crease
+bool touchesCrease(const State& s, const Triangle& t) {
+  return s.nearCrease[t[0]] || s.nearCrease[t[1]] || s.nearCrease[t[2]];
+}
+
 struct RegionInput {
   std::uint64_t key;
   const std::uint32_t* inner;  // faces (indices into the pass's face list) inside the region
@@ -273,10 +278,6 @@ class RegionSimplifier {
   }
 
  private:
-  // (collapses onto creases only) whether a vertex of t is near a crease
-  bool nearCrease(const Triangle& t) const {
-    return s_.nearCrease[t[0]] || s_.nearCrease[t[1]] || s_.nearCrease[t[2]];
-  }
   // (collapses onto creases only) whether p lies on the surface (kOnCreaseCells)
   bool onCrease(const Vec3& p) const {
     double value;
@@ -535,7 +536,7 @@ class RegionSimplifier {
     std::size_t flips = 0;
     for (std::uint32_t f = 0; f < faces_.size(); ++f) {
       if (frozenFace_[f] || deadFace_[f] != kLive) continue;
-      if (o_.creaseCollapsesOnly && !nearCrease(faces_[f])) continue;
+      if (o_.creaseCollapsesOnly && !touchesCrease(s_, faces_[f])) continue;
       for (int k = 0; k < 3; ++k) {
         const Triangle& t = faces_[f];
         const std::uint32_t u = t[k], v = t[(k + 1) % 3];
@@ -1196,7 +1197,7 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field,
     if (o.creaseCollapsesOnly) {
       markNearCreases(s, faces);
       for (const Triangle& t : faces) {
-        if (!(s.nearCrease[t[0]] || s.nearCrease[t[1]] || s.nearCrease[t[2]])) continue;
+        if (!touchesCrease(s, t)) continue;
         const std::uint64_t r = regions.of(s.pos[t[0]]);
         if (regions.of(s.pos[t[1]]) == r && regions.of(s.pos[t[2]]) == r) active.push_back(r);
       }
