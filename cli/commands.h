@@ -35,6 +35,7 @@ struct ExportOptions {
   std::optional<bool> flatVertices;
   bool refineThinParts = false;     // --refine-thin-parts
   bool refineTips = false;          // --refine-tips
+  int refineLevels = 1;             // --refine-levels
   bool stats = false;               // --stats: the accuracy report
   bool fog = false;                 // --fog: a .vdb fog volume instead of a level set
   std::vector<std::string> sets;  // --set Object.Property=VALUE (documents only)

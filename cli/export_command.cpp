@@ -51,6 +51,9 @@ const char* const kExportHelp =
     "                          grid's points again at half a cell (docs/mesher.md)\n"
     "  --refine-tips           ... and the cubes round the tips of creases and slivers too\n"
     "                          (the gyroid's; creases then come out less clean)\n"
+    "  --refine-levels N       with either: refine the half cubes again where a part hides\n"
+    "                          between their own points, down to a cell / 2^N (1 to 3,\n"
+    "                          default 1)\n"
     "  --keep-flat-vertices    keep the vertices where the surface is flat within a fiftieth\n"
     "                          of a cell, which are dropped by default (6 to 15 % fewer\n"
     "                          triangles, the same accuracy): a little faster meshing\n"
@@ -126,7 +129,13 @@ ExportOptions parseExportOptions(const Args& args) {
       o.refineThinParts = true;
     else if (a == "--refine-tips")
       o.refineTips = true;
-    else if (a == "--fewer-triangles" || a == "--keep-flat-vertices")
+    else if (a == "--refine-levels") {
+      const double n = parseNumber(value("a number of levels"), a);
+      if (!(n >= 1 && n <= kMaxRefinementLevels && n == std::floor(n)))
+        throw UsageError("--refine-levels must be a whole number from 1 to " +
+                         std::to_string(kMaxRefinementLevels) + ", got '" + args[i] + "'");
+      o.refineLevels = static_cast<int>(n);
+    } else if (a == "--fewer-triangles" || a == "--keep-flat-vertices")
       o.flatVertices = a == "--fewer-triangles";
     else if (a == "--mesher") {
       const std::string m = value("cubes or tetra");
@@ -177,6 +186,8 @@ ExportOptions parseExportOptions(const Args& args) {
         std::string(*o.flatVertices ? "--fewer-triangles" : "--keep-flat-vertices") +
         " applies to a mesh exported from a JSON model (a document's Polygonize feature has "
         "a FewerTriangles property)");
+  if (o.refineLevels > 1 && !o.refineThinParts && !o.refineTips)
+    throw UsageError("--refine-levels applies to --refine-thin-parts or --refine-tips");
   if (o.straightenCreases) {
     if (!o.sharp)
       throw UsageError("--straighten-creases needs the creases' vertices: drop --no-sharp");
@@ -206,9 +217,16 @@ void printThinParts(const MeshingStats& stats, double cell) {
   if (stats.refinedCubes > 0)
     std::cerr << "frepcad: " << stats.refinedCubes
               << " cubes round parts thinner than a cell meshed again at half a cell\n";
+  if (stats.refinedDeeperCubes > 0)
+    std::cerr << "frepcad: " << stats.refinedDeeperCubes
+              << " smaller cubes meshed again below that, down to a cell / "
+              << (1 << stats.refinementLevelsReached) << "\n";
   if (!stats.refinementSkipped.empty())
     std::cerr << "frepcad: warning: the thin parts were not refined: " << stats.refinementSkipped
               << "\n";
+  if (!stats.refinementDeeperSkipped.empty())
+    std::cerr << "frepcad: warning: the thin parts were refined " << stats.refinementLevelsReached
+              << " level(s) deep only: " << stats.refinementDeeperSkipped << "\n";
   if (stats.thinSolidEdges == 0 && stats.thinGapEdges == 0) return;
   const Vec3& p = stats.thinExample;
   if (stats.thinSolidEdges > 0)
@@ -254,6 +272,7 @@ int exportModel(const ExportOptions& opt) {
   if (opt.flatVertices) request.flatVertices = *opt.flatVertices;  // (else the pipeline's default)
   request.refineThinParts = opt.refineThinParts;
   request.refineTips = opt.refineTips;
+  request.refinementLevels = opt.refineLevels;
   request.extraction = opt.tetra ? Extraction::Tetrahedra : Extraction::Cubes;
   request.stats = opt.stats;
   // The box policy is the pipeline's; the CLI only adds where the user gives a box.

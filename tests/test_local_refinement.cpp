@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "base/errors.h"
 #include "check/mesh_check.h"
 #include "frep/model_json.h"
 #include "mesh/mesher.h"
@@ -65,6 +66,50 @@ TEST(LocalRefinement, AWallBetweenTheGridsPointsIsMeshedAtHalfACell) {
   }
 }
 
+// Deeper levels (MeshingOptions::refinementLevels): a wall 0.3 cell thick between two
+// layers of the half-cell grid's points, around a point of the quarter-cell grid. One level
+// of refinement sees nothing; two mesh it, closed, with about its volume (0.03).
+TEST(LocalRefinement, AWallBetweenTheHalfCellPointsIsMeshedAtAQuarterCell) {
+  const char* wall = R"({"frepcad": 1, "root": {"type": "box", "params":
+    {"corner": [0.01, -0.5, -0.5], "size": [0.03, 1, 1]}},
+    "export": {"bbox": [-1, -1, -1, 1, 1, 1], "resolution": 0.1}})";
+  const Model m = parseModel(wall, "refine", ".");
+  MeshingOptions o;
+  o.bbox = *m.bbox;
+  o.resolution = *m.resolution;
+  o.refineThinParts = true;
+  MeshingStats one, two;
+  EXPECT_EQ(polygonize(compile(m.root), o, &one).triangleCount(), 0u);
+  EXPECT_EQ(one.refinedDeeperCubes, 0u);
+  o.refinementLevels = 2;
+  const TriangleMesh mesh = polygonize(compile(m.root), o, &two);
+  ASSERT_GT(mesh.triangleCount(), 0u) << two.refinementSkipped << two.refinementDeeperSkipped;
+  EXPECT_EQ(two.refinementLevelsReached, 2);
+  EXPECT_GE(two.refinedDeeperCubes, 400u);  // 10 x 10 cubes' half cubes on either side
+  const CheckReport r = checkMesh(mesh);
+  EXPECT_TRUE(r.printable()) << reasonsOf(r);
+  EXPECT_EQ(r.components, 1u);
+  EXPECT_NEAR(r.volume, 0.03, 0.003);
+}
+
+TEST(LocalRefinement, RefinementLevelsOutOfRangeAreRefused) {
+  const Model m = parseModel(kWall, "refine", ".");
+  MeshingOptions o;
+  o.bbox = *m.bbox;
+  o.resolution = *m.resolution;
+  o.refineThinParts = true;
+  for (int levels : {0, kMaxRefinementLevels + 1}) {
+    o.refinementLevels = levels;
+    try {
+      polygonize(compile(m.root), o);
+      ADD_FAILURE() << levels;
+    } catch (const ModelError& e) {
+      EXPECT_NE(std::string(e.what()).find("refinement levels must be 1 to 3"), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
 // A slit 0.3 cell wide through a cube: the grid closes it; refined, it is cut open again and
 // the volume falls by about the slit's (0.03).
 TEST(LocalRefinement, ASlitTheGridClosesIsOpenedAgain) {
@@ -96,7 +141,7 @@ TEST(LocalRefinement, ASphereIsLeftAsItWas) {
 // Random trees (thin walls, tangent contacts, sharp CSG, faces on grid planes) refined: every
 // mesh printable by the check, whatever was refined, sharp features on and off; and the same
 // mesh for two brick sizes. 96 trees here, 1,000 in the acceptance tier.
-void refineRandomTrees(unsigned seed, int trees) {
+void refineRandomTrees(unsigned seed, int trees, int levels = 1) {
   testing::RandomTrees rng(seed);
   const double resolutions[] = {1.0 / 8, 1.0 / 12, 1.0 / 16, 1.0 / 20};
   int refined = 0;
@@ -111,9 +156,10 @@ void refineRandomTrees(unsigned seed, int trees) {
     o.sharpFeatures = rng.integer(0, 3) != 0;
     o.refineThinParts = true;
     o.refineTips = rng.integer(0, 3) != 0;
+    o.refinementLevels = levels;
     MeshingStats stats;
     const TriangleMesh mesh = polygonize(program, o, &stats);
-    refined += stats.refinedCubes > 0;
+    refined += levels > 1 ? stats.refinedDeeperCubes > 0 : stats.refinedCubes > 0;
     if (mesh.triangleCount() == 0) continue;
     const CheckReport r = checkMesh(mesh);
     ASSERT_TRUE(r.printable()) << "tree " << i << " at " << o.resolution << " ("
@@ -125,7 +171,7 @@ void refineRandomTrees(unsigned seed, int trees) {
       EXPECT_EQ(sortedTriangles(polygonize(program, other)), sortedTriangles(mesh)) << "tree " << i;
     }
   }
-  EXPECT_GT(refined, trees / 10);  // the trees have thin parts to refine
+  EXPECT_GT(refined, trees / 10);  // the trees have thin parts to refine (deeper too)
 }
 
 TEST(LocalRefinement, RandomTreesStayPrintable) {
@@ -139,6 +185,16 @@ TEST_P(LocalRefinementShard, RandomTreesStayPrintableAcceptance) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Shards, LocalRefinementShard, ::testing::Range(0, 8));
+
+// Two and three levels: the half cubes refined again, every mesh still printable.
+TEST(LocalRefinement, RandomTreesStayPrintableTwoAndThreeLevelsDeep) {
+  refineRandomTrees(7300, 40, 2);
+  refineRandomTrees(7301, 16, 3);
+}
+
+TEST_P(LocalRefinementShard, RandomTreesStayPrintableTwoAndThreeLevelsDeepAcceptance) {
+  refineRandomTrees(7400 + static_cast<unsigned>(GetParam()), 60, 2 + GetParam() % 2);
+}
 
 }  // namespace
 }  // namespace frep

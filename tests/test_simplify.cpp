@@ -318,6 +318,29 @@ TEST(Accuracy, TheMeshersSharpFeaturesPlaceTheCubesEdges) {
 // over). Measured against a brute-force one: each vertex's and face centre's distance (the
 // points the measure takes) to the nearest vertex of a mesh six times finer (whose vertices
 // lie on the surface).
+// At a kink of a min, Newton's steps follow the piece whose value is least and reach its
+// surface, missing a nearer piece whose value is larger only because it is steep: a wall
+// (|y + 0.005| <= 0.005, scaled by 100) cut by the unit sphere, measured from a point 0.1
+// inside the sphere and 0.002 from the wall's face. The wall lies between the points of the
+// finer mesh's grid (-0.0125, 0.0125), which sees none of it. The search through the field's
+// intervals finds the face (without it: 0.1, the sphere).
+TEST(Accuracy, MeshToSurfaceFindsANearerPieceThanNewtonsSteps) {
+  const Model m = parseModel(R"json({"frepcad": 1, "root": {"type": "intersection", "inputs": [
+      {"type": "sphere", "params": {"radius": 1}},
+      {"type": "formula", "params": {"formula": "100 * (0.005 - abs(y + 0.005))"}}]}})json",
+                             "kink", ".");
+  const Program p = compile(m.root);
+  TriangleMesh mesh;
+  mesh.positions = {{0.9f, -0.002f, 0.f}, {0.9001f, -0.002f, 0.f}, {0.9f, -0.002f, 0.0001f}};
+  mesh.triangles = {{0, 1, 2}};
+  AccuracyOptions o;
+  o.bbox = {{0.7, -0.2, -0.2}, {1.1, 0.2, 0.2}};  // (its faces 0.2 from the point)
+  o.cell = 0.05;
+  const AccuracyReport r = measureAccuracy(mesh, p, o);
+  EXPECT_GT(r.meshToSurface, 0.00199);  // an upper bound: never below the true distance
+  EXPECT_LT(r.meshToSurface, 0.0025);   // (to within the search's smallest cubes)
+}
+
 TEST(Accuracy, MeshToSurfaceIsTightOnThinSheets) {
   const Model m = loadModel(std::string(FREP_SOURCE_DIR) + "/examples/gyroid.json");
   const Program p = compile(m.root);

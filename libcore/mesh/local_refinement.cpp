@@ -1,11 +1,20 @@
 #include "mesh/local_refinement.h"
 
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
 #include <unordered_map>
 #include <unordered_set>
 
+#include "base/errors.h"
+#include "base/triangle_geometry.h"
 #include "mesh/refined_cells.h"
 
 namespace frep {
@@ -39,11 +48,61 @@ using refinement::kNoRoot;
 using refinement::Seg;
 using refinement::WalkStep;
 
+// The grid one level of refinement splits: the mesher's grid (level 0), or the points of the
+// level above and those halfway between them (level L's point j is level L - 1's point j / 2
+// where j is even, the middle of its points (j - 1) / 2 and (j + 1) / 2 where j is odd). Every
+// level computes a shared point's coordinate by the same chain of midpoints, so a vertex one
+// level put on a plane lies exactly on that plane for the next (level 1's points are the
+// mesher's mid()).
+struct RefinementGrid {
+  const Grid* base = nullptr;
+  int level = 0;
+  std::int64_t points[3] = {0, 0, 0};
+  double h[3] = {0, 0, 0};
+  // level >= 1: the points' coordinates per axis (computed once per level)
+  std::shared_ptr<const std::vector<double>> table[3];
+
+  static RefinementGrid of(const Grid& g) {
+    RefinementGrid r;
+    r.base = &g;
+    for (int a = 0; a < 3; ++a) {
+      r.points[a] = g.points[a];
+      r.h[a] = g.h[a];
+    }
+    return r;
+  }
+  RefinementGrid finer() const {
+    RefinementGrid r = *this;
+    ++r.level;
+    for (int a = 0; a < 3; ++a) {
+      r.points[a] = 2 * points[a] - 1;
+      r.h[a] = 0.5 * h[a];
+      auto t = std::make_shared<std::vector<double>>(static_cast<std::size_t>(r.points[a]));
+      for (std::int64_t j = 0; j < r.points[a]; ++j)
+        (*t)[static_cast<std::size_t>(j)] =
+            j % 2 == 0 ? coord(a, j / 2) : 0.5 * (coord(a, j / 2) + coord(a, j / 2 + 1));
+      r.table[a] = std::move(t);
+    }
+    return r;
+  }
+  double coord(int a, std::int64_t j) const {
+    return level == 0 ? base->coord(a, j) : (*table[a])[static_cast<std::size_t>(j)];
+  }
+  double mid(int a, std::int64_t j) const { return 0.5 * (coord(a, j) + coord(a, j + 1)); }
+  std::uint64_t linear(std::int64_t i, std::int64_t j, std::int64_t k) const {
+    return static_cast<std::uint64_t>(i + points[0] * (j + points[1] * k));
+  }
+  double boxField(double x, double y, double z) const { return base->boxField(x, y, z); }
+};
+
 // A case the refinement does not handle in these cubes: they stay as the cube extraction
 // made them, and the refinement starts again without them.
 struct CubeFailure {
   std::vector<std::uint64_t> cubes;  // left out
   std::vector<std::uint64_t> extra;  // refined too (the seam moves past a doubtful face)
+  // the refined cubes beside the doubtful face, left out instead where an extra cube cannot
+  // be refined (left out before, or not admitted by the level above)
+  std::vector<std::uint64_t> fallback;
 };
 
 // Starts again without the cubes at most this many times.
@@ -65,19 +124,105 @@ struct SeamFace {
 
 class Refiner {
  public:
-  Refiner(const Field& field, const Grid& g, TriangleMesh& mesh, LocalRefinementStats& stats)
-      : field_(field), g_(g), mesh_(mesh), stats_(stats), cells_(field, g, mesh, stats) {
+  Refiner(const Field& field, const RefinementGrid& g, TriangleMesh& mesh,
+          LocalRefinementStats& stats)
+      : field_(field), g_(g), mesh_(mesh), stats_(stats), cells_(field, *g.base, mesh, stats) {
     for (int a = 0; a < 3; ++a) {
       P_[a] = g.points[a];
       F_[a] = 2 * g.points[a] - 1;
     }
   }
 
-  void run(const std::vector<std::uint64_t>& seedEdges, std::size_t maxCubes) {
+  const RefinementGrid& grid() const { return g_; }
+  // The four cubes round each grid edge (lower grid point x 3 + axis).
+  std::vector<std::uint64_t> cubesRound(const std::vector<std::uint64_t>& edges) const {
+    std::vector<std::uint64_t> cubes;
+    for (std::uint64_t e : edges) {
+      const int a = static_cast<int>(e % 3);
+      std::int64_t l[3];
+      cubeOf(e / 3, l);
+      const int b = (a + 1) % 3, c = (a + 2) % 3;
+      for (int d = 0; d < 4; ++d) {
+        std::int64_t q[3] = {l[0], l[1], l[2]};
+        q[b] -= d & 1;
+        q[c] -= d >> 1;
+        if (validCube(q)) cubes.push_back(cubeId(q[0], q[1], q[2]));
+      }
+    }
+    return cubes;
+  }
+
+  // ---- a deeper level (docs/mesher.md, "Deeper levels"): the next level refines this
+  // level's half cubes as this one refines cubes, those of the region's cubes. Its grid
+  // points take the sides this level meshed them with: the field's, or on the seam the
+  // side the seam gives them (there the value is the field's where the sides agree, else the
+  // smallest number of the seam's side, so a root on an edge from there lies at that end).
+  std::vector<std::uint64_t> finerCandidates() const {
+    std::vector<std::uint64_t> out;
+    out.reserve(8 * cubes_.size());
+    for (std::uint64_t id : cubes_) {
+      std::int64_t c[3];
+      cubeOf(id, c);
+      // the half cubes a look a level deeper showed something in (all where none was taken)
+      const auto seen = deeperHides_.find(id);
+      const unsigned mask = seen == deeperHides_.end() ? 0xffu : seen->second;
+      for (int h = 0; h < 8; ++h)
+        if (mask & (1u << h))
+          out.push_back(static_cast<std::uint64_t>(
+              (2 * c[0] + (h & 1)) +
+              F_[0] * ((2 * c[1] + ((h >> 1) & 1)) + F_[1] * (2 * c[2] + ((h >> 2) & 1)))));
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  }
+  bool admitsFinerCube(const std::int64_t f0[3]) const {
+    for (int a = 0; a < 3; ++a)
+      if (f0[a] < 0 || f0[a] > F_[a] - 2) return false;
+    const std::int64_t parent[3] = {f0[0] / 2, f0[1] / 2, f0[2] / 2};
+    return inOmega(parent);
+  }
+  // The next level needs the sides this level meshes its points with (asked before the
+  // mesh is assembled: the seam's vertices are numbered anew there).
+  void keepSidesForNextLevel() { keepSides_ = lookDeeper_ = true; }
+  void refineWhateverTheyShow(const std::vector<std::uint64_t>& cubes) {
+    mustRefine_.insert(cubes.begin(), cubes.end());
+  }
+  // Takes the sides this level meshed the region's points with as the next level's grid
+  // values, and its region as where the next level may refine.
+  void handDown(Refiner& next) const {
+    for (const auto& [key, v] : sides_) {
+      std::int64_t f[3];
+      f[0] = static_cast<std::int64_t>(key % F_[0]);
+      f[1] = static_cast<std::int64_t>((key / F_[0]) % F_[1]);
+      f[2] = static_cast<std::int64_t>(key / (F_[0] * F_[1]));
+      const std::int64_t there[3] = {2 * f[0], 2 * f[1], 2 * f[2]};
+      next.values_[next.fineKey(there)] = v;
+    }
+    next.above_ = this;
+  }
+  void recordSides() {
+    sides_.clear();
+    for (std::uint64_t id : cubes_) {
+      std::int64_t c[3];
+      cubeOf(id, c);
+      for (int d = 0; d < 27; ++d) {
+        const std::int64_t f[3] = {2 * c[0] + d % 3, 2 * c[1] + (d / 3) % 3, 2 * c[2] + d / 9};
+        const std::uint64_t key = fineKey(f);
+        if (sides_.count(key)) continue;
+        double v = value(f);
+        const bool side = fineSign(f);
+        if (isInside(v) != side)
+          v = side ? std::numeric_limits<double>::min() : -std::numeric_limits<double>::min();
+        sides_[key] = v;
+      }
+    }
+  }
+
+  void run(const std::vector<std::uint64_t>& seedCubes, std::size_t maxCubes) {
     const TriangleMesh original = mesh_;
     for (int attempt = 0;; ++attempt) {
       try {
-        grow(seedEdges, maxCubes);
+        grow(seedCubes, maxCubes);
         if (omega_.empty()) return;
         close(maxCubes);
         findSeam();
@@ -87,21 +232,29 @@ class Refiner {
           } catch (const Abort&) {
             std::int64_t below[3] = {face.cell[0], face.cell[1], face.cell[2]};
             below[face.axis] -= 1;
-            failed_.extra.push_back(inOmega(below)
-                                        ? cubeId(face.cell[0], face.cell[1], face.cell[2])
-                                        : cubeId(below[0], below[1], below[2]));
+            const std::uint64_t up = cubeId(face.cell[0], face.cell[1], face.cell[2]),
+                                down = cubeId(below[0], below[1], below[2]);
+            failed_.extra.push_back(inOmega(below) ? up : down);
+            failed_.fallback.push_back(inOmega(below) ? down : up);
           }
         }
         throwFailures();
         meshHalfCubes();
         splitTriangles();
+        if (keepSides_) recordSides();
         assemble();
         return;
       } catch (const CubeFailure& f) {
         if (attempt == kMaxRestarts) throw Abort("too many cubes left out");
         banned_.insert(f.cubes.begin(), f.cubes.end());
-        for (std::uint64_t id : f.extra)
-          if (!banned_.count(id)) forced_.insert(id);
+        bool blocked = false;
+        for (std::uint64_t id : f.extra) {
+          if (!isBanned(id))
+            forced_.insert(id);
+          else
+            blocked = true;
+        }
+        if (blocked) banned_.insert(f.fallback.begin(), f.fallback.end());
         stats_.cubesLeftOut = banned_.size();
         reset(original);
       }
@@ -184,55 +337,285 @@ class Refiner {
     return it->second;
   }
 
+  // Left out after a failure, or (a deeper level) a cube the level above does not admit.
+  bool isBanned(std::uint64_t id) const {
+    if (banned_.count(id)) return true;
+    if (!above_) return false;
+    std::int64_t c[3];
+    cubeOf(id, c);
+    return !above_->admitsFinerCube(c);
+  }
+
   // ---- 1. the region: cubes where the half-cell grid shows what the corners miss
-  void grow(const std::vector<std::uint64_t>& seedEdges, std::size_t maxCubes) {
-    std::vector<std::uint64_t> candidates;
-    for (std::uint64_t e : seedEdges) {
-      const int a = static_cast<int>(e % 3);
-      std::int64_t l[3];
-      cubeOf(e / 3, l);
-      const int b = (a + 1) % 3, c = (a + 2) % 3;
-      for (int d = 0; d < 4; ++d) {
-        std::int64_t q[3] = {l[0], l[1], l[2]};
-        q[b] -= d & 1;
-        q[c] -= d >> 1;
-        if (validCube(q)) candidates.push_back(cubeId(q[0], q[1], q[2]));
-      }
-    }
+  void grow(const std::vector<std::uint64_t>& seedCubes, std::size_t maxCubes) {
+    std::vector<std::uint64_t> candidates = seedCubes;
     std::unordered_set<std::uint64_t> tried;
     while (!candidates.empty() && omega_.size() < maxCubes) {
       std::sort(candidates.begin(), candidates.end());
       candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
       std::vector<std::uint64_t> fresh;
       for (std::uint64_t c : candidates)
-        if (!banned_.count(c) && tried.insert(c).second) fresh.push_back(c);
+        if (tried.insert(c).second && !isBanned(c)) fresh.push_back(c);
       evaluateCubes(fresh);
-      std::vector<std::uint64_t> next;
+      std::vector<std::uint64_t> next, quiet;
       for (std::uint64_t id : fresh) {
-        if (omega_.size() >= maxCubes) break;
         std::int64_t c[3];
         cubeOf(id, c);
-        if (!hidesSomething(c, &next)) continue;
-        omega_.insert(id);
+        if (hidesSomething(c, &next) || mustRefine_.count(id))
+          omega_.insert(id);
+        else if (lookDeeper_)
+          quiet.push_back(id);
       }
+      for (std::uint64_t id : deeperShowsHidden(quiet)) {
+        omega_.insert(id);
+        std::int64_t c[3];
+        cubeOf(id, c);
+        for (int d = 0; d < 27; ++d) {
+          const std::int64_t q[3] = {c[0] + d % 3 - 1, c[1] + (d / 3) % 3 - 1, c[2] + d / 9 - 1};
+          if (d != 13 && validCube(q)) next.push_back(cubeId(q[0], q[1], q[2]));
+        }
+      }
+      if (omega_.size() > maxCubes) throw Abort("the region grew past its limit");
       candidates.swap(next);
     }
     std::vector<std::uint64_t> forced;
     for (std::uint64_t id : forced_)
-      if (!banned_.count(id) && !omega_.count(id)) forced.push_back(id);
+      if (!isBanned(id) && !omega_.count(id)) forced.push_back(id);
     std::sort(forced.begin(), forced.end());
     evaluateCubes(forced);
     omega_.insert(forced.begin(), forced.end());
   }
 
-  // Whether the cube's 27 points show a side its corners miss (an edge whose midpoint differs
-  // from both its ends, a face or the cube whose corners share a side another point lacks);
-  // the cubes across such edges and faces are queued.
-  bool hidesSomething(const std::int64_t c[3], std::vector<std::uint64_t>* next) const {
-    auto in = [&](int dx, int dy, int dz) {
-      const std::int64_t f[3] = {2 * c[0] + dx, 2 * c[1] + dy, 2 * c[2] + dz};
-      return isInside(value(f));
+  // Where a deeper level follows, the cubes whose 27 points show nothing are looked at a
+  // level deeper too: the cubes among them where a half cube's own 27 points (the 125
+  // points of a quarter-cell grid) show a side their corners miss, so that the next level
+  // finds its half cubes in the region (the gyroid's slivers narrower than half a cell).
+  // Their neighbours are all queued. Results are kept across restarts.
+ public:
+  // With a deeper level to follow, every cube holding a vertex of the mesh is looked at too
+  // (its 125 points of the quarter-cell grid, in parallel), not only those round the
+  // detector's edges: the detector sees a tent on about one hidden edge in seven, and the
+  // parts narrower than half a cell (the gyroid's sheet tips where they graze the sphere)
+  // are often far from any it saw. `*candidates` gets the cubes whose half or quarter cells
+  // show a side their corners miss (grow() looks at them), `*far` those where the surface
+  // crosses a quarter-cell edge farther than kFarCells from the mesh's triangles in the
+  // cube and round it: a crease tip cut short, which every sign the grid sees agrees with
+  // (refined whatever they show).
+  static constexpr double kFarCells = 0.3;
+  void surfaceCubesToLookAt(std::vector<std::uint64_t>* candidates,
+                            std::vector<std::uint64_t>* far) {
+    const auto& P = mesh_.positions;
+    auto cubeIndex = [&](int a, double x) {
+      const std::int64_t c = static_cast<std::int64_t>(std::floor((x - g_.coord(a, 0)) / g_.h[a]));
+      return std::clamp<std::int64_t>(c, 0, P_[a] - 2);
     };
+    // the triangles by the cubes their boxes reach into
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> byCube;
+    for (std::uint32_t t = 0; t < mesh_.triangles.size(); ++t) {
+      const Triangle& tr = mesh_.triangles[t];
+      std::int64_t lo[3], hi[3];
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = cubeIndex(a, std::min({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]}));
+        hi[a] = cubeIndex(a, std::max({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]}));
+      }
+      for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
+        for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
+          for (std::int64_t i = lo[0]; i <= hi[0]; ++i) byCube.push_back({cubeId(i, j, k), t});
+    }
+    tbb::parallel_sort(byCube.begin(), byCube.end());
+    std::vector<std::uint64_t> cubes;
+    for (const auto& [id, t] : byCube)
+      if (cubes.empty() || cubes.back() != id) cubes.push_back(id);
+    auto trianglesOf = [&](std::uint64_t id) {
+      return std::equal_range(byCube.begin(), byCube.end(), std::make_pair(id, std::uint32_t(0)),
+                              [](const auto& u, const auto& w) { return u.first < w.first; });
+    };
+    const RefinementGrid quarter = g_.finer().finer();
+    const double farLimit = kFarCells * std::max({g_.h[0], g_.h[1], g_.h[2]});
+    constexpr std::size_t kChunk = 256;
+    struct Found {
+      std::vector<std::uint64_t> candidates, far;
+      std::vector<std::pair<std::uint64_t, std::uint8_t>> masks;
+    };
+    tbb::enumerable_thread_specific<Found> found;
+    tbb::parallel_for(std::size_t(0), (cubes.size() + kChunk - 1) / kChunk, [&](std::size_t ch) {
+      const std::size_t from = ch * kChunk, to = std::min(cubes.size(), from + kChunk);
+      const std::size_t n = 125 * (to - from);
+      std::vector<double> x(n), y(n), z(n), v(n);
+      for (std::size_t i = from; i < to; ++i) {
+        std::int64_t c[3];
+        cubeOf(cubes[i], c);
+        for (int d = 0; d < 125; ++d) {
+          const std::size_t k = 125 * (i - from) + d;
+          x[k] = quarter.coord(0, 4 * c[0] + d % 5);
+          y[k] = quarter.coord(1, 4 * c[1] + (d / 5) % 5);
+          z[k] = quarter.coord(2, 4 * c[2] + d / 25);
+        }
+      }
+      field_.evalBatch(x.data(), y.data(), z.data(), n, v.data());
+      for (std::size_t k = 0; k < n; ++k) v[k] = combine(v[k], g_.boxField(x[k], y[k], z[k]));
+      Found& out = found.local();
+      for (std::size_t i = from; i < to; ++i) {
+        const std::size_t base = 125 * (i - from);
+        auto in = [&](int qx, int qy, int qz) { return isInside(v[base + qx + 5 * qy + 25 * qz]); };
+        bool shows = showsHidden([&](int dx, int dy, int dz) { return in(2 * dx, 2 * dy, 2 * dz); },
+                                 [](int, int, int) {}, [](int, int) {});
+        const std::uint8_t mask = halfCubesShowingHidden(in);
+        out.masks.push_back({cubes[i], mask});
+        if (shows || mask) out.candidates.push_back(cubes[i]);
+        if (farFromMesh(cubes[i], v.data() + base, x.data() + base, y.data() + base,
+                        z.data() + base, farLimit, trianglesOf))
+          out.far.push_back(cubes[i]);
+      }
+    });
+    stats_.evaluations += 125 * cubes.size();
+    for (const Found& f : found) {
+      for (const auto& [id, mask] : f.masks) deeperHides_[id] = mask;
+      candidates->insert(candidates->end(), f.candidates.begin(), f.candidates.end());
+      far->insert(far->end(), f.far.begin(), f.far.end());
+    }
+    std::sort(candidates->begin(), candidates->end());
+    std::sort(far->begin(), far->end());
+  }
+
+  // Whether a crossing of the cube's quarter-cell edges (by linear interpolation of the 125
+  // values) lies farther than `limit` from every triangle in the cube and the 26 round it.
+  template <class TrianglesOf>
+  bool farFromMesh(std::uint64_t id, const double* v, const double* x, const double* y,
+                   const double* z, double limit, const TrianglesOf& trianglesOf) const {
+    std::int64_t c[3];
+    cubeOf(id, c);
+    const auto& P = mesh_.positions;
+    auto toD = [](const Vec3f& p) { return Vec3d{p[0], p[1], p[2]}; };
+    auto nearerThan = [&](const Vec3d& q, std::uint64_t cube, double lim2) {
+      const auto range = trianglesOf(cube);
+      for (auto it = range.first; it != range.second; ++it) {
+        const Triangle& tr = mesh_.triangles[it->second];
+        const Vec3d r = closestPointOnTriangle(q, toD(P[tr[0]]), toD(P[tr[1]]), toD(P[tr[2]]));
+        const double d2 = (r[0] - q[0]) * (r[0] - q[0]) + (r[1] - q[1]) * (r[1] - q[1]) +
+                          (r[2] - q[2]) * (r[2] - q[2]);
+        if (d2 <= lim2) return true;
+      }
+      return false;
+    };
+    const double lim2 = limit * limit;
+    // the mesh's vertices and face centroids in the cube against the surface: |F| / |grad F| from
+    // the trilinear interpolation of the quarter cell holding each (a vertex placed off the
+    // surface, where a sheet meets another at a grazing angle)
+    const double x0 = x[0], y0 = y[0], z0 = z[0];
+    const double qx = x[1] - x[0], qy = y[5] - y[0], qz = z[25] - z[0];
+    const auto range = trianglesOf(id);
+    for (auto it = range.first; it != range.second; ++it)
+      for (int corner = 0; corner < 4; ++corner) {  // its vertices, then its centroid
+        const Triangle& tr = mesh_.triangles[it->second];
+        Vec3d pv;
+        for (int a = 0; a < 3; ++a)
+          pv[a] = corner < 3 ? double(P[tr[corner]][a])
+                             : (double(P[tr[0]][a]) + P[tr[1]][a] + P[tr[2]][a]) / 3.0;
+        const double u[3] = {(pv[0] - x0) / qx, (pv[1] - y0) / qy, (pv[2] - z0) / qz};
+        int cell[3];
+        double f[3];
+        bool insideCube = true;
+        for (int a = 0; a < 3; ++a) {
+          if (!(u[a] >= 0.0 && u[a] < 4.0)) insideCube = false;
+          cell[a] = std::clamp(static_cast<int>(std::floor(u[a])), 0, 3);
+          f[a] = u[a] - cell[a];
+        }
+        if (!insideCube) continue;
+        double val = 0.0, grad[3] = {0, 0, 0};
+        bool finite = true;
+        for (int k = 0; k < 8; ++k) {
+          const int dx = k & 1, dy = (k >> 1) & 1, dz = k >> 2;
+          const double w = v[(cell[0] + dx) + 5 * (cell[1] + dy) + 25 * (cell[2] + dz)];
+          if (!std::isfinite(w)) finite = false;
+          const double wx = dx ? f[0] : 1 - f[0], wy = dy ? f[1] : 1 - f[1],
+                       wz = dz ? f[2] : 1 - f[2];
+          val += w * wx * wy * wz;
+          grad[0] += w * (dx ? 1 : -1) * wy * wz / qx;
+          grad[1] += w * (dy ? 1 : -1) * wx * wz / qy;
+          grad[2] += w * (dz ? 1 : -1) * wx * wy / qz;
+        }
+        const double g2 = grad[0] * grad[0] + grad[1] * grad[1] + grad[2] * grad[2];
+        if (finite && g2 > 0.0 && val * val > lim2 * g2) return true;
+      }
+    for (int axis = 0; axis < 3; ++axis) {
+      const int stride = axis == 0 ? 1 : axis == 1 ? 5 : 25;
+      for (int d = 0; d < 125; ++d) {
+        const int along = axis == 0 ? d % 5 : axis == 1 ? (d / 5) % 5 : d / 25;
+        if (along == 4) continue;
+        const double a = v[d], b = v[d + stride];
+        if (isInside(a) == isInside(b) || !std::isfinite(a) || !std::isfinite(b)) continue;
+        const double t = a / (a - b);
+        const Vec3d q{x[d] + t * (x[d + stride] - x[d]), y[d] + t * (y[d + stride] - y[d]),
+                      z[d] + t * (z[d + stride] - z[d])};
+        if (nearerThan(q, id, lim2)) continue;
+        bool near = false;
+        for (int n = 0; n < 27 && !near; ++n) {
+          const std::int64_t o[3] = {c[0] + n % 3 - 1, c[1] + (n / 3) % 3 - 1, c[2] + n / 9 - 1};
+          if (n == 13 || !validCube(o)) continue;
+          near = nearerThan(q, cubeId(o[0], o[1], o[2]), lim2);
+        }
+        if (!near) return true;
+      }
+    }
+    return false;
+  }
+
+ private:
+  std::vector<std::uint64_t> deeperShowsHidden(const std::vector<std::uint64_t>& cubes) {
+    std::vector<std::uint64_t> out, todo;
+    for (std::uint64_t id : cubes) {
+      const auto it = deeperHides_.find(id);
+      if (it == deeperHides_.end())
+        todo.push_back(id);
+      else if (it->second)
+        out.push_back(id);
+    }
+    if (todo.empty()) return out;
+    const RefinementGrid quarter = g_.finer().finer();
+    const std::size_t n = 125 * todo.size();
+    std::vector<double> x(n), y(n), z(n), v(n);
+    for (std::size_t i = 0; i < todo.size(); ++i) {
+      std::int64_t c[3];
+      cubeOf(todo[i], c);
+      for (int d = 0; d < 125; ++d) {
+        x[125 * i + d] = quarter.coord(0, 4 * c[0] + d % 5);
+        y[125 * i + d] = quarter.coord(1, 4 * c[1] + (d / 5) % 5);
+        z[125 * i + d] = quarter.coord(2, 4 * c[2] + d / 25);
+      }
+    }
+    field_.evalBatch(x.data(), y.data(), z.data(), n, v.data());
+    stats_.evaluations += n;
+    for (std::size_t i = 0; i < todo.size(); ++i) {
+      const std::uint8_t mask = halfCubesShowingHidden([&](int qx, int qy, int qz) {
+        const std::size_t k = 125 * i + qx + 5 * qy + 25 * qz;
+        return isInside(combine(v[k], g_.boxField(x[k], y[k], z[k])));
+      });
+      deeperHides_[todo[i]] = mask;
+      if (mask) out.push_back(todo[i]);
+    }
+    return out;
+  }
+
+  // The half cubes (bit h: half cube h) whose 27 points of the quarter-cell grid (in(qx,
+  // qy, qz), each 0 to 4 across the cube) show a side their corners miss.
+  template <class In>
+  static std::uint8_t halfCubesShowingHidden(const In& in) {
+    std::uint8_t mask = 0;
+    for (int h = 0; h < 8; ++h)
+      if (showsHidden([&](int dx, int dy,
+                          int dz) { return in(2 * (h & 1) + dx, (h & 2) + dy, (h & 4) / 2 + dz); },
+                      [](int, int, int) {}, [](int, int) {}))
+        mask = static_cast<std::uint8_t>(mask | (1u << h));
+    return mask;
+  }
+
+  // Whether a cube's 27 points (in(dx, dy, dz), each 0 to 2) show a side its corners miss: an
+  // edge whose midpoint differs from both its ends (onEdge(axis, db, dc) with the edge's
+  // offsets 0 or 2 on the other two axes), a face whose corners share a side another of its
+  // points lacks (onFace(axis, side 0 or 2)), or the cube's centre against its corners.
+  template <class In, class OnEdge, class OnFace>
+  static bool showsHidden(const In& in, const OnEdge& onEdge, const OnFace& onFace) {
     auto at = [&](int a, int da, int b, int db, int cc, int dc) {
       int d[3];
       d[a] = da;
@@ -241,10 +624,6 @@ class Refiner {
       return in(d[0], d[1], d[2]);
     };
     bool any = false;
-    auto queue = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
-      const std::int64_t q[3] = {x, y, z};
-      if (validCube(q)) next->push_back(cubeId(x, y, z));
-    };
     for (int a = 0; a < 3; ++a) {
       const int b = (a + 1) % 3, cc = (a + 2) % 3;
       for (int e = 0; e < 4; ++e) {  // the cube's four edges along a
@@ -252,12 +631,7 @@ class Refiner {
         const bool s0 = at(a, 0, b, db, cc, dc), s2 = at(a, 2, b, db, cc, dc);
         if (s0 != s2 || at(a, 1, b, db, cc, dc) == s0) continue;
         any = true;
-        for (int d = 0; d < 4; ++d) {  // the four cubes round that edge
-          std::int64_t q[3] = {c[0], c[1], c[2]};
-          q[b] += db / 2 - (d & 1);
-          q[cc] += dc / 2 - (d >> 1);
-          queue(q[0], q[1], q[2]);
-        }
+        onEdge(a, db, dc);
       }
       for (int side = 0; side <= 2; side += 2) {  // the faces across a
         const bool s = at(a, side, b, 0, cc, 0);
@@ -272,15 +646,41 @@ class Refiner {
           }
         if (!uniform || !hidden) continue;
         any = true;
-        std::int64_t q[3] = {c[0], c[1], c[2]};
-        q[a] += side == 0 ? -1 : 1;
-        queue(q[0], q[1], q[2]);
+        onFace(a, side);
       }
     }
     bool corners = true;
     const bool s = in(0, 0, 0);
     for (int d = 1; d < 8; ++d) corners = corners && in(2 * (d & 1), (d & 2), (d & 4) / 2) == s;
     return any || (corners && in(1, 1, 1) != s);
+  }
+
+  // Whether the cube's 27 points show a side its corners miss (showsHidden); the cubes across
+  // such edges and faces are queued.
+  bool hidesSomething(const std::int64_t c[3], std::vector<std::uint64_t>* next) const {
+    auto queue = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
+      const std::int64_t q[3] = {x, y, z};
+      if (validCube(q)) next->push_back(cubeId(x, y, z));
+    };
+    return showsHidden(
+        [&](int dx, int dy, int dz) {
+          const std::int64_t f[3] = {2 * c[0] + dx, 2 * c[1] + dy, 2 * c[2] + dz};
+          return isInside(value(f));
+        },
+        [&](int a, int db, int dc) {  // the four cubes round that edge
+          const int b = (a + 1) % 3, cc = (a + 2) % 3;
+          for (int d = 0; d < 4; ++d) {
+            std::int64_t q[3] = {c[0], c[1], c[2]};
+            q[b] += db / 2 - (d & 1);
+            q[cc] += dc / 2 - (d >> 1);
+            queue(q[0], q[1], q[2]);
+          }
+        },
+        [&](int a, int side) {  // the cube across that face
+          std::int64_t q[3] = {c[0], c[1], c[2]};
+          q[a] += side == 0 ? -1 : 1;
+          queue(q[0], q[1], q[2]);
+        });
   }
 
   // ---- 2. closure: every triangle reaching into the region goes, its cubes join
@@ -522,7 +922,7 @@ class Refiner {
   // or, where one of them was left out, the refined ones are left out too.
   void join(const std::vector<std::uint64_t>& cubes, std::vector<std::uint64_t>* joined) {
     bool conflict = false;
-    for (std::uint64_t id : cubes) conflict = conflict || banned_.count(id) != 0;
+    for (std::uint64_t id : cubes) conflict = conflict || isBanned(id);
     if (!conflict) {
       for (std::uint64_t id : cubes)
         if (!omega_.count(id)) joined->push_back(id);
@@ -618,7 +1018,8 @@ class Refiner {
         for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
           for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
             for (std::int64_t i = lo[0]; i <= hi[0]; ++i)
-              if (!omega_.count(cubeId(i, j, k))) failed_.extra.push_back(cubeId(i, j, k));
+              (omega_.count(cubeId(i, j, k)) ? failed_.fallback : failed_.extra)
+                  .push_back(cubeId(i, j, k));
       }
     }
   }
@@ -1095,7 +1496,7 @@ class Refiner {
       for (std::uint32_t& v : t) v = remap[v];
     for (std::uint32_t i : fresh) {
       const Vec3f& p = positions[i];
-      normals[i] = vertexNormal(field_.evalGradient(p[0], p[1], p[2]), g_, p);
+      normals[i] = vertexNormal(field_.evalGradient(p[0], p[1], p[2]), *g_.base, p);
     }
     mesh_.positions = std::move(positions);
     mesh_.normals = std::move(normals);
@@ -1103,9 +1504,16 @@ class Refiner {
   }
 
   const Field& field_;
-  const Grid& g_;
+  const RefinementGrid g_;
   TriangleMesh& mesh_;
   LocalRefinementStats& stats_;
+  const Refiner* above_ = nullptr;  // a deeper level's: the level it refines
+  bool keepSides_ = false;
+  bool lookDeeper_ = false;  // a deeper level follows: grow() looks at quarter cells too
+  std::unordered_set<std::uint64_t> mustRefine_;  // crease tips cut short (kFarCells)
+  // cube -> its half cubes whose quarter cells show a side their corners miss (bit h)
+  std::unordered_map<std::uint64_t, std::uint8_t> deeperHides_;
+  std::unordered_map<std::uint64_t, double> sides_;  // the region's points as meshed
   std::int64_t P_[3], F_[3];
   std::unordered_map<std::uint64_t, double> values_;
   std::unordered_set<std::uint64_t> omega_;
@@ -1129,15 +1537,28 @@ class Refiner {
 
 void refineHiddenParts(const Field& field, const Grid& g,
                        const std::vector<std::uint64_t>& seedEdges, std::size_t maxCubes,
-                       TriangleMesh& mesh, LocalRefinementStats* stats) {
+                       TriangleMesh& mesh, LocalRefinementStats* stats, int levels) {
   LocalRefinementStats local;
   LocalRefinementStats& s = stats ? *stats : local;
   s = LocalRefinementStats();
-  if (seedEdges.empty()) return;
-  TriangleMesh work = mesh;
+  if (levels < 1 || levels > kMaxRefinementLevels)
+    throw ModelError("mesher: refinementLevels must be 1 to " +
+                     std::to_string(kMaxRefinementLevels) + "; got " + std::to_string(levels));
+  if (seedEdges.empty() && levels == 1) return;
+  auto aboveMesh = std::make_unique<TriangleMesh>(mesh);
+  std::unique_ptr<Refiner> above;
   try {
-    Refiner r(field, g, work, s);
-    r.run(seedEdges, maxCubes);
+    above = std::make_unique<Refiner>(field, RefinementGrid::of(g), *aboveMesh, s);
+    std::vector<std::uint64_t> seeds = above->cubesRound(seedEdges);
+    if (levels > 1) {
+      above->keepSidesForNextLevel();
+      std::vector<std::uint64_t> more, far;
+      above->surfaceCubesToLookAt(&more, &far);
+      seeds.insert(seeds.end(), more.begin(), more.end());
+      seeds.insert(seeds.end(), far.begin(), far.end());
+      above->refineWhateverTheyShow(far);
+    }
+    above->run(seeds, maxCubes);
   } catch (const Abort& e) {
     const std::size_t evaluations = s.evaluations;
     s = LocalRefinementStats();
@@ -1145,7 +1566,38 @@ void refineHiddenParts(const Field& field, const Grid& g,
     s.skipped = e.what();
     return;
   }
-  if (s.cubes > 0) mesh = std::move(work);
+  if (s.cubes == 0) return;
+  mesh = *aboveMesh;
+  s.levels = 1;
+  // Deeper levels: each refines the half cubes of the one above where its own half cells
+  // show what their corners miss, on that level's mesh. A level that fails leaves the mesh
+  // as the level above made it.
+  for (int level = 2; level <= levels; ++level) {
+    const std::vector<std::uint64_t> seeds = above->finerCandidates();
+    if (seeds.empty()) break;
+    auto deeper = std::make_unique<TriangleMesh>(mesh);
+    LocalRefinementStats ls;
+    auto next = std::make_unique<Refiner>(field, above->grid().finer(), *deeper, ls);
+    above->handDown(*next);
+    if (level < levels) next->keepSidesForNextLevel();
+    try {
+      next->run(seeds, maxCubes);
+    } catch (const Abort& e) {
+      s.evaluations += ls.evaluations;
+      s.deeperSkipped = e.what();
+      break;
+    }
+    s.evaluations += ls.evaluations;
+    s.deeperCubesLeftOut += ls.cubesLeftOut;
+    if (ls.cubes == 0) break;
+    s.deeperCubes += ls.cubes;
+    s.trianglesAdded += ls.trianglesAdded;
+    s.trianglesRemoved += ls.trianglesRemoved;
+    s.levels = level;
+    mesh = *deeper;
+    above = std::move(next);
+    aboveMesh = std::move(deeper);  // (the Refiner's mesh, kept while it is asked)
+  }
 }
 
 }  // namespace frep

@@ -9,6 +9,7 @@
 
 #include "base/triangle_mesh.h"
 #include "frep/field.h"
+#include "mesh/mesher.h"
 #include "mesh/sampling_grid.h"
 
 namespace frep {
@@ -24,6 +25,13 @@ struct LocalRefinementStats {
   std::size_t unflipped = 0;         // crease flips on the region's rim turned back
   std::size_t conedCells = 0;        // ... and at the finest split, meshed by tetrahedra
   std::string skipped;               // why the mesh was left as it was (empty: it was not)
+  // Deeper levels (levels > 1): the half cubes meshed again at a quarter cell (and so on),
+  // how many it would have refined but could not, and why the deepest asked for was not
+  // reached (empty: it was, or nothing there needed it).
+  int levels = 0;  // the deepest level meshed
+  std::size_t deeperCubes = 0;
+  std::size_t deeperCubesLeftOut = 0;
+  std::string deeperSkipped;
 };
 
 // Refines `mesh` (polygonize's welded mesh of `field` on grid `g`, normals or none) in the
@@ -36,9 +44,15 @@ struct LocalRefinementStats {
 // exact and nothing outside the region moves (local_refinement.cpp says why no triangle can
 // cross another). Where the region meets a case it does not handle (a half cube with more
 // than one loop, a line through a point of the half-cell grid), the mesh is left as it was
-// and `stats->skipped` says why.
+// and `stats->skipped` says why. With `levels` > 1 (docs/mesher.md, "Deeper levels") every
+// cube holding a vertex is looked at too: those whose quarter cells show what their corners
+// miss join the candidates, and those where the mesh lies farther than 0.3 cell from the
+// surface (a crease tip cut short) are refined whatever their points show; then the half
+// cubes are refined again the same way where their own half cells show what their corners
+// miss, down to cells of 2^-levels. A level that fails keeps the level above's mesh.
+// Throws ModelError for levels outside 1 to kMaxRefinementLevels.
 void refineHiddenParts(const Field& field, const Grid& g,
                        const std::vector<std::uint64_t>& seedEdges, std::size_t maxCubes,
-                       TriangleMesh& mesh, LocalRefinementStats* stats);
+                       TriangleMesh& mesh, LocalRefinementStats* stats, int levels = 1);
 
 }  // namespace frep

@@ -1567,6 +1567,10 @@ Grid makeGrid(const MeshingOptions& opt, CellRange* cells, std::int64_t bricks[3
     throw ModelError("mesher: brick size must be between 2 and 64 cells");
   if (opt.flatVertices && opt.brickCells % 2 != 0)
     throw ModelError("mesher: flat vertices need an even brick size (blocks of 2 x 2 x 2 cubes)");
+  if (opt.refinementLevels < 1 || opt.refinementLevels > kMaxRefinementLevels)
+    throw ModelError("mesher: refinement levels must be 1 to " +
+                     std::to_string(kMaxRefinementLevels) + ", got " +
+                     std::to_string(opt.refinementLevels));
 
   Grid g;
   g.lo = box.lo;
@@ -1750,13 +1754,18 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
   std::vector<std::uint32_t> flippable;
   TriangleMesh mesh = weld(g, bc, b1, bricks, results, opt.normals, &bySorting, &flippable);
   flipCreases(mesh, flippable);
-  if (!hiddenEdges.empty()) {
+  const bool refining = opt.refineThinParts || opt.refineTips;
+  if (!hiddenEdges.empty() || (refining && opt.refinementLevels > 1)) {
     std::sort(hiddenEdges.begin(), hiddenEdges.end());
     LocalRefinementStats rs;
-    refineHiddenParts(field, g, hiddenEdges, opt.refinementCubes, mesh, &rs);
+    refineHiddenParts(field, g, hiddenEdges, opt.refinementCubes, mesh, &rs, opt.refinementLevels);
     if (stats) {
       stats->refinedCubes = rs.cubes;
       stats->refinementSkipped = rs.skipped;
+      stats->refinementLevelsReached = rs.levels;
+      stats->refinedDeeperCubes = rs.deeperCubes;
+      stats->refinedDeeperLeftOut = rs.deeperCubesLeftOut;
+      stats->refinementDeeperSkipped = rs.deeperSkipped;
       stats->pointsEvaluated += rs.evaluations;
     }
   }

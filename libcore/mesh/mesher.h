@@ -32,6 +32,10 @@ enum class Extraction {
   Tetrahedra,
 };
 
+// The most levels of local refinement (MeshingOptions::refinementLevels): half, quarter and
+// eighth cells.
+constexpr int kMaxRefinementLevels = 3;
+
 struct MeshingOptions {
   Box3 bbox;
   Extraction extraction = Extraction::Cubes;
@@ -55,6 +59,11 @@ struct MeshingOptions {
   bool refineThinParts = false;
   bool refineTips = false;
   std::size_t refinementCubes = 200000;
+  // Levels of that refinement (1 to kMaxRefinementLevels): 2 meshes the half cubes inside
+  // the refined region again at a quarter cell where their own half cells show what their
+  // corners miss (the gyroid's slivers, narrower than half a cell; docs/mesher.md, "Deeper
+  // levels"), 3 at an eighth.
+  int refinementLevels = 1;
   double resolution = 0.05;  // target cell size; the grid fits the box exactly (cells <= this)
   int brickCells = 16;       // cells per brick edge: the unit of pruning and of threading
   int rootIterations = 8;    // Illinois iterations per edge vertex
@@ -90,6 +99,12 @@ struct MeshingStats {
   // Local refinement (refineThinParts): the cubes meshed at half a cell, or why none were.
   std::size_t refinedCubes = 0;
   std::string refinementSkipped;
+  // ... deeper levels (refinementLevels > 1): the deepest level meshed, the smaller cubes
+  // meshed again below the first level, those left out, and why a level was not reached
+  int refinementLevelsReached = 0;
+  std::size_t refinedDeeperCubes = 0;
+  std::size_t refinedDeeperLeftOut = 0;
+  std::string refinementDeeperSkipped;
   double seconds = 0.0;
 };
 

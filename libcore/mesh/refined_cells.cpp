@@ -1,6 +1,7 @@
 #include "mesh/refined_cells.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <unordered_set>
@@ -415,13 +416,38 @@ std::uint64_t CellMesher::undirected(std::uint32_t a, std::uint32_t b) {
 
 void CellMesher::cutFace(int a, const std::vector<Seg>& segs, const float midF[3], FaceCut* out) {
   const int b = (a + 1) % 3, c = (a + 2) % 3;
+  // A line may pass a midline at a vertex (a finer level's face, which the level above cut
+  // there when it split a cell): one piece ends there from one side and the next leaves to
+  // the other. That vertex is the crossing. Any other line meeting a midline at an end (one
+  // piece alone, or two on one side) is not handled.
+  std::unordered_map<std::uint32_t, std::array<int, 4>> onMidline;  // pieces per midline side
+  for (const Seg& s : segs)
+    for (int end = 0; end < 2; ++end) {
+      const std::uint32_t v = end ? s.to : s.from, w = end ? s.from : s.to;
+      const Vec3f &x = mesh_.positions[v], &y = mesh_.positions[w];
+      for (int k = 0; k < 2; ++k) {
+        const int m = k ? c : b;
+        if (x[m] != midF[m]) continue;
+        if (y[m] == midF[m]) throw Abort("a line runs along a midline");
+        auto it = onMidline.try_emplace(v, std::array<int, 4>{0, 0, 0, 0}).first;
+        ++it->second[2 * k + (y[m] > midF[m] ? 1 : 0)];
+      }
+    }
+  for (const auto& [v, count] : onMidline)
+    for (int k = 0; k < 2; ++k) {
+      if (count[2 * k] + count[2 * k + 1] == 0) continue;
+      if (count[2 * k] != 1 || count[2 * k + 1] != 1) throw Abort("a line ends on a midline");
+      const int m = k ? c : b, o = k ? b : c;
+      const Vec3f& x = mesh_.positions[v];
+      if (x[o] == midF[o]) throw Abort("a line passes a face's centre");
+      out->halfMid[(m == b ? 0 : 2) + (x[o] > midF[o] ? 1 : 0)].push_back({x[o], v});
+    }
   for (const Seg& s : segs) {
     const Vec3f p = mesh_.positions[s.from], q = mesh_.positions[s.to];
     std::vector<std::pair<double, int>> cuts;
     for (int m : {b, c}) {
       const float at = midF[m];
-      if (p[m] == at || q[m] == at) throw Abort("a line ends on a midline");
-      if ((p[m] < at) != (q[m] < at))
+      if (p[m] != at && q[m] != at && (p[m] < at) != (q[m] < at))
         cuts.push_back({(double(at) - p[m]) / (double(q[m]) - p[m]), m});
     }
     std::sort(cuts.begin(), cuts.end());

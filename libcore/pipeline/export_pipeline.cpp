@@ -133,6 +133,7 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
   o.flatVertices = request.flatVertices;
   o.refineThinParts = request.refineThinParts;
   o.refineTips = request.refineTips;
+  o.refinementLevels = request.refinementLevels;
   // Vertex normals only where the file keeps them: STL's facet normals come from the
   // triangles, FreeCAD computes its own for .bms.
   o.normals = request.normals && (format == MeshFormat::Obj || format == MeshFormat::Ply);

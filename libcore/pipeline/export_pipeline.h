@@ -85,6 +85,7 @@ struct ExportRequest {
   bool flatVertices = true;  // the mesher's flat vertices removed (MeshingOptions::flatVertices)
   bool refineThinParts = false;               // MeshingOptions::refineThinParts
   bool refineTips = false;                    // MeshingOptions::refineTips
+  int refinementLevels = 1;                   // MeshingOptions::refinementLevels
   Extraction extraction = Extraction::Cubes;  // Tetrahedra: the old mesher (one release)
   // Measure the written mesh against the exact surface (pipeline/accuracy.h): distances
   // both ways, volume, crease length. Costs a mesh at half the cell size.

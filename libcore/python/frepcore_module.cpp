@@ -331,6 +331,12 @@ py::dict thinPartsDict(const MeshingStats& s) {
   d["example"] = py::make_tuple(s.thinExample[0], s.thinExample[1], s.thinExample[2]);
   d["refined_cubes"] = s.refinedCubes;
   if (!s.refinementSkipped.empty()) d["refinement_skipped"] = s.refinementSkipped;
+  if (s.refinementLevelsReached > 1) {
+    d["refined_levels"] = s.refinementLevelsReached;
+    d["refined_deeper_cubes"] = s.refinedDeeperCubes;
+  }
+  if (!s.refinementDeeperSkipped.empty())
+    d["refinement_deeper_skipped"] = s.refinementDeeperSkipped;
   return d;
 }
 
@@ -508,8 +514,10 @@ PYBIND11_MODULE(_frepcore, m) {
           [](PyNode& n, const std::string& path, py::object bbox, py::object resolution,
              py::object cells, const std::string& format, bool check, bool force,
              py::object progress, py::object tolerance, bool sharp, const std::string& mesher,
-             bool fewerTriangles, bool refineThinParts, bool refineTips, bool straightenCreases) {
+             bool fewerTriangles, bool refineThinParts, bool refineTips, bool straightenCreases,
+             int refineLevels) {
             ExportRequest r;
+            r.refinementLevels = refineLevels;
             r.straightenCreases = straightenCreases;
             r.extraction = parseMesher(mesher);
             r.flatVertices = fewerTriangles;
@@ -549,11 +557,13 @@ PYBIND11_MODULE(_frepcore, m) {
           py::arg("tolerance") = py::none(), py::arg("sharp") = true, py::arg("mesher") = "cubes",
           py::arg("fewer_triangles") = true, py::arg("refine_thin_parts") = false,
           py::arg("refine_tips") = false, py::arg("straighten_creases") = false,
+          py::arg("refine_levels") = 1,
           "The export pipeline: box policy, mesh (mesher 'cubes' or 'tetra'; creases and "
           "corners placed unless sharp=False; the vertices where the surface is flat within a "
           "fiftieth of a cell dropped unless fewer_triangles=False; parts thinner than a cell "
           "meshed again at half a cell with refine_thin_parts=True, and the tips of creases and "
-          "slivers with refine_tips=True), (creases straightened with straighten_creases=True: "
+          "slivers with refine_tips=True, down to a cell / 2^refine_levels where they are "
+          "thinner still), (creases straightened with straighten_creases=True: "
           "'straightened' in the dict), (simplify within `tolerance` of the surface), "
           "CGAL check, atomic write. Returns the check "
           "report dict plus 'written'; a refused mesh is not written unless force.")
@@ -647,7 +657,7 @@ PYBIND11_MODULE(_frepcore, m) {
           "mesh",
           [](PyNode& n, py::object bbox, double resolution, py::object progress, bool normals,
              py::object tolerance, bool sharp, const std::string& mesher, bool fewerTriangles,
-             bool refineThinParts, bool refineTips, bool straighten) {
+             bool refineThinParts, bool refineTips, bool straighten, int refineLevels) {
             if (straighten && !sharp)
               throw ModelError(
                   "straighten_creases needs sharp=True (the creases are found by "
@@ -658,6 +668,7 @@ PYBIND11_MODULE(_frepcore, m) {
             o.flatVertices = fewerTriangles;
             o.refineThinParts = refineThinParts;
             o.refineTips = refineTips;
+            o.refinementLevels = refineLevels;
             o.bbox = toBox(bbox.cast<py::sequence>());
             o.resolution = resolution;
             o.normals = normals;
@@ -709,7 +720,7 @@ PYBIND11_MODULE(_frepcore, m) {
           py::arg("normals") = false, py::arg("tolerance") = py::none(), py::arg("sharp") = true,
           py::arg("mesher") = "cubes", py::arg("fewer_triangles") = true,
           py::arg("refine_thin_parts") = false, py::arg("refine_tips") = false,
-          py::arg("straighten_creases") = false,
+          py::arg("straighten_creases") = false, py::arg("refine_levels") = 1,
           "Polygonises inside bbox with cells of at most `resolution` (mesher 'cubes', or "
           "'tetra': marching tetrahedra, three times the triangles; the vertices where the "
           "surface is flat within a fiftieth of a cell dropped unless fewer_triangles=False); with "
@@ -724,7 +735,9 @@ PYBIND11_MODULE(_frepcore, m) {
           "passed between the grid's points: {'solid': grid edges of solid left out, 'gaps': "
           "of gaps closed (both with no surface near), 'tips': of crease tips cut short, "
           "'example': a point on one, 'refined_cubes': the cubes round them meshed again at "
-          "half a cell with refine_thin_parts=True (and round the tips with refine_tips=True)}.")
+          "half a cell with refine_thin_parts=True (and round the tips with refine_tips=True), "
+          "and with refine_levels > 1 'refined_levels' and 'refined_deeper_cubes': the "
+          "smaller cubes meshed again below that, down to a cell / 2^refined_levels}.")
       .def(
           "to_vdb",
           [](PyNode& n, const std::string& path, py::object bbox, double voxel, double halfWidth,
