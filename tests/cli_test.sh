@@ -64,6 +64,15 @@ expect 0 "thinner than a cell  grid edges crossed between two grid points: 9 sol
 # refined: the fin is meshed at half a cell, a second piece of the printable mesh
 expect 0 "cubes round parts thinner than a cell meshed again at half a cell" -- "$frepcad" export "$work/fin.json" -o "$work/fin.stl" --refine-thin-parts
 expect 0 "components +2" -- "$frepcad" export "$work/fin.json" -o "$work/fin.stl" --refine-thin-parts --stats
+# a fin between the half-cell grid's points: two levels of refinement mesh it at a quarter cell
+echo '{"root": {"type": "union", "inputs": [{"type": "sphere", "params": {"radius": 0.5}},
+  {"type": "box", "params": {"corner": [0.01, 0.6, 0.6], "size": [0.03, 0.3, 0.3]}}]},
+  "export": {"bbox": [-1, -1, -1, 1, 1, 1], "resolution": 0.1}}' >"$work/fin4.json"
+expect 0 "components +1" -- "$frepcad" export "$work/fin4.json" -o "$work/fin4.stl" --refine-thin-parts --stats
+expect 0 "smaller cubes meshed again below that, down to a cell / 4" -- "$frepcad" export "$work/fin4.json" -o "$work/fin4.stl" --refine-thin-parts --refine-levels 2
+expect 0 "components +2" -- "$frepcad" export "$work/fin4.json" -o "$work/fin4.stl" --refine-thin-parts --refine-levels 2 --stats
+expect 2 "--refine-levels applies to --refine-thin-parts or --refine-tips" -- "$frepcad" export "$work/fin4.json" -o "$work/x.stl" --refine-levels 2
+expect 2 "--refine-levels must be a whole number from 1 to 3, got '4'" -- "$frepcad" export "$work/fin4.json" -o "$work/x.stl" --refine-tips --refine-levels 4
 expect 0 "wrote" -- "$frepcad" export "$src/examples/csg.json" -o "$work/tetra.stl" --resolution 0.1 --mesher tetra
 # flat vertices dropped by default: printable, fewer triangles than with --keep-flat-vertices,
 # and the same mesh as with --fewer-triangles (the default, still accepted)

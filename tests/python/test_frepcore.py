@@ -97,6 +97,25 @@ def test_refine_thin_parts_meshes_the_fin_the_grid_missed(tmp_path):
     assert report["thin_parts"]["refined_cubes"] == refined.thin_parts["refined_cubes"]
 
 
+def test_refine_levels_mesh_a_fin_between_the_half_cell_points(tmp_path):
+    # 0.03 thick, round a point of the quarter-cell grid: one level of refinement misses it
+    fin = fc.sphere(0.5) | fc.box((0.03, 0.3, 0.3), corner=(0.01, 0.6, 0.6))
+    box = ((-1, -1, -1), (1, 1, 1))
+    plain = fin.mesh(0.1, bbox=box)
+    one = fin.mesh(0.1, bbox=box, refine_thin_parts=True)
+    two = fin.mesh(0.1, bbox=box, refine_thin_parts=True, refine_levels=2)
+    assert one.volume() == pytest.approx(plain.volume(), abs=1e-4)
+    assert "refined_levels" not in one.thin_parts
+    assert two.thin_parts["refined_levels"] == 2
+    assert two.thin_parts["refined_deeper_cubes"] > 0
+    assert two.volume() - plain.volume() == pytest.approx(0.0027, rel=0.2)
+    report = fin.export(str(tmp_path / "fin.stl"), 0.1, bbox=box, refine_thin_parts=True,
+                        refine_levels=2)
+    assert report["printable"] and report["components"] == 2
+    with pytest.raises(ValueError, match="refinement levels must be 1 to 3, got 4"):
+        fin.mesh(0.1, bbox=box, refine_thin_parts=True, refine_levels=4)
+
+
 def test_straighten_creases_merges_onto_the_twists_creases(tmp_path):
     twist, _ = fc.load(os.path.join(SOURCE, "examples", "twist.json"))
     plain = twist.mesh(cells=48)

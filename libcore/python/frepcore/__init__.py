@@ -119,7 +119,8 @@ class Shape:
     # -- meshing and export ---------------------------------------------------------------
     def mesh(self, resolution=None, bbox=None, cells=None, progress=None, normals=False,
              tolerance=None, sharp=True, mesher="cubes", fewer_triangles=True,
-             refine_thin_parts=False, refine_tips=False, straighten_creases=False):
+             refine_thin_parts=False, refine_tips=False, straighten_creases=False,
+             refine_levels=1):
         """Polygonises the solid; bbox and resolution default to automatic_box. Creases and
         corners get vertices unless sharp=False; mesher='tetra' is the marching-tetrahedra
         mesher of before 0.3 (three times the triangles); the vertices where the surface is
@@ -130,18 +131,21 @@ class Shape:
         creases cut short; 'example' is a point on one. With refine_thin_parts=True the
         cubes round the solid and gaps are meshed again at half a cell
         (`--refine-thin-parts`; 'refined_cubes' counts them), with refine_tips=True those round
-        the tips too (`--refine-tips`). With straighten_creases=True the vertices either side
+        the tips too (`--refine-tips`); with refine_levels=2 or 3 (`--refine-levels`) the half
+        cubes are refined again where parts hide between their own points, and where the mesh
+        lies over 0.3 cell from the surface ('refined_levels', 'refined_deeper_cubes'). With
+        straighten_creases=True the vertices either side
         of a chamfered or zig-zagging crease are merged onto it and its edges flipped along
         it, within a third of a cell (`--straighten-creases`; before any simplification)."""
         box, cell = automatic_box(self, resolution=resolution, bbox=bbox, cells=cells)
         return self.node.mesh(box, cell, progress, normals, tolerance, sharp, mesher,
                               fewer_triangles, refine_thin_parts, refine_tips,
-                              straighten_creases)
+                              straighten_creases, refine_levels)
 
     def export(self, path, resolution=None, bbox=None, cells=None, format="", check=True,
                progress=None, force=False, tolerance=None, sharp=True, mesher="cubes",
                fewer_triangles=True, refine_thin_parts=False, refine_tips=False,
-               straighten_creases=False):
+               straighten_creases=False, refine_levels=1):
         """Meshes, checks with CGAL and writes path atomically (libcore's export pipeline,
         the same as `frepcad export`); returns the check report (a dict with 'text', and
         'thin_parts' as in mesh()).
@@ -150,7 +154,8 @@ class Shape:
         fiftieth of a cell are dropped unless fewer_triangles=False (`--keep-flat-vertices`);
         parts thinner than a cell are meshed again at half a cell with refine_thin_parts=True
         (`--refine-thin-parts`), and round the tips of creases and slivers too with
-        refine_tips=True (`--refine-tips`); creases are straightened with
+        refine_tips=True (`--refine-tips`), down to a cell / 2^refine_levels
+        (`--refine-levels`); creases are straightened with
         straighten_creases=True (`--straighten-creases`; the report's 'straightened' has
         'merged', 'flipped' and 'seconds'). With a tolerance (model units) the mesh is
         simplified first, kept within it of the surface (`frepcad export --tolerance`); the
@@ -165,7 +170,8 @@ class Shape:
                                   fewer_triangles=fewer_triangles,
                                   refine_thin_parts=refine_thin_parts,
                                   refine_tips=refine_tips,
-                                  straighten_creases=straighten_creases)
+                                  straighten_creases=straighten_creases,
+                                  refine_levels=refine_levels)
         if check and not report["printable"] and not force:
             raise NotPrintable("%s: not written, the mesh is not printable: %s"
                                % (path, "; ".join(report["reasons"])), report)
