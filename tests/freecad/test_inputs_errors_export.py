@@ -151,7 +151,24 @@ def test_polygonize_warns_of_parts_thinner_than_a_cell(doc, monkeypatch):
     assert p.Mesh.Volume - before == pytest.approx(0.0027, rel=0.2)
     assert not [w for w in said if "thinner than a cell" in w]
     assert [m for m in told if m.startswith("Mesh: ") and "meshed again at half a cell" in m]
+    # a fin round a point of the quarter-cell grid needs two levels
+    assert p.RefineLevels == 1
+    fin.Corner = FreeCAD.Vector(0.01, 0.6, 0.6)
+    doc.recompute()
+    one = p.Mesh.Volume
+    p.RefineLevels = 2
+    doc.recompute()
+    assert p.isValid(), p.getStatusString()
+    assert p.Mesh.Volume - one == pytest.approx(0.0027, rel=0.2)
+    p.RefineLevels = 4
+    doc.recompute()
+    assert not p.isValid() and "'RefineLevels' is 4; allowed: 1 to 3" in p.getStatusString()
+    p.RefineLevels = 2
     p.RefineThinParts = "Off"
+    doc.recompute()
+    assert not p.isValid() and "needs 'RefineThinParts' on" in p.getStatusString()
+    p.RefineLevels = 1
+    fin.Corner = FreeCAD.Vector(-0.015, 0.6, 0.6)
     # a part with nothing thin says nothing
     said.clear()
     fin.Size = FreeCAD.Vector(0.3, 0.3, 0.3)
