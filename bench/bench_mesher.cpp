@@ -180,12 +180,14 @@ BENCHMARK(BM_ThinPartsGyroid)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-// Local refinement (MeshingOptions::refineThinParts, refineTips) off, thin parts only (1) and
-// with the tips (2), at N cells without normals: BM_RefineGyroid/256/0 against .../2.
+// Local refinement (MeshingOptions::refineThinParts, refineTips) off, thin parts only (1),
+// with the tips (2), and with the tips two levels deep (3, refinementLevels), at N cells
+// without normals: BM_RefineGyroid/256/0 against .../2.
 void refine(benchmark::State& state, const std::string& name) {
   auto [program, options] = across(name, state.range(0), false);
   options.refineThinParts = state.range(1) >= 1;
-  options.refineTips = state.range(1) == 2;
+  options.refineTips = state.range(1) >= 2;
+  options.refinementLevels = state.range(1) == 3 ? 2 : 1;
   meshRepeatedly(state, program, options);
 }
 void BM_RefineTwist(benchmark::State& s) {
@@ -203,6 +205,7 @@ BENCHMARK(BM_RefineGyroid)
     ->Args({128, 0})
     ->Args({128, 1})
     ->Args({128, 2})
+    ->Args({128, 3})
     ->Args({256, 0})
     ->Args({256, 2})
     ->Unit(benchmark::kMillisecond)
