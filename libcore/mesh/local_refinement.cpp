@@ -705,9 +705,12 @@ class Refiner {
   // The zone: blocks of kBlock^3 cubes within kZoneReach cubes of the region. Only the
   // triangles whose box reaches into it are looked at again while the region closes.
   static constexpr std::int64_t kBlock = 4, kZoneReach = 4;
+  // The zone's blocks as bits (nb_ blocks per axis), and the same grown by a block (to pass
+  // over most triangles before their boxes are worked out).
+  std::int64_t nb_[3] = {0, 0, 0};
+  std::vector<std::uint8_t> zone_, zoneGrown_;
   std::uint64_t blockOf(std::int64_t i, std::int64_t j, std::int64_t k) const {
-    const std::int64_t nb0 = P_[0] / kBlock + 1, nb1 = P_[1] / kBlock + 1;
-    return static_cast<std::uint64_t>(i / kBlock + nb0 * (j / kBlock + nb1 * (k / kBlock)));
+    return static_cast<std::uint64_t>(i / kBlock + nb_[0] * (j / kBlock + nb_[1] * (k / kBlock)));
   }
   // Whether every cube within `reach` of cube c lies in the zone.
   bool inZone(const std::int64_t c[3], std::int64_t reach) const {
@@ -719,27 +722,49 @@ class Refiner {
     for (std::int64_t k = lo[2]; k <= hi[2]; k += 1)
       for (std::int64_t j = lo[1]; j <= hi[1]; j += 1)
         for (std::int64_t i = lo[0]; i <= hi[0]; i += 1)
-          if (!zone_.count(blockOf(i, j, k))) return false;
+          if (!zone_[blockOf(i, j, k)]) return false;
     return true;
   }
   void buildZone() {
-    zone_.clear();
+    for (int a = 0; a < 3; ++a) nb_[a] = P_[a] / kBlock + 1;
+    const std::size_t blocks = static_cast<std::size_t>(nb_[0] * nb_[1] * nb_[2]);
+    zone_.assign(blocks, 0);
+    zoneGrown_.assign(blocks, 0);
+    auto mark = [&](std::vector<std::uint8_t>& bits, const std::int64_t c[3], std::int64_t reach) {
+      std::int64_t lo[3], hi[3];
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::max<std::int64_t>(c[a] - reach, 0) / kBlock;
+        hi[a] = std::min<std::int64_t>((c[a] + reach) / kBlock, nb_[a] - 1);
+      }
+      for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
+        for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
+          for (std::int64_t i = lo[0]; i <= hi[0]; ++i)
+            bits[static_cast<std::size_t>(i + nb_[0] * (j + nb_[1] * k))] = 1;
+    };
     for (std::uint64_t id : omega_) {
       std::int64_t c[3];
       cubeOf(id, c);
-      for (std::int64_t k = std::max<std::int64_t>(c[2] - kZoneReach, 0); k <= c[2] + kZoneReach;
-           ++k)
-        for (std::int64_t j = std::max<std::int64_t>(c[1] - kZoneReach, 0); j <= c[1] + kZoneReach;
-             ++j)
-          for (std::int64_t i = std::max<std::int64_t>(c[0] - kZoneReach, 0);
-               i <= c[0] + kZoneReach; ++i)
-            zone_.insert(blockOf(i, j, k));
+      mark(zone_, c, kZoneReach);
+      mark(zoneGrown_, c, kZoneReach + kBlock);
     }
     // the triangles reaching into it, with the cubes their boxes reach into
     const auto& P = mesh_.positions;
     nearby_.clear();
     for (std::size_t t = 0; t < mesh_.triangles.size(); ++t) {
       const Triangle& tr = mesh_.triangles[t];
+      // a triangle under a block across whose first vertex's block is not in the grown
+      // zone has neither corner of its box in the zone
+      bool small = true;
+      std::int64_t v0[3];
+      for (int a = 0; a < 3; ++a) {
+        const float mn = std::min({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]});
+        const float mx = std::max({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]});
+        small = small && (double(mx) - mn) < (kBlock - 2) * g_.h[a];
+        v0[a] = std::clamp<std::int64_t>(
+            static_cast<std::int64_t>(std::floor((double(P[tr[0]][a]) - g_.coord(a, 0)) / g_.h[a])),
+            0, P_[a] - 2);
+      }
+      if (small && !zoneGrown_[blockOf(v0[0], v0[1], v0[2])]) continue;
       Near n;
       n.t = static_cast<std::uint32_t>(t);
       for (int a = 0; a < 3; ++a) {
@@ -747,8 +772,7 @@ class Refiner {
         const float mx = std::max({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]});
         span(a, mn, mx, &n.lo[a], &n.hi[a]);
       }
-      if (zone_.count(blockOf(n.lo[0], n.lo[1], n.lo[2])) ||
-          zone_.count(blockOf(n.hi[0], n.hi[1], n.hi[2])))
+      if (zone_[blockOf(n.lo[0], n.lo[1], n.lo[2])] || zone_[blockOf(n.hi[0], n.hi[1], n.hi[2])])
         nearby_.push_back(n);
     }
     flipEdge_.clear();
@@ -1526,7 +1550,6 @@ class Refiner {
   std::unordered_set<std::uint64_t> banned_;
   CubeFailure failed_;
   std::unordered_set<std::uint64_t> forced_;
-  std::unordered_set<std::uint64_t> zone_;
   std::vector<Near> nearby_;
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> byCube_;
   std::unordered_map<std::uint64_t, std::uint32_t> flipEdge_;  // spanning triangles' edges
