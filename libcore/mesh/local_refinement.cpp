@@ -144,6 +144,22 @@ class Refiner {
   void refineWhateverTheyShow(const std::vector<std::uint64_t>& cubes) {
     mustRefine_.insert(cubes.begin(), cubes.end());
   }
+  // The half cubes of the cubes refined for lying far from the surface (in the region): the
+  // next level looks at them again, on this level's mesh.
+  std::vector<std::uint64_t> halvesOfFarCubes() const {
+    std::vector<std::uint64_t> out;
+    for (std::uint64_t id : mustRefine_) {
+      if (!omega_.count(id)) continue;
+      std::int64_t c[3];
+      cubeOf(id, c);
+      for (int h = 0; h < 8; ++h)
+        out.push_back(static_cast<std::uint64_t>(
+            (2 * c[0] + (h & 1)) +
+            F_[0] * ((2 * c[1] + ((h >> 1) & 1)) + F_[1] * (2 * c[2] + ((h >> 2) & 1)))));
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  }
   // Takes the sides this level meshed the region's points with as the next level's grid
   // values, and its region as where the next level may refine.
   void handDown(Refiner& next) const {
@@ -359,8 +375,8 @@ class Refiner {
   // cube and round it: a crease tip cut short, which every sign the grid sees agrees with
   // (refined whatever they show).
   static constexpr double kFarCells = 0.3;
-  void surfaceCubesToLookAt(std::vector<std::uint64_t>* candidates,
-                            std::vector<std::uint64_t>* far) {
+  void surfaceCubesToLookAt(std::vector<std::uint64_t>* candidates, std::vector<std::uint64_t>* far,
+                            const std::vector<std::uint64_t>* only = nullptr) {
     const auto& P = mesh_.positions;
     auto cubeIndex = [&](int a, double x) {
       const std::int64_t c = static_cast<std::int64_t>(std::floor((x - g_.coord(a, 0)) / g_.h[a]));
@@ -381,14 +397,19 @@ class Refiner {
     }
     tbb::parallel_sort(byCube.begin(), byCube.end());
     std::vector<std::uint64_t> cubes;
-    for (const auto& [id, t] : byCube)
-      if (cubes.empty() || cubes.back() != id) cubes.push_back(id);
+    if (only) {
+      cubes = *only;
+    } else {
+      for (const auto& [id, t] : byCube)
+        if (cubes.empty() || cubes.back() != id) cubes.push_back(id);
+    }
     auto trianglesOf = [&](std::uint64_t id) {
       return std::equal_range(byCube.begin(), byCube.end(), std::make_pair(id, std::uint32_t(0)),
                               [](const auto& u, const auto& w) { return u.first < w.first; });
     };
     const RefinementGrid quarter = g_.finer().finer();
-    const double farLimit = kFarCells * std::max({g_.h[0], g_.h[1], g_.h[2]});
+    // (in the mesher's cells at every level: the goal is theirs)
+    const double farLimit = kFarCells * std::max({g_.base->h[0], g_.base->h[1], g_.base->h[2]});
     constexpr std::size_t kChunk = 256;
     struct Found {
       std::vector<std::uint64_t> candidates, far;
@@ -1495,14 +1516,24 @@ void refineHiddenParts(const Field& field, const Grid& g,
   // show what their corners miss, on that level's mesh. A level that fails leaves the mesh
   // as the level above made it.
   for (int level = 2; level <= levels; ++level) {
-    const std::vector<std::uint64_t> seeds = above->finerCandidates();
-    if (seeds.empty()) break;
+    std::vector<std::uint64_t> seeds = above->finerCandidates();
     auto deeper = std::make_unique<TriangleMesh>(mesh);
     LocalRefinementStats ls;
     auto next = std::make_unique<Refiner>(field, above->grid().finer(), *deeper, ls);
     above->handDown(*next);
     if (level < levels) next->keepSidesForNextLevel();
     try {
+      // where the level above was refined for lying far from the surface, its half cubes
+      // are looked at again on its mesh (a sliver's tip, narrower than its half cells)
+      const std::vector<std::uint64_t> halves = above->halvesOfFarCubes();
+      if (!halves.empty()) {
+        std::vector<std::uint64_t> more, far;
+        next->surfaceCubesToLookAt(&more, &far, &halves);
+        seeds.insert(seeds.end(), more.begin(), more.end());
+        seeds.insert(seeds.end(), far.begin(), far.end());
+        next->refineWhateverTheyShow(far);
+      }
+      if (seeds.empty()) break;
       next->run(seeds, maxCubes);
     } catch (const Abort& e) {
       s.evaluations += ls.evaluations;
