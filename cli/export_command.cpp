@@ -202,6 +202,10 @@ ExportOptions parseExportOptions(const Args& args) {
     // (the simplifier and the accuracy report work on the whole mesh; a level set is
     // OpenVDB's; a document is FreeCAD's)
     if (o.tolerance) throw UsageError("--bricks cannot be combined with --tolerance yet");
+    if (o.refineThinParts || o.refineTips)
+      throw UsageError(std::string("--bricks cannot be combined with ") +
+                       (o.refineTips ? "--refine-tips" : "--refine-thin-parts") +
+                       " yet (a brick job's refined cubes would change its neighbours' faces)");
     if (o.stats) throw UsageError("--bricks cannot be combined with --stats yet");
     if (isVdbPath(o.output)) throw UsageError("--bricks writes meshes, not .vdb volumes");
     if (isDocumentPath(o.input))

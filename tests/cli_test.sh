@@ -71,6 +71,7 @@ echo '{"root": {"type": "union", "inputs": [{"type": "sphere", "params": {"radiu
 expect 0 "components +1" -- "$frepcad" export "$work/fin4.json" -o "$work/fin4.stl" --refine-thin-parts --stats
 expect 0 "smaller cubes meshed again below that, down to a cell / 4" -- "$frepcad" export "$work/fin4.json" -o "$work/fin4.stl" --refine-thin-parts --refine-levels 2
 expect 0 "components +2" -- "$frepcad" export "$work/fin4.json" -o "$work/fin4.stl" --refine-thin-parts --refine-levels 2 --stats
+expect 2 "--bricks cannot be combined with --refine-tips yet" -- "$frepcad" export "$src/examples/twist.json" -o "$work/x.stl" --refine-tips --bricks 8
 expect 2 "--refine-levels applies to --refine-thin-parts or --refine-tips" -- "$frepcad" export "$work/fin4.json" -o "$work/x.stl" --refine-levels 2
 expect 2 "--refine-levels must be a whole number from 1 to 3, got '4'" -- "$frepcad" export "$work/fin4.json" -o "$work/x.stl" --refine-tips --refine-levels 4
 expect 0 "wrote" -- "$frepcad" export "$src/examples/csg.json" -o "$work/tetra.stl" --resolution 0.1 --mesher tetra
