@@ -91,6 +91,44 @@ class Refiner {
   }
 
   const RefinementGrid& grid() const { return g_; }
+  // The id, on the next level's grid, of half cube h (corner at + (h & 1, h & 2, h & 4)) of
+  // cube c.
+  std::uint64_t halfCubeId(const std::int64_t c[3], int h) const {
+    const std::int64_t f[3] = {2 * c[0] + (h & 1), 2 * c[1] + ((h >> 1) & 1),
+                               2 * c[2] + ((h >> 2) & 1)};
+    return static_cast<std::uint64_t>(f[0] + F_[0] * (f[1] + F_[1] * f[2]));
+  }
+  // The cube index along axis a holding coordinate x (clamped to the grid).
+  std::int64_t cubeIndexOf(int a, double x) const {
+    const std::int64_t c = static_cast<std::int64_t>(std::floor((x - g_.coord(a, 0)) / g_.h[a]));
+    return std::clamp<std::int64_t>(c, 0, P_[a] - 2);
+  }
+  // The 125 points of the quarter-cell grid of each of `count` cubes (point d of cube i at
+  // 125 i + d, d = qx + 5 qy + 25 qz) and the box-capped field's values there.
+  struct QuarterSamples {
+    std::vector<double> x, y, z, v;
+  };
+  void sampleQuarterPoints(const std::uint64_t* cubes, std::size_t count,
+                           QuarterSamples* out) const {
+    const RefinementGrid quarter = g_.finer().finer();
+    const std::size_t n = 125 * count;
+    out->x.resize(n);
+    out->y.resize(n);
+    out->z.resize(n);
+    out->v.resize(n);
+    for (std::size_t i = 0; i < count; ++i) {
+      std::int64_t c[3];
+      cubeOf(cubes[i], c);
+      for (int d = 0; d < 125; ++d) {
+        out->x[125 * i + d] = quarter.coord(0, 4 * c[0] + d % 5);
+        out->y[125 * i + d] = quarter.coord(1, 4 * c[1] + (d / 5) % 5);
+        out->z[125 * i + d] = quarter.coord(2, 4 * c[2] + d / 25);
+      }
+    }
+    field_.evalBatch(out->x.data(), out->y.data(), out->z.data(), n, out->v.data());
+    for (std::size_t k = 0; k < n; ++k)
+      out->v[k] = combine(out->v[k], g_.boxField(out->x[k], out->y[k], out->z[k]));
+  }
   // The four cubes round each grid edge (lower grid point x 3 + axis).
   std::vector<std::uint64_t> cubesRound(const std::vector<std::uint64_t>& edges) const {
     std::vector<std::uint64_t> cubes;
@@ -124,10 +162,7 @@ class Refiner {
       const auto seen = deeperHides_.find(id);
       const unsigned mask = seen == deeperHides_.end() ? 0xffu : seen->second;
       for (int h = 0; h < 8; ++h)
-        if (mask & (1u << h))
-          out.push_back(static_cast<std::uint64_t>(
-              (2 * c[0] + (h & 1)) +
-              F_[0] * ((2 * c[1] + ((h >> 1) & 1)) + F_[1] * (2 * c[2] + ((h >> 2) & 1)))));
+        if (mask & (1u << h)) out.push_back(halfCubeId(c, h));
     }
     std::sort(out.begin(), out.end());
     return out;
@@ -152,10 +187,7 @@ class Refiner {
       if (!omega_.count(id)) continue;
       std::int64_t c[3];
       cubeOf(id, c);
-      for (int h = 0; h < 8; ++h)
-        out.push_back(static_cast<std::uint64_t>(
-            (2 * c[0] + (h & 1)) +
-            F_[0] * ((2 * c[1] + ((h >> 1) & 1)) + F_[1] * (2 * c[2] + ((h >> 2) & 1)))));
+      for (int h = 0; h < 8; ++h) out.push_back(halfCubeId(c, h));
     }
     std::sort(out.begin(), out.end());
     return out;
@@ -332,6 +364,7 @@ class Refiner {
       evaluateCubes(fresh);
       std::vector<std::uint64_t> next, quiet;
       for (std::uint64_t id : fresh) {
+        if (omega_.size() >= maxCubes) break;
         std::int64_t c[3];
         cubeOf(id, c);
         if (hidesSomething(c, &next) || mustRefine_.count(id))
@@ -340,6 +373,7 @@ class Refiner {
           quiet.push_back(id);
       }
       for (std::uint64_t id : deeperShowsHidden(quiet)) {
+        if (omega_.size() >= maxCubes) break;
         omega_.insert(id);
         std::int64_t c[3];
         cubeOf(id, c);
@@ -348,7 +382,6 @@ class Refiner {
           if (d != 13 && validCube(q)) next.push_back(cubeId(q[0], q[1], q[2]));
         }
       }
-      if (omega_.size() > maxCubes) throw Abort("the region grew past its limit");
       candidates.swap(next);
     }
     std::vector<std::uint64_t> forced;
@@ -359,11 +392,6 @@ class Refiner {
     omega_.insert(forced.begin(), forced.end());
   }
 
-  // Where a deeper level follows, the cubes whose 27 points show nothing are looked at a
-  // level deeper too: the cubes among them where a half cube's own 27 points (the 125
-  // points of a quarter-cell grid) show a side their corners miss, so that the next level
-  // finds its half cubes in the region (the gyroid's slivers narrower than half a cell).
-  // Their neighbours are all queued. Results are kept across restarts.
  public:
   // With a deeper level to follow, every cube holding a vertex of the mesh is looked at too
   // (its 125 points of the quarter-cell grid, in parallel), not only those round the
@@ -378,18 +406,14 @@ class Refiner {
   void surfaceCubesToLookAt(std::vector<std::uint64_t>* candidates, std::vector<std::uint64_t>* far,
                             const std::vector<std::uint64_t>* only = nullptr) {
     const auto& P = mesh_.positions;
-    auto cubeIndex = [&](int a, double x) {
-      const std::int64_t c = static_cast<std::int64_t>(std::floor((x - g_.coord(a, 0)) / g_.h[a]));
-      return std::clamp<std::int64_t>(c, 0, P_[a] - 2);
-    };
     // the triangles by the cubes their boxes reach into
     std::vector<std::pair<std::uint64_t, std::uint32_t>> byCube;
     for (std::uint32_t t = 0; t < mesh_.triangles.size(); ++t) {
       const Triangle& tr = mesh_.triangles[t];
       std::int64_t lo[3], hi[3];
       for (int a = 0; a < 3; ++a) {
-        lo[a] = cubeIndex(a, std::min({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]}));
-        hi[a] = cubeIndex(a, std::max({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]}));
+        lo[a] = cubeIndexOf(a, std::min({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]}));
+        hi[a] = cubeIndexOf(a, std::max({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]}));
       }
       for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
         for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
@@ -407,7 +431,6 @@ class Refiner {
       return std::equal_range(byCube.begin(), byCube.end(), std::make_pair(id, std::uint32_t(0)),
                               [](const auto& u, const auto& w) { return u.first < w.first; });
     };
-    const RefinementGrid quarter = g_.finer().finer();
     // (in the mesher's cells at every level: the goal is theirs)
     const double farLimit = kFarCells * std::max({g_.base->h[0], g_.base->h[1], g_.base->h[2]});
     constexpr std::size_t kChunk = 256;
@@ -418,20 +441,9 @@ class Refiner {
     tbb::enumerable_thread_specific<Found> found;
     tbb::parallel_for(std::size_t(0), (cubes.size() + kChunk - 1) / kChunk, [&](std::size_t ch) {
       const std::size_t from = ch * kChunk, to = std::min(cubes.size(), from + kChunk);
-      const std::size_t n = 125 * (to - from);
-      std::vector<double> x(n), y(n), z(n), v(n);
-      for (std::size_t i = from; i < to; ++i) {
-        std::int64_t c[3];
-        cubeOf(cubes[i], c);
-        for (int d = 0; d < 125; ++d) {
-          const std::size_t k = 125 * (i - from) + d;
-          x[k] = quarter.coord(0, 4 * c[0] + d % 5);
-          y[k] = quarter.coord(1, 4 * c[1] + (d / 5) % 5);
-          z[k] = quarter.coord(2, 4 * c[2] + d / 25);
-        }
-      }
-      field_.evalBatch(x.data(), y.data(), z.data(), n, v.data());
-      for (std::size_t k = 0; k < n; ++k) v[k] = combine(v[k], g_.boxField(x[k], y[k], z[k]));
+      QuarterSamples q;
+      sampleQuarterPoints(cubes.data() + from, to - from, &q);
+      const std::vector<double>&x = q.x, &y = q.y, &z = q.z, &v = q.v;
       Found& out = found.local();
       for (std::size_t i = from; i < to; ++i) {
         const std::size_t base = 125 * (i - from);
@@ -540,6 +552,11 @@ class Refiner {
   }
 
  private:
+  // Where a deeper level follows, the cubes whose 27 points show nothing are looked at a
+  // level deeper too: the cubes among them where a half cube's own 27 points (the 125
+  // points of a quarter-cell grid) show a side their corners miss, so that the next level
+  // finds its half cubes in the region (the gyroid's slivers narrower than half a cell).
+  // Their neighbours are all queued. Results are kept across restarts.
   std::vector<std::uint64_t> deeperShowsHidden(const std::vector<std::uint64_t>& cubes) {
     std::vector<std::uint64_t> out, todo;
     for (std::uint64_t id : cubes) {
@@ -550,25 +567,12 @@ class Refiner {
         out.push_back(id);
     }
     if (todo.empty()) return out;
-    const RefinementGrid quarter = g_.finer().finer();
-    const std::size_t n = 125 * todo.size();
-    std::vector<double> x(n), y(n), z(n), v(n);
+    QuarterSamples q;
+    sampleQuarterPoints(todo.data(), todo.size(), &q);
+    stats_.evaluations += q.v.size();
     for (std::size_t i = 0; i < todo.size(); ++i) {
-      std::int64_t c[3];
-      cubeOf(todo[i], c);
-      for (int d = 0; d < 125; ++d) {
-        x[125 * i + d] = quarter.coord(0, 4 * c[0] + d % 5);
-        y[125 * i + d] = quarter.coord(1, 4 * c[1] + (d / 5) % 5);
-        z[125 * i + d] = quarter.coord(2, 4 * c[2] + d / 25);
-      }
-    }
-    field_.evalBatch(x.data(), y.data(), z.data(), n, v.data());
-    stats_.evaluations += n;
-    for (std::size_t i = 0; i < todo.size(); ++i) {
-      const std::uint8_t mask = halfCubesShowingHidden([&](int qx, int qy, int qz) {
-        const std::size_t k = 125 * i + qx + 5 * qy + 25 * qz;
-        return isInside(combine(v[k], g_.boxField(x[k], y[k], z[k])));
-      });
+      const std::uint8_t mask = halfCubesShowingHidden(
+          [&](int qx, int qy, int qz) { return isInside(q.v[125 * i + qx + 5 * qy + 25 * qz]); });
       deeperHides_[todo[i]] = mask;
       if (mask) out.push_back(todo[i]);
     }
@@ -680,9 +684,7 @@ class Refiner {
         const float mn = std::min({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]});
         const float mx = std::max({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]});
         small = small && (double(mx) - mn) < (kBlock - 2) * g_.h[a];
-        v0[a] = std::clamp<std::int64_t>(
-            static_cast<std::int64_t>(std::floor((double(P[tr[0]][a]) - g_.coord(a, 0)) / g_.h[a])),
-            0, P_[a] - 2);
+        v0[a] = cubeIndexOf(a, P[tr[0]][a]);
       }
       if (small && !zoneGrown_[blockOf(v0[0], v0[1], v0[2])]) continue;
       Near n;
