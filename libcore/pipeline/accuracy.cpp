@@ -13,6 +13,7 @@
 #include "base/triangle_adjacency.h"
 #include "base/triangle_geometry.h"
 #include "mesh/mesher.h"
+#include "mesh/sampling_grid.h"
 
 namespace frep {
 
@@ -66,6 +67,9 @@ double searchNearer(const Field& f, const Box3& box, const Vec3d& p, double gp, 
     bool operator<(const Cube& o) const { return dist > o.dist; }  // (nearest first)
   };
   const bool inside = gp >= 0.0;
+  Grid boxOnly;  // (its box as a field, over intervals)
+  boxOnly.lo = box.lo;
+  boxOnly.hi = box.hi;
   auto distTo = [&](const Vec3d& lo, double size) {
     double s2 = 0.0;
     for (int a = 0; a < 3; ++a) {
@@ -85,11 +89,7 @@ double searchNearer(const Field& f, const Box3& box, const Vec3d& p, double gp, 
     if (c.dist >= best) break;
     const Interval x(c.lo[0], c.lo[0] + c.size), y(c.lo[1], c.lo[1] + c.size),
         z(c.lo[2], c.lo[2] + c.size);
-    Interval v = f.evalInterval(x, y, z);
-    const Interval bx = min(x - Interval(box.lo[0]), Interval(box.hi[0]) - x);
-    const Interval by = min(y - Interval(box.lo[1]), Interval(box.hi[1]) - y);
-    const Interval bz = min(z - Interval(box.lo[2]), Interval(box.hi[2]) - z);
-    v = min(v, min(bx, min(by, bz)));
+    const Interval v = min(f.evalInterval(x, y, z), boxOnly.boxField(x, y, z));
     const bool otherSide = inside ? (v.lo < 0.0 || v.nan) : v.hi >= 0.0;
     if (!otherSide) continue;
     const double h = 0.5 * c.size;
