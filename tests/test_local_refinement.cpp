@@ -5,10 +5,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
 #include "base/errors.h"
+#include "base/triangle_geometry.h"
 #include "check/mesh_check.h"
 #include "frep/model_json.h"
 #include "mesh/mesher.h"
@@ -90,6 +92,84 @@ TEST(LocalRefinement, AWallBetweenTheHalfCellPointsIsMeshedAtAQuarterCell) {
   EXPECT_TRUE(r.printable()) << reasonsOf(r);
   EXPECT_EQ(r.components, 1u);
   EXPECT_NEAR(r.volume, 0.03, 0.003);
+}
+
+// The reference gyroid at 512 cells, in a box of 40 cells round a sliver of sheet about
+// an eighth of a cell thick that runs aslant across a cube from an inside corner to the
+// opposite edge. Its quarter-cell points see it only as points touching at their corners
+// (faces whose sides lie on the diagonals), no edge or face with both ends on one side and
+// the other between; the quarter-cell crossings lie near enough to the mesh one level
+// makes. Two levels now refine that cube's half cubes: every point of the surface round the
+// sliver's tip lies within 0.3 cell of the mesh (it was 0.56 cell when only sign tests
+// chose the half cubes).
+TEST(LocalRefinement, ASliverAslantAcrossTheQuarterCellsIsRefinedAtTheTip) {
+  const double cell = 2.4 / 512;
+  const char* gyroid = R"({"frepcad": 1, "root": {"type": "intersection", "inputs": [
+    {"type": "gyroid", "params": {"cell": 0.33333333333333333, "level": 0.3, "kind": "sheet",
+     "origin": [0, 0, 0]}},
+    {"type": "sphere", "params": {"center": [0, 0, 0], "radius": 1}}]},
+    "export": {"bbox": [-0.534375, 0.759375, -0.3703125, -0.346875, 0.946875, -0.1828125],
+               "resolution": 0.0046875}})";
+  const Model m = parseModel(gyroid, "refine", ".");
+  const Program field = compile(m.root);
+  MeshingOptions o;
+  o.bbox = *m.bbox;
+  o.resolution = *m.resolution;
+  o.refineTips = true;
+  o.refinementLevels = 2;
+  MeshingStats stats;
+  const TriangleMesh mesh = polygonize(field, o, &stats);
+  EXPECT_EQ(stats.refinementLevelsReached, 2) << stats.refinementDeeperSkipped;
+  const CheckReport r = checkMesh(mesh);
+  ASSERT_TRUE(r.printable()) << reasonsOf(r);
+  // the surface round the tip: crossings of a lattice of eighth cells, three cells each way
+  const Vec3d tip{-0.4386, 0.8552, -0.2758};
+  const int n = 49;
+  auto at = [&](int i, int j, int k) {
+    return Vec3d{tip[0] + (i - 24) * cell / 8, tip[1] + (j - 24) * cell / 8,
+                 tip[2] + (k - 24) * cell / 8};
+  };
+  std::vector<std::array<Vec3d, 3>> near;
+  for (const Triangle& t : mesh.triangles) {
+    std::array<Vec3d, 3> v;
+    bool close = true;
+    for (int c = 0; c < 3; ++c) {
+      const Vec3f& p = mesh.positions[t[c]];
+      v[c] = Vec3d{p[0], p[1], p[2]};
+      for (int a = 0; a < 3; ++a) close = close && std::abs(v[c][a] - tip[a]) < 6 * cell;
+    }
+    if (close) near.push_back(v);
+  }
+  ASSERT_GT(near.size(), 20u);
+  double worst = 0.0;
+  std::size_t crossings = 0;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const Vec3d p = at(i, j, k);
+        const double fp = field.eval(p[0], p[1], p[2]);
+        for (int a = 0; a < 3; ++a) {
+          int d[3] = {i, j, k};
+          if (++d[a] >= n) continue;
+          const Vec3d q = at(d[0], d[1], d[2]);
+          const double fq = field.eval(q[0], q[1], q[2]);
+          if ((fp >= 0) == (fq >= 0)) continue;
+          ++crossings;
+          const double t = fp / (fp - fq);
+          const Vec3d s{p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]),
+                        p[2] + t * (q[2] - p[2])};
+          double best = 1e9;
+          for (const auto& v : near) {
+            const Vec3d c = closestPointOnTriangle(s, v[0], v[1], v[2]);
+            best = std::min(
+                best, std::sqrt((c[0] - s[0]) * (c[0] - s[0]) + (c[1] - s[1]) * (c[1] - s[1]) +
+                                (c[2] - s[2]) * (c[2] - s[2])));
+          }
+          worst = std::max(worst, best);
+        }
+      }
+  EXPECT_GT(crossings, 1000u);
+  EXPECT_LT(worst / cell, 0.3);
 }
 
 TEST(LocalRefinement, RefinementLevelsOutOfRangeAreRefused) {

@@ -103,16 +103,44 @@ inline bool showsHidden(const In& in, const OnEdge& onEdge, const OnFace& onFace
   return any || (corners && in(1, 1, 1) != s);
 }
 
+// Whether a face of the cube's eight cells (in(dx, dy, dz), each 0 to 2) has its two
+// sides on the diagonals: a sliver narrower than the cells crossing it aslant (or a saddle),
+// which the cells' corners see only as points touching at their corners.
+template <class In>
+inline bool anyFaceDiagonal(const In& in) {
+  for (int a = 0; a < 3; ++a) {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    for (int p = 0; p <= 2; ++p)
+      for (int u = 0; u < 2; ++u)
+        for (int w = 0; w < 2; ++w) {
+          auto at = [&](int du, int dw) {
+            int d[3];
+            d[a] = p;
+            d[b] = u + du;
+            d[c] = w + dw;
+            return in(d[0], d[1], d[2]);
+          };
+          const bool s00 = at(0, 0), s11 = at(1, 1);
+          if (s00 == s11 && at(1, 0) == at(0, 1) && s00 != at(1, 0)) return true;
+        }
+  }
+  return false;
+}
+
 // The half cubes (bit h: half cube h) whose 27 points of the quarter-cell grid (in(qx,
 // qy, qz), each 0 to 4 across the cube) show a side their corners miss.
 template <class In>
 std::uint8_t halfCubesShowingHidden(const In& in) {
   std::uint8_t mask = 0;
-  for (int h = 0; h < 8; ++h)
-    if (showsHidden([&](int dx, int dy,
-                        int dz) { return in(2 * (h & 1) + dx, (h & 2) + dy, (h & 4) / 2 + dz); },
-                    [](int, int, int) {}, [](int, int) {}))
+  for (int h = 0; h < 8; ++h) {
+    auto at = [&](int dx, int dy, int dz) {
+      return in(2 * (h & 1) + dx, (h & 2) + dy, (h & 4) / 2 + dz);
+    };
+    if (showsHidden(
+            at, [](int, int, int) {}, [](int, int) {}) ||
+        anyFaceDiagonal(at))
       mask = static_cast<std::uint8_t>(mask | (1u << h));
+  }
   return mask;
 }
 
