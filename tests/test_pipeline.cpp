@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -124,6 +125,42 @@ TEST_F(Pipeline, StraighteningAndSimplifyingShareTheMeshingBar) {
         << e.what();
   }
   EXPECT_TRUE(others().empty());
+}
+
+// meshAndFinish (the export's and frepcore's mesh()): the mesher's own mesh is kept only when
+// asked, and only where a step changed it; a bad tolerance is refused before any meshing.
+TEST(MeshAndFinish, KeepsTheMeshersMeshOnlyWhenAskedAndRefusesBeforeMeshing) {
+  const NodePtr cube = makeNode(
+      "box", {{"corner", vec3Value({-0.8, -0.8, -0.8})}, {"size", vec3Value({1.6, 1.6, 1.6})}}, {});
+  const Program turned = compile(makeNode(
+      "rotate", {{"axis", vec3Value({1.0, 1.0, 0.0})}, {"angle", realValue(25.0)}}, {cube}));
+  MeshingOptions o;
+  o.bbox = Box3{{-1.5, -1.5, -1.5}, {1.5, 1.5, 1.5}};
+  o.resolution = 3.0 / 40;
+  const FinishedMesh plain = meshAndFinish(turned, o, Finishing(), nullptr, true);
+  EXPECT_FALSE(plain.straightened || plain.simplified);
+  EXPECT_EQ(plain.meshers.triangleCount(), 0u);  // nothing changed it: no copy
+  Finishing f;
+  f.tolerance = 0.01;
+  const FinishedMesh kept = meshAndFinish(turned, o, f, nullptr, true);
+  ASSERT_TRUE(kept.simplified);
+  EXPECT_EQ(kept.meshers.triangleCount(), plain.mesh.triangleCount());
+  EXPECT_LT(kept.mesh.triangleCount(), plain.mesh.triangleCount());
+  EXPECT_EQ(kept.simplify.trianglesBefore, plain.mesh.triangleCount());
+  EXPECT_EQ(meshAndFinish(turned, o, f, nullptr, false).meshers.triangleCount(), 0u);
+  for (double bad : {0.0, -1.0, std::nan("")}) {
+    f.tolerance = bad;
+    bool called = false;
+    try {
+      meshAndFinish(
+          turned, o, f, [&called](double) { return called = true; }, false);
+      ADD_FAILURE() << bad;
+    } catch (const ModelError& e) {
+      EXPECT_NE(std::string(e.what()).find("tolerance must be a distance > 0"), std::string::npos)
+          << e.what();
+    }
+    EXPECT_FALSE(called) << bad;
+  }
 }
 
 }  // namespace

@@ -138,59 +138,24 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
   // triangles, FreeCAD computes its own for .bms.
   o.normals = request.normals && (format == MeshFormat::Obj || format == MeshFormat::Ply);
   o.memoryBudget = request.memoryBudget ? *request.memoryBudget : availableMemory();
-  o.bytesPerTriangle =
-      kMesherBytesPerTriangle + (request.check ? kCheckBytesPerTriangle : 0.0) +
-      (request.tolerance || request.straightenCreases ? kSimplifyBytesPerTriangle : 0.0);
-  if (request.straightenCreases && !request.sharpFeatures)
-    throw ModelError(name +
-                     ": straightening creases needs sharp features (they find the "
-                     "creases); turn sharp features on or leave the creases as meshed");
-  // The stage's bar: meshing first, then straightening and simplifying (each takes a few
-  // times the meshing's time): half for the simplification, and half of the rest for the
-  // straightening.
-  const double simplifyShare = request.tolerance ? 0.5 : 0.0;
-  const double straightenShare = request.straightenCreases ? 0.5 * (1.0 - simplifyShare) : 0.0;
-  const double meshShare = 1.0 - straightenShare - simplifyShare;
-  if (request.progress)
-    o.progress = [&](double f) { return request.progress(ExportStage::Mesh, meshShare * f); };
-  SimplifyOptions so;
-  if (request.tolerance) {
-    so.bbox = o.bbox;
-    so.cell = o.resolution;
-    so.tolerance = *request.tolerance;
-    so.sharpFeatures = request.sharpFeatures;
-    if (!(so.tolerance > 0.0) || !std::isfinite(so.tolerance))
-      throw ModelError(name + ": tolerance must be a distance > 0 (model units), got " +
-                       std::to_string(so.tolerance));
-    if (request.progress)
-      so.progress = [&](double f) {
-        return request.progress(ExportStage::Mesh, 1.0 - simplifyShare + simplifyShare * f);
-      };
-  }
+  o.bytesPerTriangle = kMesherBytesPerTriangle + (request.check ? kCheckBytesPerTriangle : 0.0);
+  Finishing finishing;
+  finishing.straightenCreases = request.straightenCreases;
+  finishing.tolerance = request.tolerance;
   TriangleMesh mesh, unsimplified;
   try {
-    mesh = polygonize(field, o, &result.stats);
-    // The mesher's mesh is kept (for a refused check) and any other given up as it is
-    // replaced: no copies.
-    bool changed = false;
-    auto replace = [&](TriangleMesh next) {
-      if (!changed) unsimplified = std::move(mesh);
-      mesh = std::move(next);
-      changed = true;
-    };
-    if (request.straightenCreases) {
-      StraightenOptions st{o.bbox, o.resolution, {}};
-      if (request.progress)
-        st.progress = [&](double f) {
-          return request.progress(ExportStage::Mesh, meshShare + straightenShare * f);
-        };
-      replace(straightenCreases(mesh, field, st, &result.straighten));
-      result.straightened = true;
-    }
-    if (request.tolerance) {
-      replace(simplifyMesh(mesh, field, so, &result.simplify));
-      result.simplified = true;
-    }
+    FinishedMesh m = meshAndFinish(
+        field, o, finishing,
+        request.progress ? [&](double f) { return request.progress(ExportStage::Mesh, f); }
+                         : std::function<bool(double)>(),
+        request.check);
+    mesh = std::move(m.mesh);
+    unsimplified = std::move(m.meshers);
+    result.stats = std::move(m.stats);
+    result.straightened = m.straightened;
+    result.straighten = m.straighten;
+    result.simplified = m.simplified;
+    result.simplify = m.simplify;
   } catch (const TooLargeError& e) {
     throw TooLargeError(name + ": " + e.what());
   } catch (const ModelError& e) {
@@ -198,7 +163,6 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
   }
   result.triangles = mesh.triangleCount();
   result.seconds[1] = since(t);
-  if (!request.check) unsimplified = TriangleMesh();
 
   // The file is written while the check runs, under its temporary name, on a thread of its
   // own (writing is mostly handing pages to the file system): the check's verdict decides

@@ -16,6 +16,7 @@
 #include "io/mesh_io.h"
 #include "mesh/mesher.h"
 #include "pipeline/accuracy.h"
+#include "pipeline/finished_mesh.h"
 #include "simplify/simplify.h"
 #include "simplify/straighten_creases.h"
 
@@ -32,8 +33,6 @@ constexpr double kPaddingCells = 1.5;
 // models; meshing alone at up to 50).
 constexpr double kMesherBytesPerTriangle = 60.0;
 constexpr double kCheckBytesPerTriangle = 40.0;
-// and of the simplifier (per triangle of the mesher's mesh: a quadric per vertex, the faces)
-constexpr double kSimplifyBytesPerTriangle = 100.0;
 // Cells along the longest side that `cells` may ask for.
 constexpr int kMaxCells = 1 << 16;
 

@@ -675,38 +675,20 @@ PYBIND11_MODULE(_frepcore, m) {
             // A preview too large for the memory is refused with the figures, before any
             // allocation (FreeCAD would die with the process).
             o.memoryBudget = availableMemory();
-            SimplifyOptions so;
-            const bool simplify = !tolerance.is_none();
-            if (simplify) {
-              so.bbox = o.bbox;
-              so.cell = resolution;
-              so.tolerance = tolerance.cast<double>();
-              so.sharpFeatures = sharp;
-            }
-            if (simplify || straighten) o.bytesPerTriangle += kSimplifyBytesPerTriangle;
-            StraightenOptions st{o.bbox, resolution, {}};
+            Finishing finishing;
+            finishing.straightenCreases = straighten;
+            if (!tolerance.is_none()) finishing.tolerance = tolerance.cast<double>();
             n.compiled();
             std::shared_ptr<const Program> program = n.program;
             auto stats = std::make_shared<MeshingStats>();
             auto straightened = std::make_shared<SimplifyStats>();
             py::object mesh = py::cast(runWithProgress<TriangleMesh>(
-                [program, o, so, st, simplify, straighten, stats,
+                [program, o, finishing, stats,
                  straightened](std::function<bool(double)> tick) mutable {
-                  // the bar: meshing, then straightening and simplifying, a share each
-                  const int steps = 1 + straighten + simplify;
-                  int step = 0;
-                  auto share = [tick, steps, &step](double f) { return tick((step + f) / steps); };
-                  o.progress = share;
-                  TriangleMesh mesh = polygonize(*program, o, stats.get());
-                  if (straighten) {
-                    ++step;
-                    st.progress = share;
-                    mesh = straightenCreases(mesh, *program, st, straightened.get());
-                  }
-                  if (!simplify) return mesh;
-                  ++step;
-                  so.progress = share;
-                  return simplifyMesh(mesh, *program, so);
+                  FinishedMesh m = meshAndFinish(*program, o, finishing, tick, false);
+                  *stats = std::move(m.stats);
+                  *straightened = m.straighten;
+                  return std::move(m.mesh);
                 },
                 progress));
             mesh.attr("thin_parts") = thinPartsDict(*stats);
