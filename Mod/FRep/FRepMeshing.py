@@ -75,13 +75,23 @@ def warn_thin_parts(label, thin):
     points with no surface near (frepcore's Mesh.thin_parts): the mesh is printable, but
     those parts are missing from it (solid) or closed in it (gaps). Crease tips cut short
     are not warned of: every crease off the grid has them. Where they were meshed again at
-    half a cell (RefineThinParts), it says so instead."""
+    half a cell (RefineThinParts), it says so instead, with the smaller cubes of deeper
+    levels (RefineLevels)."""
     if thin and thin.get("refinement_skipped"):
         FreeCAD.Console.PrintWarning("%s: the thin parts were not refined: %s\n"
                                      % (label, thin["refinement_skipped"]))
+    if thin and thin.get("refinement_deeper_skipped"):
+        FreeCAD.Console.PrintWarning("%s: the thin parts were refined %d level(s) deep only: %s\n"
+                                     % (label, thin.get("refined_levels", 1),
+                                        thin["refinement_deeper_skipped"]))
     if thin and thin.get("refined_cubes"):
+        deeper = ""
+        if thin.get("refined_deeper_cubes"):
+            deeper = (", and %d smaller cubes below that, down to a cell / %d"
+                      % (thin["refined_deeper_cubes"], 2 ** thin["refined_levels"]))
         FreeCAD.Console.PrintMessage("%s: %d cubes round parts thinner than a cell meshed again "
-                                     "at half a cell.\n" % (label, thin["refined_cubes"]))
+                                     "at half a cell%s.\n"
+                                     % (label, thin["refined_cubes"], deeper))
         return
     if not thin or not (thin["solid"] or thin["gaps"]):
         return

@@ -156,10 +156,14 @@ def test_polygonize_warns_of_parts_thinner_than_a_cell(doc, monkeypatch):
     fin.Corner = FreeCAD.Vector(0.01, 0.6, 0.6)
     doc.recompute()
     one = p.Mesh.Volume
+    told.clear()
     p.RefineLevels = 2
     doc.recompute()
     assert p.isValid(), p.getStatusString()
     assert p.Mesh.Volume - one == pytest.approx(0.0027, rel=0.2)
+    # the report view says what the deeper level meshed
+    assert [m for m in told if m.startswith("Mesh: ") and "smaller cubes below that, down to "
+            "a cell / 4" in m], told
     p.RefineLevels = 4
     doc.recompute()
     assert not p.isValid() and "'RefineLevels' is 4; allowed: 1 to 3" in p.getStatusString()
