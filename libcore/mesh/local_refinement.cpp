@@ -406,19 +406,48 @@ class Refiner {
   void surfaceCubesToLookAt(std::vector<std::uint64_t>* candidates, std::vector<std::uint64_t>* far,
                             const std::vector<std::uint64_t>* only = nullptr) {
     const auto& P = mesh_.positions;
-    // the triangles by the cubes their boxes reach into
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> byCube;
-    for (std::uint32_t t = 0; t < mesh_.triangles.size(); ++t) {
-      const Triangle& tr = mesh_.triangles[t];
-      std::int64_t lo[3], hi[3];
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = cubeIndexOf(a, std::min({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]}));
-        hi[a] = cubeIndexOf(a, std::max({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]}));
+    // Given `only`, the triangles are needed in those cubes and round them alone (a few
+    // thousand cubes against a mesh of millions of triangles: no sort of them all).
+    std::vector<std::uint64_t> wanted;
+    if (only) {
+      for (std::uint64_t id : *only) {
+        std::int64_t c[3];
+        cubeOf(id, c);
+        for (int n = 0; n < 27; ++n) {
+          const std::int64_t o[3] = {c[0] + n % 3 - 1, c[1] + (n / 3) % 3 - 1, c[2] + n / 9 - 1};
+          if (validCube(o)) wanted.push_back(cubeId(o[0], o[1], o[2]));
+        }
       }
-      for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
-        for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
-          for (std::int64_t i = lo[0]; i <= hi[0]; ++i) byCube.push_back({cubeId(i, j, k), t});
+      std::sort(wanted.begin(), wanted.end());
+      wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
     }
+    // the triangles by the cubes their boxes reach into (in parallel: millions of them)
+    using CubeTriangle = std::pair<std::uint64_t, std::uint32_t>;
+    tbb::enumerable_thread_specific<std::vector<CubeTriangle>> pairs;
+    const std::size_t T = mesh_.triangles.size();
+    tbb::parallel_for(std::size_t(0), (T + 4095) / 4096, [&](std::size_t block) {
+      std::vector<CubeTriangle>& out = pairs.local();
+      for (std::size_t t = 4096 * block; t < std::min(T, 4096 * (block + 1)); ++t) {
+        const Triangle& tr = mesh_.triangles[t];
+        std::int64_t lo[3], hi[3];
+        for (int a = 0; a < 3; ++a) {
+          lo[a] = cubeIndexOf(a, std::min({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]}));
+          hi[a] = cubeIndexOf(a, std::max({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]}));
+        }
+        for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
+          for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
+            for (std::int64_t i = lo[0]; i <= hi[0]; ++i) {
+              const std::uint64_t id = cubeId(i, j, k);
+              if (!only || std::binary_search(wanted.begin(), wanted.end(), id))
+                out.push_back({id, static_cast<std::uint32_t>(t)});
+            }
+      }
+    });
+    std::vector<CubeTriangle> byCube;
+    std::size_t count = 0;
+    for (const auto& v : pairs) count += v.size();
+    byCube.reserve(count);
+    for (const auto& v : pairs) byCube.insert(byCube.end(), v.begin(), v.end());
     tbb::parallel_sort(byCube.begin(), byCube.end());
     std::vector<std::uint64_t> cubes;
     if (only) {
@@ -479,6 +508,12 @@ class Refiner {
     auto toD = [](const Vec3f& p) { return Vec3d{p[0], p[1], p[2]}; };
     auto nearerThan = [&](const Vec3d& q, std::uint64_t cube, double lim2) {
       const auto range = trianglesOf(cube);
+      // a vertex that near first: a few multiplications against the closest point's tests
+      for (auto it = range.first; it != range.second; ++it)
+        for (std::uint32_t v : mesh_.triangles[it->second]) {
+          const double dx = P[v][0] - q[0], dy = P[v][1] - q[1], dz = P[v][2] - q[2];
+          if (dx * dx + dy * dy + dz * dz <= lim2) return true;
+        }
       for (auto it = range.first; it != range.second; ++it) {
         const Triangle& tr = mesh_.triangles[it->second];
         const Vec3d r = closestPointOnTriangle(q, toD(P[tr[0]]), toD(P[tr[1]]), toD(P[tr[2]]));
