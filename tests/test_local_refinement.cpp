@@ -172,6 +172,44 @@ TEST(LocalRefinement, ASliverAslantAcrossTheQuarterCellsIsRefinedAtTheTip) {
   EXPECT_LT(worst / cell, 0.3);
 }
 
+// The refinement is most of the time where it runs (ten times the meshing's and more with
+// deeper levels): it moves the bar on and can be cancelled, as the bricks can.
+TEST(LocalRefinement, DeeperLevelsReportProgressAndCanBeCancelled) {
+  const char* gyroid = R"({"frepcad": 1, "root": {"type": "intersection", "inputs": [
+    {"type": "gyroid", "params": {"cell": 0.5, "level": 0.3, "kind": "sheet",
+     "origin": [0, 0, 0]}},
+    {"type": "sphere", "params": {"center": [0, 0, 0], "radius": 1}}]},
+    "export": {"bbox": [-1.2, -1.2, -1.2, 1.2, 1.2, 1.2], "resolution": 0.08}})";
+  const Model m = parseModel(gyroid, "refine", ".");
+  const Program field = compile(m.root);
+  MeshingOptions o;
+  o.bbox = *m.bbox;
+  o.resolution = *m.resolution;
+  o.refineTips = true;
+  o.refinementLevels = 2;
+  std::vector<double> seen;
+  o.progress = [&seen](double f) {
+    seen.push_back(f);
+    return true;
+  };
+  MeshingStats stats;
+  const TriangleMesh mesh = polygonize(field, o, &stats);
+  ASSERT_EQ(stats.refinementLevelsReached, 2) << stats.refinementDeeperSkipped;
+  ASSERT_FALSE(seen.empty());
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+  EXPECT_DOUBLE_EQ(seen.back(), 1.0);
+  // the refinement's own steps: past the bricks' share (5 %), before the end
+  const auto during =
+      std::count_if(seen.begin(), seen.end(), [](double f) { return f > 0.05 && f < 0.95; });
+  EXPECT_GE(during, 5) << seen.size() << " calls";
+  // a cancel in the look, and one in the second level (past the look and the first), stop it
+  EXPECT_TRUE(std::any_of(seen.begin(), seen.end(), [](double f) { return f > 0.7 && f < 0.9; }));
+  for (double at : {0.2, 0.8}) {
+    o.progress = [at](double f) { return f < at; };
+    EXPECT_THROW(polygonize(field, o), Cancelled) << at;
+  }
+}
+
 TEST(LocalRefinement, RefinementLevelsOutOfRangeAreRefused) {
   const Model m = parseModel(kWall, "refine", ".");
   MeshingOptions o;

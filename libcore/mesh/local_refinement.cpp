@@ -6,9 +6,11 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -91,6 +93,15 @@ class Refiner {
   }
 
   const RefinementGrid& grid() const { return g_; }
+  // Where the work from here reports itself on the caller's bar (checkCancel).
+  // The work from here moves the bar on from `fraction` by `span` as it goes (the look at the
+  // surface's cubes chunk by chunk, run() step by step).
+  void reportAt(const std::function<bool(double)>& progress, double fraction, double span = 0.0) {
+    progress_ = &progress;
+    at_ = from_ = fraction;
+    span_ = span;
+    checkCancel();
+  }
   // The id, on the next level's grid, of half cube h (corner at + (h & 1, h & 2, h & 4)) of
   // cube c.
   std::uint64_t halfCubeId(const std::int64_t c[3], int h) const {
@@ -227,9 +238,12 @@ class Refiner {
     const TriangleMesh original = mesh_;
     for (int attempt = 0;; ++attempt) {
       try {
-        grow(seedCubes, maxCubes);
+        grow(seedCubes, maxCubes);  // (a restart reports where it got: the bar never moves back)
         if (omega_.empty()) return;
+        at_ = std::max(at_, from_ + 0.2 * span_);
         close(maxCubes);
+        at_ = std::max(at_, from_ + 0.5 * span_);
+        checkCancel();
         findSeam();
         for (auto& [key, face] : seam_) {
           try {
@@ -244,6 +258,7 @@ class Refiner {
           }
         }
         throwFailures();
+        checkCancel();
         meshHalfCubes();
         splitTriangles();
         if (keepSides_) recordSides();
@@ -356,6 +371,7 @@ class Refiner {
     std::vector<std::uint64_t> candidates = seedCubes;
     std::unordered_set<std::uint64_t> tried;
     while (!candidates.empty() && omega_.size() < maxCubes) {
+      checkCancel();
       std::sort(candidates.begin(), candidates.end());
       candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
       std::vector<std::uint64_t> fresh;
@@ -468,7 +484,17 @@ class Refiner {
       std::vector<std::pair<std::uint64_t, std::uint8_t>> masks;
     };
     tbb::enumerable_thread_specific<Found> found;
-    tbb::parallel_for(std::size_t(0), (cubes.size() + kChunk - 1) / kChunk, [&](std::size_t ch) {
+    const std::size_t chunks = (cubes.size() + kChunk - 1) / kChunk;
+    std::mutex progressMutex;  // (the caller's progress: one call at a time)
+    std::size_t chunksDone = 0;
+    std::atomic<bool> cancelled{false};
+    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t ch) {
+      if (cancelled.load(std::memory_order_relaxed)) return;
+      if (progress_ && *progress_) {
+        std::lock_guard<std::mutex> lock(progressMutex);
+        const double f = from_ + span_ * static_cast<double>(chunksDone++) / chunks;
+        if (!(*progress_)(f)) cancelled = true;
+      }
       const std::size_t from = ch * kChunk, to = std::min(cubes.size(), from + kChunk);
       QuarterSamples q;
       sampleQuarterPoints(cubes.data() + from, to - from, &q);
@@ -487,6 +513,7 @@ class Refiner {
           out.far.push_back(cubes[i]);
       }
     });
+    if (cancelled) throw Cancelled();
     stats_.evaluations += 125 * cubes.size();
     for (const Found& f : found) {
       for (const auto& [id, mask] : f.masks) deeperHides_[id] = mask;
@@ -824,6 +851,7 @@ class Refiner {
     buildZone();
     std::vector<std::uint64_t> queue(omega_.begin(), omega_.end());
     for (;;) {
+      checkCancel();
       // triangles reaching into the cubes queued go; the cubes they reach into join
       std::vector<std::uint64_t> joined;
       for (std::uint64_t id : queue) {
@@ -1484,6 +1512,11 @@ class Refiner {
     mesh_.triangles = std::move(tris);
   }
 
+  // ---- progress and cancel: the fraction reported is where the caller put this step
+  void checkCancel() const {
+    if (progress_ && *progress_ && !(*progress_)(at_)) throw Cancelled();
+  }
+
   const Field& field_;
   const RefinementGrid g_;
   TriangleMesh& mesh_;
@@ -1511,13 +1544,16 @@ class Refiner {
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> byCube_;
   std::unordered_map<std::uint64_t, std::uint32_t> flipEdge_;  // spanning triangles' edges
   refinement::CellMesher cells_;  // the half cubes' meshing, their triangles and cuts
+  const std::function<bool(double)>* progress_ = nullptr;
+  double at_ = 0.0, from_ = 0.0, span_ = 0.0;
 };
 
 }  // namespace
 
 void refineHiddenParts(const Field& field, const Grid& g,
                        const std::vector<std::uint64_t>& seedEdges, std::size_t maxCubes,
-                       TriangleMesh& mesh, LocalRefinementStats* stats, int levels) {
+                       TriangleMesh& mesh, LocalRefinementStats* stats, int levels,
+                       const std::function<bool(double)>& progress) {
   LocalRefinementStats local;
   LocalRefinementStats& s = stats ? *stats : local;
   s = LocalRefinementStats();
@@ -1525,6 +1561,9 @@ void refineHiddenParts(const Field& field, const Grid& g,
     throw ModelError("mesher: refinementLevels must be 1 to " +
                      std::to_string(kMaxRefinementLevels) + "; got " + std::to_string(levels));
   if (seedEdges.empty() && levels == 1) return;
+  // The bar: the look at the surface's cubes (deeper levels only) a third, the levels the
+  // rest in equal parts (a deeper level refines about as many cubes, each smaller).
+  const double lookShare = levels > 1 ? 0.3 : 0.0, levelShare = (1.0 - lookShare) / levels;
   auto aboveMesh = std::make_unique<TriangleMesh>(mesh);
   std::unique_ptr<Refiner> above;
   try {
@@ -1533,11 +1572,13 @@ void refineHiddenParts(const Field& field, const Grid& g,
     if (levels > 1) {
       above->keepSidesForNextLevel();
       std::vector<std::uint64_t> more, far;
+      above->reportAt(progress, 0.0, lookShare);
       above->surfaceCubesToLookAt(&more, &far);
       seeds.insert(seeds.end(), more.begin(), more.end());
       seeds.insert(seeds.end(), far.begin(), far.end());
       above->refineWhateverTheyShow(far);
     }
+    above->reportAt(progress, lookShare, levelShare);
     above->run(seeds, maxCubes);
   } catch (const Abort& e) {
     const std::size_t evaluations = s.evaluations;
@@ -1559,6 +1600,8 @@ void refineHiddenParts(const Field& field, const Grid& g,
     auto next = std::make_unique<Refiner>(field, above->grid().finer(), *deeper, ls);
     above->handDown(*next);
     if (level < levels) next->keepSidesForNextLevel();
+    const double start = lookShare + (level - 1) * levelShare;
+    next->reportAt(progress, start);
     try {
       // where the level above was refined for lying far from the surface, its half cubes
       // are looked at again on its mesh (a sliver's tip, narrower than its half cells)
@@ -1571,6 +1614,7 @@ void refineHiddenParts(const Field& field, const Grid& g,
         next->refineWhateverTheyShow(far);
       }
       if (seeds.empty()) break;
+      next->reportAt(progress, start, levelShare);
       next->run(seeds, maxCubes);
     } catch (const Abort& e) {
       s.evaluations += ls.evaluations;
@@ -1588,6 +1632,7 @@ void refineHiddenParts(const Field& field, const Grid& g,
     above = std::move(next);
     aboveMesh = std::move(deeper);  // (the Refiner's mesh, kept while it is asked)
   }
+  if (progress && !progress(1.0)) throw Cancelled();
 }
 
 }  // namespace frep

@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -50,9 +51,13 @@ struct LocalRefinementStats {
 // surface (a crease tip cut short) are refined whatever their points show; then the half
 // cubes are refined again the same way where their own half cells show what their corners
 // miss, down to cells of 2^-levels. A level that fails keeps the level above's mesh.
-// Throws ModelError for levels outside 1 to kMaxRefinementLevels.
+// progress(fraction of the refinement done, 0..1) is called between its steps and inside
+// its long loops, possibly from worker threads (one call at a time); false cancels: throws
+// Cancelled (`mesh` is then of no use). Throws ModelError for levels outside 1 to
+// kMaxRefinementLevels.
 void refineHiddenParts(const Field& field, const Grid& g,
                        const std::vector<std::uint64_t>& seedEdges, std::size_t maxCubes,
-                       TriangleMesh& mesh, LocalRefinementStats* stats, int levels = 1);
+                       TriangleMesh& mesh, LocalRefinementStats* stats, int levels = 1,
+                       const std::function<bool(double)>& progress = nullptr);
 
 }  // namespace frep

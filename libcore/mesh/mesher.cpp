@@ -1741,8 +1741,17 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
   collectBricks(field, nullptr, g, cells, bc, b0, b1, bricks);
   refuseOverBudget(opt, g, bricks.size());
 
+  // The bar: the bricks up to 0.95, or, where the thin parts are refined (several times the
+  // meshing's time, ten times and more with deeper levels), up to `bricksEnd` and the
+  // refinement from there.
+  const bool refining = opt.refineThinParts || opt.refineTips;
+  const double bricksEnd = !refining ? 1.0 : opt.refinementLevels > 1 ? 0.05 : 0.2;
+  MeshingOptions brickOptions = opt;
+  if (opt.progress && refining)
+    brickOptions.progress = [&opt, bricksEnd](double f) { return opt.progress(bricksEnd * f); };
   std::vector<BrickResult> results;
-  const std::size_t evaluated = meshBricks(field, g, opt, bricks, results);
+  const std::size_t evaluated = meshBricks(field, g, brickOptions, bricks, results);
+  std::size_t refinementEvaluations = 0;
   countThinParts(results, stats);
   std::vector<std::uint64_t> hiddenEdges;
   for (const BrickResult& b : results) {
@@ -1754,11 +1763,17 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
   std::vector<std::uint32_t> flippable;
   TriangleMesh mesh = weld(g, bc, b1, bricks, results, opt.normals, &bySorting, &flippable);
   flipCreases(mesh, flippable);
-  const bool refining = opt.refineThinParts || opt.refineTips;
   if (!hiddenEdges.empty() || (refining && opt.refinementLevels > 1)) {
     std::sort(hiddenEdges.begin(), hiddenEdges.end());
     LocalRefinementStats rs;
-    refineHiddenParts(field, g, hiddenEdges, opt.refinementCubes, mesh, &rs, opt.refinementLevels);
+    std::function<bool(double)> refinementProgress;
+    if (opt.progress)
+      refinementProgress = [&opt, bricksEnd](double f) {
+        return opt.progress(0.95 * (bricksEnd + (1.0 - bricksEnd) * f));
+      };
+    refineHiddenParts(field, g, hiddenEdges, opt.refinementCubes, mesh, &rs, opt.refinementLevels,
+                      refinementProgress);
+    refinementEvaluations = rs.evaluations;
     if (stats) {
       stats->refinedCubes = rs.cubes;
       stats->refinementSkipped = rs.skipped;
@@ -1766,7 +1781,6 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
       stats->refinedDeeperCubes = rs.deeperCubes;
       stats->refinedDeeperLeftOut = rs.deeperCubesLeftOut;
       stats->refinementDeeperSkipped = rs.deeperSkipped;
-      stats->pointsEvaluated += rs.evaluations;
     }
   }
   if (opt.progress) opt.progress(1.0);
@@ -1775,7 +1789,7 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
     for (int a = 0; a < 3; ++a) stats->cells[a] = static_cast<std::size_t>(cells.hi[a]);
     stats->bricksTotal = static_cast<std::size_t>(b1[0] * b1[1] * b1[2]);
     stats->bricksActive = bricks.size();
-    stats->pointsEvaluated = evaluated;
+    stats->pointsEvaluated = evaluated + refinementEvaluations;
     stats->weldedBySorting = bySorting;
     stats->seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
