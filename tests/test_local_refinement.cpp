@@ -94,6 +94,16 @@ TEST(LocalRefinement, AWallBetweenTheHalfCellPointsIsMeshedAtAQuarterCell) {
   EXPECT_NEAR(r.volume, 0.03, 0.003);
 }
 
+// A model's own box and cell, its crease tips refined two levels deep.
+MeshingOptions tipsTwoLevelsDeep(const Model& m) {
+  MeshingOptions o;
+  o.bbox = *m.bbox;
+  o.resolution = *m.resolution;
+  o.refineTips = true;
+  o.refinementLevels = 2;
+  return o;
+}
+
 // The reference gyroid at 512 cells, in a box of 40 cells round a sliver of sheet about
 // an eighth of a cell thick that runs aslant across a cube from an inside corner to the
 // opposite edge. Its quarter-cell points see it only as points touching at their corners
@@ -112,11 +122,7 @@ TEST(LocalRefinement, ASliverAslantAcrossTheQuarterCellsIsRefinedAtTheTip) {
                "resolution": 0.0046875}})";
   const Model m = parseModel(gyroid, "refine", ".");
   const Program field = compile(m.root);
-  MeshingOptions o;
-  o.bbox = *m.bbox;
-  o.resolution = *m.resolution;
-  o.refineTips = true;
-  o.refinementLevels = 2;
+  MeshingOptions o = tipsTwoLevelsDeep(m);
   MeshingStats stats;
   const TriangleMesh mesh = polygonize(field, o, &stats);
   EXPECT_EQ(stats.refinementLevelsReached, 2) << stats.refinementDeeperSkipped;
@@ -182,11 +188,7 @@ TEST(LocalRefinement, DeeperLevelsReportProgressAndCanBeCancelled) {
     "export": {"bbox": [-1.2, -1.2, -1.2, 1.2, 1.2, 1.2], "resolution": 0.08}})";
   const Model m = parseModel(gyroid, "refine", ".");
   const Program field = compile(m.root);
-  MeshingOptions o;
-  o.bbox = *m.bbox;
-  o.resolution = *m.resolution;
-  o.refineTips = true;
-  o.refinementLevels = 2;
+  MeshingOptions o = tipsTwoLevelsDeep(m);
   std::vector<double> seen;
   o.progress = [&seen](double f) {
     seen.push_back(f);
