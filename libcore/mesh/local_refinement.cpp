@@ -93,7 +93,6 @@ class Refiner {
   }
 
   const RefinementGrid& grid() const { return g_; }
-  // Where the work from here reports itself on the caller's bar (checkCancel).
   // The work from here moves the bar on from `fraction` by `span` as it goes (the look at the
   // surface's cubes chunk by chunk, run() step by step).
   void reportAt(const std::function<bool(double)>& progress, double fraction, double span = 0.0) {
