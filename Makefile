@@ -2,8 +2,10 @@
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
+# The Python FreeCAD runs, as the configure step found it (cmake/FreeCADPython.cmake).
+PYTHON = $(shell sed -n 's/^FREP_PYTHON=//p' $(BUILD_DIR)/frep-env.sh 2>/dev/null)
 
-.PHONY: all deps configure build test acceptance fuzz install demo bench repair-comparison screenshots examples format clean
+.PHONY: all deps configure build test acceptance test-trixie package fuzz install demo bench repair-comparison screenshots examples format clean
 
 all: build
 
@@ -25,6 +27,26 @@ test: build
 acceptance: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) -L acceptance
 
+# The whole `make test` again on Debian trixie with FreeCAD 1.0, in a debootstrap root cached
+# under build/trixie, then the package built there installed into a clean trixie root
+# (tests/trixie/run.sh; root, or sudo).
+test-trixie:
+	@bash tests/trixie/run.sh $(BUILD_DIR)
+
+# A Debian package for the distribution this runs on (cmake/Packaging.cmake), built in its
+# own folder with the system layout: /usr/bin/frepcad, the workbench in FreeCAD's system Mod
+# folder, frepcore for the system Python. Writes build/frepcad_VERSION-1~CODENAME_ARCH.deb.
+PACKAGE_BUILD_DIR = $(BUILD_DIR)/package
+package: deps
+	cmake -S . -B $(PACKAGE_BUILD_DIR) -G Ninja $(CMAKE_FLAGS) -DCMAKE_INSTALL_PREFIX=/usr \
+	  -DFREP_MOD_DIR=share/freecad/Mod -DFREP_PYTHON_DIR=lib/python3/dist-packages \
+	  -DFREP_BUILD_TESTS=OFF
+	cmake --build $(PACKAGE_BUILD_DIR) -j $(JOBS)
+	rm -f $(PACKAGE_BUILD_DIR)/frepcad_*.deb $(BUILD_DIR)/frepcad_*.deb
+	cd $(PACKAGE_BUILD_DIR) && cpack -G DEB
+	cp $(PACKAGE_BUILD_DIR)/frepcad_*.deb $(BUILD_DIR)/
+	@ls $(BUILD_DIR)/frepcad_*.deb
+
 # Installs frepcad and the workbench (with frepcore inside it) where FreeCAD finds them, no
 # source tree needed: PREFIX/bin/frepcad and PREFIX/share/FreeCAD/Mod/FRep (FreeCAD's user Mod
 # folder for the default PREFIX).
@@ -36,7 +58,7 @@ install: build
 FUZZ_CASES ?= 50000
 FUZZ_SEED ?= $(shell date +%s)
 fuzz: build
-	/usr/bin/python3.11 tests/fuzz_cli.py $(BUILD_DIR)/bin/frepcad . $(FUZZ_CASES) $(FUZZ_SEED)
+	$(PYTHON) tests/fuzz_cli.py $(BUILD_DIR)/bin/frepcad . $(FUZZ_CASES) $(FUZZ_SEED)
 
 demo: build
 	@bash scripts/demo.sh $(BUILD_DIR)
@@ -47,11 +69,11 @@ bench: build
 # frepcad repair beside admesh on 60 meshes broken on purpose (docs/manufacturing.md); the
 # table goes to build/repair-comparison.md.
 repair-comparison: build
-	/usr/bin/python3.11 bench/repair_comparison.py $(BUILD_DIR)/bin/frepcad $(BUILD_DIR)/repair-comparison --markdown $(BUILD_DIR)/repair-comparison.md
+	$(PYTHON) bench/repair_comparison.py $(BUILD_DIR)/bin/frepcad $(BUILD_DIR)/repair-comparison --markdown $(BUILD_DIR)/repair-comparison.md
 
 # The example FreeCAD documents (examples/*.FCStd), rebuilt with the workbench.
 examples: build
-	BUILD_DIR=$(abspath $(BUILD_DIR)) /usr/bin/python3.11 examples/make_documents.py
+	BUILD_DIR=$(abspath $(BUILD_DIR)) $(PYTHON) examples/make_documents.py
 
 # Screenshots for docs/ from the real GUI under Xvfb: the GUI smoke test's, and the node
 # gallery (docs/gallery.md).

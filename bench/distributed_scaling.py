@@ -1,7 +1,7 @@
 """Brick jobs on Dask: scaling on this machine and a simulated large cluster (issue 17).
 
 Usage (from the repository root, after `make build`):
-    PYTHONPATH=build/python /usr/bin/python3.11 bench/distributed_scaling.py MODEL CELLS \
+    PYTHONPATH=build/python /usr/bin/python3 bench/distributed_scaling.py MODEL CELLS \
         [--bricks 8,64] [--workers 1,2] [--format stl|3mf] [--out build/distributed-scaling.json]
 
 For each worker count and job count: the wall time of export_distributed on a LocalCluster

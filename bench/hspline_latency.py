@@ -1,4 +1,4 @@
-#!/usr/bin/python3.11
+#!/usr/bin/python3
 """How fast the workbench follows a drag on a big hspline (issue 15's goal: at least 30
 updates a second on a 5-level surface with 10,000 CVs). Headless FreeCAD: the HSpline feature
 holds the same 5-level hierarchy as bench_hspline.cpp (a torus refined over shrinking regions,
@@ -8,7 +8,7 @@ the document recomputes (flattening, the exact Part B-spline face and solid). Th
 also timed alone. JSON to the path given (run by `make bench`).
 
     FREECAD_USER_HOME=build/freecad-home FREPCORE_PATH=build/python \\
-        /usr/bin/python3.11 bench/hspline_latency.py build/bench-hspline.json
+        /usr/bin/python3 bench/hspline_latency.py build/bench-hspline.json
 """
 
 import json
@@ -17,7 +17,7 @@ import statistics
 import sys
 import time
 
-sys.path.append("/usr/lib/freecad-python3/lib")
+sys.path += ["/usr/lib/freecad-python3/lib", "/usr/lib/freecad/lib"]  # FreeCAD 0.20, 1.0
 import FreeCAD  # noqa: E402
 
 import FRepHSpline as H  # noqa: E402

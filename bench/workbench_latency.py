@@ -1,4 +1,4 @@
-#!/usr/bin/python3.11
+#!/usr/bin/python3
 """Recompute latency of the csg example in FreeCAD after a parameter change, headless and
 (through workbench_latency_gui.FCMacro under Xvfb) in the GUI, where the time also covers
 the 3D view taking the new preview and redrawing.
@@ -10,7 +10,7 @@ broken down into its steps (tree, bounds, meshing, hand-over to FreeCAD) by timi
 step alone. Results: JSON to the path given (run by `make bench`, see scripts/bench.sh).
 
     FREECAD_USER_HOME=build/freecad-home FREPCORE_PATH=build/python \\
-        /usr/bin/python3.11 bench/workbench_latency.py build/bench-workbench.json
+        /usr/bin/python3 bench/workbench_latency.py build/bench-workbench.json
 """
 
 import json
@@ -19,7 +19,7 @@ import statistics
 import sys
 import time
 
-sys.path.append("/usr/lib/freecad-python3/lib")
+sys.path += ["/usr/lib/freecad-python3/lib", "/usr/lib/freecad/lib"]  # FreeCAD 0.20, 1.0
 import FreeCAD  # noqa: E402
 
 import FRepFeatures  # noqa: E402

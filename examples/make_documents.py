@@ -1,4 +1,4 @@
-#!/usr/bin/python3.11
+#!/usr/bin/python3
 """Writes the example FreeCAD documents with the workbench's own features:
 
     examples/csg.FCStd              the csg reference model (examples/csg.json) as features

@@ -1,9 +1,9 @@
-#!/usr/bin/python3.11
+#!/usr/bin/python3
 """Writes examples/showcase/*.json: seed 000's showcase shapes (its figures 4.9 to 4.17)
 rebuilt with FRepCAD's nodes, each with an export box and resolution. `make test` exports
 every one of them and checks it printable (tests/test_mesher.cpp, ShowcasePrintable).
 
-    PYTHONPATH=build/python /usr/bin/python3.11 examples/make_showcase.py
+    PYTHONPATH=build/python /usr/bin/python3 examples/make_showcase.py
 """
 
 import math

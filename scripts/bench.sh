@@ -4,6 +4,7 @@
 # recorded in docs/performance.md. Extra arguments go to the Google Benchmark binary.
 set -euo pipefail
 build=${1:-build}
+. "$build/frep-env.sh"  # FREP_PYTHON: the Python FreeCAD runs
 out="$build/bench-results.json"
 "$build/bin/frepcad_bench" --benchmark_out="$out" --benchmark_out_format=json \
   --benchmark_repetitions=1 "${@:2}"
@@ -12,12 +13,12 @@ echo "results written to $out"
 home="$(realpath "$build")/freecad-home"
 bash scripts/install-workbench.sh "$home" >/dev/null
 FREECAD_USER_HOME="$home" FREPCORE_PATH="$(realpath "$build")/python" \
-  /usr/bin/python3.11 bench/workbench_latency.py "$build/bench-workbench.json" 2>&1 \
+  "$FREP_PYTHON" bench/workbench_latency.py "$build/bench-workbench.json" 2>&1 \
   | grep -v '^ *#\|^$\|^FreeCAD\|^©\|wouldn.t be possible'
 
 # How fast an hspline drag updates the document (issue 15): build/bench-hspline.json.
 FREECAD_USER_HOME="$home" FREPCORE_PATH="$(realpath "$build")/python" \
-  /usr/bin/python3.11 bench/hspline_latency.py "$build/bench-hspline.json" 2>&1 \
+  "$FREP_PYTHON" bench/hspline_latency.py "$build/bench-hspline.json" 2>&1 \
   | grep -v '^ *#\|^$\|^FreeCAD\|^©\|wouldn.t be possible'
 
 # The same in the GUI (under Xvfb with software OpenGL: an upper bound for a real display).

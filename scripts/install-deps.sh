@@ -11,6 +11,7 @@ packages=(
   libminizip-dev  # the streamed 3MF package's zip (io/three_mf_stream.cpp)
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
   libocct-data-exchange-dev  # OpenCASCADE: hspline surfaces, solids, STEP (hspline/occt/)
+  libfontconfig-dev  # (OCCT 7.8's CMake files, on trixie, name it for the link)
   admesh      # the repair comparison's reference (bench/repair_comparison.py)
   libgtest-dev libgmock-dev libbenchmark-dev
   freecad freecad-python3 python3-dev pybind11-dev python3-pytest

@@ -43,6 +43,14 @@ def build_csg_spreadsheet(doc):
     return mesh
 
 
+def _attach_flat(sketch, plane):
+    """Puts a sketch flat on a datum plane. FreeCAD 1.0 renamed the attachment's Support to
+    AttachmentSupport (0.20 has only Support)."""
+    support = "AttachmentSupport" if "AttachmentSupport" in sketch.PropertiesList else "Support"
+    setattr(sketch, support, (plane, [""]))
+    sketch.MapMode = "FlatFace"
+
+
 def build_bracket(doc, length=40.0, width=24.0, thickness=10.0, hole=3.5, fillet=4.0):
     """A PartDesign bracket, made as a user would: a sketched plate padded to `thickness` mm,
     two holes pocketed through it, its four vertical corner edges filleted. Returns the
@@ -53,8 +61,7 @@ def build_bracket(doc, length=40.0, width=24.0, thickness=10.0, hole=3.5, fillet
     body = doc.addObject("PartDesign::Body", "Bracket")
     plate = body.newObject("Sketcher::SketchObject", "PlateSketch")
     xy = [f for f in body.Origin.OriginFeatures if f.Role == "XY_Plane"][0]
-    plate.Support = (xy, [""])
-    plate.MapMode = "FlatFace"
+    _attach_flat(plate, xy)
     corners = [FreeCAD.Vector(0, 0, 0), FreeCAD.Vector(length, 0, 0),
                FreeCAD.Vector(length, width, 0), FreeCAD.Vector(0, width, 0)]
     for i in range(4):
@@ -64,8 +71,7 @@ def build_bracket(doc, length=40.0, width=24.0, thickness=10.0, hole=3.5, fillet
     pad.Length = thickness
     doc.recompute()
     holes = body.newObject("Sketcher::SketchObject", "HoleSketch")
-    holes.Support = (xy, [""])
-    holes.MapMode = "FlatFace"
+    _attach_flat(holes, xy)
     for x in (length * 0.25, length * 0.75):
         holes.addGeometry(Part.Circle(FreeCAD.Vector(x, width / 2, 0), FreeCAD.Vector(0, 0, 1), hole))
     pocket = body.newObject("PartDesign::Pocket", "Holes")

@@ -14,6 +14,7 @@
 #include <limits>
 
 #include "base/errors.h"
+#include "base/library_compat.h"
 
 namespace frep {
 
@@ -144,7 +145,7 @@ PrintabilityReport measurePrintability(const TriangleMesh& mesh, const Printabil
       const auto hit =
           tree.first_intersection(Ray(centre, d), [&](const Iterator& id) { return id == self; });
       if (!hit) continue;
-      const Point* p = boost::get<Point>(&hit->first);
+      const Point* p = intersectionAs<Point>(hit->first);
       if (!p) continue;
       deepest = std::max(deepest, std::sqrt(CGAL::squared_distance(centre, *p)) * std::cos(tilt));
     }

@@ -6,6 +6,7 @@
 #include <limits>
 #include <nanoflann.hpp>
 
+#include "base/library_compat.h"
 #include "frep/ops.h"
 #include "frep/program.h"
 
@@ -277,9 +278,9 @@ struct InstanceSet::Index {
       }
       return;
     }
-    thread_local std::vector<std::pair<std::uint32_t, double>> found;
+    thread_local std::vector<KdRadiusMatch> found;
     found.clear();
-    tree.radiusSearch(q, radius * radius, found, nanoflann::SearchParams(32, 0, false));
+    tree.radiusSearch(q, radius * radius, found, kdUnsortedSearch());
     out.clear();
     for (const auto& f : found) out.push_back(f.first);
     std::sort(out.begin(), out.end());

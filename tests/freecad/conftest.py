@@ -1,14 +1,18 @@
 """Runs the workbench tests inside FreeCAD, headless: FreeCAD imported as a module into
-/usr/bin/python3.11, with a private FreeCAD home whose Mod folder links Mod/FRep
+the Python FreeCAD runs, with a private FreeCAD home whose Mod folder links Mod/FRep
 (FREECAD_USER_HOME is set by CTest; see tests/CMakeLists.txt)."""
 
 import os
 import sys
 
-sys.path.append("/usr/lib/freecad-python3/lib")
-sys.path.append("/usr/lib/freecad/lib")
+# FreeCAD's module folder as the configure step found it (FreeCAD 0.20 on bookworm:
+# /usr/lib/freecad-python3/lib; 1.0 on trixie: /usr/lib/freecad/lib)
+sys.path += [d for d in (os.environ.get("FREECAD_LIB_DIR"), "/usr/lib/freecad-python3/lib",
+                         "/usr/lib/freecad/lib") if d]
 # Python workbenches (Draft) and the PySide shim they import, as FreeCAD's own start-up adds
 sys.path += ["/usr/share/freecad/Mod/Draft", "/usr/share/freecad/Ext"]
+# FreeCAD 1.0's Draft arrays import the BIM workbench's resources (Arch_rc)
+sys.path += [d for d in ["/usr/share/freecad/Mod/BIM"] if os.path.isdir(d)]
 # Compiled workbenches with a Python package of their own (PartDesign), last so that they
 # never shadow a module found above.
 sys.path.append("/usr/lib/freecad/Mod")
