@@ -5,7 +5,7 @@ CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
 # The Python FreeCAD runs, as the configure step found it (cmake/FreeCADPython.cmake).
 PYTHON = $(shell sed -n 's/^FREP_PYTHON=//p' $(BUILD_DIR)/frep-env.sh 2>/dev/null)
 
-.PHONY: all deps configure build test acceptance test-trixie package fuzz install demo bench repair-comparison screenshots examples format clean
+.PHONY: all deps configure build test acceptance test-trixie package test-package fuzz install demo bench repair-comparison screenshots examples format clean
 
 all: build
 
@@ -46,6 +46,14 @@ package: deps
 	cd $(PACKAGE_BUILD_DIR) && cpack -G DEB
 	cp $(PACKAGE_BUILD_DIR)/frepcad_*.deb $(BUILD_DIR)/
 	@ls $(BUILD_DIR)/frepcad_*.deb
+
+# The package of this machine's own release, installed with apt into a clean root of that
+# release (debootstrap; the bare root cached in PACKAGE_CACHE), where FreeCAD loads the
+# workbench from the system Mod folder and frepcad exports (tests/package/run.sh; root, or sudo).
+PACKAGE_CACHE ?= $(BUILD_DIR)/debian
+test-package: package
+	@bash tests/package/run.sh $(PACKAGE_CACHE) $$(. /etc/os-release && echo $$VERSION_CODENAME) \
+	  $$(ls $(BUILD_DIR)/frepcad_*.deb)
 
 # Installs frepcad and the workbench (with frepcore inside it) where FreeCAD finds them, no
 # source tree needed: PREFIX/bin/frepcad and PREFIX/share/FreeCAD/Mod/FRep (FreeCAD's user Mod

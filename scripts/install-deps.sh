@@ -12,6 +12,7 @@ packages=(
   libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
   libocct-data-exchange-dev  # OpenCASCADE: hspline surfaces, solids, STEP (hspline/occt/)
   libfontconfig-dev  # (OCCT 7.8's CMake files, on trixie, name it for the link)
+  file dpkg-dev  # make package: CPack reads the libraries' dependencies with dpkg-shlibdeps
   admesh      # the repair comparison's reference (bench/repair_comparison.py)
   libgtest-dev libgmock-dev libbenchmark-dev
   freecad freecad-python3 python3-dev pybind11-dev python3-pytest

@@ -52,9 +52,10 @@ def _attach_flat(sketch, plane):
 
 
 def build_bracket(doc, length=40.0, width=24.0, thickness=10.0, hole=3.5, fillet=4.0):
-    """A PartDesign bracket, made as a user would: a sketched plate padded to `thickness` mm,
-    two holes pocketed through it, its four vertical corner edges filleted. Returns the
-    Body (its Tip is the fillet)."""
+    """A PartDesign bracket, made as a user would: a sketched plate with corners rounded to
+    `fillet` mm, padded to `thickness` mm, two holes pocketed through it. Returns the Body
+    (its Tip is the pocket)."""
+    import math
     import Part
     import Sketcher  # noqa: F401  (registers the sketch type)
     import FreeCAD
@@ -62,34 +63,32 @@ def build_bracket(doc, length=40.0, width=24.0, thickness=10.0, hole=3.5, fillet
     plate = body.newObject("Sketcher::SketchObject", "PlateSketch")
     xy = [f for f in body.Origin.OriginFeatures if f.Role == "XY_Plane"][0]
     _attach_flat(plate, xy)
-    corners = [FreeCAD.Vector(0, 0, 0), FreeCAD.Vector(length, 0, 0),
-               FreeCAD.Vector(length, width, 0), FreeCAD.Vector(0, width, 0)]
-    for i in range(4):
-        plate.addGeometry(Part.LineSegment(corners[i], corners[(i + 1) % 4]))
+    # The corners are rounded in the sketch rather than by a Fillet on the pad's edges: a
+    # fillet names its edges, and FreeCAD 1.0 renames a scripted pad's edges when its length
+    # changes, so the fillet (and the body) would fail on the first edit.
+    f, z = fillet, FreeCAD.Vector(0, 0, 1)
+    centres = [(length - f, f), (length - f, width - f), (f, width - f), (f, f)]
+    for i, (cx, cy) in enumerate(centres):
+        start = math.radians(90 * i - 90)
+        circle = Part.Circle(FreeCAD.Vector(cx, cy, 0), z, f)
+        plate.addGeometry(Part.ArcOfCircle(circle, start, start + math.pi / 2))
+        nx, ny = centres[(i + 1) % 4]
+        end = FreeCAD.Vector(cx + f * math.cos(start + math.pi / 2),
+                             cy + f * math.sin(start + math.pi / 2), 0)
+        plate.addGeometry(Part.LineSegment(
+            end, FreeCAD.Vector(nx + f * math.cos(start + math.pi / 2),
+                                ny + f * math.sin(start + math.pi / 2), 0)))
     pad = body.newObject("PartDesign::Pad", "Pad")
     pad.Profile = plate
     pad.Length = thickness
-    doc.recompute()
     holes = body.newObject("Sketcher::SketchObject", "HoleSketch")
     _attach_flat(holes, xy)
     for x in (length * 0.25, length * 0.75):
-        holes.addGeometry(Part.Circle(FreeCAD.Vector(x, width / 2, 0), FreeCAD.Vector(0, 0, 1), hole))
+        holes.addGeometry(Part.Circle(FreeCAD.Vector(x, width / 2, 0), z, hole))
     pocket = body.newObject("PartDesign::Pocket", "Holes")
     pocket.Profile = holes
     pocket.Type = 1  # through all,
     pocket.Midplane = True  # both ways from the sketch (which lies on the plate's bottom)
-    doc.recompute()
-    # The straight vertical edges at the plate's corners (not the holes' seams).
-    edges = []
-    for i, e in enumerate(pocket.Shape.Edges):
-        a, b = e.Vertexes[0].Point, e.Vertexes[-1].Point
-        at_corner = all(min(abs(p.x), abs(p.x - length)) < 1e-6 and
-                        min(abs(p.y), abs(p.y - width)) < 1e-6 for p in (a, b))
-        if len(e.Vertexes) == 2 and abs(a.z - b.z) > 1e-6 and at_corner:
-            edges.append("Edge%d" % (i + 1))
-    rounded = body.newObject("PartDesign::Fillet", "Rounds")
-    rounded.Base = (pocket, edges)
-    rounded.Radius = fillet
     doc.recompute()
     return body
 

@@ -377,7 +377,8 @@ PYBIND11_MODULE(_frepcore, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const Cancelled& e) {
-      cancelled(e.what());
+      // (PyErr_SetString: pybind11 2.12 deprecates calling the exception object)
+      PyErr_SetString(cancelled.ptr(), e.what());
     } catch (const ModelError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
     } catch (const FileError& e) {

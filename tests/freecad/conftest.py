@@ -9,8 +9,10 @@ import sys
 # /usr/lib/freecad-python3/lib; 1.0 on trixie: /usr/lib/freecad/lib)
 sys.path += [d for d in (os.environ.get("FREECAD_LIB_DIR"), "/usr/lib/freecad-python3/lib",
                          "/usr/lib/freecad/lib") if d]
-# Python workbenches (Draft) and the PySide shim they import, as FreeCAD's own start-up adds
-sys.path += ["/usr/share/freecad/Mod/Draft", "/usr/share/freecad/Ext"]
+# Python workbenches (Draft), the PySide shim they import and Part's Python modules (FreeCAD
+# 1.0's Draft arrays import PartEnums), as FreeCAD's own start-up adds them
+sys.path += ["/usr/share/freecad/Mod/Draft", "/usr/share/freecad/Ext",
+             "/usr/share/freecad/Mod/Part"]
 # FreeCAD 1.0's Draft arrays import the BIM workbench's resources (Arch_rc)
 sys.path += [d for d in ["/usr/share/freecad/Mod/BIM"] if os.path.isdir(d)]
 # Compiled workbenches with a Python package of their own (PartDesign), last so that they

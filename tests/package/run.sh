@@ -4,19 +4,28 @@
 # FreeCAD headless loads the workbench from the system Mod folder, builds and exports the csg
 # example with it, and the installed frepcad exports the saved document and checks the mesh
 # printable. Runs as root.
-# Usage: tests/package/run.sh CACHE SUITE PACKAGE.deb
+# Usage: tests/package/run.sh CACHE SUITE PACKAGE.deb    (make test-package, make test-trixie)
 #   CACHE holds SUITE-bare.tar (scripts/debian-root.sh) and, when there, root/ (the build
 #   root, whose downloaded .debs are reused instead of fetched again).
 set -euo pipefail
-cache="$(realpath "$1")"; suite="$2"; deb="$(realpath "$3")"
+if [ "$(id -u)" -ne 0 ]; then exec sudo -E bash "$0" "$@"; fi
+cache="$(realpath -m "$1")"; suite="$2"; deb="$(realpath "$3")"
 here="$(cd "$(dirname "$0")" && pwd)"
 . "$here/../../scripts/debian-root.sh"
 root="$cache/package-root"
 trap 'root_unmount "$root"' EXIT
 root_bare "$cache" "$suite"
 root_unpack "$cache/$suite-bare.tar" "$root"
-if [ -d "$cache/root/var/cache/apt/archives" ]; then
-  cp -l "$cache"/root/var/cache/apt/archives/*.deb "$root/var/cache/apt/archives/" 2>/dev/null || true
+# Packages already downloaded are not fetched again: the build root's (test-trixie), or this
+# machine's own when the root is of its release.
+archives=""
+[ -d "$cache/root/var/cache/apt/archives" ] && archives="$cache/root/var/cache/apt/archives"
+if [ -z "$archives" ] && [ "$(. /etc/os-release && echo "$VERSION_CODENAME")" = "$suite" ]; then
+  archives=/var/cache/apt/archives
+fi
+if [ -n "$archives" ]; then
+  cp -l "$archives"/*.deb "$root/var/cache/apt/archives/" 2>/dev/null \
+    || cp "$archives"/*.deb "$root/var/cache/apt/archives/" 2>/dev/null || true
 fi
 mkdir -p "$root/tmp/frepcad-test"
 cp "$deb" "$root/tmp/"
