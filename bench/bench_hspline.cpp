@@ -1,4 +1,4 @@
-// Hsplines (issue 15): a 5-level hierarchy of 10,339 CVs (a torus refined over shrinking
+// Hsplines: a 5-level hierarchy of 10,339 CVs (a torus refined over shrinking
 // regions, every movable CV given an offset), evaluated, flattened, tessellated, and updated
 // after one level-0 CV moves (the work behind one frame of a drag). docs/performance.md.
 #include <benchmark/benchmark.h>

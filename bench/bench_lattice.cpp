@@ -1,4 +1,4 @@
-// lattice/: the three deformations of issue 14, each beside what it replaces or costs.
+// lattice/: the three deformations, each beside what it replaces or costs.
 //   BM_DeformLevelSet/m  a sphere level set 256 voxels across in a twisted 3 x 3 x 3 lattice:
 //                        backward resampling through the inverse with the rebuild (m = 0), the
 //                        same without the rebuild (1), seed 002's forward splat (2; gaps)

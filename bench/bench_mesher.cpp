@@ -180,14 +180,15 @@ BENCHMARK(BM_ThinPartsGyroid)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-// Local refinement (MeshingOptions::refineThinParts, refineTips) off, thin parts only (1),
+// Local refinement (MeshSettings::refine) off, thin parts only (1),
 // with the tips (2), and with the tips two levels deep (3, refinementLevels), at N cells
 // without normals: BM_RefineGyroid/256/0 against .../2.
 void refine(benchmark::State& state, const std::string& name) {
   auto [program, options] = across(name, state.range(0), false);
-  options.refineThinParts = state.range(1) >= 1;
-  options.refineTips = state.range(1) >= 2;
-  options.refinementLevels = state.range(1) == 3 ? 2 : 1;
+  options.settings.refine = state.range(1) >= 2   ? frep::Refinement::Tips
+                            : state.range(1) >= 1 ? frep::Refinement::ThinParts
+                                                  : frep::Refinement::Off;
+  options.settings.refineLevels = state.range(1) == 3 ? 2 : 1;
   meshRepeatedly(state, program, options);
 }
 void BM_RefineTwist(benchmark::State& s) {
@@ -222,12 +223,12 @@ void BM_AcrossTwist(benchmark::State& s) { meshAcross(s, "twist"); }
 void BM_AcrossGyroid(benchmark::State& s) { meshAcross(s, "gyroid"); }
 BENCHMARK(BM_AcrossHelix)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// Mesher v2 beside marching tetrahedra (issue 12): each reference model at 128, 256 and 512
+// Mesher v2 beside marching tetrahedra: each reference model at 128, 256 and 512
 // cells, 1 and 2 threads, without normals (as an STL export meshes): BM_Cubes/csg/256/2 and
 // BM_Tetra/csg/256/2 side by side in one run.
 void meshBy(benchmark::State& state, const std::string& name, frep::Extraction extraction) {
   auto [program, options] = across(name, state.range(0), false);
-  options.extraction = extraction;
+  options.settings.mesher = extraction;
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
                               static_cast<std::size_t>(state.range(1)));
   meshRepeatedly(state, program, options);
@@ -245,7 +246,7 @@ const bool kExtractionBenchmarks = [] {
           ->UseRealTime();
   return true;
 }();
-// The check alone (issue 12's fast check) on the mesher's mesh of each reference model at N
+// The check alone (the fast check) on the mesher's mesh of each reference model at N
 // cells, 1 and 2 threads: BM_Check/csg/256/2. The mesh is made once, outside the loop.
 void checkBy(benchmark::State& state, const std::string& name) {
   const auto [program, options] = across(name, state.range(0), false);

@@ -1,4 +1,4 @@
-"""Brick jobs on Dask: scaling on this machine and a simulated large cluster (issue 17).
+"""Brick jobs on Dask: scaling on this machine and a simulated large cluster.
 
 Usage (from the repository root, after `make build`):
     PYTHONPATH=build/python /usr/bin/python3 bench/distributed_scaling.py MODEL CELLS \

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""How fast the workbench follows a drag on a big hspline (issue 15's goal: at least 30
+"""How fast the workbench follows a drag on a big hspline (the goal: at least 30
 updates a second on a 5-level surface with 10,000 CVs). Headless FreeCAD: the HSpline feature
 holds the same 5-level hierarchy as bench_hspline.cpp (a torus refined over shrinking regions,
 every movable CV given an offset); one update is what a drag's end does: a level-0 CV moves

@@ -1,6 +1,6 @@
 #!/bin/bash
 # Mesher v2 side by side in one run: each reference model exported by marching tetrahedra
-# (--mesher tetra), by cubes without sharp features (--no-sharp) and by cubes with them (the
+# (--mesher tetra), by cubes without sharp features (--no-sharp-features) and by cubes with them (the
 # default): triangles, meshing and check seconds, the whole export's wall time and peak
 # memory (bytes per triangle), and the Hausdorff distance to the exact surface in cells
 # (a second run with --stats; STATS=0 skips it: it meshes at half the cell). Figures for
@@ -16,7 +16,7 @@ for m in $models; do
   for mode in tetra no-sharp cubes; do
     case $mode in
       tetra) args=(--mesher tetra) ;;
-      no-sharp) args=(--no-sharp) ;;
+      no-sharp) args=(--no-sharp-features) ;;
       cubes) args=() ;;
     esac
     text=$( { /usr/bin/time -f "TIME %e %M" "$frepcad" export "$model" -o "$out/$m.stl" --cells "$cells" "${args[@]}"; } 2>&1)

@@ -7,12 +7,14 @@
 
 #include <filesystem>
 #include <optional>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "base/vec.h"
+#include "mesh/mesh_settings.h"
 
 namespace frep::cli {
 
@@ -26,16 +28,10 @@ struct ExportOptions {
   std::optional<double> resolution;
   std::optional<int> cells;
   std::optional<Box3> bbox;
-  std::optional<double> tolerance;  // --tolerance D: simplify within D of the surface
-  bool tetra = false;               // --mesher tetra: marching tetrahedra, as before mesher v2
-  bool sharp = true;                // --no-sharp: merged vertices stay where a vertex was
-  bool straightenCreases = false;   // --straighten-creases
-  // --keep-flat-vertices: false (the mesher's flat vertices stay); --fewer-triangles: true,
-  // the default (kept for scripts of 0.3); unset: true for JSON models
-  std::optional<bool> flatVertices;
-  bool refineThinParts = false;     // --refine-thin-parts
-  bool refineTips = false;          // --refine-tips
-  int refineLevels = 1;             // --refine-levels
+  // The meshing flags (cli/mesh_settings_flags.h), and the table names of those given: a
+  // document's Polygonize features take only those given over their own properties.
+  MeshSettings mesh;
+  std::set<std::string> meshGiven;
   bool stats = false;               // --stats: the accuracy report
   bool fog = false;                 // --fog: a .vdb fog volume instead of a level set
   std::vector<std::string> sets;  // --set Object.Property=VALUE (documents only)
@@ -45,6 +41,7 @@ struct ExportOptions {
   std::optional<int> bricks;
   std::string scheduler, workDir;
 };
+// (its meshing flags are spelled from the table where %MESHING% stands)
 extern const char* const kExportHelp;
 
 int exportCommand(const Args& args);

@@ -16,6 +16,7 @@
 
 #include "base/errors.h"
 #include "cli/commands.h"
+#include "cli/mesh_settings_flags.h"
 #include "cli/terminal_progress.h"
 
 extern char** environ;
@@ -40,9 +41,7 @@ int exportDistributed(const ExportOptions& o, const Box3& box, double resolution
       {"bricks", *o.bricks},
       {"bbox", {box.lo[0], box.lo[1], box.lo[2], box.hi[0], box.hi[1], box.hi[2]}},
       {"resolution", resolution},
-      {"sharp", o.sharp},
-      {"fewer_triangles", o.flatVertices.value_or(true)},
-      {"mesher", o.tetra ? "tetra" : "cubes"},
+      {"settings", nlohmann::json::parse(meshSettingsJson(o.mesh, {}))},
       {"format", o.format},
       {"units", o.units},
       {"metadata", metadata},

@@ -18,6 +18,7 @@
 #include <string>
 
 #include "cli/commands.h"
+#include "cli/mesh_settings_flags.h"
 #include "cli/terminal_progress.h"
 #include "base/errors.h"
 
@@ -98,9 +99,9 @@ int exportDocument(const ExportOptions& o) {
   nlohmann::json args = {{"document", o.input}, {"output", o.output},     {"format", o.format},
                          {"objects", o.objects},  {"sets", o.sets},         {"force", o.force},
                          {"quiet", o.quiet},    {"cells", nullptr},       {"resolution", nullptr},
-                         {"bbox", nullptr},     {"tolerance", nullptr},   {"sharp", o.sharp},       {"units", o.units}};
+                         {"bbox", nullptr},     {"units", o.units},
+                         {"settings", nlohmann::json::parse(meshSettingsJson(o.mesh, o.meshGiven))}};
   if (o.cells) args["cells"] = *o.cells;
-  if (o.tolerance) args["tolerance"] = *o.tolerance;
   if (o.resolution) args["resolution"] = *o.resolution;
   if (o.bbox)
     args["bbox"] = {o.bbox->lo[0], o.bbox->lo[1], o.bbox->lo[2],

@@ -13,6 +13,7 @@
 #include "base/file_names.h"
 #include "cli/commands.h"
 #include "cli/heavy_module.h"
+#include "cli/mesh_settings_flags.h"
 #include "cli/terminal_progress.h"
 #include "frep/model_json.h"
 #include "frep/structural_bounds.h"
@@ -38,29 +39,9 @@ const char* const kExportHelp =
     "  --format F              stl, stl-ascii, obj, ply, bms or 3mf (default: from OUT's\n"
     "                          extension)\n"
     "  --units U               a 3MF's length unit: micron, mm, cm, inch, ft, m (default mm)\n"
-    "  --tolerance D           simplify: far fewer triangles, the surface kept within D (model\n"
-    "                          units) of the exact one, still checked (a tenth of the cell size\n"
-    "                          is a good start)\n"
-    "  --no-sharp              no vertices placed on creases and corners (the mesher's and,\n"
-    "                          with --tolerance, the simplifier's): edges are chamfered\n"
-    "  --straighten-creases    merge the vertices either side of a chamfered or zig-zagging\n"
-    "                          crease onto it and flip its edges along it (within a third of\n"
-    "                          a cell; a few times the meshing's time): clean, straight\n"
-    "                          creases (JSON models)\n"
-    "  --refine-thin-parts     mesh the cubes where a part thinner than a cell hides between the\n"
-    "                          grid's points again at half a cell (docs/mesher.md)\n"
-    "  --refine-tips           ... and the cubes round the tips of creases and slivers too\n"
-    "                          (the gyroid's; creases then come out less clean)\n"
-    "  --refine-levels N       with either: refine the half cubes again where a part hides\n"
-    "                          between their own points, down to a cell / 2^N (1 to 3,\n"
-    "                          default 1)\n"
-    "  --keep-flat-vertices    keep the vertices where the surface is flat within a fiftieth\n"
-    "                          of a cell, which are dropped by default (6 to 15 % fewer\n"
-    "                          triangles, the same accuracy): a little faster meshing\n"
-    "                          (JSON models; --fewer-triangles, the default, is accepted)\n"
-    "  --mesher M              cubes (default: about a third of the triangles of tetra) or\n"
-    "                          tetra (marching tetrahedra, the mesher before 0.3; kept for\n"
-    "                          one release)\n"
+    "meshing options (the same names in frepcore and the Polygonize feature):\n"
+    "%MESHING%"
+    "other options:\n"
     "  --fog                   with OUT.vdb: a fog volume (0 outside, 1 inside, a ramp across\n"
     "                          the band inside the surface) instead of a level set\n"
     "  --stats                 measure the mesh against the exact surface: the Hausdorff\n"
@@ -117,31 +98,7 @@ ExportOptions parseExportOptions(const Args& args) {
         throw UsageError("--cells must be a whole number from 1 to " + std::to_string(kMaxCells) +
                          ", got '" + args[i] + "'");
       o.cells = static_cast<int>(n);
-    } else if (a == "--tolerance") {
-      o.tolerance = parseNumber(value("a distance"), a);
-      if (!(*o.tolerance > 0) || !std::isfinite(*o.tolerance))
-        throw UsageError("--tolerance must be a distance > 0 (model units), got '" + args[i] +
-                         "'");
-    } else if (a == "--no-sharp") o.sharp = false;
-    else if (a == "--straighten-creases")
-      o.straightenCreases = true;
-    else if (a == "--refine-thin-parts")
-      o.refineThinParts = true;
-    else if (a == "--refine-tips")
-      o.refineTips = true;
-    else if (a == "--refine-levels") {
-      const double n = parseNumber(value("a number of levels"), a);
-      if (!(n >= 1 && n <= kMaxRefinementLevels && n == std::floor(n)))
-        throw UsageError("--refine-levels must be a whole number from 1 to " +
-                         std::to_string(kMaxRefinementLevels) + ", got '" + args[i] + "'");
-      o.refineLevels = static_cast<int>(n);
-    } else if (a == "--fewer-triangles" || a == "--keep-flat-vertices")
-      o.flatVertices = a == "--fewer-triangles";
-    else if (a == "--mesher") {
-      const std::string m = value("cubes or tetra");
-      if (m != "cubes" && m != "tetra")
-        throw UsageError("--mesher must be cubes or tetra, got '" + m + "'");
-      o.tetra = m == "tetra";
+    } else if (takeMeshSettingFlag(args, i, o.mesh, o.meshGiven)) {
     }
     else if (a == "--stats") o.stats = true;
     else if (a == "--fog") o.fog = true;
@@ -181,31 +138,17 @@ ExportOptions parseExportOptions(const Args& args) {
     throw UsageError("--fog applies to a .vdb output only");
   if ((!o.scheduler.empty() || !o.workDir.empty()) && !o.bricks)
     throw UsageError("--scheduler and --work-dir apply to --bricks only");
-  if (o.flatVertices && (isDocumentPath(o.input) || isVdbPath(o.output)))
-    throw UsageError(
-        std::string(*o.flatVertices ? "--fewer-triangles" : "--keep-flat-vertices") +
-        " applies to a mesh exported from a JSON model (a document's Polygonize feature has "
-        "a FewerTriangles property)");
-  if (o.refineLevels > 1 && !o.refineThinParts && !o.refineTips)
-    throw UsageError("--refine-levels applies to --refine-thin-parts or --refine-tips");
-  if (o.straightenCreases) {
-    if (!o.sharp)
-      throw UsageError("--straighten-creases needs the creases' vertices: drop --no-sharp");
-    if (isVdbPath(o.output)) throw UsageError("--straighten-creases applies to meshes, not .vdb");
-    if (isDocumentPath(o.input))
-      throw UsageError(
-          "--straighten-creases applies to a mesh exported from a JSON model (a "
-          "document's Polygonize feature has a StraightenCreases property)");
-    if (o.bricks) throw UsageError("--bricks cannot be combined with --straighten-creases yet");
-  }
+  validateMeshFlags(o.mesh);
+  if (isVdbPath(o.output) && !o.meshGiven.empty())
+    throw UsageError(settingFlag(*o.meshGiven.begin()) +
+                     " applies to meshes, not to a .vdb level set");
   if (o.bricks) {
-    // (the simplifier and the accuracy report work on the whole mesh; a level set is
-    // OpenVDB's; a document is FreeCAD's)
-    if (o.tolerance) throw UsageError("--bricks cannot be combined with --tolerance yet");
-    if (o.refineThinParts || o.refineTips)
-      throw UsageError(std::string("--bricks cannot be combined with ") +
-                       (o.refineTips ? "--refine-tips" : "--refine-thin-parts") +
-                       " yet (a brick job's refined cubes would change its neighbours' faces)");
+    // (the simplifier, the straightening and the accuracy report work on the whole mesh, a
+    // brick job's refined cubes would change its neighbours' faces; a level set is OpenVDB's,
+    // a document FreeCAD's)
+    for (const char* option : {"tolerance", "straighten_creases", "refine"})
+      if (getMeshSetting(o.mesh, option) != getMeshSetting(MeshSettings{}, option))
+        throw UsageError("--bricks cannot be combined with " + settingFlag(option) + " yet");
     if (o.stats) throw UsageError("--bricks cannot be combined with --stats yet");
     if (isVdbPath(o.output)) throw UsageError("--bricks writes meshes, not .vdb volumes");
     if (isDocumentPath(o.input))
@@ -270,14 +213,7 @@ int exportModel(const ExportOptions& opt) {
   request.threeMf.metadata = {{"Application", "FRepCAD frepcad export"},
                               {"Title", fs::path(opt.input).stem().string()}};
   request.force = opt.force;
-  request.tolerance = opt.tolerance;
-  request.sharpFeatures = opt.sharp;
-  request.straightenCreases = opt.straightenCreases;
-  if (opt.flatVertices) request.flatVertices = *opt.flatVertices;  // (else the pipeline's default)
-  request.refineThinParts = opt.refineThinParts;
-  request.refineTips = opt.refineTips;
-  request.refinementLevels = opt.refineLevels;
-  request.extraction = opt.tetra ? Extraction::Tetrahedra : Extraction::Cubes;
+  request.mesh = opt.mesh;
   request.stats = opt.stats;
   // The box policy is the pipeline's; the CLI only adds where the user gives a box.
   MeshingBox chosen;
@@ -315,8 +251,8 @@ int exportModel(const ExportOptions& opt) {
   if (!opt.quiet && r.simplified)
     std::cout << "simplified " << r.simplify.trianglesBefore << " -> " << r.simplify.trianglesAfter
               << " triangles in " << r.simplify.seconds << " s, the faces it made within "
-              << r.simplify.largestDistance << " of the exact surface (tolerance " << *opt.tolerance
-              << (r.simplify.largestDistance > *opt.tolerance
+              << r.simplify.largestDistance << " of the exact surface (tolerance " << *opt.mesh.tolerance
+              << (r.simplify.largestDistance > *opt.mesh.tolerance
                       ? "; where the grid had cut a crease off by more, only made better)\n"
                       : ")\n");
   if (!opt.quiet && r.straightened)
@@ -382,7 +318,9 @@ void checkOutputPath(const std::string& output, const std::string& input) {
 int exportCommand(const Args& args) {
   const ExportOptions opt = parseExportOptions(args);
   if (opt.help) {
-    std::cout << kExportHelp;
+    std::string help = kExportHelp;
+    help.replace(help.find("%MESHING%"), 9, meshSettingsHelp());
+    std::cout << help;
     return 0;
   }
   checkOutputPath(opt.output, opt.input);

@@ -45,8 +45,8 @@ int vdbInfo(const std::string& path, bool json) {
 }
 
 int exportLevelSet(const ExportOptions& opt, const Program& program, const MeshingBox& box) {
-  if (opt.tolerance || !opt.format.empty() || opt.stats)
-    throw UsageError("--tolerance, --format and --stats apply to meshes, not to a .vdb level set");
+  if (!opt.format.empty() || opt.stats)
+    throw UsageError("--format and --stats apply to meshes, not to a .vdb level set");
   LevelSetOptions o;
   o.voxel = box.resolution;
   o.fog = opt.fog;

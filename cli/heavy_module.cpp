@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "base/errors.h"
 #include "frep/field_sources.h"
 
 namespace frep::cli {
@@ -42,7 +43,7 @@ const HeavyModule* load() {
     }
     return m;
   }
-  throw std::runtime_error("cannot load frepcad's OpenVDB and OpenCASCADE module (" +
+  throw FileError("cannot load frepcad's OpenVDB and OpenCASCADE module (" +
                            (why.empty() ? "libfrepcad_heavy.so is neither in " + dir.string() +
                                               " nor in " + (dir / ".." / "lib" / "frepcad").string()
                                         : why) +

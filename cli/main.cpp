@@ -6,6 +6,7 @@
 #include "cli/commands.h"
 #include "cli/terminal_progress.h"
 #include "base/errors.h"
+#include "base/exit_status.h"
 #include "base/process_memory.h"
 #include "cli/heavy_module.h"
 
@@ -25,6 +26,7 @@ const char* kUsage =
     "  frepcad info [TYPE | FILE.vdb] [--json | --markdown]\n"
     "  frepcad hspline new|info|refine|move|zero|unrefine|export ...   (hierarchical B-splines)\n"
     "  frepcad COMMAND --help   the options of one command\n"
+    "  frepcad --version\n"
     "exit status: 0 ok, 1 mesh not printable, 2 bad input, 3 internal error,\n"
     "130 cancelled (Ctrl-C)\n";
 
@@ -77,23 +79,17 @@ int main(int argc, char** argv) {
     if (command == "compare") return finish(heavyModule().compare(args));
     if (command == "hspline") return finish(heavyModule().hspline(args));
     if (command == "--version") {
-      std::cout << "frepcad 0.1.0\n";
+      std::cout << "frepcad " FREPCAD_VERSION "\n";
       return 0;
     }
     throw UsageError("unknown command '" + command + "'; commands: export, deform, check, repair, compare, info, hspline");
   } catch (const UsageError& e) {
     std::cerr << "frepcad: " << e.what() << "\n" << kUsage;
-  } catch (const frep::ModelError& e) {
-    std::cerr << "frepcad: " << e.what() << "\n";
-  } catch (const frep::FileError& e) {
-    std::cerr << "frepcad: " << e.what() << "\n";
-  } catch (const frep::Cancelled&) {
-    std::cerr << "frepcad: cancelled; nothing written\n";
-    return kExitCancelled;
-  } catch (const std::bad_alloc&) {
-    std::cerr << "frepcad: out of memory; try a larger --resolution (cell size)\n";
-  } catch (const std::exception& e) {
-    std::cerr << "frepcad: " << e.what() << "\n";
+    return frep::exitStatus(frep::Outcome::BadInput);
+  } catch (...) {
+    std::string line;
+    const frep::Outcome outcome = frep::outcomeOf(std::current_exception(), &line);
+    std::cerr << "frepcad: " << line << "\n";
+    return frep::exitStatus(outcome);
   }
-  return 2;
 }

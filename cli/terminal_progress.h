@@ -13,6 +13,7 @@
 #include <string>
 #include <thread>
 
+#include "base/exit_status.h"
 #include "pipeline/export_pipeline.h"
 
 namespace frep::cli {
@@ -20,8 +21,8 @@ namespace frep::cli {
 // Installs the SIGINT/SIGTERM handlers (once); interrupted() tells whether one arrived.
 void installInterruptHandlers();
 bool interrupted();
-// Exit status of a cancelled command (128 + SIGINT, as shells report it).
-constexpr int kExitCancelled = 130;
+// Exit status of a cancelled command (base/exit_status.h).
+constexpr int kExitCancelled = static_cast<int>(Outcome::Cancelled);
 
 class TerminalProgress {
  public:

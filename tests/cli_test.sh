@@ -26,6 +26,8 @@ expect() {
 }
 
 expect 0 "verdict: printable" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/s.stl" --resolution 0.1
+# one version number: the workbench's package.xml
+expect 0 "^frepcad $(sed -n 's|.*<version>\(.*\)</version>.*|\1|p' "$src/Mod/FRep/package.xml")$" -- "$frepcad" --version
 expect 0 "verdict: printable" -- "$frepcad" check "$work/s.stl"
 expect 0 '"printable": true' -- "$frepcad" check "$work/s.stl" --json
 expect 0 "wrote .*s.obj" -- "$frepcad" export "$src/examples/csg.json" -o "$work/s.obj" --resolution 0.1
@@ -38,7 +40,7 @@ full=$("$frepcad" export "$src/examples/csg.json" -o "$work/full.stl" --resoluti
 small=$(stat -c %s "$work/t.stl")
 [ $((small * 4)) -lt "$full" ] || { echo "FAIL: --tolerance did not shrink the file ($small vs $full bytes)"; exit 1; }
 expect 0 "simplified" -- "$frepcad" export "$src/examples/csg.json" -o "$work/t2.obj" --resolution 0.1 --tolerance 0.01 --no-sharp
-expect 2 "--tolerance must be a distance > 0 \(model units\), got '0'" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.stl" --tolerance 0
+expect 2 "--tolerance must be a distance > 0 \(model units\), got 0" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.stl" --tolerance 0
 expect 0 "Hausdorff distance   [0-9.e-]+ \([0-9.e-]+ cells\)" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/st.stl" --resolution 0.1 --stats
 expect 0 "^ +largest at \([-0-9.e]+, [-0-9.e]+, [-0-9.e]+\)$" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/st.stl" --resolution 0.1 --stats
 expect 0 "crease length        [0-9.e-]+" -- "$frepcad" export "$src/examples/csg.json" -o "$work/st.stl" --resolution 0.1 --tolerance 0.01 --stats
@@ -50,9 +52,15 @@ crease() { "$frepcad" export "$src/examples/twist.json" -o "$work/sc.stl" --cell
 plain=$(crease); straight=$(crease --straighten-creases)
 awk -v a="$plain" -v b="$straight" 'BEGIN { exit !(a - 19.956 > 3 * (b - 19.956 < 0 ? 19.956 - b : b - 19.956)) }' ||
   { echo "FAIL: --straighten-creases did not bring the crease length nearer ($plain -> $straight)"; failures=$((failures + 1)); }
-expect 2 "--straighten-creases needs the creases' vertices: drop --no-sharp" -- "$frepcad" export "$src/examples/twist.json" -o "$work/x.stl" --straighten-creases --no-sharp
-expect 2 "--straighten-creases applies to meshes, not .vdb" -- "$frepcad" export "$src/examples/twist.json" -o "$work/x.vdb" --straighten-creases
-expect 2 "--straighten-creases applies to a mesh exported from a JSON model \(a document's Polygonize feature has a StraightenCreases property\)" -- "$frepcad" export "$work/doc.FCStd" -o "$work/x.stl" --straighten-creases
+expect 2 "--straighten-creases needs --sharp-features \(they find the creases\): turn --sharp-features on or --straighten-creases off" -- "$frepcad" export "$src/examples/twist.json" -o "$work/x.stl" --straighten-creases --no-sharp-features
+expect 2 "--straighten-creases applies to meshes, not to a .vdb level set" -- "$frepcad" export "$src/examples/twist.json" -o "$work/x.vdb" --straighten-creases
+# a document's Polygonize features take the meshing flags given over their own properties
+doc_triangles() { "$frepcad" export "$src/examples/twist.FCStd" -o "$work/doc.stl" --quiet "$@" && echo $((($(stat -c %s "$work/doc.stl") - 84) / 50)); }
+plain=$(doc_triangles); straight=$(doc_triangles --straighten-creases)
+if [ -z "$plain" ] || [ -z "$straight" ] || [ "$straight" -ge "$plain" ]; then
+  echo "FAIL: --straighten-creases on a document made $straight triangles against $plain"
+  failures=$((failures + 1))
+fi
 expect 2 "--bricks cannot be combined with --straighten-creases yet" -- "$frepcad" export "$src/examples/twist.json" -o "$work/x.stl" --straighten-creases --bricks 8
 # a ball and a fin 0.3 cell thick between two layers of grid points: printable, with a warning
 echo '{"root": {"type": "union", "inputs": [{"type": "sphere", "params": {"radius": 0.5}},
@@ -71,9 +79,14 @@ echo '{"root": {"type": "union", "inputs": [{"type": "sphere", "params": {"radiu
 expect 0 "components +1" -- "$frepcad" export "$work/fin4.json" -o "$work/fin4.stl" --refine-thin-parts --stats
 expect 0 "smaller cubes meshed again below that, down to a cell / 4" -- "$frepcad" export "$work/fin4.json" -o "$work/fin4.stl" --refine-thin-parts --refine-levels 2
 expect 0 "components +2" -- "$frepcad" export "$work/fin4.json" -o "$work/fin4.stl" --refine-thin-parts --refine-levels 2 --stats
-expect 2 "--bricks cannot be combined with --refine-tips yet" -- "$frepcad" export "$src/examples/twist.json" -o "$work/x.stl" --refine-tips --bricks 8
-expect 2 "--refine-levels applies to --refine-thin-parts or --refine-tips" -- "$frepcad" export "$work/fin4.json" -o "$work/x.stl" --refine-levels 2
-expect 2 "--refine-levels must be a whole number from 1 to 3, got '4'" -- "$frepcad" export "$work/fin4.json" -o "$work/x.stl" --refine-tips --refine-levels 4
+expect 2 "--bricks cannot be combined with --refine yet" -- "$frepcad" export "$src/examples/twist.json" -o "$work/x.stl" --refine-tips --bricks 8
+expect 2 "--refine-levels 2 applies to a refinement: set --refine to thin-parts or tips, or --refine-levels to 1" -- "$frepcad" export "$work/fin4.json" -o "$work/x.stl" --refine-levels 2
+expect 2 "--refine-levels must be a whole number from 1 to 3, got 4" -- "$frepcad" export "$work/fin4.json" -o "$work/x.stl" --refine tips --refine-levels 4
+expect 2 "--refine must be off, thin-parts or tips, got 'all'" -- "$frepcad" export "$work/fin4.json" -o "$work/x.stl" --refine all
+# the older spellings are the same settings: the same mesh byte for byte
+"$frepcad" export "$work/fin4.json" -o "$work/r1.stl" --refine thin-parts --refine-levels 2 >/dev/null
+"$frepcad" export "$work/fin4.json" -o "$work/r2.stl" --refine-thin-parts --refine-levels 2 >/dev/null
+cmp -s "$work/r1.stl" "$work/r2.stl" || { echo "FAIL: --refine-thin-parts is not --refine thin-parts"; failures=$((failures + 1)); }
 expect 0 "wrote" -- "$frepcad" export "$src/examples/csg.json" -o "$work/tetra.stl" --resolution 0.1 --mesher tetra
 # flat vertices dropped by default: printable, fewer triangles than with --keep-flat-vertices,
 # and the same mesh as with --fewer-triangles (the default, still accepted)
@@ -86,8 +99,14 @@ fi
 "$frepcad" export "$src/examples/csg.json" -o "$work/fewer2.stl" --cells 64 --fewer-triangles >/dev/null
 cmp -s "$work/fewer.stl" "$work/fewer2.stl" || { echo "FAIL: --fewer-triangles is not the default mesh"; failures=$((failures + 1)); }
 expect 0 "verdict: printable" -- "$frepcad" check "$work/fewer.stl"
-expect 2 "--fewer-triangles applies to a mesh exported from a JSON model" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.vdb" --fewer-triangles
-expect 2 "--keep-flat-vertices applies to a mesh exported from a JSON model" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.vdb" --keep-flat-vertices
+"$frepcad" export "$src/examples/csg.json" -o "$work/full2.stl" --cells 64 --no-drop-flat-vertices >/dev/null
+cmp -s "$work/full.stl" "$work/full2.stl" || { echo "FAIL: --keep-flat-vertices is not --no-drop-flat-vertices"; failures=$((failures + 1)); }
+"$frepcad" export "$src/examples/csg.json" -o "$work/ns2.stl" --resolution 0.1 --no-sharp-features >/dev/null
+cmp -s "$work/ns.stl" "$work/ns2.stl" || { echo "FAIL: --no-sharp is not --no-sharp-features"; failures=$((failures + 1)); }
+expect 2 "--drop-flat-vertices applies to meshes, not to a .vdb level set" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.vdb" --fewer-triangles
+expect 2 "--drop-flat-vertices applies to meshes, not to a .vdb level set" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.vdb" --keep-flat-vertices
+expect 2 "unknown option '--sharp-features=no'" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.stl" --sharp-features=no
+expect 0 "--\[no-\]sharp-features" -- "$frepcad" export --help
 [ "$(stat -c %s "$work/ns.stl")" -lt "$(stat -c %s "$work/tetra.stl")" ] || { echo "FAIL: --mesher tetra did not make more triangles"; failures=$((failures + 1)); }
 expect 2 "--mesher must be cubes or tetra, got 'dual'" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.stl" --mesher dual
 expect 0 "wrote" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/a.stl" --format stl-ascii --resolution 0.2 --bbox -2 -2 -2 2 2 2
@@ -188,7 +207,8 @@ expect 0 "grid 'surface' \(float, level set, [0-9,]+ active voxels" -- "$frepcad
 expect 0 '"grid_class": "level set"' -- "$frepcad" info "$work/csg.vdb" --json
 expect 0 "fog volume" -- "$frepcad" export "$src/examples/csg.json" -o "$work/fog.vdb" --cells 32 --fog
 expect 2 "--fog applies to a .vdb output only" -- "$frepcad" export "$src/examples/csg.json" -o "$work/fog.stl" --fog
-expect 2 "--tolerance, --format and --stats apply to meshes" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.vdb" --tolerance 0.1
+expect 2 "--tolerance applies to meshes, not to a .vdb level set" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.vdb" --tolerance 0.1
+expect 2 "--format and --stats apply to meshes" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.vdb" --stats
 sed 's/ball.stl/nothing.stl/' "$work/vol.json" > "$work/missing.json"
 expect 2 "nothing.stl: cannot open the mesh file" -- "$frepcad" export "$work/missing.json" -o "$work/m.stl"
 printf 'not a volume' > "$work/bad.vdb"
@@ -224,7 +244,7 @@ PY
 expect 2 "folds over itself in cell \(" -- "$frepcad" deform "$work/bar.stl" --lattice "$work/folded.json" -o "$work/x.stl"
 [ ! -e "$work/x.stl" ] && [ ! -e "$work/x.vdb" ] || { echo "FAIL: a refused deform left a file"; failures=$((failures + 1)); }
 
-# 3MF (issue 16): export, check, units; refused options
+# 3MF: export, check, units; refused options
 expect 0 "wrote .*s.3mf \(3mf\)" -- "$frepcad" export "$src/examples/csg.json" -o "$work/s.3mf" --resolution 0.1 --units cm
 expect 0 "verdict: printable" -- "$frepcad" check "$work/s.3mf"
 unzip -p "$work/s.3mf" 3D/3dmodel.model 2>/dev/null | grep -q 'unit="centimeter"' || python3 -c 'import sys, zipfile; sys.exit(0 if b"unit=\"centimeter\"" in zipfile.ZipFile(sys.argv[1]).read("3D/3dmodel.model") else 1)' "$work/s.3mf" || { echo "FAIL: --units cm not in the 3MF"; failures=$((failures + 1)); }

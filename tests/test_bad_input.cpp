@@ -13,6 +13,7 @@
 #include <string>
 
 #include "base/errors.h"
+#include "base/exit_status.h"
 #include "check/mesh_check.h"
 #include "frep/formula.h"
 #include "frep/model_json.h"
@@ -45,6 +46,27 @@ void expectHas(const std::string& message, const std::string& part) {
 
 std::string parseError(const std::string& text) {
   return messageOf([&] { parseModel(text, "part.json"); });
+}
+
+// One mapping from errors to exit statuses: the user's mistakes are bad input, a cancel is
+// 130, anything else is a bug (3), never 2.
+TEST(ExitStatus, EachErrorKindHasItsStatusAndOneLine) {
+  auto outcome = [](auto error, std::string* line) {
+    return outcomeOf(std::make_exception_ptr(error), line);
+  };
+  std::string line;
+  EXPECT_EQ(outcome(ModelError("sphere: parameter 'radius' = -1"), &line), Outcome::BadInput);
+  EXPECT_EQ(line, "sphere: parameter 'radius' = -1");
+  EXPECT_EQ(outcome(FileError("x.stl: no such file"), &line), Outcome::BadInput);
+  EXPECT_EQ(outcome(TooLargeError("too large"), &line), Outcome::BadInput);
+  EXPECT_EQ(outcome(Cancelled(), &line), Outcome::Cancelled);
+  EXPECT_EQ(exitStatus(Outcome::Cancelled), 130);
+  EXPECT_EQ(outcome(std::bad_alloc(), &line), Outcome::BadInput);
+  EXPECT_NE(line.find("out of memory"), std::string::npos);
+  EXPECT_EQ(outcome(std::logic_error("vector::at"), &line), Outcome::InternalError);
+  EXPECT_EQ(exitStatus(Outcome::InternalError), 3);
+  EXPECT_EQ(line, "internal error (a bug: please report it): vector::at");
+  EXPECT_EQ(outcome(42, &line), Outcome::InternalError);
 }
 
 TEST(BadModel, UnknownKeysAndFormatVersions) {

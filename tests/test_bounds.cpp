@@ -10,20 +10,20 @@
 #include "mesh/mesher.h"
 #include "base/triangle_geometry.h"
 #include "random_trees.h"
+#include "test_nodes.h"
 
 namespace frep {
 namespace {
 
-NodePtr sphere(Vec3 c, double r) {
-  return makeNode("sphere", {{"center", vec3Value(c)}, {"radius", realValue(r)}}, {});
-}
+using frep::testing::sphere;
+using frep::testing::box;
 
 SolidBounds boundsOf(const NodePtr& n) {
   return findBounds(compile(n));
 }
 
 TEST(Bounds, SphereIsTight) {
-  SolidBounds b = boundsOf(sphere({1, -2, 3}, 0.5));
+  SolidBounds b = boundsOf(sphere(0.5, {1, -2, 3}));
   ASSERT_TRUE(b.bounded());
   const Vec3 lo{0.5, -2.5, 2.5}, hi{1.5, -1.5, 3.5};
   for (int a = 0; a < 3; ++a) {
@@ -62,7 +62,7 @@ TEST(Bounds, RotatedBoxEnclosesItsMesh) {
 }
 
 TEST(Bounds, DisjointIntersectionIsEmpty) {
-  NodePtr n = makeNode("intersection", {}, {sphere({0, 0, 0}, 1), sphere({5, 0, 0}, 1)});
+  NodePtr n = makeNode("intersection", {}, {sphere(1, {0, 0, 0}), sphere(1, {5, 0, 0})});
   SolidBounds b = boundsOf(n);
   EXPECT_TRUE(b.empty);
   EXPECT_FALSE(b.bounded());
@@ -82,13 +82,9 @@ TEST(Bounds, HalfspaceIsUnboundedOnFiveSides) {
 }
 
 TEST(Bounds, ComplementOfSphereIsUnbounded) {
-  SolidBounds b = boundsOf(makeNode("complement", {}, {sphere({0, 0, 0}, 1)}));
+  SolidBounds b = boundsOf(makeNode("complement", {}, {sphere(1, {0, 0, 0})}));
   EXPECT_FALSE(b.bounded());
   EXPECT_FALSE(b.empty);
-}
-
-NodePtr box(Vec3 corner, Vec3 size) {
-  return makeNode("box", {{"corner", vec3Value(corner)}, {"size", vec3Value(size)}}, {});
 }
 
 SolidBounds boundsWithStructure(const NodePtr& n) {
@@ -115,7 +111,7 @@ TEST(StructuralBounds, LatticeInsideASphereAndDisjointBoxes) {
   const NodePtr lattice = makeNode("gyroid", {{"cell", realValue(0.3)}}, {});
   const Box3 open = structuralBounds(lattice);
   EXPECT_TRUE(std::isinf(open.lo[0]) && std::isinf(open.hi[2]));
-  const Box3 b = structuralBounds(makeNode("intersection", {}, {lattice, sphere({1, 0, 0}, 0.5)}));
+  const Box3 b = structuralBounds(makeNode("intersection", {}, {lattice, sphere(0.5, {1, 0, 0})}));
   EXPECT_EQ(b.lo[0], 0.5);
   EXPECT_EQ(b.hi[0], 1.5);
   const NodePtr apart = makeNode("intersection", {}, {box({0, 0, 0}, {1, 1, 1}), box({2, 0, 0}, {1, 1, 1})});

@@ -1,4 +1,4 @@
-// Brick jobs (issue 17): a model meshed as 1, 8 or 64 jobs and welded by key is the mesh
+// Brick jobs: a model meshed as 1, 8 or 64 jobs and welded by key is the mesh
 // polygonize makes in one process (the same triangles, the same coordinates after sorting),
 // on the reference models and on random trees; piece files refuse what is not a piece; the
 // merge refuses foreign, repeated and missing pieces.
@@ -23,6 +23,13 @@ namespace frep {
 namespace {
 
 namespace fs = std::filesystem;
+
+MeshSettings settingsOf(bool sharp, Extraction mesher) {
+  MeshSettings s;
+  s.sharpFeatures = sharp;
+  s.mesher = mesher;
+  return s;
+}
 
 // The mesh's triangles as coordinates, each turned to start at its smallest corner (its
 // orientation kept), sorted: equal for two meshes with the same triangles in any order.
@@ -59,10 +66,10 @@ TEST(BrickJobs, ReferenceModelsInOneEightAndSixtyFourJobsAreTheOneProcessMesh) {
     const MeshingBox box{*m.bbox, 2.4 / 72};  // 5 bricks of 16 cells per axis
     for (bool sharp : {true, false}) {
       const TriangleMesh whole =
-          polygonize(p, brickMeshingOptions(planBrickJobs(box, sharp, Extraction::Cubes, 1, 0)));
+          polygonize(p, brickMeshingOptions(planBrickJobs(box, settingsOf(sharp, Extraction::Cubes), 1, 0)));
       ASSERT_GT(whole.triangleCount(), 1000u);
       for (std::uint32_t jobs : {1u, 8u, 64u}) {
-        const BrickJobPlan plan = planBrickJobs(box, sharp, Extraction::Cubes, jobs, 7);
+        const BrickJobPlan plan = planBrickJobs(box, settingsOf(sharp, Extraction::Cubes), jobs, 7);
         const TriangleMesh merged = inJobs(p, plan);
         expectSameMesh(merged, whole,
                        std::string(name) + " in " + std::to_string(jobs) + " jobs, sharp " +
@@ -85,10 +92,10 @@ TEST(BrickJobs, RandomTreesInJobsAreTheOneProcessMesh) {
     const Extraction how = rng.integer(0, 3) == 0 ? Extraction::Tetrahedra : Extraction::Cubes;
     const bool sharp = rng.integer(0, 1) == 0;
     const TriangleMesh whole =
-        polygonize(p, brickMeshingOptions(planBrickJobs(box, sharp, how, 1, 0)));
+        polygonize(p, brickMeshingOptions(planBrickJobs(box, settingsOf(sharp, how), 1, 0)));
     if (whole.triangleCount() > 0) ++nonEmpty;
     const std::uint32_t jobs = std::vector<std::uint32_t>{2, 6, 8, 12, 27}[rng.integer(0, 4)];
-    const BrickJobPlan plan = planBrickJobs(box, sharp, how, jobs, 1);
+    const BrickJobPlan plan = planBrickJobs(box, settingsOf(sharp, how), jobs, 1);
     expectSameMesh(inJobs(p, plan), whole,
                    "tree " + std::to_string(i) + " in " + std::to_string(jobs) + " jobs:\n" +
                        modelToJson(Model{tree, box.box, box.resolution, ""}));
@@ -98,7 +105,7 @@ TEST(BrickJobs, RandomTreesInJobsAreTheOneProcessMesh) {
 
 TEST(BrickJobs, PlansSplitTheBricksEvenly) {
   const MeshingBox box{{{0, 0, 0}, {4, 2, 1}}, 1.0 / 16};  // 5 x 3 x 2 bricks
-  const BrickJobPlan p = planBrickJobs(box, true, Extraction::Cubes, 6, 0);
+  const BrickJobPlan p = planBrickJobs(box, settingsOf(true, Extraction::Cubes), 6, 0);
   EXPECT_EQ(p.split[0] * p.split[1] * p.split[2], 6);
   EXPECT_EQ(p.bricks[0], 5);
   // every brick in exactly one job
@@ -112,15 +119,24 @@ TEST(BrickJobs, PlansSplitTheBricksEvenly) {
   }
   EXPECT_TRUE(std::all_of(covered.begin(), covered.end(), [](int c) { return c == 1; }));
   // another model, box or option is another run
-  EXPECT_NE(planBrickJobs(box, false, Extraction::Cubes, 6, 0).runId, p.runId);
-  EXPECT_NE(planBrickJobs(box, true, Extraction::Cubes, 6, 1).runId, p.runId);
+  EXPECT_NE(planBrickJobs(box, settingsOf(false, Extraction::Cubes), 6, 0).runId, p.runId);
+  EXPECT_NE(planBrickJobs(box, settingsOf(true, Extraction::Cubes), 6, 1).runId, p.runId);
   try {
-    planBrickJobs(box, true, Extraction::Cubes, 7, 0);  // no axis has 7 bricks
+    planBrickJobs(box, settingsOf(true, Extraction::Cubes), 7, 0);  // no axis has 7 bricks
     FAIL() << "7 jobs accepted";
   } catch (const ModelError& e) {
     EXPECT_NE(std::string(e.what()).find("5 x 3 x 2 bricks"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(planBrickJobs(box, true, Extraction::Cubes, 0, 0), ModelError);
+  EXPECT_THROW(planBrickJobs(box, settingsOf(true, Extraction::Cubes), 0, 0), ModelError);
+  // what a job cannot take is refused naming the option
+  MeshSettings refined = settingsOf(true, Extraction::Cubes);
+  refined.refine = Refinement::ThinParts;
+  try {
+    planBrickJobs(box, refined, 6, 0);
+    FAIL() << "a refinement accepted";
+  } catch (const SettingError& e) {
+    EXPECT_EQ(e.option, "refine");
+  }
   EXPECT_THROW(jobBricks(p, 6, nullptr, nullptr), ModelError);
 }
 
@@ -150,7 +166,7 @@ TEST_F(PieceFiles, RoundTripAndExportAsOneProcess) {
   const Model m = loadModel(std::string(FREP_SOURCE_DIR) + "/examples/csg.json");
   const Program p = compile(m.root);
   const MeshingBox box{*m.bbox, 2.4 / 64};
-  const BrickJobPlan plan = planBrickJobs(box, true, Extraction::Cubes, 8, textFingerprint("csg"));
+  const BrickJobPlan plan = planBrickJobs(box, settingsOf(true, Extraction::Cubes), 8, textFingerprint("csg"));
   std::vector<std::string> files;
   for (std::uint32_t j = 0; j < plan.jobs; ++j) {
     const MeshPiece piece = runBrickJob(p, plan, j);
@@ -193,7 +209,7 @@ TEST_F(PieceFiles, RoundTripAndExportAsOneProcess) {
   EXPECT_EQ(others(), before + 1) << "a temporary or the spill was left";
   // a piece of another run is refused, and nothing is written
   const BrickJobPlan other =
-      planBrickJobs(box, false, Extraction::Cubes, 8, textFingerprint("csg"));
+      planBrickJobs(box, settingsOf(false, Extraction::Cubes), 8, textFingerprint("csg"));
   writePieceFile(runBrickJob(p, other, 3), files[3]);
   EXPECT_THROW(exportPieces(plan, files, request, file("mixed.stl")), FileError);
   EXPECT_FALSE(fs::exists(file("mixed.stl")));
@@ -208,7 +224,7 @@ TEST_F(PieceFiles, TheCheckPieceByPieceIsTheWholeChecksReport) {
     const Program p = compile(m.root);
     const MeshingBox box{*m.bbox, (m.bbox->hi[0] - m.bbox->lo[0]) / 80};
     for (std::uint32_t jobs : {8u, 27u}) {
-      const BrickJobPlan plan = planBrickJobs(box, true, Extraction::Cubes, jobs, 5);
+      const BrickJobPlan plan = planBrickJobs(box, settingsOf(true, Extraction::Cubes), jobs, 5);
       std::vector<std::string> files;
       std::vector<MeshPiece> pieces;
       for (std::uint32_t j = 0; j < plan.jobs; ++j) {
@@ -272,7 +288,7 @@ TEST_F(PieceFiles, TheCheckPieceByPieceIsTheWholeChecksReport) {
 TEST_F(PieceFiles, HostileFilesAreRefusedBeforeTheyCostMemory) {
   const Program p = compile(loadModel(std::string(FREP_SOURCE_DIR) + "/examples/sphere.json").root);
   const BrickJobPlan plan =
-      planBrickJobs({{{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}}, 0.1}, true, Extraction::Cubes, 1, 0);
+      planBrickJobs({{{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}}, 0.1}, settingsOf(true, Extraction::Cubes), 1, 0);
   writePieceFile(runBrickJob(p, plan, 0), file("good"));
   const std::string good = bytes(file("good"));
   auto refused = [&](const std::string& data, const std::string& words) {
@@ -304,7 +320,7 @@ TEST_F(PieceFiles, HostileFilesAreRefusedBeforeTheyCostMemory) {
 TEST(PieceMerge, RefusesRepeatedForeignAndMissingJobs) {
   const Program p = compile(loadModel(std::string(FREP_SOURCE_DIR) + "/examples/sphere.json").root);
   const MeshingBox box{{{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}}, 2.4 / 40};
-  const BrickJobPlan plan = planBrickJobs(box, true, Extraction::Cubes, 8, 0);
+  const BrickJobPlan plan = planBrickJobs(box, settingsOf(true, Extraction::Cubes), 8, 0);
   std::vector<MeshPiece> pieces;
   for (std::uint32_t j = 0; j < 8; ++j) pieces.push_back(runBrickJob(p, plan, j));
   auto refusal = [&](std::vector<MeshPiece> list) {
@@ -322,7 +338,7 @@ TEST(PieceMerge, RefusesRepeatedForeignAndMissingJobs) {
   short_.erase(short_.begin() + 5);
   EXPECT_NE(refusal(short_).find("1 of 8 jobs have no piece (jobs 5)"), std::string::npos);
   std::vector<MeshPiece> foreign = pieces;
-  foreign[4] = runBrickJob(p, planBrickJobs(box, true, Extraction::Cubes, 8, 99), 4);
+  foreign[4] = runBrickJob(p, planBrickJobs(box, settingsOf(true, Extraction::Cubes), 8, 99), 4);
   EXPECT_NE(refusal(foreign).find("another run"), std::string::npos);
   EXPECT_EQ(refusal(pieces), "merged");
 }

@@ -19,9 +19,12 @@
 #include "mesh/mesh_ffd.h"
 #include "mesh/mesher.h"
 #include "volume/field_sources.h"
+#include "test_nodes.h"
 
 namespace frep {
 namespace {
+
+using frep::testing::sphere;
 
 using testing::kLatticeRest;
 using testing::twistedLattice;
@@ -148,17 +151,13 @@ TEST(FfdMap, BoxCoversAreSound) {
   EXPECT_GT(partly, 20);
 }
 
-NodePtr ball(const Vec3& c, double r) {
-  return makeNode("sphere", {{"center", vec3Value(c)}, {"radius", realValue(r)}}, {});
-}
-
 NodePtr ffd(const FfdLattice& lattice, NodePtr input) {
   return makeNode("ffd", testing::ffdParams(lattice), {std::move(input)}, "ffd");
 }
 
 TEST(FfdNode, TheUndeformedLatticeIsTheIdentity) {
   std::mt19937 rng(2);
-  const NodePtr input = ball({0.1, 0, 1}, 0.4);
+  const NodePtr input = sphere(0.4, {0.1, 0, 1});
   const Program plain = compile(input);
   const FfdLattice rest(kLatticeRest, 3, 2, 4);
   // The node: the input itself, bit for bit (with no points, or the rest points given).
@@ -179,7 +178,7 @@ TEST(FfdNode, TheUndeformedLatticeIsTheIdentity) {
 
 TEST(FfdNode, TheValueIsTheInputsWhereTheLatticeCameFrom) {
   std::mt19937 rng(4);
-  const NodePtr input = ball({0.1, 0, 1}, 0.45);
+  const NodePtr input = sphere(0.45, {0.1, 0, 1});
   const Program plain = compile(input);
   for (const Case& c : kCases) {
     const FfdLattice lattice = twistedLattice(c.l, c.m, c.n, c.turns, c.jitter, 5);
@@ -223,7 +222,7 @@ TEST(FfdNode, AFoldedLatticeOrAWrongPointCountIsRefusedWithTheReason) {
       lattice.setPoint(2, j, k, q);
     }
   try {
-    ffd(lattice, ball({0, 0, 1}, 0.3));
+    ffd(lattice, sphere(0.3, {0, 0, 1}));
     FAIL() << "a folded lattice was accepted";
   } catch (const ModelError& e) {
     EXPECT_NE(std::string(e.what()).find("folds over itself in cell ("), std::string::npos)
@@ -232,7 +231,7 @@ TEST(FfdNode, AFoldedLatticeOrAWrongPointCountIsRefusedWithTheReason) {
   auto params = testing::ffdParams(FfdLattice(kLatticeRest, 2, 2, 2));
   params["points"].numbers.resize(3 * 26);
   try {
-    makeNode("ffd", params, {ball({0, 0, 1}, 0.3)}, "bend");
+    makeNode("ffd", params, {sphere(0.3, {0, 0, 1})}, "bend");
     FAIL() << "26 points for 27 were accepted";
   } catch (const ModelError& e) {
     EXPECT_NE(std::string(e.what()).find("'points' has 26 points; a 2 x 2 x 2 lattice has 27"),
@@ -241,15 +240,15 @@ TEST(FfdNode, AFoldedLatticeOrAWrongPointCountIsRefusedWithTheReason) {
   }
   params = testing::ffdParams(FfdLattice(kLatticeRest, 2, 2, 2));
   params["rest_max"] = vec3Value({1, -0.5, 2});
-  EXPECT_THROW(makeNode("ffd", params, {ball({0, 0, 1}, 0.3)}, "bend"), ModelError);
+  EXPECT_THROW(makeNode("ffd", params, {sphere(0.3, {0, 0, 1})}, "bend"), ModelError);
   params = testing::ffdParams(FfdLattice(kLatticeRest, 2, 2, 2));
   params["divisions_y"] = realValue(65);
-  EXPECT_THROW(makeNode("ffd", params, {ball({0, 0, 1}, 0.3)}, "bend"), ModelError);
+  EXPECT_THROW(makeNode("ffd", params, {sphere(0.3, {0, 0, 1})}, "bend"), ModelError);
 }
 
 TEST(FfdNode, BoundsHoldTheDeformedSolid) {
   std::mt19937 rng(8);
-  const NodePtr input = ball({0.1, 0, 1}, 0.45);
+  const NodePtr input = sphere(0.45, {0.1, 0, 1});
   for (const Case& c : kCases) {
     const FfdLattice lattice = twistedLattice(c.l, c.m, c.n, c.turns, c.jitter, 5);
     const NodePtr node = ffd(lattice, input);
@@ -278,7 +277,7 @@ TEST(MeshFfd, TheUndeformedLatticeLeavesEveryVertexWhereItWas) {
   MeshingOptions o;
   o.bbox = {{-0.5, -0.5, 0.5}, {0.7, 0.5, 1.5}};
   o.resolution = 0.05;
-  const TriangleMesh mesh = polygonize(compile(ball({0.1, 0, 1}, 0.45)), o);
+  const TriangleMesh mesh = polygonize(compile(sphere(0.45, {0.1, 0, 1})), o);
   const TriangleMesh same = deformMesh(mesh, FfdLattice(kLatticeRest, 3, 2, 4));
   ASSERT_EQ(same.triangles.size(), mesh.triangles.size());
   for (std::size_t v = 0; v < mesh.positions.size(); ++v)
@@ -291,16 +290,16 @@ TEST(MeshFfd, TheUndeformedLatticeLeavesEveryVertexWhereItWas) {
 // The acceptance point: a sphere deformed as a function (the ffd node, meshed) and as a mesh
 // (meshed, then its vertices pushed forward) are the same solid to within a cell.
 TEST(MeshFfd, ADeformedSphereAsAFunctionAndAsAMeshAgreeWithinACell) {
-  const NodePtr sphere = ball({0.1, 0, 1}, 0.45);
+  const NodePtr ball = sphere(0.45, {0.1, 0, 1});
   const double cell = 0.04;
   for (const Case& c : kCases) {
     const FfdLattice lattice = twistedLattice(c.l, c.m, c.n, c.turns, c.jitter, 5);
     MeshingOptions o;
     o.resolution = cell;
     o.bbox = {{-0.5, -0.5, 0.5}, {0.7, 0.5, 1.5}};
-    const TriangleMesh pushed = deformMesh(polygonize(compile(sphere), o), lattice);
-    const Program pulled = compile(ffd(lattice, sphere));
-    o.bbox = structuralBounds(ffd(lattice, sphere));
+    const TriangleMesh pushed = deformMesh(polygonize(compile(ball), o), lattice);
+    const Program pulled = compile(ffd(lattice, ball));
+    o.bbox = structuralBounds(ffd(lattice, ball));
     const TriangleMesh meshed = polygonize(pulled, o);
     // both printable
     ASSERT_TRUE(checkMesh(pushed).printable());
@@ -322,7 +321,7 @@ TEST(MeshFfd, ProgressIsReportedAndCancelStops) {
   MeshingOptions o;
   o.bbox = {{-0.5, -0.5, 0.5}, {0.7, 0.5, 1.5}};
   o.resolution = 0.008;
-  const TriangleMesh mesh = polygonize(compile(ball({0.1, 0, 1}, 0.45)), o);
+  const TriangleMesh mesh = polygonize(compile(sphere(0.45, {0.1, 0, 1})), o);
   ASSERT_GT(mesh.positions.size(), std::size_t(40000));
   int calls = 0;
   MeshFfdOptions options;

@@ -1,4 +1,4 @@
-// Hierarchical B-spline surfaces (issue 15): the spline axis, refinement, offsets in the
+// Hierarchical B-spline surfaces: the spline axis, refinement, offsets in the
 // parent's frame, the movable-CV rule, zero offsets and unrefine, flattening, tessellation.
 #include <gtest/gtest.h>
 

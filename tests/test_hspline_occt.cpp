@@ -1,4 +1,4 @@
-// hsplines through OpenCASCADE (issue 15): the flattened surface is the hierarchy to 1e-9; a
+// hsplines through OpenCASCADE: the flattened surface is the hierarchy to 1e-9; a
 // closed hspline with detail becomes a valid STEP solid that OpenCASCADE reads back, and its
 // mesh is printable by the check.
 #include <gtest/gtest.h>

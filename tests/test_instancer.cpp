@@ -15,13 +15,12 @@
 #include "frep/structural_bounds.h"
 #include "frep/tree.h"
 #include "mesh/mesher.h"
+#include "test_nodes.h"
 
 namespace frep {
 namespace {
 
-NodePtr sphere(double r, Vec3 c = {0, 0, 0}) {
-  return makeNode("sphere", {{"radius", realValue(r)}, {"center", vec3Value(c)}}, {});
-}
+using frep::testing::sphere;
 
 ParamValue pointsValue(const std::vector<Vec3>& pts) {
   ParamValue v;

@@ -1,4 +1,4 @@
-// Local refinement (mesh/local_refinement.h, MeshingOptions::refineThinParts): parts thinner
+// Local refinement (mesh/local_refinement.h, MeshSettings::refine): parts thinner
 // than a cell that the grid passes between are meshed at half a cell, and every mesh stays
 // printable (CGAL's check), the same whatever the bricks.
 #include <gtest/gtest.h>
@@ -34,8 +34,8 @@ TriangleMesh meshModel(const std::string& json, bool refine, int brick, MeshingS
   o.bbox = *m.bbox;
   o.resolution = *m.resolution;
   o.brickCells = brick;
-  o.flatVertices = brick % 2 == 0;
-  o.refineThinParts = refine;
+  o.settings.dropFlatVertices = brick % 2 == 0;
+  o.settings.refine = refine ? Refinement::ThinParts : Refinement::Off;
   return polygonize(compile(m.root), o, stats);
 }
 
@@ -79,11 +79,11 @@ TEST(LocalRefinement, AWallBetweenTheHalfCellPointsIsMeshedAtAQuarterCell) {
   MeshingOptions o;
   o.bbox = *m.bbox;
   o.resolution = *m.resolution;
-  o.refineThinParts = true;
+  o.settings.refine = Refinement::ThinParts;
   MeshingStats one, two;
   EXPECT_EQ(polygonize(compile(m.root), o, &one).triangleCount(), 0u);
   EXPECT_EQ(one.refinedDeeperCubes, 0u);
-  o.refinementLevels = 2;
+  o.settings.refineLevels = 2;
   const TriangleMesh mesh = polygonize(compile(m.root), o, &two);
   ASSERT_GT(mesh.triangleCount(), 0u) << two.refinementSkipped << two.refinementDeeperSkipped;
   EXPECT_EQ(two.refinementLevelsReached, 2);
@@ -99,8 +99,8 @@ MeshingOptions tipsTwoLevelsDeep(const Model& m) {
   MeshingOptions o;
   o.bbox = *m.bbox;
   o.resolution = *m.resolution;
-  o.refineTips = true;
-  o.refinementLevels = 2;
+  o.settings.refine = Refinement::Tips;
+  o.settings.refineLevels = 2;
   return o;
 }
 
@@ -217,14 +217,14 @@ TEST(LocalRefinement, RefinementLevelsOutOfRangeAreRefused) {
   MeshingOptions o;
   o.bbox = *m.bbox;
   o.resolution = *m.resolution;
-  o.refineThinParts = true;
+  o.settings.refine = Refinement::ThinParts;
   for (int levels : {0, kMaxRefinementLevels + 1}) {
-    o.refinementLevels = levels;
+    o.settings.refineLevels = levels;
     try {
       polygonize(compile(m.root), o);
       ADD_FAILURE() << levels;
     } catch (const ModelError& e) {
-      EXPECT_NE(std::string(e.what()).find("refinement levels must be 1 to 3"), std::string::npos)
+      EXPECT_NE(std::string(e.what()).find("refine_levels must be a whole number from 1 to 3"), std::string::npos)
           << e.what();
     }
   }
@@ -272,11 +272,10 @@ void refineRandomTrees(unsigned seed, int trees, int levels = 1) {
     o.bbox = {{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}};
     o.resolution = resolutions[rng.integer(0, 3)];
     o.brickCells = 16;
-    o.flatVertices = rng.integer(0, 1) == 1;
-    o.sharpFeatures = rng.integer(0, 3) != 0;
-    o.refineThinParts = true;
-    o.refineTips = rng.integer(0, 3) != 0;
-    o.refinementLevels = levels;
+    o.settings.dropFlatVertices = rng.integer(0, 1) == 1;
+    o.settings.sharpFeatures = rng.integer(0, 3) != 0;
+    o.settings.refine = rng.integer(0, 3) != 0 ? Refinement::Tips : Refinement::ThinParts;
+    o.settings.refineLevels = levels;
     MeshingStats stats;
     const TriangleMesh mesh = polygonize(program, o, &stats);
     refined += levels > 1 ? stats.refinedDeeperCubes > 0 : stats.refinedCubes > 0;
@@ -285,7 +284,7 @@ void refineRandomTrees(unsigned seed, int trees, int levels = 1) {
     ASSERT_TRUE(r.printable()) << "tree " << i << " at " << o.resolution << " ("
                                << stats.refinedCubes << " cubes refined): " << reasonsOf(r) << "\n"
                                << modelToJson(Model{tree, o.bbox, o.resolution, ""});
-    if (i % 8 == 0 && o.flatVertices) {
+    if (i % 8 == 0 && o.settings.dropFlatVertices) {
       MeshingOptions other = o;
       other.brickCells = 6;
       EXPECT_EQ(sortedTriangles(polygonize(program, other)), sortedTriangles(mesh)) << "tree " << i;

@@ -1,4 +1,4 @@
-// Manufacturing output (issue 16): 3MF files through lib3mf, repair of meshes broken on
+// Manufacturing output: 3MF files through lib3mf, repair of meshes broken on
 // purpose, the printability report, and the distance between meshes.
 #include <gtest/gtest.h>
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "base/errors.h"
+#include "base/mesh_invariants.h"
 #include "base/triangle_geometry.h"
 #include "check/cgal_surface.h"
 #include "check/mesh_check.h"
@@ -32,12 +33,12 @@ Model example(const std::string& name) {
 TriangleMesh meshModel(const Model& m, double resolution, int brick = 16, bool sharp = true,
                        Extraction extraction = Extraction::Cubes, bool flatVertices = false) {
   MeshingOptions o;
-  o.flatVertices = flatVertices;
+  o.settings.dropFlatVertices = flatVertices;
   o.bbox = *m.bbox;
   o.resolution = resolution;
   o.brickCells = brick;
-  o.sharpFeatures = sharp;
-  o.extraction = extraction;
+  o.settings.sharpFeatures = sharp;
+  o.settings.mesher = extraction;
   return polygonize(compile(m.root), o);
 }
 
@@ -47,7 +48,7 @@ std::string reasons(const CheckReport& r) {
   return s;
 }
 
-// The check before issue 12's fast one (CGAL's own self-intersection routine and its
+// The check before the fast one (CGAL's own self-intersection routine and its
 // does_bound_a_volume with a positive volume) must agree with checkMesh's verdicts, on the
 // mesh welded as the check welds it. Up to a million triangles: beyond, CGAL's general box
 // tree takes minutes (the fast check's own tests compare the two on broken meshes).
@@ -212,10 +213,10 @@ TEST(FlatVertices, FewerTrianglesTheSameVerticesAndSurface) {
     o.bbox = *m.bbox;
     o.resolution = h;
     const Program program = compile(m.root);
-    o.flatVertices = false;
+    o.settings.dropFlatVertices = false;
     const TriangleMesh full = polygonize(program, o);
-    o.flatVertices = true;  // (the default)
-    EXPECT_TRUE(MeshingOptions{}.flatVertices);
+    o.settings.dropFlatVertices = true;  // (the default)
+    EXPECT_TRUE(MeshingOptions{}.settings.dropFlatVertices);
     const TriangleMesh fewer = polygonize(program, o);
     const CheckReport r = checkMesh(fewer);
     EXPECT_TRUE(r.printable()) << name << ": " << reasons(r);
@@ -400,6 +401,32 @@ TEST(Mesher, EmptyModelGivesNoTriangles) {
   EXPECT_EQ(stats.bricksActive, 0u);  // proven empty by intervals, nothing evaluated
 }
 
+// The promise every stage checks at its end in debug builds (base/mesh_invariants.h): the
+// test holds it to the reference models in release builds too, and shows it refuses what
+// breaks it.
+TEST(MeshInvariant, TheReferenceModelsKeepItAndBrokenMeshesAreNamed) {
+  for (const char* name : {"csg", "twist", "gyroid"}) {
+    const Model m = loadModel(std::string(FREP_SOURCE_DIR) + "/examples/" + name + ".json");
+    MeshingOptions o;
+    o.bbox = *m.bbox;
+    o.resolution = 2.4 / 40;
+    const TriangleMesh mesh = polygonize(compile(m.root), o);
+    ASSERT_GT(mesh.triangleCount(), 100u);
+    EXPECT_EQ(meshInvariantBroken(mesh), "") << name;
+    TriangleMesh flipped = mesh;
+    std::swap(flipped.triangles[7][0], flipped.triangles[7][1]);
+    EXPECT_NE(meshInvariantBroken(flipped).find("runs the same way"), std::string::npos);
+    TriangleMesh open = mesh;
+    open.triangles.pop_back();
+    EXPECT_NE(meshInvariantBroken(open).find("is a border"), std::string::npos);
+    TriangleMesh degenerate = mesh;
+    degenerate.triangles[3][2] = degenerate.triangles[3][0];
+    EXPECT_NE(meshInvariantBroken(degenerate).find("triangle 3 repeats a vertex"),
+              std::string::npos);
+    EXPECT_THROW(assertMeshInvariant(open, "a test"), std::logic_error);
+  }
+}
+
 TEST(Mesher, IntervalPruningSkipsMostBricks) {
   MeshingStats stats;
   const Model m = example("sphere");
@@ -439,7 +466,7 @@ TEST(Mesher, BadOptionsAreRefused) {
 
 // >= 1,000 random trees (8 shards of 125), each meshed by cubes with sharp features on and
 // off (and one in four by tetrahedra too), and with the flat vertices kept and (with an even
-// brick size) dropped, every mesh checked by CGAL, and the check before issue 12's fast one
+// brick size) dropped, every mesh checked by CGAL, and the check before the fast one
 // agreeing.
 class RandomTreeShard : public ::testing::TestWithParam<int> {};
 
@@ -454,12 +481,12 @@ TEST_P(RandomTreeShard, EveryMeshIsPrintable) {
     o.bbox = {{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}};
     o.resolution = resolutions[rng.integer(0, 3)];
     o.brickCells = rng.integer(0, 1) ? 16 : 5;  // bricks that do not divide the grid, too
-    o.flatVertices = false;  // (odd bricks cannot have them; they are tried below)
+    o.settings.dropFlatVertices = false;  // (odd bricks cannot have them; they are tried below)
     const bool tetra = rng.integer(0, 3) == 0, bricksAgain = rng.integer(0, 7) == 0;
     std::size_t cubeTriangles = 0;
     for (int mode = 0; mode < (tetra ? 3 : 2); ++mode) {
-      o.sharpFeatures = mode == 0;
-      o.extraction = mode == 2 ? Extraction::Tetrahedra : Extraction::Cubes;
+      o.settings.sharpFeatures = mode == 0;
+      o.settings.mesher = mode == 2 ? Extraction::Tetrahedra : Extraction::Cubes;
       MeshingStats stats;
       const TriangleMesh mesh = polygonize(program, o, &stats);
       // every vertex a brick shares was found in its owner's list
@@ -477,7 +504,7 @@ TEST_P(RandomTreeShard, EveryMeshIsPrintable) {
       }
       if (mode < 2 && o.brickCells == 16) {  // and with the flat vertices dropped
         MeshingOptions flat = o;
-        flat.flatVertices = true;
+        flat.settings.dropFlatVertices = true;
         const TriangleMesh fewer = polygonize(program, flat);
         const CheckReport f = checkMesh(fewer);
         ASSERT_TRUE(f.printable())
@@ -688,7 +715,7 @@ TEST(MesherAmbiguousFaces, AFaceSplitsAsItsCentreSays) {
   const CheckReport r = checkMesh(cubes);
   EXPECT_TRUE(r.printable()) << reasons(r);
   EXPECT_EQ(r.components, 1u);
-  o.extraction = Extraction::Tetrahedra;
+  o.settings.mesher = Extraction::Tetrahedra;
   const CheckReport beads = checkMesh(polygonize(compile(diagonalRod(point, h)), o));
   EXPECT_TRUE(beads.printable()) << reasons(beads);
   EXPECT_GT(beads.components, 10u);  // the case is ambiguous for Kuhn's split
@@ -698,7 +725,7 @@ TEST(MesherAmbiguousFaces, AFaceSplitsAsItsCentreSays) {
   const NodePtr two = makeNode(
       "union", {},
       {diagonalRod(point, h), diagonalRod({point[0] - h, point[1] + h, point[2]}, h, {1, 0, 1})});
-  o.extraction = Extraction::Cubes;
+  o.settings.mesher = Extraction::Cubes;
   for (int brick : {4, 16}) {
     o.brickCells = brick;
     const CheckReport pair = checkMesh(polygonize(compile(two), o));

@@ -11,18 +11,16 @@
 #include "frep/structural_bounds.h"
 #include "frep/tree.h"
 #include "mesh/mesher.h"
+#include "test_nodes.h"
 
 namespace frep {
 namespace {
 
+using frep::testing::sphere;
+using frep::testing::box;
+
 constexpr double kPi = 3.14159265358979323846;
 
-NodePtr sphere(double r, Vec3 c = {0, 0, 0}) {
-  return makeNode("sphere", {{"radius", realValue(r)}, {"center", vec3Value(c)}}, {});
-}
-NodePtr box(Vec3 corner, Vec3 size) {
-  return makeNode("box", {{"corner", vec3Value(corner)}, {"size", vec3Value(size)}}, {});
-}
 
 std::vector<Vec3> randomPoints(int n, double reach, unsigned seed = 3) {
   std::mt19937 g(seed);

@@ -95,8 +95,8 @@ TEST_F(Pipeline, StraighteningAndSimplifyingShareTheMeshingBar) {
       "rotate", {{"axis", vec3Value({1.0, 1.0, 0.0})}, {"angle", realValue(25.0)}}, {cube}));
   const fs::path out = dir_ / "cube.stl";
   ExportRequest r = request();
-  r.straightenCreases = true;
-  r.tolerance = 0.01;
+  r.mesh.straightenCreases = true;
+  r.mesh.tolerance = 0.01;
   std::vector<double> seen;
   r.progress = [&seen](ExportStage s, double f) {
     if (s == ExportStage::Mesh) seen.push_back(f);
@@ -115,12 +115,12 @@ TEST_F(Pipeline, StraighteningAndSimplifyingShareTheMeshingBar) {
   EXPECT_THROW(exportField(turned, r, out.string(), "cube"), Cancelled);
   EXPECT_TRUE(others().empty());
   r.progress = nullptr;
-  r.sharpFeatures = false;
+  r.mesh.sharpFeatures = false;
   try {
     exportField(turned, r, out.string(), "cube");
     FAIL() << "no error";
   } catch (const ModelError& e) {
-    EXPECT_NE(std::string(e.what()).find("cube: straightening creases needs sharp features"),
+    EXPECT_NE(std::string(e.what()).find("cube: straighten_creases needs sharp_features"),
               std::string::npos)
         << e.what();
   }
@@ -137,23 +137,22 @@ TEST(MeshAndFinish, KeepsTheMeshersMeshOnlyWhenAskedAndRefusesBeforeMeshing) {
   MeshingOptions o;
   o.bbox = Box3{{-1.5, -1.5, -1.5}, {1.5, 1.5, 1.5}};
   o.resolution = 3.0 / 40;
-  const FinishedMesh plain = meshAndFinish(turned, o, Finishing(), nullptr, true);
+  const FinishedMesh plain = meshAndFinish(turned, o, nullptr, true);
   EXPECT_FALSE(plain.straightened || plain.simplified);
   EXPECT_EQ(plain.meshers.triangleCount(), 0u);  // nothing changed it: no copy
-  Finishing f;
-  f.tolerance = 0.01;
-  const FinishedMesh kept = meshAndFinish(turned, o, f, nullptr, true);
+  o.settings.tolerance = 0.01;
+  const FinishedMesh kept = meshAndFinish(turned, o, nullptr, true);
   ASSERT_TRUE(kept.simplified);
   EXPECT_EQ(kept.meshers.triangleCount(), plain.mesh.triangleCount());
   EXPECT_LT(kept.mesh.triangleCount(), plain.mesh.triangleCount());
   EXPECT_EQ(kept.simplify.trianglesBefore, plain.mesh.triangleCount());
-  EXPECT_EQ(meshAndFinish(turned, o, f, nullptr, false).meshers.triangleCount(), 0u);
+  EXPECT_EQ(meshAndFinish(turned, o, nullptr, false).meshers.triangleCount(), 0u);
   for (double bad : {0.0, -1.0, std::nan("")}) {
-    f.tolerance = bad;
+    o.settings.tolerance = bad;
     bool called = false;
     try {
       meshAndFinish(
-          turned, o, f, [&called](double) { return called = true; }, false);
+          turned, o, [&called](double) { return called = true; }, false);
       ADD_FAILURE() << bad;
     } catch (const ModelError& e) {
       EXPECT_NE(std::string(e.what()).find("tolerance must be a distance > 0"), std::string::npos)

@@ -21,9 +21,12 @@
 #include "simplify/simplify.h"
 #include "simplify/straighten_creases.h"
 #include "sorted_triangles.h"
+#include "test_nodes.h"
 
 namespace frep {
 namespace {
+
+using frep::testing::sphere;
 
 std::string reasons(const CheckReport& r) {
   std::string s;
@@ -34,7 +37,7 @@ std::string reasons(const CheckReport& r) {
 TriangleMesh meshOf(const Field& f, const Box3& box, double cell, bool normals = false,
                     Extraction extraction = Extraction::Cubes) {
   MeshingOptions o;
-  o.extraction = extraction;
+  o.settings.mesher = extraction;
   o.bbox = box;
   o.resolution = cell;
   o.normals = normals;
@@ -58,10 +61,6 @@ double distanceEstimate(const Field& f, const Box3& box, const Vec3& p) {
   const Dual d = f.evalGradient(p[0], p[1], p[2]);
   if (box_distance < d.v) return std::abs(box_distance);
   return std::abs(d.v) / std::sqrt(d.d[0] * d.d[0] + d.d[1] * d.d[1] + d.d[2] * d.d[2]);
-}
-
-NodePtr sphere(double r) {
-  return makeNode("sphere", {{"radius", realValue(r)}}, {});
 }
 
 // A cube turned off the grid's axes: its edges and corners fall inside cells, where marching
@@ -298,7 +297,7 @@ TEST(Accuracy, TheMeshersSharpFeaturesPlaceTheCubesEdges) {
   m.resolution = cell;
   m.normals = false;
   const TriangleMesh sharp = polygonize(p, m);
-  m.sharpFeatures = false;
+  m.settings.sharpFeatures = false;
   const TriangleMesh chamfered = polygonize(p, m);
   AccuracyOptions o;
   o.bbox = box;
@@ -447,8 +446,8 @@ double hausdorffCells(const std::string& model, int cells, int refinementLevels)
   MeshingOptions o;
   o.bbox = *m.bbox;
   o.resolution = longest / cells;
-  o.refineTips = refinementLevels > 0;
-  o.refinementLevels = std::max(1, refinementLevels);
+  o.settings.refine = refinementLevels > 0 ? Refinement::Tips : Refinement::Off;
+  o.settings.refineLevels = std::max(1, refinementLevels);
   const TriangleMesh mesh = polygonize(p, o);
   EXPECT_TRUE(checkMesh(mesh).printable()) << model << " at " << cells << " cells";
   AccuracyOptions a;

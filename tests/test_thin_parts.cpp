@@ -89,7 +89,7 @@ MeshingStats meshJson(const std::string& json, int brick = 16, TriangleMesh* mes
   o.bbox = *m.bbox;
   o.resolution = 0.1;
   o.brickCells = brick;
-  o.flatVertices = brick % 2 == 0;  // (flat vertices need an even brick size)
+  o.settings.dropFlatVertices = brick % 2 == 0;  // (flat vertices need an even brick size)
   MeshingStats stats;
   TriangleMesh t = polygonize(compile(m.root), o, &stats);
   if (mesh) *mesh = std::move(t);

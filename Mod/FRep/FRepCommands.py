@@ -11,21 +11,14 @@ import FreeCAD
 import FreeCADGui
 
 import FRepFeatures
+import FRepHSplineCommands
 import FRepMeshing
 import FRepPaths
 import FRepPolygonize
 import FRepProperties as props
 import FRepTree
-
-try:  # FreeCAD's translation hooks (menu texts and tooltips go through them)
-    from FreeCAD import Qt
-    translate, QT_TRANSLATE_NOOP = Qt.translate, Qt.QT_TRANSLATE_NOOP
-except ImportError:
-    def translate(context, text):
-        return text
-
-    def QT_TRANSLATE_NOOP(context, text):
-        return text
+from FRepGuiHelpers import (QT_TRANSLATE_NOOP, Transaction, add_to_active_container, report,
+                            translate)
 
 MENU = "FRep"
 TOOLBARS = (
@@ -65,48 +58,10 @@ def toolbars():
         if category not in placed:
             bars.append(("FRep " + category, names))
     bars.append(("FRep lattice", LATTICE_COMMANDS))
-    import FRepHSplineCommands
     bars.append(("FRep hspline", FRepHSplineCommands.HSPLINE_COMMANDS))
     bars.append(("FRep print", PRINT_COMMANDS))
     bars.append(("FRep mesh", MESH_COMMANDS))
     return bars
-
-
-def report(title, message, error=True):
-    """A message on the console and, in the GUI, in a dialog the user has to acknowledge."""
-    (FreeCAD.Console.PrintError if error else FreeCAD.Console.PrintMessage)(message + "\n")
-    from PySide import QtGui
-    box = QtGui.QMessageBox.warning if error else QtGui.QMessageBox.information
-    box(FreeCADGui.getMainWindow(), title, message)
-
-
-def add_to_active_container(obj):
-    """A new object goes into the active App::Part, as the Part workbench's own commands put
-    theirs (Part's CommandShapes); with none active it stays at the document's top level."""
-    try:
-        part = FreeCADGui.ActiveDocument.ActiveView.getActiveObject("part")
-    except Exception:  # no 3D view (a macro, a test without one)
-        part = None
-    if part is not None and part.Document == obj.Document and obj not in part.Group:
-        part.addObject(obj)
-
-
-class Transaction:
-    """One undo step; aborted (the document left as it was) when the body raises."""
-
-    def __init__(self, doc, title):
-        self.doc, self.title = doc, title
-
-    def __enter__(self):
-        self.doc.openTransaction(self.title)
-        return self
-
-    def __exit__(self, kind, value, trace):
-        if kind is None:
-            self.doc.commitTransaction()
-        else:
-            self.doc.abortTransaction()
-        return False
 
 
 class NodeCommand:
@@ -301,7 +256,8 @@ def export_options(objects, filename):
     options = {}
     if cells is not None:
         options["cells"] = cells.value()
-        options["tolerance"] = tolerance.value() or None
+        if tolerance.value():
+            options["settings"] = {"tolerance": tolerance.value()}
     if unit is not None:
         options["unit"] = unit.currentText()
     return options
@@ -522,6 +478,5 @@ def register():
     FreeCADGui.addCommand("FRep_Deform", DeformCommand())
     FreeCADGui.addCommand("FRep_Repair", RepairCommand())
     FreeCADGui.addCommand("FRep_Printability", PrintabilityCommand())
-    import FRepHSplineCommands
     FRepHSplineCommands.register()
     return toolbars()

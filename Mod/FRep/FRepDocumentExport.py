@@ -3,8 +3,8 @@
 Opens the document, applies --set overrides (Object.Property=value, Spreadsheet.alias=value
 or Spreadsheet.A1=value), recomputes, and exports the chosen object with the CGAL check
 (OpenSCAD's -D for FRep documents). The arguments come in FREPCAD_EXPORT_ARGS (JSON), since
-freecadcmd's own value options crash on Debian's 0.20. Exit status: 0 written, 1 not
-printable (nothing written), 2 bad input.
+freecadcmd's own value options crash on Debian's 0.20. Exit status (frepcore.EXIT_STATUS): 0
+written, 1 not printable (nothing written), 2 bad input, 3 internal error, 130 cancelled.
 """
 
 import argparse
@@ -14,12 +14,12 @@ import signal
 import sys
 
 
-class UsageError(Exception):
-    pass
+class UsageError(ValueError):
+    """A bad option or document: exit status 2, one line."""
 
 
 KEYS = ("document", "output", "format", "objects", "sets", "force", "quiet", "cells",
-        "resolution", "bbox", "tolerance", "sharp", "units")
+        "resolution", "bbox", "units", "settings")
 
 
 def parse_args(options):
@@ -189,40 +189,55 @@ def main(out):
         report = FRepExport.export_objects(
             chosen, args.output, progress=lambda f: not stop, cells=args.cells,
             resolution=args.resolution, bbox=args.bbox, fmt=args.format, force=args.force,
-            tolerance=args.tolerance, sharp=args.sharp, unit=args.units or "mm")
+            unit=args.units or "mm", settings=args.settings)
     except frepcore.NotPrintable as e:
         print(e.report["text"], file=out)
         print("frepcad: refusing to write %s: the mesh is not printable (see reasons above; "
               "--force writes it anyway)" % args.output, file=sys.stderr)
-        return 1
-    except RuntimeError as e:
+        return frepcore.exit_status_of(e)
+    except RuntimeError:
         if stop:
             print("frepcad: cancelled; nothing written", file=sys.stderr)
-            return 130
+            return frepcore.EXIT_STATUS["cancelled"]
         raise
     if not args.quiet:
         print(report["text"], file=out)
         print("wrote %s from %s (%s)" % (args.output, args.document,
                                          ", ".join(o.Label for o in chosen)), file=out)
-    return 0 if report["printable"] else 1
+    return frepcore.EXIT_STATUS["done" if report["printable"] else "not_printable"]
+
+
+def report_error(error):
+    """Prints the one line for `error` and returns frepcad's exit status for it; an
+    internal error (a bug) gets its traceback too."""
+    try:
+        from FRepPaths import frepcore
+        rc = frepcore.exit_status_of(error)
+        internal = rc == frepcore.EXIT_STATUS["internal_error"]
+    except Exception:  # (no frepcore to say: whatever it is, it is not the user's)
+        rc, internal = 3, True
+    if internal:
+        import traceback
+        traceback.print_exc()
+        print("frepcad: internal error (a bug: please report it): %s" % error, file=sys.stderr)
+    else:
+        print("frepcad: %s" % error, file=sys.stderr)
+    return rc
 
 
 def run():
-    out = report_stream()
+    rc = 3  # (should anything below fail, never exit 0)
     try:
-        rc = main(out)
-    except (UsageError, ValueError, OSError) as e:
-        print("frepcad: %s" % e, file=sys.stderr)
-        rc = 2
-    except Exception as e:  # anything else is a bug: say so, never exit 0
-        import traceback
-        traceback.print_exc()
-        print("frepcad: internal error: %s" % e, file=sys.stderr)
-        rc = 3
-    out.flush()
-    sys.stdout.flush()
-    sys.stderr.flush()
-    os._exit(rc)  # freecadcmd would exit 0 whatever happened
+        out = report_stream()
+        try:
+            rc = main(out)
+        except Exception as e:
+            rc = report_error(e)
+        out.flush()
+    finally:
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(rc)  # freecadcmd would exit 0 whatever happened
 
 
 run()

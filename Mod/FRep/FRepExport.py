@@ -63,38 +63,41 @@ def solid_and_box(objects, cells=None, resolution=None, bbox=None):
         raise ValueError("%s: %s" % (label, e))
 
 
+def settings_for(obj, given):
+    """The meshing settings an object exports with: a Polygonize feature's own, else the
+    defaults, with `given` (a dict of meshing options: frepcad export's flags) over them."""
+    own = isinstance(getattr(obj, "Proxy", None), FRepPolygonize.Polygonize)
+    settings = FRepPolygonize.settings_of(obj) if own else None
+    return frepcore.mesh_settings(settings, **(given or {}))
+
+
 def export_objects(objects, filename, progress=None, cells=None, fmt="", resolution=None,
-                   bbox=None, force=False, tolerance=None, sharp=True, unit="mm"):
+                   bbox=None, force=False, unit="mm", settings=None):
     """Meshes, checks and writes (libcore's export pipeline); returns the check report (a
-    dict with 'text' and 'written'). With a tolerance the mesh is simplified first, kept
-    within that distance of the surface (sharp: merged vertices on creases and corners).
-    A .3mf holds each object as its own, in `unit`; other formats the objects' union.
+    dict with 'text' and 'written'). A single Polygonize feature exports with its own
+    meshing settings; `settings` (a dict of meshing options, as frepcore's export takes
+    them) go over them. A .3mf holds each object as its own, in `unit`; other formats the
+    objects' union.
 
     Raises frepcore.NotPrintable (nothing written) when the check fails and force is not
     given, RuntimeError when cancelled (nothing written), ValueError for bad input.
     """
     if filename.lower().endswith(".3mf") or fmt == "3mf":
         return _export_3mf(objects, filename, progress, cells, resolution, bbox, force,
-                           tolerance, sharp, unit)
+                           settings, unit)
     if unit != "mm":
         raise ValueError("%s: a unit applies to a 3MF output only" % os.path.basename(filename))
     solid, (box, cell) = solid_and_box(objects, cells, resolution, bbox)
     name = os.path.basename(filename)
     if filename.lower().endswith(".vdb"):
         return _export_level_set(solid, box, cell, filename, progress)
-    # a single Polygonize feature exports as it meshes: with its Method and Tolerance
-    keywords = {}
-    if (len(objects) == 1
-            and isinstance(getattr(objects[0], "Proxy", None), FRepPolygonize.Polygonize)):
-        keywords = FRepPolygonize.mesh_keywords(objects[0])
-        if tolerance is None:
-            tolerance, sharp = FRepPolygonize.simplification(objects[0])
+    # a single Polygonize feature exports as it meshes
+    chosen = settings_for(objects[0] if len(objects) == 1 else None, settings)
 
     def work(tick):
         try:
             report = solid.export(filename, resolution=cell, bbox=box, format=fmt,
-                                  progress=tick, force=force, tolerance=tolerance, sharp=sharp,
-                                  **keywords)
+                                  progress=tick, force=force, settings=chosen)
         except frepcore.Cancelled:
             raise RuntimeError("export of %s cancelled; no file written" % name)
         FRepMeshing.warn_thin_parts(name, report and report.get("thin_parts"))
@@ -106,7 +109,7 @@ def export_objects(objects, filename, progress=None, cells=None, fmt="", resolut
     return FRepMeshing.run_with_progress("Exporting %s" % name, work)
 
 
-def _export_3mf(objects, filename, progress, cells, resolution, bbox, force, tolerance, sharp,
+def _export_3mf(objects, filename, progress, cells, resolution, bbox, force, settings,
                 unit="mm"):
     """Every object its own 3MF object: meshed with its own box (a Polygonize feature with its
     settings), all checked as the file holds them, written only when all pass (or force)."""
@@ -128,12 +131,8 @@ def _export_3mf(objects, filename, progress, cells, resolution, bbox, force, tol
             solid, (box, cell) = solid_and_box([obj], None if own else cells,
                                                None if own else resolution,
                                                None if own else bbox)
-            tol, sh = tolerance, sharp
-            if meshed and (tol is None or own):
-                tol, sh = FRepPolygonize.simplification(obj)
             mesh = solid.node.mesh(box, cell, lambda f, i=i: tick(i * share + f * share), False,
-                                   tol, sh,
-                                   **(FRepPolygonize.mesh_keywords(obj) if meshed else {}))
+                                   settings_for(obj, None if own else settings))
             FRepMeshing.warn_thin_parts(obj.Label, getattr(mesh, "thin_parts", None))
             FRepMeshing.report_straightened(obj.Label, getattr(mesh, "straightened", None))
             meshes.append((obj.Label, mesh))

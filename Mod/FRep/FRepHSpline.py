@@ -98,8 +98,26 @@ class HSplineFeature(FeatureProxy):
             return None
         return h.tessellate(tolerance)
 
-    def nudge(self, obj, cvs, delta):
-        nudge_cvs(obj, cvs, delta)
+    def nudge(self, obj, cvs, delta, along_normal=0.0):
+        return nudge_cvs(obj, cvs, delta, along_normal)
+
+    def tags(self, obj):
+        return tags(obj)
+
+    def tag(self, obj, how, level=0):
+        return tag(obj, how, level=level)
+
+    def refine(self, obj):
+        return refine(obj)
+
+    def zero_offsets(self, obj):
+        return zero_offsets(obj)
+
+    def unrefine(self, obj):
+        return unrefine(obj)
+
+    def expose_cv(self, obj, cv):
+        return expose_cv(obj, cv)
 
     def toggle_tag(self, obj, cv):
         cv = tuple(cv)

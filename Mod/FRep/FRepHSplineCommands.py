@@ -7,7 +7,7 @@ import FreeCAD
 import FreeCADGui
 
 import FRepPaths
-from FRepCommands import QT_TRANSLATE_NOOP, Transaction, add_to_active_container, report
+from FRepGuiHelpers import QT_TRANSLATE_NOOP, Transaction, add_to_active_container, report
 
 HSPLINE_COMMANDS = ["FRep_HSplinePlane", "FRep_HSplineCylinder", "FRep_HSplineTorus",
                     "FRep_HSplineFromFace", "FRep_HSplineRefine", "FRep_HSplineZeroOffsets",

@@ -5,15 +5,7 @@ undo step; a refused request says why in the panel."""
 
 import FreeCAD
 
-import FRepHSpline as H
-
-try:
-    from FreeCAD import Qt
-    translate = Qt.translate
-except ImportError:
-    def translate(context, text):
-        return text
-
+from FRepGuiHelpers import translate
 
 TAG_TOOLS = (
     ("level", "Level", "Tag every CV of the shown level"),
@@ -94,16 +86,16 @@ class HSplinePanel:
         self.describe()
 
     def shown_level(self):
-        h = H.hspline_of(self.obj)
+        h = self.obj.Proxy.hspline(self.obj)
         level = self.level.value()
         return h.level_count - 1 if level < 0 or level >= h.level_count else level
 
     def describe(self, message=""):
-        h = H.hspline_of(self.obj)
+        h = self.obj.Proxy.hspline(self.obj)
         level = self.shown_level()
         text = translate("FRep", "%d levels, %d CVs. Level %d: %d CVs, %d movable. Tagged: %d.") % (
             h.level_count, h.cv_count, level, len(h.cvs(level)), len(h.select_movable(level)),
-            len(H.tags(self.obj)))
+            len(self.obj.Proxy.tags(self.obj)))
         self.status.setText(message + ("\n" if message else "") + text)
 
     def show_level(self, value):
@@ -127,17 +119,17 @@ class HSplinePanel:
         return result
 
     def tag(self, how):
-        self.run("Tag hspline CVs", lambda: H.tag(self.obj, how, level=self.shown_level()))
+        self.run("Tag hspline CVs", lambda: self.obj.Proxy.tag(self.obj, how, level=self.shown_level()))
 
     def refine(self):
-        if self.run("Refine hspline", lambda: H.refine(self.obj)) is not None:
+        if self.run("Refine hspline", lambda: self.obj.Proxy.refine(self.obj)) is not None:
             self.level.setValue(-1)
 
     def zero(self):
-        self.run("Zero hspline offsets", lambda: H.zero_offsets(self.obj))
+        self.run("Zero hspline offsets", lambda: self.obj.Proxy.zero_offsets(self.obj))
 
     def unrefine(self):
-        removed = self.run("Unrefine hspline", lambda: H.unrefine(self.obj))
+        removed = self.run("Unrefine hspline", lambda: self.obj.Proxy.unrefine(self.obj))
         if removed is not None:
             self.describe(translate("FRep", "Unrefine removed %d CVs; the surface is unchanged")
                           % removed)
@@ -146,10 +138,10 @@ class HSplinePanel:
         """Each tagged CV that may move gets a vector property of its own (group CVs), for the
         property view, expressions and spreadsheets."""
         def action():
-            cvs = [c for c in H.tags(self.obj) if H.hspline_of(self.obj).movable(*c)]
+            cvs = [c for c in self.obj.Proxy.tags(self.obj) if self.obj.Proxy.hspline(self.obj).movable(*c)]
             if not cvs:
                 raise ValueError(translate("FRep", "Tag CVs that may move first"))
-            return [H.expose_cv(self.obj, c) for c in cvs]
+            return [self.obj.Proxy.expose_cv(self.obj, c) for c in cvs]
         names = self.run("Expose hspline CVs", action)
         if names:
             self.describe(translate("FRep", "Added %s (group CVs): bind them to expressions")
@@ -157,11 +149,11 @@ class HSplinePanel:
 
     def move_tagged(self):
         dx, dy, dz, dn = (b.value() for b in self.move)
-        cvs = [c for c in H.tags(self.obj)]
+        cvs = [c for c in self.obj.Proxy.tags(self.obj)]
         if not cvs:
             self.describe(translate("FRep", "Tag the CVs to move first"))
             return
-        self.run("Move hspline CVs", lambda: H.nudge_cvs(self.obj, cvs, (dx, dy, dz), dn))
+        self.run("Move hspline CVs", lambda: self.obj.Proxy.nudge(self.obj, cvs, (dx, dy, dz), dn))
 
     def getStandardButtons(self):
         from PySide import QtGui

@@ -75,7 +75,7 @@ def warn_thin_parts(label, thin):
     points with no surface near (frepcore's Mesh.thin_parts): the mesh is printable, but
     those parts are missing from it (solid) or closed in it (gaps). Crease tips cut short
     are not warned of: every crease off the grid has them. Where they were meshed again at
-    half a cell (RefineThinParts), it says so instead, with the smaller cubes of deeper
+    half a cell (Refine), it says so instead, with the smaller cubes of deeper
     levels (RefineLevels)."""
     if thin and thin.get("refinement_skipped"):
         FreeCAD.Console.PrintWarning("%s: the thin parts were not refined: %s\n"

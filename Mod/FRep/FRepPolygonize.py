@@ -13,12 +13,96 @@ from FRepProxy import FeatureProxy
 from FRepPaths import frepcore
 
 GROUP = "Polygonize"
-# Both closed, manifold and oriented by design (docs/mesher.md): "Cubes" caps each crossed
-# cube with a fan (a third of the triangles, creases placed); "Marching tetrahedra" is the
-# mesher before 0.3, kept selectable for one release.
-METHODS = ["Cubes", "Marching tetrahedra"]
-MESHER_OF_METHOD = {"Cubes": "cubes", "Marching tetrahedra": "tetra"}
-REFINEMENTS = ["Off", "Thin parts", "Thin parts and tips"]
+
+
+class SettingProperty:
+    """A meshing option (a row of frepcore.mesh_settings_table()) as a property: its name,
+    its FreeCAD type, the labels an enumeration shows for the option's words, and the
+    property an older document held it in (taken over when the document is reopened)."""
+
+    def __init__(self, option, name, kind, labels=None, older=None):
+        self.option, self.name, self.kind, self.labels, self.older = (option, name, kind,
+                                                                     labels, older)
+
+    def value(self, obj):
+        """The option's value from the property (the table's default where the document
+        has no such property: a document saved before it existed meshes as it did)."""
+        if self.name not in obj.PropertiesList:
+            return DEFAULTS[self.option]
+        value = getattr(obj, self.name)
+        if self.labels:
+            return self.labels.get(value, DEFAULTS[self.option])
+        if self.option == "tolerance":
+            return value.Value or None  # (0: off)
+        return value
+
+    def default(self):
+        """The property's value for the option's default."""
+        value = DEFAULTS[self.option]
+        if self.labels:
+            return next(label for label, word in self.labels.items() if word == value)
+        return 0 if value is None else value
+
+
+# Both meshers are closed, manifold and oriented by design (docs/mesher.md).
+SETTING_PROPERTIES = [
+    SettingProperty("mesher", "Mesher", "App::PropertyEnumeration",
+                    {"Cubes": "cubes", "Marching tetrahedra": "tetra"}, older="Method"),
+    SettingProperty("sharp_features", "SharpFeatures", "App::PropertyBool"),
+    SettingProperty("drop_flat_vertices", "DropFlatVertices", "App::PropertyBool",
+                    older="FewerTriangles"),
+    SettingProperty("refine", "Refine", "App::PropertyEnumeration",
+                    {"Off": "off", "Thin parts": "thin-parts", "Thin parts and tips": "tips"},
+                    older="RefineThinParts"),
+    SettingProperty("refine_levels", "RefineLevels", "App::PropertyInteger"),
+    SettingProperty("straighten_creases", "StraightenCreases", "App::PropertyBool"),
+    SettingProperty("tolerance", "Tolerance", "App::PropertyLength"),
+]
+PROPERTY_OF_OPTION = {p.option: p.name for p in SETTING_PROPERTIES}
+TABLE = {row["name"]: row for row in frepcore.mesh_settings_table()}
+DEFAULTS = {name: row["default"] for name, row in TABLE.items()}
+assert set(PROPERTY_OF_OPTION) == set(TABLE), "a meshing option has no property"
+
+
+def spell_properties(text):
+    """A text of frepcore's table with each {option} as its property's name."""
+    for option, name in PROPERTY_OF_OPTION.items():
+        text = text.replace("{%s}" % option, "'%s'" % name)
+    return text
+
+
+def add_setting_properties(obj):
+    """The meshing options' properties, tooltips from the table; an older document's
+    properties are taken over under the names they have now."""
+    for prop in SETTING_PROPERTIES:
+        older = None
+        if prop.older and prop.older in obj.PropertiesList:
+            older = getattr(obj, prop.older)
+            # (a document from before 0.3 had one mesher to store, whatever its label: it
+            # meshes with the default from now on)
+            if prop.labels and list(obj.getEnumerationsOfProperty(prop.older)) != list(
+                    prop.labels):
+                older = prop.default()
+            obj.removeProperty(prop.older)
+        if prop.name not in obj.PropertiesList:
+            tip = spell_properties(TABLE[prop.option]["help"])
+            obj.addProperty(prop.kind, prop.name, GROUP, tip[0].upper() + tip[1:] + ".")
+            if prop.labels:
+                setattr(obj, prop.name, list(prop.labels))
+            setattr(obj, prop.name, prop.default())
+        if older is not None:
+            setattr(obj, prop.name, older if not prop.labels or older in prop.labels
+                    else prop.default())
+
+
+def settings_of(obj):
+    """frepcore.MeshSettings from a Polygonize feature's properties; a ValueError naming
+    the property where they are out of range or contradict each other."""
+    settings = frepcore.MeshSettings(**{p.option: p.value(obj) for p in SETTING_PROPERTIES})
+    problem = settings.problem()
+    if problem is not None:
+        raise ValueError("%s: property %s" % (obj.Label, spell_properties(problem[1])))
+    return settings
 
 
 class Polygonize(FeatureProxy):
@@ -39,43 +123,7 @@ class Polygonize(FeatureProxy):
         add("App::PropertyLength", "Resolution", "Cell size; 0 derives it from Cells.", 0)
         add("App::PropertyInteger", "Cells", "Cells along the longest side of the box when "
             "Resolution is 0. Allowed: 4 to 4096.", FRepMeshing.DEFAULT_EXPORT_CELLS)
-        add("App::PropertyEnumeration", "Method", "Polygonisation method: Cubes (a third "
-            "of the triangles, creases placed) or Marching tetrahedra (the mesher before "
-            "0.3).", METHODS)
-        if list(obj.getEnumerationsOfProperty("Method")) != METHODS:
-            # a document from before 0.3 had one method to store: it meshes with the new
-            # default from now on (Marching tetrahedra stays selectable)
-            obj.Method = METHODS
-            obj.Method = "Cubes"
-        add("App::PropertyLength", "Tolerance", "Simplify the mesh: far fewer triangles, the "
-            "surface kept within this distance of the exact one (0: off). A tenth of the "
-            "cell size is a good start.", 0)
-        add("App::PropertyBool", "SharpFeatures", "Put vertices on the creases and corners "
-            "(the Cubes mesher, and the simplifier with a Tolerance) instead of chamfering "
-            "them within a cell.", True)
-        # (a document saved without the property gets it on, as a new one: the same accuracy
-        # with fewer triangles; one saved with it keeps its setting)
-        add("App::PropertyBool", "FewerTriangles", "Drop the vertices where the surface is flat "
-            "within a fiftieth of a cell, two triangles with each: 6 to 15 % fewer triangles, "
-            "the same accuracy, a little longer meshing (the Cubes method).", True)
-        # (a document saved without it gets Off: the mesh it had)
-        if "RefineThinParts" not in obj.PropertiesList:
-            add("App::PropertyEnumeration", "RefineThinParts", "Mesh the cubes where a part "
-                "thinner than a cell passes between the grid's points again at half a cell: "
-                "walls and fins the grid misses come back, slits it closes open again. With "
-                "tips too, the tips of creases and slivers (the gyroid's), but creases there "
-                "come out less clean. Takes longer.", REFINEMENTS)
-            obj.RefineThinParts = "Off"
-        # (a document saved without it gets one level: the mesh it had)
-        add("App::PropertyInteger", "RefineLevels", "Levels of RefineThinParts: 2 or 3 mesh "
-            "again at a quarter (an eighth) of a cell where parts hide between the half "
-            "cells' points, and where the mesh lies over 0.3 cell from the surface: the "
-            "gyroid within half a cell. Allowed: 1 to 3. Takes several times longer.", 1)
-        # (a document saved without it gets it off: the mesh it had)
-        add("App::PropertyBool", "StraightenCreases", "Merge the vertices either side of a "
-            "chamfered or zig-zagging crease onto it and flip its edges along it (within a "
-            "third of a cell): clean, straight creases. Needs SharpFeatures; takes a few "
-            "times as long as meshing.", False)
+        add_setting_properties(obj)
         if "Triangles" not in obj.PropertiesList:
             obj.addProperty("App::PropertyInteger", "Triangles", GROUP,
                             "Triangles in the mesh (read-only).")
@@ -108,72 +156,10 @@ class Polygonize(FeatureProxy):
         FRepMeshing.set_mesh(obj, FRepMeshing.to_freecad_mesh(mesh))
 
 
-def simplification(obj):
-    """(tolerance or None, sharp features) from a Polygonize feature's settings."""
-    tolerance = obj.Tolerance.Value if "Tolerance" in obj.PropertiesList else 0.0
-    sharp = obj.SharpFeatures if "SharpFeatures" in obj.PropertiesList else True
-    return (tolerance or None), sharp
-
-
-def fewer_triangles(obj):
-    """Whether a Polygonize feature drops the mesher's flat vertices (FewerTriangles)."""
-    return bool(obj.FewerTriangles) if "FewerTriangles" in obj.PropertiesList else True
-
-
-def refinement_of(obj):
-    """(refine_thin_parts, refine_tips) for frepcore from a Polygonize feature's
-    RefineThinParts."""
-    choice = obj.RefineThinParts if "RefineThinParts" in obj.PropertiesList else "Off"
-    return choice != "Off", choice == "Thin parts and tips"
-
-
-def refinement_levels(obj):
-    """frepcore's refine_levels from a Polygonize feature's RefineLevels; an error naming the
-    property where it is out of range, or asks for levels with RefineThinParts off."""
-    levels = obj.RefineLevels if "RefineLevels" in obj.PropertiesList else 1
-    if not 1 <= levels <= 3:
-        raise ValueError("%s: property 'RefineLevels' is %d; allowed: 1 to 3"
-                         % (obj.Label, levels))
-    if levels > 1 and not refinement_of(obj)[0]:
-        raise ValueError("%s: property 'RefineLevels' %d needs 'RefineThinParts' on (the "
-                         "levels are that refinement's); turn RefineThinParts on or set "
-                         "RefineLevels to 1" % (obj.Label, levels))
-    return levels
-
-
-def straightens_creases(obj):
-    """Whether a Polygonize feature straightens its creases; an error naming the properties
-    where it asks for that without sharp features."""
-    if not ("StraightenCreases" in obj.PropertiesList and obj.StraightenCreases):
-        return False
-    if "SharpFeatures" in obj.PropertiesList and not obj.SharpFeatures:
-        raise ValueError("%s: property 'StraightenCreases' needs 'SharpFeatures' on (they find "
-                         "the creases); turn SharpFeatures on or StraightenCreases off"
-                         % obj.Label)
-    return True
-
-
-def mesh_keywords(obj):
-    """frepcore's meshing keywords (mesh() and export() alike) from a Polygonize feature's
-    settings, simplification apart."""
-    refine_thin_parts, refine_tips = refinement_of(obj)
-    return {"mesher": mesher_of(obj), "fewer_triangles": fewer_triangles(obj),
-            "refine_thin_parts": refine_thin_parts, "refine_tips": refine_tips,
-            "refine_levels": refinement_levels(obj),
-            "straighten_creases": straightens_creases(obj)}
-
-
-def mesher_of(obj):
-    """frepcore's mesher name ('cubes' or 'tetra') for a Polygonize feature's Method."""
-    method = obj.Method if "Method" in obj.PropertiesList else METHODS[0]
-    return MESHER_OF_METHOD.get(method, "cubes")
-
-
 def _mesh_or_cancel(obj, shape, box, cell, progress):
-    tolerance, sharp = simplification(obj)
+    settings = settings_of(obj)
     try:
-        return shape.node.mesh(box, cell, progress, False, tolerance, sharp,
-                               **mesh_keywords(obj))
+        return shape.node.mesh(box, cell, progress, False, settings)
     except frepcore.Cancelled:
         raise RuntimeError("%s: polygonizing was cancelled; the previous mesh is kept"
                            % obj.Label)

@@ -1,4 +1,4 @@
-// A piece of a mesh made by one brick job (issue 17): the mesher's mesh of a box of its
+// A piece of a mesh made by one brick job: the mesher's mesh of a box of its
 // bricks, with every vertex keyed by the grid edge (or cube) it lies on. Pieces of one grid
 // weld by key alone: a vertex on the face two jobs share is computed bit-identically by both,
 // so merging pieces is a merge of keys, never a search by position.

@@ -20,6 +20,7 @@
 #include <tuple>
 
 #include "base/triangle_geometry.h"
+#include "base/progress.h"
 #include "check/cgal_surface.h"
 #include "check/face_pair_test.h"
 #include "check/mesh_check_passes.h"
@@ -414,9 +415,13 @@ void addReasons(CheckReport& r) {
 
 CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)>& progress,
                       std::size_t selfIntersectionLimit) {
-  auto tick = [&](double f) {
-    if (progress) progress(f);
-  };
+  // (the check cannot be cancelled but by its caller's throwing from `progress`)
+  const Progress bar(progress ? ProgressCallback([&progress](double f) {
+    progress(f);
+    return true;
+  })
+                              : ProgressCallback());
+  auto tick = [&bar](double f) { bar.report(f); };
   CheckReport r;
   r.inputVertices = mesh.positions.size();
   r.faces = mesh.triangles.size();
@@ -534,11 +539,12 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
         r.nonManifoldEdges == 0 && r.misorientedEdges == 0 && r.nonManifoldVertices == 0;
     const std::vector<FaceIndices>& indexed = faces;
     tick(0.45);
+    const Progress intersections = bar.sub(0.45, 0.5);
     // A polygon mesh (every export the mesher makes) through the hash grid; any other soup
     // through CGAL's own routine, once orient_polygon_soup has made it a polygon mesh.
     r.selfIntersections =
         polygonMesh ? countSelfIntersections(
-                          pos, indexed, [&](double f) { tick(0.45 + 0.5 * f); },
+                          pos, indexed, [&intersections](double f) { intersections.report(f); },
                           selfIntersectionLimit, FaceFacts{&collinearFace, &embeddedFan})
                     : countSelfIntersectionsWithCgal(pos, indexed, false, selfIntersectionLimit);
     r.selfIntersectionsAtLeast = r.selfIntersections >= selfIntersectionLimit;

@@ -1,4 +1,4 @@
-// The check of a mesh held in parts (brick pieces, issue 17), one part in memory at a time:
+// The check of a mesh held in parts (brick pieces), one part in memory at a time:
 // the report checkMesh gives for the whole mesh, but the memory of one part plus the zone
 // where parts meet.
 //

@@ -1,8 +1,9 @@
 // The Field seam: anything that can be evaluated at points, over boxes and with gradients.
 //
-// A compiled FRep tree (Program) is a Field; so is the instancer's set of copies, and so will
-// be an OpenVDB grid, a mesh's signed distance or a lattice deformation of another field. The
-// mesher, the bounds finder and the export pipeline take a `const Field&`; a tree holds any
+// A compiled FRep tree (Program) is a Field; so are the instancer's set of copies, an OpenVDB
+// grid (volume/grid_field.h), a mesh's signed distance and a lattice deformation of another
+// field (lattice/). The mesher, the bounds finder and the export pipeline take a
+// `const Field&`; a tree holds any
 // other field through one generic instruction (Op::External, see program.h) made by an external
 // node (makeFieldNode in tree.h). A new kind of geometry implements this interface and needs
 // no special case in the evaluator (docs/architecture.md, "Adding a kind of field").

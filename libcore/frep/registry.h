@@ -1,7 +1,8 @@
 // The node registry: the single table of FRep node types. Each type declares its id,
 // category, inputs and parameter templates (name, type, default, range, unit, doc) and how
 // it compiles into program instructions. The JSON model format, `frepcad info`, the docs'
-// node reference and (later) the FreeCAD features are all derived from this table.
+// node reference, frepcore's functions and the workbench's features and commands are all
+// derived from this table.
 // Types are always looked up by id, never by an instance's name.
 #pragma once
 

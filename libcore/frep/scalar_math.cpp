@@ -2,7 +2,7 @@
 // are sums of products of sines and cosines: glibc's scalar sin took 9.7 ns here, half of
 // meshing a gyroid; its vector library (libmvec) 2.4 ns a value two at a time with SSE (0.8 ns
 // with AVX2, but its results differ from the SSE ones in the last bits, and a model must
-// evaluate to the same bits on every x86-64 processor). Since session 19 the lanes run our own
+// evaluate to the same bits on every x86-64 processor). So the lanes run our own
 // reduction and polynomials (frep/vector_trig.h), which give the same bits at every width, four
 // at a time where the processor has AVX2; libmvec's SSE functions take the arguments beyond
 // vector_trig::kDirectLimit. Within 5 ulps of glibc's scalar functions (tests/test_field.cpp).

@@ -15,6 +15,7 @@
 
 #include "base/atomic_file.h"
 #include "base/errors.h"
+#include "base/progress.h"
 #include "base/file_names.h"
 #include "io/three_mf_stream.h"
 
@@ -354,10 +355,11 @@ std::unique_ptr<AtomicFile> write3mfUncommitted(const std::vector<NamedMesh>& ob
   }
   ThreeMfStreamWriter writer(path, options, expectedXmlBytes(vertices, triangles));
   const double total = static_cast<double>(vertices + triangles) + 1.0;
+  const Progress writing = Progress(progress).sub(0.0, 0.95);  // (the commit the rest)
   std::uint64_t done = 0;
   auto written = [&](std::size_t n) {
     done += n;
-    if (progress && !progress(0.95 * double(done) / total)) throw Cancelled();
+    writing.step(double(done) / total);
   };
   for (const NamedMesh& o : objects) writer.addObject(o.name, o.mesh, written);
   return writer.finish();
@@ -366,7 +368,7 @@ std::unique_ptr<AtomicFile> write3mfUncommitted(const std::vector<NamedMesh>& ob
 void write3mf(const std::vector<NamedMesh>& objects, const std::string& path,
               const ThreeMfOptions& options, const WriteProgress& progress) {
   const std::unique_ptr<AtomicFile> file = write3mfUncommitted(objects, path, options, progress);
-  if (progress && !progress(1.0)) throw Cancelled();
+  Progress(progress).step(1.0);
   file->commit();
 }
 

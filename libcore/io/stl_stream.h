@@ -1,4 +1,4 @@
-// Binary STL written a triangle at a time (brick merges, issue 17: the whole mesh never sits
+// Binary STL written a triangle at a time (brick merges: the whole mesh never sits
 // in memory): the same bytes writeMesh writes for the same triangles in the same order, the
 // count patched into the header at the end. Into an uncommitted AtomicFile, whose commit
 // (or not) the caller decides.

@@ -1,4 +1,4 @@
-// A 3MF package written as its mesh comes (issue 17: a brick merge never holds the whole
+// A 3MF package written as its mesh comes (a brick merge never holds the whole
 // mesh): the zip through minizip and zlib, the model's XML made here. lib3mf 1.8 builds the
 // whole model in memory before it writes a byte, and writes coordinates through a lossy
 // float-to-text conversion; this writer gives every coordinate as the shortest decimal that

@@ -16,6 +16,7 @@
 #include <unordered_set>
 
 #include "base/errors.h"
+#include "base/progress.h"
 #include "base/triangle_geometry.h"
 #include "mesh/refined_cells.h"
 #include "mesh/refinement_grid.h"
@@ -93,12 +94,11 @@ class Refiner {
   }
 
   const RefinementGrid& grid() const { return g_; }
-  // The work from here moves the bar on from `fraction` by `span` as it goes (the look at the
-  // surface's cubes chunk by chunk, run() step by step).
-  void reportAt(const std::function<bool(double)>& progress, double fraction, double span = 0.0) {
-    progress_ = &progress;
-    at_ = from_ = fraction;
-    span_ = span;
+  // The work from here moves along `range` as it goes (the look at the surface's cubes chunk
+  // by chunk, run() step by step).
+  void reportAt(const Progress& range) {
+    range_ = range;
+    at_ = 0.0;
     checkCancel();
   }
   // The id, on the next level's grid, of half cube h (corner at + (h & 1, h & 2, h & 4)) of
@@ -239,9 +239,9 @@ class Refiner {
       try {
         grow(seedCubes, maxCubes);  // (a restart reports where it got: the bar never moves back)
         if (omega_.empty()) return;
-        at_ = std::max(at_, from_ + 0.2 * span_);
+        at_ = std::max(at_, 0.2);
         close(maxCubes);
-        at_ = std::max(at_, from_ + 0.5 * span_);
+        at_ = std::max(at_, 0.5);
         checkCancel();
         findSeam();
         for (auto& [key, face] : seam_) {
@@ -489,10 +489,9 @@ class Refiner {
     std::atomic<bool> cancelled{false};
     tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t ch) {
       if (cancelled.load(std::memory_order_relaxed)) return;
-      if (progress_ && *progress_) {
+      if (range_) {
         std::lock_guard<std::mutex> lock(progressMutex);
-        const double f = from_ + span_ * static_cast<double>(chunksDone++) / chunks;
-        if (!(*progress_)(f)) cancelled = true;
+        if (!range_.count(chunksDone++, chunks)) cancelled = true;
       }
       const std::size_t from = ch * kChunk, to = std::min(cubes.size(), from + kChunk);
       QuarterSamples q;
@@ -1512,9 +1511,7 @@ class Refiner {
   }
 
   // ---- progress and cancel: the fraction reported is where the caller put this step
-  void checkCancel() const {
-    if (progress_ && *progress_ && !(*progress_)(at_)) throw Cancelled();
-  }
+  void checkCancel() const { range_.step(at_); }
 
   const Field& field_;
   const RefinementGrid g_;
@@ -1543,8 +1540,8 @@ class Refiner {
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> byCube_;
   std::unordered_map<std::uint64_t, std::uint32_t> flipEdge_;  // spanning triangles' edges
   refinement::CellMesher cells_;  // the half cubes' meshing, their triangles and cuts
-  const std::function<bool(double)>* progress_ = nullptr;
-  double at_ = 0.0, from_ = 0.0, span_ = 0.0;
+  Progress range_;
+  double at_ = 0.0;  // (of range_)
 };
 
 }  // namespace
@@ -1563,6 +1560,7 @@ void refineHiddenParts(const Field& field, const Grid& g,
   // The bar: the look at the surface's cubes (deeper levels only) a third, the levels the
   // rest in equal parts (a deeper level refines about as many cubes, each smaller).
   const double lookShare = levels > 1 ? 0.3 : 0.0, levelShare = (1.0 - lookShare) / levels;
+  const Progress bar(progress);
   auto aboveMesh = std::make_unique<TriangleMesh>(mesh);
   std::unique_ptr<Refiner> above;
   try {
@@ -1571,13 +1569,13 @@ void refineHiddenParts(const Field& field, const Grid& g,
     if (levels > 1) {
       above->keepSidesForNextLevel();
       std::vector<std::uint64_t> more, far;
-      above->reportAt(progress, 0.0, lookShare);
+      above->reportAt(bar.sub(0.0, lookShare));
       above->surfaceCubesToLookAt(&more, &far);
       seeds.insert(seeds.end(), more.begin(), more.end());
       seeds.insert(seeds.end(), far.begin(), far.end());
       above->refineWhateverTheyShow(far);
     }
-    above->reportAt(progress, lookShare, levelShare);
+    above->reportAt(bar.sub(lookShare, levelShare));
     above->run(seeds, maxCubes);
   } catch (const Abort& e) {
     const std::size_t evaluations = s.evaluations;
@@ -1600,7 +1598,7 @@ void refineHiddenParts(const Field& field, const Grid& g,
     above->handDown(*next);
     if (level < levels) next->keepSidesForNextLevel();
     const double start = lookShare + (level - 1) * levelShare;
-    next->reportAt(progress, start);
+    next->reportAt(bar.sub(start, 0.0));
     try {
       // where the level above was refined for lying far from the surface, its half cubes
       // are looked at again on its mesh (a sliver's tip, narrower than its half cells)
@@ -1613,7 +1611,7 @@ void refineHiddenParts(const Field& field, const Grid& g,
         next->refineWhateverTheyShow(far);
       }
       if (seeds.empty()) break;
-      next->reportAt(progress, start, levelShare);
+      next->reportAt(bar.sub(start, levelShare));
       next->run(seeds, maxCubes);
     } catch (const Abort& e) {
       s.evaluations += ls.evaluations;

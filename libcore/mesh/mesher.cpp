@@ -15,6 +15,8 @@
 #include <sstream>
 
 #include "base/errors.h"
+#include "base/mesh_invariants.h"
+#include "base/progress.h"
 #include "base/qef.h"
 #include "base/triangle_geometry.h"
 #include "mesh/centred_cube.h"
@@ -280,7 +282,7 @@ class BrickMesher {
     // stay on its neighbours' loops too, so both sides of every face draw the same line.
     const KuhnTables& kt = kuhnTables();
     const CubeLoopTables& cl = cubeLoopTables();
-    const bool byCubes = opt_.extraction == Extraction::Cubes;
+    const bool byCubes = opt_.settings.mesher == Extraction::Cubes;
     auto byTetrahedra = [&](int mask, int flips) { return !byCubes || !cl.fanned(mask, flips); };
     s.edgeVertex.assign(count * 7, -1);
     s.polys.clear();
@@ -407,7 +409,7 @@ class BrickMesher {
     // Unit normals from the gradient, with the brick's own (specialised) field, in one batch:
     // of every vertex where sharp features place cube vertices from them, else of the vertices
     // this brick owns (a vertex another brick owns takes that brick's normal in the weld).
-    const bool sharp = byCubes && opt_.sharpFeatures;
+    const bool sharp = byCubes && opt_.settings.sharpFeatures;
     const float nan = std::numeric_limits<float>::quiet_NaN();
     s.unit.clear();
     if (sharp || opt_.normals) {
@@ -464,7 +466,7 @@ class BrickMesher {
         out.triangles.push_back({q[1], q[2], q[3]});
       }
     }
-    if (byCubes && opt_.flatVertices) removeFlatVertices(r, n, s, out);
+    if (byCubes && opt_.settings.dropFlatVertices) removeFlatVertices(r, n, s, out);
     // Every brick's result is held until the weld: no growth slack kept (the triangles'
     // reserve above is a bound, about twice what a brick makes).
     out.keys.shrink_to_fit();
@@ -541,7 +543,7 @@ class BrickMesher {
         ++out.tips;
       const std::uint64_t key = g_.linear(r.lo[0] + l[0], r.lo[1] + l[1], r.lo[2] + l[2]) * 3 +
                                 static_cast<std::uint64_t>(a);
-      if (opt_.refineThinParts || opt_.refineTips)
+      if (opt_.settings.refining())
         (unseen ? out.hiddenEdges : out.tipEdges).push_back(key);
       // the example: of a part seen nowhere near where there is one
       if (unseen > out.exampleUnseen || (unseen == out.exampleUnseen && key < out.exampleKey)) {
@@ -848,7 +850,7 @@ class BrickMesher {
                 Scratch& s, BrickResult& out) const {
     const CubeLoopTables& cl = cubeLoopTables();
     const std::vector<Vec3f>& P = out.positions;
-    const bool flat = opt_.flatVertices;
+    const bool flat = opt_.settings.dropFlatVertices;
     if (flat) {  // (by a cube's lowest grid point, as the loops name their cubes)
       s.fanFirst.assign(static_cast<std::size_t>(n[0] * n[1] * n[2]), 0);
       s.fanCount.assign(s.fanFirst.size(), 0);
@@ -1565,12 +1567,9 @@ Grid makeGrid(const MeshingOptions& opt, CellRange* cells, std::int64_t bricks[3
     throw ModelError("mesher: resolution (cell size) must be a number > 0");
   if (opt.brickCells < 2 || opt.brickCells > 64)
     throw ModelError("mesher: brick size must be between 2 and 64 cells");
-  if (opt.flatVertices && opt.brickCells % 2 != 0)
+  if (opt.settings.dropFlatVertices && opt.brickCells % 2 != 0)
     throw ModelError("mesher: flat vertices need an even brick size (blocks of 2 x 2 x 2 cubes)");
-  if (opt.refinementLevels < 1 || opt.refinementLevels > kMaxRefinementLevels)
-    throw ModelError("mesher: refinement levels must be 1 to " +
-                     std::to_string(kMaxRefinementLevels) + ", got " +
-                     std::to_string(opt.refinementLevels));
+  opt.settings.validate();
 
   Grid g;
   g.lo = box.lo;
@@ -1623,7 +1622,7 @@ void refuseOverBudget(const MeshingOptions& opt, const Grid& g, std::size_t acti
   const int bc = opt.brickCells;
   const double triangles =
       static_cast<double>(activeBricks) * bc * bc *
-      (opt.extraction == Extraction::Cubes ? kCubeTrianglesPerFaceCell : kTrianglesPerFaceCell);
+      (opt.settings.mesher == Extraction::Cubes ? kCubeTrianglesPerFaceCell : kTrianglesPerFaceCell);
   const double bytes = triangles * opt.bytesPerTriangle;
   if (bytes <= static_cast<double>(opt.memoryBudget)) return;
   double h = g.h[0];
@@ -1656,24 +1655,17 @@ std::size_t meshBricks(const Field& field, const Grid& g, const MeshingOptions& 
   results.resize(bricks.size());
   tbb::enumerable_thread_specific<Scratch> scratch;
   BrickMesher mesher(g, opt);
-  std::atomic<std::size_t> done{0}, evaluated{0};
-  std::atomic<bool> cancelled{false};
-  std::mutex progressMutex;
-  const std::size_t reportEvery = std::max<std::size_t>(1, bricks.size() / 100);
+  std::atomic<std::size_t> evaluated{0};
+  ThreadedProgress bar(Progress(opt.progress).sub(0.0, 0.95), bricks.size());
   tbb::parallel_for(std::size_t(0), bricks.size(), [&](std::size_t i) {
-    if (cancelled.load(std::memory_order_relaxed)) return;
+    if (bar.cancelled()) return;
     const ActiveBrick& b = bricks[i];
     const Field& parent = b.field ? *b.field : field;
     const std::shared_ptr<const Field> own = parent.specialise(rangeBox(g, b.range));
     evaluated += mesher.run(own ? *own : parent, field, b.range, scratch.local(), results[i]);
-    const std::size_t d = ++done;
-    if (opt.progress && d % reportEvery == 0) {
-      std::lock_guard<std::mutex> lock(progressMutex);
-      if (!opt.progress(0.95 * static_cast<double>(d) / static_cast<double>(bricks.size())))
-        cancelled = true;
-    }
+    bar.itemDone();
   });
-  if (cancelled) throw Cancelled();
+  if (bar.cancelled()) throw Cancelled();
   return evaluated;
 }
 
@@ -1744,35 +1736,33 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
   // The bar: the bricks up to 0.95, or, where the thin parts are refined (several times the
   // meshing's time, ten times and more with deeper levels), up to `bricksEnd` and the
   // refinement from there.
-  const bool refining = opt.refineThinParts || opt.refineTips;
-  const double bricksEnd = !refining ? 1.0 : opt.refinementLevels > 1 ? 0.05 : 0.2;
+  const bool refining = opt.settings.refining();
+  const double bricksEnd = !refining ? 1.0 : opt.settings.refineLevels > 1 ? 0.05 : 0.2;
+  const Progress bar(opt.progress);
   MeshingOptions brickOptions = opt;
-  if (opt.progress && refining)
-    brickOptions.progress = [&opt, bricksEnd](double f) { return opt.progress(bricksEnd * f); };
+  brickOptions.progress = bar.sub(0.0, bricksEnd).callback();
   std::vector<BrickResult> results;
   const std::size_t evaluated = meshBricks(field, g, brickOptions, bricks, results);
   std::size_t refinementEvaluations = 0;
   countThinParts(results, stats);
   std::vector<std::uint64_t> hiddenEdges;
   for (const BrickResult& b : results) {
-    if (opt.refineThinParts || opt.refineTips)
+    if (opt.settings.refining())
       hiddenEdges.insert(hiddenEdges.end(), b.hiddenEdges.begin(), b.hiddenEdges.end());
-    if (opt.refineTips) hiddenEdges.insert(hiddenEdges.end(), b.tipEdges.begin(), b.tipEdges.end());
+    if (opt.settings.refine == Refinement::Tips)
+      hiddenEdges.insert(hiddenEdges.end(), b.tipEdges.begin(), b.tipEdges.end());
   }
   bool bySorting = false;
   std::vector<std::uint32_t> flippable;
   TriangleMesh mesh = weld(g, bc, b1, bricks, results, opt.normals, &bySorting, &flippable);
   flipCreases(mesh, flippable);
-  if (!hiddenEdges.empty() || (refining && opt.refinementLevels > 1)) {
+  if (!hiddenEdges.empty() || (refining && opt.settings.refineLevels > 1)) {
     std::sort(hiddenEdges.begin(), hiddenEdges.end());
     LocalRefinementStats rs;
-    std::function<bool(double)> refinementProgress;
-    if (opt.progress)
-      refinementProgress = [&opt, bricksEnd](double f) {
-        return opt.progress(0.95 * (bricksEnd + (1.0 - bricksEnd) * f));
-      };
-    refineHiddenParts(field, g, hiddenEdges, opt.refinementCubes, mesh, &rs, opt.refinementLevels,
-                      refinementProgress);
+    // (the bricks' own bar ends at 0.95 of theirs: the weld takes the rest)
+    refineHiddenParts(field, g, hiddenEdges, opt.refinementCubes, mesh, &rs,
+                      opt.settings.refineLevels,
+                      bar.sub(0.0, 0.95).sub(bricksEnd, 1.0 - bricksEnd).callback());
     refinementEvaluations = rs.evaluations;
     if (stats) {
       stats->refinedCubes = rs.cubes;
@@ -1783,9 +1773,11 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
       stats->refinementDeeperSkipped = rs.deeperSkipped;
     }
   }
-  if (opt.progress) opt.progress(1.0);
+  FREP_ASSERT_MESH(mesh, "the mesher");
+  bar.report(1.0);
 
   if (stats) {
+    stats->settings = opt.settings;
     for (int a = 0; a < 3; ++a) stats->cells[a] = static_cast<std::size_t>(cells.hi[a]);
     stats->bricksTotal = static_cast<std::size_t>(b1[0] * b1[1] * b1[2]);
     stats->bricksActive = bricks.size();
@@ -1842,6 +1834,7 @@ MeshPiece polygonizePiece(const Field& field, const MeshingOptions& opt,
   piece.triangles = std::move(mesh.triangles);
   if (opt.progress) opt.progress(1.0);
   if (stats) {
+    stats->settings = opt.settings;
     for (int a = 0; a < 3; ++a) stats->cells[a] = static_cast<std::size_t>(cells.hi[a]);
     stats->bricksTotal = static_cast<std::size_t>((brickHi[0] - brickLo[0]) *
                                                   (brickHi[1] - brickLo[1]) *

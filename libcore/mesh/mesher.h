@@ -18,54 +18,23 @@
 #include "base/triangle_mesh.h"
 #include "base/vec.h"
 #include "frep/field.h"
+#include "mesh/mesh_settings.h"
 
 namespace frep {
 
-// How a crossed cube becomes triangles (docs/mesher.md).
-enum class Extraction {
-  // Each cube whose surface meets its faces in one loop caps that loop with a fan of
-  // straight triangles (as many as marching cubes makes); the rare cube with several loops
-  // keeps its tetrahedra's triangles. The default.
-  Cubes,
-  // Marching tetrahedra in every cube: about three times the triangles (`--mesher tetra`,
-  // kept for one release).
-  Tetrahedra,
-};
-
-// The most levels of local refinement (MeshingOptions::refinementLevels): half, quarter and
-// eighth cells.
-constexpr int kMaxRefinementLevels = 3;
-
 struct MeshingOptions {
   Box3 bbox;
-  Extraction extraction = Extraction::Cubes;
-  // Cubes only: a cube a crease or corner crosses gets a vertex on it (from the normals'
-  // tangent planes) instead of a chamfer across it.
-  bool sharpFeatures = true;
-  // Cubes only: where the surface is flat to within a fiftieth of a cell, a vertex on a grid
-  // edge goes and its neighbours are fanned again, two triangles fewer each time (docs/mesher.md,
-  // "Flat vertices"; off with `--keep-flat-vertices`): 6 to 15 % fewer triangles on the
-  // reference models, fewer than marching cubes makes, at a cost in meshing time
-  // (docs/performance.md). Needs an even brickCells.
-  bool flatVertices = true;
+  // What the user chose (mesh/mesh_settings.h); the mesher reads mesher, sharpFeatures,
+  // dropFlatVertices, refine and refineLevels (the rest are meshAndFinish's).
+  MeshSettings settings;
   // Look for parts thinner than a cell that pass between the grid's points (MeshingStats's
   // thin parts; docs/mesher.md): the mesh is the same either way, and looking costs 4 to 9 %
   // of the meshing time (docs/performance.md).
   bool findThinParts = true;
-  // Mesh the cubes round the parts findThinParts sees nowhere near (solid left out, gaps
-  // closed) again at half a cell (mesh/local_refinement.h), and with refineTips those round
-  // the tips too (the gyroid's slivers; crease tips, whose creases then come out less
-  // clean), up to refinementCubes cubes.
-  bool refineThinParts = false;
-  bool refineTips = false;
+  // At most this many cubes are meshed again by settings.refine.
   std::size_t refinementCubes = 200000;
-  // Levels of that refinement (1 to kMaxRefinementLevels): 2 meshes the half cubes inside
-  // the refined region again at a quarter cell where their own half cells show what their
-  // corners miss (the gyroid's slivers, narrower than half a cell; docs/mesher.md, "Deeper
-  // levels"), 3 at an eighth.
-  int refinementLevels = 1;
   double resolution = 0.05;  // target cell size; the grid fits the box exactly (cells <= this)
-  int brickCells = 16;       // cells per brick edge: the unit of pruning and of threading
+  int brickCells = 16;  // cells per brick edge: the unit of pruning and threading (even)
   int rootIterations = 8;    // Illinois iterations per edge vertex
   bool normals = true;       // per-vertex normals from the gradient
   // Memory the mesh may take (bytes; 0: no limit) at `bytesPerTriangle` (the mesher's own
@@ -80,6 +49,7 @@ struct MeshingOptions {
 };
 
 struct MeshingStats {
+  MeshSettings settings;  // what the mesh was made with
   std::size_t cells[3] = {0, 0, 0};  // grid cells per axis (including the outside layer)
   std::size_t bricksTotal = 0;
   std::size_t bricksActive = 0;  // bricks interval pruning could not prove empty or full
@@ -96,10 +66,10 @@ struct MeshingStats {
   // second where there is none).
   std::size_t thinSolidEdges = 0, thinGapEdges = 0, tipEdges = 0;
   Vec3 thinExample = {0, 0, 0};
-  // Local refinement (refineThinParts): the cubes meshed at half a cell, or why none were.
+  // Local refinement (settings.refine): the cubes meshed at half a cell, or why none were.
   std::size_t refinedCubes = 0;
   std::string refinementSkipped;
-  // ... deeper levels (refinementLevels > 1): the deepest level meshed, the smaller cubes
+  // ... deeper levels (refineLevels > 1): the deepest level meshed, the smaller cubes
   // meshed again below the first level, those left out, and why a level was not reached
   int refinementLevelsReached = 0;
   std::size_t refinedDeeperCubes = 0;
@@ -112,7 +82,7 @@ struct MeshingStats {
 TriangleMesh polygonize(const Field& field, const MeshingOptions& options,
                         MeshingStats* stats = nullptr);
 
-// Brick jobs (issue 17): the mesh of a box of the mesher's bricks, made anywhere, welded with
+// Brick jobs: the mesh of a box of the mesher's bricks, made anywhere, welded with
 // its neighbours' by key (mesh/piece_merge.h) into exactly the mesh polygonize makes.
 //
 // The bricks per axis of the grid polygonize makes for these options (validated as

@@ -1,4 +1,4 @@
-// Welding brick jobs' pieces (base/mesh_piece.h) into one mesh, streaming (issue 17): pieces
+// Welding brick jobs' pieces (base/mesh_piece.h) into one mesh, streaming: pieces
 // come in any order, each vertex off the jobs' seams is numbered at once, a seam vertex by its
 // key (the one table kept: memory bounded by the seams, not the mesh), and every triangle goes
 // to the sink as soon as it is final; a crease flip across two jobs waits for the second

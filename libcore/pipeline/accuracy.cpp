@@ -242,7 +242,7 @@ AccuracyReport measureAccuracy(const TriangleMesh& mesh, const Field& field,
   fine.bbox = o.bbox;
   fine.resolution = o.cell / o.sampleRefinement;
   fine.normals = false;
-  fine.flatVertices = false;  // (every vertex a sample)
+  fine.settings.dropFlatVertices = false;  // (every vertex a sample)
   fine.findThinParts = false;
   const TriangleMesh samples = polygonize(field, fine);
   const TriangleGrid fineGrid(samples, o.cell);

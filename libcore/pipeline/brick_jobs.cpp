@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "base/errors.h"
+#include "base/progress.h"
 #include "check/partitioned_check.h"
 #include "io/mesh_3mf.h"
 #include "io/mesh_io.h"
@@ -25,9 +26,7 @@ MeshingOptions brickMeshingOptions(const BrickJobPlan& plan) {
   MeshingOptions o;
   o.bbox = plan.box.box;
   o.resolution = plan.box.resolution;
-  o.sharpFeatures = plan.sharpFeatures;
-  o.extraction = plan.extraction;
-  o.flatVertices = plan.flatVertices;
+  o.settings = plan.mesh;
   o.normals = false;
   // (a piece carries no stats: brick jobs do not report thin parts yet)
   o.findThinParts = false;
@@ -52,16 +51,22 @@ std::uint64_t textFingerprint(const std::string& text) {
   return h;
 }
 
-BrickJobPlan planBrickJobs(const MeshingBox& box, bool sharpFeatures, Extraction extraction,
-                           std::uint32_t jobs, std::uint64_t model, bool flatVertices) {
+BrickJobPlan planBrickJobs(const MeshingBox& box, const MeshSettings& settings,
+                           std::uint32_t jobs, std::uint64_t model) {
+  settings.validate();
+  // (the simplifier and the straightening work on the whole mesh; a job's refined cubes
+  // would change its neighbours' faces)
+  for (const char* option : {"refine", "straighten_creases", "tolerance"})
+    if (getMeshSetting(settings, option) != getMeshSetting(MeshSettings{}, option))
+      throw SettingError(option, std::string("brick jobs cannot be combined with {") + option +
+                                     "} yet: leave it at " +
+                                     settingText(getMeshSetting(MeshSettings{}, option)));
   if (jobs < 1 || jobs > kMaxBrickJobs)
     throw ModelError("bricks: the number of brick jobs must be 1 to " +
                      std::to_string(kMaxBrickJobs) + ", got " + std::to_string(jobs));
   BrickJobPlan plan;
   plan.box = box;
-  plan.sharpFeatures = sharpFeatures;
-  plan.extraction = extraction;
-  plan.flatVertices = flatVertices;
+  plan.mesh = settings;
   plan.jobs = jobs;
   brickGrid(brickMeshingOptions(plan), plan.bricks);
   // the job count's prime factors, largest first, each to the axis with the most bricks per
@@ -100,8 +105,9 @@ BrickJobPlan planBrickJobs(const MeshingBox& box, bool sharpFeatures, Extraction
   const double numbers[7] = {box.box.lo[0], box.box.lo[1], box.box.lo[2], box.box.hi[0],
                              box.box.hi[1], box.box.hi[2], box.resolution};
   mix(h, numbers, sizeof(numbers));
-  const std::uint32_t flags[4] = {sharpFeatures ? 1u : 0u, static_cast<std::uint32_t>(extraction),
-                                  jobs, flatVertices ? 1u : 0u};
+  const std::uint32_t flags[4] = {settings.sharpFeatures ? 1u : 0u,
+                                  static_cast<std::uint32_t>(settings.mesher), jobs,
+                                  settings.dropFlatVertices ? 1u : 0u};
   mix(h, flags, sizeof(flags));
   plan.runId = h;
   return plan;
@@ -320,12 +326,17 @@ ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::strin
         return pieceCheckedPart(readRunPiece(plan, pieceFiles[fileOf[job]]));
       };
       PartitionedCheck check(jobBoxes(plan, gridCells));
+      // the pieces 90 % of the check's bar, the zone where they meet the rest
+      const Progress pieces = Progress([&report](double f) {
+                                report(ExportStage::Check, f);
+                                return true;
+                              }).sub(0.0, 0.9);
       bool inParts = true;
       for (std::uint32_t job = 0; job < plan.jobs && inParts; ++job) {
         inParts = summaryFiles.empty()
                       ? check.addPart(job, part(job))
                       : check.addSummary(job, readJudged(plan, job, summaryFiles[fileOf[job]]));
-        report(ExportStage::Check, 0.9 * (job + 1) / count);
+        pieces.count(job + 1, plan.jobs);
       }
       {
         TriangleMesh settled;

@@ -1,4 +1,4 @@
-// Brick jobs (issue 17): an export cut into jobs that any process or machine can run, each
+// Brick jobs: an export cut into jobs that any process or machine can run, each
 // meshing a box of the mesher's bricks into a piece file (io/mesh_piece_file.h), and a merge
 // that welds the pieces by key, checks the mesh and writes it atomically. The mesh is the one
 // exportField writes for the same box and options, up to the order of its vertices and
@@ -22,9 +22,7 @@ constexpr std::uint32_t kMaxBrickJobs = 1u << 16;
 
 struct BrickJobPlan {
   MeshingBox box;
-  bool sharpFeatures = true;
-  bool flatVertices = true;  // MeshingOptions::flatVertices
-  Extraction extraction = Extraction::Cubes;
+  MeshSettings mesh;  // mesher, sharpFeatures and dropFlatVertices apply; the rest stay default
   std::uint32_t jobs = 1;
   std::int64_t bricks[3] = {1, 1, 1};  // the mesher's bricks per axis
   std::int64_t split[3] = {1, 1, 1};   // jobs per axis (their product is `jobs`)
@@ -37,9 +35,10 @@ std::uint64_t textFingerprint(const std::string& text);
 // Splits the box's bricks into `jobs` boxes of bricks, as even and as cubic as the job
 // count's factors allow. `model` is a fingerprint of the model (textFingerprint of its JSON).
 // Throws ModelError for a job count below 1, above kMaxBrickJobs or above what the bricks
-// allow (naming the bricks per axis).
-BrickJobPlan planBrickJobs(const MeshingBox& box, bool sharpFeatures, Extraction extraction,
-                           std::uint32_t jobs, std::uint64_t model, bool flatVertices = true);
+// allow (naming the bricks per axis), SettingError for settings a job cannot take (a
+// refinement, straightened creases, a tolerance).
+BrickJobPlan planBrickJobs(const MeshingBox& box, const MeshSettings& settings,
+                           std::uint32_t jobs, std::uint64_t model);
 
 // The mesher's options every job of the run uses (no normals: pieces carry positions).
 MeshingOptions brickMeshingOptions(const BrickJobPlan& plan);

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "base/errors.h"
+#include "base/progress.h"
 
 namespace frep {
 
@@ -110,8 +111,13 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
   auto since = [](Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
   };
-  // The format first: a bad output name is refused before any work.
+  // The format and the settings first: bad ones are refused before any work.
   const MeshFormat format = request.format ? *request.format : formatFromPath(path);
+  try {
+    request.mesh.validate();
+  } catch (const SettingError& e) {
+    throw SettingError(e.option, name + ": " + e.templ);
+  }
   ExportResult result;
 
   auto t = Clock::now();
@@ -128,24 +134,16 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
   MeshingOptions o;
   o.bbox = result.box.box;
   o.resolution = result.box.resolution;
-  o.extraction = request.extraction;
-  o.sharpFeatures = request.sharpFeatures;
-  o.flatVertices = request.flatVertices;
-  o.refineThinParts = request.refineThinParts;
-  o.refineTips = request.refineTips;
-  o.refinementLevels = request.refinementLevels;
+  o.settings = request.mesh;
   // Vertex normals only where the file keeps them: STL's facet normals come from the
   // triangles, FreeCAD computes its own for .bms.
   o.normals = request.normals && (format == MeshFormat::Obj || format == MeshFormat::Ply);
   o.memoryBudget = request.memoryBudget ? *request.memoryBudget : availableMemory();
   o.bytesPerTriangle = kMesherBytesPerTriangle + (request.check ? kCheckBytesPerTriangle : 0.0);
-  Finishing finishing;
-  finishing.straightenCreases = request.straightenCreases;
-  finishing.tolerance = request.tolerance;
   TriangleMesh mesh, unsimplified;
   try {
     FinishedMesh m = meshAndFinish(
-        field, o, finishing,
+        field, o,
         request.progress ? [&](double f) { return request.progress(ExportStage::Mesh, f); }
                          : std::function<bool(double)>(),
         request.check);
@@ -245,26 +243,25 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
 ThreeMfExportResult export3mf(const std::vector<NamedMesh>& objects, const ThreeMfOptions& options,
                               const std::string& path, bool force,
                               const std::function<bool(double)>& progress) {
-  auto tick = [&](double f) {
-    if (progress && !progress(f)) throw Cancelled();
-  };
+  // the checks 70 % of the bar (each object by its triangles), the writing the rest
+  const Progress bar(progress);
+  const std::vector<Progress> phase = bar.phases({0.7, 0.3});
   ThreeMfOptions o = options;
   o.validate = false;  // the check below judges, with every reason, not only the first
   ThreeMfExportResult result;
   std::size_t total = 0, done = 0;
   for (const NamedMesh& m : objects) total += m.mesh.triangles.size();
+  const double all = double(std::max<std::size_t>(total, 1));
   for (const NamedMesh& m : objects) {
-    const double from = 0.7 * double(done) / double(std::max<std::size_t>(total, 1));
-    const double share = 0.7 * double(m.mesh.triangles.size()) / double(std::max<std::size_t>(total, 1));
-    result.reports.push_back(checkMesh(m.mesh, [&](double f) { tick(from + share * f); }));
+    const Progress object = phase[0].sub(double(done) / all, double(m.mesh.triangles.size()) / all);
+    result.reports.push_back(checkMesh(m.mesh, [&object](double f) { object.step(f); }));
     done += m.mesh.triangles.size();
   }
   if (!result.printable() && !force) return result;
   // the package holds the objects exactly (io/three_mf_stream.h): what was checked is written
-  write3mfUncommitted(objects, path, o, [&](double f) { return !progress || progress(0.7 + 0.3 * f); })
-      ->commit();
+  write3mfUncommitted(objects, path, o, phase[1].callback())->commit();
   result.written = true;
-  tick(1.0);
+  bar.step(1.0);
   return result;
 }
 

@@ -28,7 +28,7 @@ constexpr int kDefaultCells = 128;
 // size), so the surface never touches the meshing box.
 constexpr double kPaddingCells = 1.5;
 // Memory per triangle of meshing, and what the check adds to it (measured:
-// docs/performance.md, issue 12's fourth round; at 512 cells the whole export peaks at 50
+// docs/performance.md, "Memory"; at 512 cells the whole export peaks at 50
 // to 83 bytes a triangle in frepcad, 61 to 79 in the Python module, on the reference
 // models; meshing alone at up to 50).
 constexpr double kMesherBytesPerTriangle = 60.0;
@@ -72,20 +72,7 @@ struct ExportRequest {
   bool check = true;                   // judge the mesh with CGAL before writing
   bool force = false;                  // write a mesh the check refused
   bool normals = true;                 // vertex normals from the gradient (OBJ and PLY keep them)
-  // Given: the mesher's mesh is simplified (simplify/simplify.h), keeping the surface within
-  // this distance of F = 0 (model units, > 0); sharp features place merged vertices on the
-  // creases and corners of the field.
-  std::optional<double> tolerance;
-  // Creases and corners get vertices on them: in the mesher's cubes, and in the simplifier.
-  bool sharpFeatures = true;
-  // The mesher's creases straightened (simplify/straighten_creases.h), before any
-  // simplification; needs sharpFeatures.
-  bool straightenCreases = false;
-  bool flatVertices = true;  // the mesher's flat vertices removed (MeshingOptions::flatVertices)
-  bool refineThinParts = false;               // MeshingOptions::refineThinParts
-  bool refineTips = false;                    // MeshingOptions::refineTips
-  int refinementLevels = 1;                   // MeshingOptions::refinementLevels
-  Extraction extraction = Extraction::Cubes;  // Tetrahedra: the old mesher (one release)
+  MeshSettings mesh;  // the mesher's and the finishing's options (mesh/mesh_settings.h)
   // Measure the written mesh against the exact surface (pipeline/accuracy.h): distances
   // both ways, volume, crease length. Costs a mesh at half the cell size.
   bool stats = false;

@@ -1,37 +1,29 @@
 #include "pipeline/finished_mesh.h"
 
-#include <cmath>
-#include <sstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "base/errors.h"
+#include "base/mesh_invariants.h"
+#include "base/progress.h"
 #include "simplify/straighten_creases.h"
 
 namespace frep {
 
-FinishedMesh meshAndFinish(const Field& field, MeshingOptions options, const Finishing& finishing,
+FinishedMesh meshAndFinish(const Field& field, MeshingOptions options,
                            const std::function<bool(double)>& progress, bool keepMeshersMesh) {
-  if (finishing.straightenCreases && !options.sharpFeatures)
-    throw ModelError(
-        "straightening creases needs sharp features (they find the creases); turn sharp "
-        "features on or leave the creases as meshed");
-  if (finishing.tolerance && !(*finishing.tolerance > 0.0 && std::isfinite(*finishing.tolerance))) {
-    std::ostringstream os;
-    os << "tolerance must be a distance > 0 (model units), got " << *finishing.tolerance;
-    throw ModelError(os.str());
-  }
-  // (each step after meshing takes a few times the meshing's time)
-  const double simplifyShare = finishing.tolerance ? 0.5 : 0.0;
-  const double straightenShare = finishing.straightenCreases ? 0.5 * (1.0 - simplifyShare) : 0.0;
-  const double meshShare = 1.0 - straightenShare - simplifyShare;
-  auto part = [&progress](double from, double share) -> std::function<bool(double)> {
-    if (!progress) return nullptr;
-    return [&progress, from, share](double f) { return progress(from + share * f); };
-  };
-  if (finishing.straightenCreases || finishing.tolerance)
+  const MeshSettings& settings = options.settings;
+  settings.validate();
+  // The bar: each step after meshing takes a few times the meshing's time: the
+  // simplification half of it, the straightening half of the rest, meshing what remains.
+  const double simplifyShare = settings.tolerance ? 0.5 : 0.0;
+  const double straightenShare = settings.straightenCreases ? 0.5 * (1.0 - simplifyShare) : 0.0;
+  const std::vector<Progress> phase = Progress(progress).phases(
+      {1.0 - straightenShare - simplifyShare, straightenShare, simplifyShare});
+  if (settings.straightenCreases || settings.tolerance)
     options.bytesPerTriangle += kSimplifyBytesPerTriangle;
-  options.progress = part(0.0, meshShare);
+  options.progress = phase[0].callback();
 
   FinishedMesh out;
   out.mesh = polygonize(field, options, &out.stats);
@@ -42,19 +34,21 @@ FinishedMesh meshAndFinish(const Field& field, MeshingOptions options, const Fin
     out.mesh = std::move(next);
     changed = true;
   };
-  if (finishing.straightenCreases) {
-    StraightenOptions st{options.bbox, options.resolution, part(meshShare, straightenShare)};
+  if (settings.straightenCreases) {
+    StraightenOptions st{options.bbox, options.resolution, phase[1].callback()};
     replace(straightenCreases(out.mesh, field, st, &out.straighten));
+    FREP_ASSERT_MESH(out.mesh, "the straightening");
     out.straightened = true;
   }
-  if (finishing.tolerance) {
+  if (settings.tolerance) {
     SimplifyOptions so;
     so.bbox = options.bbox;
     so.cell = options.resolution;
-    so.tolerance = *finishing.tolerance;
-    so.sharpFeatures = options.sharpFeatures;
-    so.progress = part(1.0 - simplifyShare, simplifyShare);
+    so.tolerance = *settings.tolerance;
+    so.sharpFeatures = settings.sharpFeatures;
+    so.progress = phase[2].callback();
     replace(simplifyMesh(out.mesh, field, so, &out.simplify));
+    FREP_ASSERT_MESH(out.mesh, "the simplification");
     out.simplified = true;
   }
   return out;

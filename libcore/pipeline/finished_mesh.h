@@ -17,11 +17,6 @@ namespace frep {
 // quadric per vertex, the faces): added to MeshingOptions::bytesPerTriangle when either runs.
 constexpr double kSimplifyBytesPerTriangle = 100.0;
 
-struct Finishing {
-  bool straightenCreases = false;   // needs MeshingOptions::sharpFeatures (they find creases)
-  std::optional<double> tolerance;  // simplify within this distance (model units, > 0)
-};
-
 struct FinishedMesh {
   TriangleMesh mesh;
   // The mesher's own mesh where a step changed it and keepMeshersMesh was asked (to fall
@@ -33,11 +28,11 @@ struct FinishedMesh {
 };
 
 // Meshes `field` with `options` (its progress and memory per triangle are set here), then
-// straightens and simplifies as `finishing` asks. progress(fraction) covers all of it: the
-// simplification half the bar, the straightening half of the rest, meshing what remains;
-// false cancels (throws Cancelled). Throws ModelError for a straightening without sharp
-// features or a tolerance that is not a distance > 0, before any work.
-FinishedMesh meshAndFinish(const Field& field, MeshingOptions options, const Finishing& finishing,
+// straightens and simplifies as options.settings asks (straightenCreases, tolerance).
+// progress(fraction) covers all of it: the simplification half the bar, the straightening
+// half of the rest, meshing what remains; false cancels (throws Cancelled). Throws
+// SettingError (MeshSettings::validate) before any work.
+FinishedMesh meshAndFinish(const Field& field, MeshingOptions options,
                            const std::function<bool(double)>& progress, bool keepMeshersMesh);
 
 }  // namespace frep

@@ -1,4 +1,4 @@
-// frepcore's hsplines (issue 15): the HSpline class and .hs / STEP files. CVs are (level, i, j)
+// frepcore's hsplines: the HSpline class and .hs / STEP files. CVs are (level, i, j)
 // tuples; errors arrive as ValueError (a refused request) or OSError (a file).
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "base/errors.h"
+#include "base/progress.h"
 
 namespace frep {
 
@@ -49,9 +50,8 @@ std::size_t removeDegenerateFaces(Mesh& mesh) {
 
 TriangleMesh repairWithCgal(const TriangleMesh& soup, const CgalRepairOptions& options,
                             CgalRepairLog& log) {
-  auto tick = [&](double f) {
-    if (options.progress && !options.progress(f)) throw Cancelled();
-  };
+  const Progress bar(options.progress);
+  auto tick = [&bar](double f) { bar.step(f); };
   std::vector<Point> points;
   points.reserve(soup.positions.size());
   for (const Vec3f& p : soup.positions) points.emplace_back(p[0], p[1], p[2]);
@@ -99,6 +99,7 @@ TriangleMesh repairWithCgal(const TriangleMesh& soup, const CgalRepairOptions& o
   if (options.fillHoles) {
     std::vector<Halfedge> cycles;
     PMP::extract_boundary_cycles(mesh, std::back_inserter(cycles));
+    const Progress holes = bar.sub(0.35, 0.2);
     for (std::size_t i = 0; i < cycles.size(); ++i) {
       std::vector<Face> added;
       std::vector<Mesh::Vertex_index> vertices;
@@ -109,7 +110,7 @@ TriangleMesh repairWithCgal(const TriangleMesh& soup, const CgalRepairOptions& o
       else
         ++log.holesFilled;
       log.facesAdded += added.size();
-      tick(0.35 + 0.2 * double(i + 1) / double(cycles.size()));
+      holes.step(double(i + 1) / double(cycles.size()));
     }
   }
   if (log.holesFilled) log.degenerateFacesLeft = removeDegenerateFaces(mesh);

@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "base/errors.h"
+#include "base/progress.h"
 #include "mesh/mesher.h"
 #include "repair/cgal_repair.h"
 #include "simplify/simplify.h"
@@ -113,13 +114,14 @@ void describe(const CgalRepairLog& log, std::vector<std::string>& actions) {
 
 // The closed mesh through a level set and the mesher (see repair.h, step 3).
 TriangleMesh rebuildThroughLevelSet(const TriangleMesh& closed, double voxel,
-                                    const std::string& name,
-                                    const std::function<bool(double)>& progress) {
+                                    const std::string& name, const Progress& progress) {
+  // the level set half the bar, meshing it 30 %, simplifying the rest
+  const std::vector<Progress> phase = progress.phases({0.5, 0.3, 0.2});
   LevelSetOptions ls;
   ls.voxel = voxel;
   ls.name = "repair";
   const GridSet grids = meshToLevelSet(closed, ls, name);
-  if (progress && !progress(0.5)) throw Cancelled();
+  phase[1].step(0.0);
   const auto field = gridField(grids, 0, GridFieldOptions(), name);
   Box3 box = boxOf(closed);
   for (int a = 0; a < 3; ++a) {
@@ -131,7 +133,7 @@ TriangleMesh rebuildThroughLevelSet(const TriangleMesh& closed, double voxel,
   mo.resolution = voxel;
   mo.normals = false;
   mo.findThinParts = false;
-  mo.progress = [&](double f) { return !progress || progress(0.5 + 0.3 * f); };
+  mo.progress = phase[1].callback();
   const TriangleMesh fine = polygonize(*field, mo);
   // The mesher's triangles are a few per voxel wherever the surface goes; guarded collapses
   // (simplify/, each proved intersection-free and within the tolerance of the level set)
@@ -141,7 +143,7 @@ TriangleMesh rebuildThroughLevelSet(const TriangleMesh& closed, double voxel,
   so.cell = voxel;
   so.tolerance = 0.25 * voxel;
   so.sharpFeatures = true;
-  so.progress = [&](double f) { return !progress || progress(0.8 + 0.2 * f); };
+  so.progress = phase[2].callback();
   return simplifyMesh(fine, *field, so);
 }
 
@@ -246,11 +248,9 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
                      std::to_string(options.voxel));
   if (std::isnan(options.weldDistance) || std::isinf(options.weldDistance))
     throw ModelError(name + ": the weld distance must be a finite number >= 0");
-  auto stage = [&](double from, double to) {
-    return [&options, from, to](double f) {
-      return !options.progress || options.progress(from + (to - from) * f);
-    };
-  };
+  // The bar: the CGAL repair to 35 %, its check to 40 %, the local self-intersection
+  // removal to 55 %, the rebuild to 90 %, the deviation the rest.
+  const Progress bar(options.progress);
   RepairResult r;
   r.before = checkMesh(input);
   if (r.before.faces == 0) {
@@ -265,7 +265,7 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
     r.actions.push_back("nothing to repair: the mesh is printable");
     return r;
   }
-  if (!stage(0, 1)(0.02)) throw Cancelled();
+  bar.step(0.02);
   const Box3 box = boxOf(input);
 
   TriangleMesh mesh = input;
@@ -313,13 +313,12 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
   CgalRepairOptions co;
   co.fillHoles = options.fillHoles;
   co.removeSelfIntersections = false;
-  co.progress = stage(0.05, 0.35);
+  co.progress = bar.sub(0.05, 0.3).callback();
   CgalRepairLog log;
   mesh = repairWithCgal(mesh, co, log);
   describe(log, r.actions);
-  r.after = checkMesh(mesh, [&](double f) {
-    if (!stage(0.35, 0.4)(f)) throw Cancelled();
-  });
+  const Progress checking = bar.sub(0.35, 0.05);
+  r.after = checkMesh(mesh, [&checking](double f) { checking.step(f); });
   // The level set's flood fill needs a watertight surface only: non-manifold edges and
   // crossings it resolves.
   const bool closed = r.after.closed;
@@ -329,7 +328,7 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
       options.rebuild != RebuildPolicy::Always) {
     CgalRepairOptions local = co;
     local.removeSelfIntersections = true;
-    local.progress = stage(0.4, 0.55);
+    local.progress = bar.sub(0.4, 0.15).callback();
     CgalRepairLog localLog;
     TriangleMesh removed = repairWithCgal(mesh, local, localLog);
     CheckReport judged = checkMesh(removed);
@@ -366,7 +365,7 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
           " (holes that could not be filled), so its inside is not known");
     } else {
       r.voxel = voxel;
-      TriangleMesh rebuilt = rebuildThroughLevelSet(mesh, r.voxel, name, stage(0.55, 0.9));
+      TriangleMesh rebuilt = rebuildThroughLevelSet(mesh, r.voxel, name, bar.sub(0.55, 0.35));
       CheckReport judged = checkMesh(rebuilt);
       r.actions.push_back("rebuilt through a level set at voxel size " + std::to_string(r.voxel) +
                           " (" + plural(rebuilt.triangles.size(), "triangle", "triangles") +
@@ -381,10 +380,10 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
       }
     }
   }
-  if (!stage(0, 1)(0.9)) throw Cancelled();
+  bar.step(0.9);
   if (!mesh.triangles.empty()) r.deviation = meshDeviation(input, mesh);
   r.mesh = std::move(mesh);
-  if (!stage(0, 1)(1.0)) throw Cancelled();
+  bar.step(1.0);
   return r;
 }
 

@@ -12,6 +12,7 @@
 #include <cmath>
 
 #include "base/errors.h"
+#include "base/progress.h"
 #include "lattice/ffd_map.h"
 #include "volume/openvdb_grids.h"
 
@@ -29,15 +30,6 @@ Vec3 toVec(const Vec3d& v) {
 Vec3d toVdb(const Vec3& v) {
   return {v[0], v[1], v[2]};
 }
-
-// Fractions of the whole job: grid g of n covers [g / n, (g + 1) / n).
-struct ProgressShare {
-  const GridFfdOptions& options;
-  double start, width;
-  void report(double f) const {
-    if (options.progress && !options.progress(start + width * f)) throw Cancelled();
-  }
-};
 
 // The world box of a box of voxels (their centres, grown by half a voxel).
 Box3 worldBox(const openvdb::math::Transform& xf, const CoordBBox& b) {
@@ -226,7 +218,7 @@ bool sampleAt(const AccT& acc, const openvdb::math::Transform& xf, const Vec3& q
 
 template <class GridT>
 typename GridT::Ptr backward(const GridT& src, const FfdMap& map, const GridFfdOptions& o,
-                             const ProgressShare& share) {
+                             const Progress& share) {
   using TreeT = typename GridT::TreeType;
   using LeafT = typename TreeT::LeafNodeType;
   using ValueT = typename GridT::ValueType;
@@ -293,7 +285,7 @@ typename GridT::Ptr backward(const GridT& src, const FfdMap& map, const GridFfdO
         if (leaf->onVoxelCount() > 0) leaves[l] = leaf.release();
       }
     });
-    share.report(0.9 * double(end) / double(origins.size()));
+    share.step(0.9 * double(end) / double(origins.size()));
   }
   for (LeafT* leaf : leaves)
     if (leaf) out->tree().addLeaf(leaf);
@@ -304,7 +296,7 @@ typename GridT::Ptr backward(const GridT& src, const FfdMap& map, const GridFfdO
 // one written wins). Stretched, some destinations receive no voxel: the gaps.
 template <class GridT>
 typename GridT::Ptr forwardSplat(const GridT& src, const FfdLattice& lattice,
-                                 const ProgressShare& share) {
+                                 const Progress& share) {
   typename GridT::Ptr out = src.copyWithNewTree();
   auto acc = out->getAccessor();
   const openvdb::math::Transform& xf = src.transform();
@@ -315,13 +307,13 @@ typename GridT::Ptr forwardSplat(const GridT& src, const FfdLattice& lattice,
     acc.setValueOn(Coord(int(std::lround(i[0])), int(std::lround(i[1])), int(std::lround(i[2]))),
                    *v);
   }
-  share.report(0.9);
+  share.step(0.9);
   return out;
 }
 
 template <class GridT>
 openvdb::GridBase::Ptr deformTyped(const GridT& src, const FfdMap& map, const GridFfdOptions& o,
-                                   const ProgressShare& share) {
+                                   const Progress& share) {
   typename GridT::Ptr out = o.method == GridFfdOptions::Method::Backward
                                 ? backward(src, map, o, share)
                                 : forwardSplat(src, map.lattice(), share);
@@ -339,7 +331,7 @@ openvdb::GridBase::Ptr deformTyped(const GridT& src, const FfdMap& map, const Gr
       }
     }
   }
-  share.report(1.0);
+  share.step(1.0);
   return out;
 }
 
@@ -356,7 +348,8 @@ GridSet deformGrids(const GridSet& grids, const FfdLattice& lattice, const GridF
   const std::size_t n = grids.impl->grids.size();
   for (std::size_t g = 0; g < n; ++g) {
     const openvdb::GridBase& base = *grids.impl->grids[g];
-    const ProgressShare share{o, double(g) / double(n), 1.0 / double(n)};
+    // grid g of n: [g / n, (g + 1) / n) of the bar
+    const Progress share = Progress(o.progress).sub(double(g) / double(n), 1.0 / double(n));
     openvdb::GridBase::Ptr d;
     if (auto f = dynamic_cast<const openvdb::FloatGrid*>(&base))
       d = deformTyped(*f, map, o, share);

@@ -15,6 +15,7 @@
 #include <mutex>
 
 #include "base/errors.h"
+#include "base/progress.h"
 #include "base/triangle_geometry.h"
 #include "check/mesh_check.h"
 #include "volume/openvdb_grids.h"
@@ -88,6 +89,10 @@ GridSet sampleLevelSet(const Field& field, const Box3& box, const LevelSetOption
   std::mutex leavesMutex;
   std::atomic<std::int64_t> done{0};
   std::atomic<bool> cancelled{false};
+  // Sampling is the first 60 % of the bar; the callback is called one call at a time (as
+  // the mesher's), from whichever thread finished a piece.
+  const Progress bar(o.progress);
+  const Progress sampling = bar.sub(0.0, 0.6);
   tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, regions, 1), [&](const auto& range) {
     std::vector<Dual> x(512), y(512), z(512), g(512);
     std::vector<double> vx(512), vy(512), vz(512), v(512);
@@ -160,9 +165,7 @@ GridSet sampleLevelSet(const Field& field, const Box3& box, const LevelSetOption
     std::lock_guard<std::mutex> lock(leavesMutex);
     leaves.insert(leaves.end(), mine.begin(), mine.end());
     mine.clear();
-    // Sampling is the first 60 % of the work; the callback is called one call at a time (as
-    // the mesher's), from whichever thread finished a piece.
-    if (o.progress && !cancelled && !o.progress(0.6 * double(d) / double(regions))) cancelled = true;
+    if (!cancelled && !sampling.count(std::size_t(d), std::size_t(regions))) cancelled = true;
   });
   if (cancelled) {
     for (LeafT* l : leaves) delete l;
@@ -187,7 +190,7 @@ GridSet sampleLevelSet(const Field& field, const Box3& box, const LevelSetOption
   grid->setGridClass(openvdb::GRID_LEVEL_SET);
   grid->setName(o.name);
   if (o.fog) openvdb::tools::sdfToFogVolume(*grid);
-  if (o.progress && !o.progress(1.0)) throw Cancelled();
+  bar.step(1.0);
   return gridSetOf({grid});
 }
 

@@ -1,4 +1,4 @@
-"""Hspline features in FreeCAD (issue 15): the exact surface as a Part face or solid, seed
+"""Hspline features in FreeCAD: the exact surface as a Part face or solid, seed
 003's tutorial steps, the hierarchy saved in properties (reopen, undo), tags refusing fixed
 CVs, B-spline faces as level 0, and .hs, STEP and checked STL exports."""
 

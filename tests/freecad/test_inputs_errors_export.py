@@ -140,12 +140,12 @@ def test_polygonize_warns_of_parts_thinner_than_a_cell(doc, monkeypatch):
                                                  "between the grid's points at 9 grid edges")
     assert ", 0.65, 0.65)" in thin[0]
     # refined, the fin is meshed (a second piece) and the warning gives way to a message
-    assert p.RefineThinParts == "Off"
+    assert p.Refine == "Off"
     before = p.Mesh.Volume
     told = []
     monkeypatch.setattr(FreeCAD.Console, "PrintMessage", told.append)
     said.clear()
-    p.RefineThinParts = "Thin parts"
+    p.Refine = "Thin parts"
     doc.recompute()
     assert p.isValid(), p.getStatusString()
     assert p.Mesh.Volume - before == pytest.approx(0.0027, rel=0.2)
@@ -166,11 +166,13 @@ def test_polygonize_warns_of_parts_thinner_than_a_cell(doc, monkeypatch):
             "a cell / 4" in m], told
     p.RefineLevels = 4
     doc.recompute()
-    assert not p.isValid() and "'RefineLevels' is 4; allowed: 1 to 3" in p.getStatusString()
+    assert not p.isValid() and ("property 'RefineLevels' must be a whole number from 1 to 3, "
+                                "got 4" in p.getStatusString())
     p.RefineLevels = 2
-    p.RefineThinParts = "Off"
+    p.Refine = "Off"
     doc.recompute()
-    assert not p.isValid() and "needs 'RefineThinParts' on" in p.getStatusString()
+    assert not p.isValid() and ("'RefineLevels' 2 applies to a refinement: set 'Refine' to"
+                                in p.getStatusString())
     p.RefineLevels = 1
     fin.Corner = FreeCAD.Vector(-0.015, 0.6, 0.6)
     # a part with nothing thin says nothing
@@ -195,22 +197,63 @@ def test_polygonize_and_export_checked(doc, tmp_path):
     assert report["volume"] == pytest.approx(reference.mesh(cells=64).volume(), rel=1e-3)
 
 
-def test_polygonize_method_chooses_the_mesher(doc, tmp_path):
+def test_polygonize_mesher_chooses_the_mesher(doc, tmp_path):
     part = FRepExamples.build_csg(doc)
     p = FRepPolygonize.make(part, doc, Cells=48)
     doc.recompute()
-    assert p.Method == "Cubes" and p.isValid(), p.getStatusString()
+    assert p.Mesher == "Cubes" and p.isValid(), p.getStatusString()
     cubes = p.Triangles
-    p.Method = "Marching tetrahedra"
+    p.Mesher = "Marching tetrahedra"
     doc.recompute()
     assert p.isValid() and p.Triangles > 2.5 * cubes
     out = str(tmp_path / "tetra.stl")
     assert FRepExport.export_objects([p], out)["triangles"] == p.Triangles
-    # a document from before 0.3 stored the one method it had: it moves to the new default
-    p.Method = ["Marching tetrahedra"]
+
+
+def older_polygonize(doc, part, name, older):
+    """A Polygonize feature as a document saved with the older property names holds it:
+    `older` maps each to (FreeCAD type, enumeration or None, value)."""
+    p = FRepPolygonize.make(part, doc, name=name, Cells=32)
+    taken = {"Method": "Mesher", "FewerTriangles": "DropFlatVertices",
+             "RefineThinParts": "Refine"}
+    for prop, (kind, choices, value) in older.items():
+        p.removeProperty(taken[prop])
+        p.addProperty(kind, prop, "Polygonize", "")
+        if choices:
+            setattr(p, prop, choices)
+        setattr(p, prop, value)
     p.Proxy.onDocumentRestored(p)
-    assert p.Method == "Cubes"
-    assert list(p.getEnumerationsOfProperty("Method")) == FRepPolygonize.METHODS
+    return p
+
+
+def test_a_document_with_the_older_property_names_keeps_its_settings(doc):
+    part = FRepExamples.build_csg(doc)
+    p = older_polygonize(doc, part, "Older", {
+        "Method": ("App::PropertyEnumeration", ["Cubes", "Marching tetrahedra"],
+                   "Marching tetrahedra"),
+        "FewerTriangles": ("App::PropertyBool", None, False),
+        "RefineThinParts": ("App::PropertyEnumeration",
+                            ["Off", "Thin parts", "Thin parts and tips"], "Thin parts and tips")})
+    assert not {"Method", "FewerTriangles", "RefineThinParts"} & set(p.PropertiesList)
+    assert (p.Mesher, p.DropFlatVertices, p.Refine) == ("Marching tetrahedra", False,
+                                                         "Thin parts and tips")
+    assert FRepPolygonize.settings_of(p) == frepcore.MeshSettings(
+        mesher="tetra", drop_flat_vertices=False, refine="tips")
+    # a document from before 0.3 stored the one method it had: it moves to the default
+    q = older_polygonize(doc, part, "Oldest", {
+        "Method": ("App::PropertyEnumeration", ["Marching tetrahedra"], "Marching tetrahedra")})
+    assert q.Mesher == "Cubes" and "Method" not in q.PropertiesList
+    assert list(q.getEnumerationsOfProperty("Mesher")) == ["Cubes", "Marching tetrahedra"]
+
+
+def test_every_meshing_option_is_a_property_with_the_tables_default(doc):
+    part = FRepExamples.build_csg(doc)
+    p = FRepPolygonize.make(part, doc, Cells=32)
+    assert FRepPolygonize.settings_of(p) == frepcore.MeshSettings()
+    for row in frepcore.mesh_settings_table():
+        name = FRepPolygonize.PROPERTY_OF_OPTION[row["name"]]
+        assert name in p.PropertiesList
+        assert p.getDocumentationOfProperty(name), name
 
 
 def test_polygonize_with_a_tolerance_simplifies_and_exports_alike(doc, tmp_path):
@@ -290,9 +333,9 @@ def test_polygonize_straightens_creases_and_exports_alike(doc, tmp_path, monkeyp
 
 def test_polygonize_drops_flat_vertices_by_default_and_exports_alike(doc, tmp_path):
     part = FRepExamples.build_csg(doc)
-    full = FRepPolygonize.make(part, doc, Cells=48, FewerTriangles=False)
+    full = FRepPolygonize.make(part, doc, Cells=48, DropFlatVertices=False)
     fewer = FRepPolygonize.make(part, doc, name="Fewer", Cells=48)
-    assert fewer.FewerTriangles
+    assert fewer.DropFlatVertices
     doc.recompute()
     assert fewer.isValid(), fewer.getStatusString()
     assert fewer.Triangles < 0.95 * full.Triangles
@@ -301,8 +344,8 @@ def test_polygonize_drops_flat_vertices_by_default_and_exports_alike(doc, tmp_pa
     written = FRepExport.export_objects([fewer], out)
     assert written["printable"] and written["triangles"] == fewer.Triangles
     # saved and reopened, each keeps its setting; off, the full mesh
-    assert_reopened_with(doc, tmp_path, "FewerTriangles", on=fewer, off=full)
-    fewer.FewerTriangles = False
+    assert_reopened_with(doc, tmp_path, "DropFlatVertices", on=fewer, off=full)
+    fewer.DropFlatVertices = False
     doc.recompute()
     assert fewer.Triangles == full.Triangles
 

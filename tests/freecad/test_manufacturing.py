@@ -1,4 +1,4 @@
-"""Manufacturing output in the workbench (issue 16): several FRep features into one checked
+"""Manufacturing output in the workbench: several FRep features into one checked
 3MF, a broken mesh repaired into a new feature (the input kept), the printability report."""
 
 import FreeCAD

@@ -1,19 +1,16 @@
 """The workbench's package.xml as FreeCAD's own metadata reader (and so the Addon Manager)
 sees it, in the FreeCAD the tests run in: it parses, names the workbench class InitGui.py
 registers, allows this FreeCAD version, points at icons that exist and carries the project's
-version."""
+one version number, which the build gives frepcore and frepcad too."""
 
 import os
 import re
 
 import FreeCAD
 
+from FRepPaths import frepcore
+
 MOD = os.path.join(os.environ["FREP_SOURCE_DIR"], "Mod", "FRep")
-
-
-def project_version():
-    text = open(os.path.join(os.environ["FREP_SOURCE_DIR"], "CMakeLists.txt")).read()
-    return re.search(r"project\(FRepCAD VERSION ([0-9.]+)", text).group(1)
 
 
 def version_tuple(text):
@@ -23,7 +20,7 @@ def version_tuple(text):
 def test_package_xml_is_read_by_freecad():
     meta = FreeCAD.Metadata(os.path.join(MOD, "package.xml"))
     assert meta.Name == "FRep"
-    assert meta.Version == project_version()
+    assert meta.Version == frepcore.__version__
     assert os.path.isfile(os.path.join(MOD, meta.Icon))
     running = version_tuple(".".join(FreeCAD.Version()[:3]))
     assert version_tuple(meta.FreeCADMin) <= running

@@ -1,4 +1,4 @@
-"""Brick jobs on Dask distributed (issue 17): the same mesh as one process for 1, 8 and 64
+"""Brick jobs on Dask distributed: the same mesh as one process for 1, 8 and 64
 jobs, a killed worker costs a retry, a cancel leaves nothing, and `frepcad export --bricks`."""
 
 import os
@@ -66,11 +66,11 @@ def test_flat_vertices_kept_or_not_in_jobs_give_the_one_process_mesh(client, tmp
     meshes = {}
     for fewer in (True, False):
         one = str(tmp_path / "one.stl")
-        shape.export(one, cells=80, fewer_triangles=fewer)
+        shape.export(one, cells=80, drop_flat_vertices=fewer)
         meshes[fewer] = sorted_triangles(one)
         out = str(tmp_path / "jobs.stl")
         report = fd.export_distributed(shape, out, 8, client=client, cells=80,
-                                       fewer_triangles=fewer)
+                                       drop_flat_vertices=fewer)
         assert report["printable"] and report["written"]
         assert sorted_triangles(out) == meshes[fewer]
     assert len(meshes[True]) < 0.95 * len(meshes[False])

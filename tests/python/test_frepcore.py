@@ -1,6 +1,7 @@
 """The frepcore Python module on its own: the pythonic API, errors, progress and cancel,
 checked export."""
 
+import inspect
 import math
 import os
 
@@ -88,11 +89,11 @@ def test_refine_thin_parts_meshes_the_fin_the_grid_missed(tmp_path):
     fin = fc.sphere(0.5) | fc.box((0.03, 0.3, 0.3), corner=(-0.015, 0.6, 0.6))
     box = ((-1, -1, -1), (1, 1, 1))
     plain = fin.mesh(0.1, bbox=box)
-    refined = fin.mesh(0.1, bbox=box, refine_thin_parts=True)
+    refined = fin.mesh(0.1, bbox=box, refine="thin-parts")
     assert refined.thin_parts["refined_cubes"] > 0
     # the fin (0.03 x 0.3 x 0.3 = 0.0027) is there now, as a second piece
     assert refined.volume() - plain.volume() == pytest.approx(0.0027, rel=0.2)
-    report = fin.export(str(tmp_path / "fin.stl"), 0.1, bbox=box, refine_thin_parts=True)
+    report = fin.export(str(tmp_path / "fin.stl"), 0.1, bbox=box, refine="thin-parts")
     assert report["printable"] and report["components"] == 2
     assert report["thin_parts"]["refined_cubes"] == refined.thin_parts["refined_cubes"]
 
@@ -102,18 +103,18 @@ def test_refine_levels_mesh_a_fin_between_the_half_cell_points(tmp_path):
     fin = fc.sphere(0.5) | fc.box((0.03, 0.3, 0.3), corner=(0.01, 0.6, 0.6))
     box = ((-1, -1, -1), (1, 1, 1))
     plain = fin.mesh(0.1, bbox=box)
-    one = fin.mesh(0.1, bbox=box, refine_thin_parts=True)
-    two = fin.mesh(0.1, bbox=box, refine_thin_parts=True, refine_levels=2)
+    one = fin.mesh(0.1, bbox=box, refine="thin-parts")
+    two = fin.mesh(0.1, bbox=box, refine="thin-parts", refine_levels=2)
     assert one.volume() == pytest.approx(plain.volume(), abs=1e-4)
     assert "refined_levels" not in one.thin_parts
     assert two.thin_parts["refined_levels"] == 2
     assert two.thin_parts["refined_deeper_cubes"] > 0
     assert two.volume() - plain.volume() == pytest.approx(0.0027, rel=0.2)
-    report = fin.export(str(tmp_path / "fin.stl"), 0.1, bbox=box, refine_thin_parts=True,
+    report = fin.export(str(tmp_path / "fin.stl"), 0.1, bbox=box, refine="thin-parts",
                         refine_levels=2)
     assert report["printable"] and report["components"] == 2
-    with pytest.raises(ValueError, match="refinement levels must be 1 to 3, got 4"):
-        fin.mesh(0.1, bbox=box, refine_thin_parts=True, refine_levels=4)
+    with pytest.raises(ValueError, match="refine_levels must be a whole number from 1 to 3, got 4"):
+        fin.mesh(0.1, bbox=box, refine="thin-parts", refine_levels=4)
 
 
 def test_straighten_creases_merges_onto_the_twists_creases(tmp_path):
@@ -131,8 +132,8 @@ def test_straighten_creases_merges_onto_the_twists_creases(tmp_path):
     assert report["printable"] and report["triangles"] == straight.triangle_count
     assert report["straightened"]["merged"] > 0 and report["straightened"]["seconds"] > 0
     assert "straightened" not in twist.export(str(tmp_path / "p.stl"), cells=48)
-    with pytest.raises(ValueError, match="straighten_creases needs sharp=True"):
-        twist.mesh(cells=48, straighten_creases=True, sharp=False)
+    with pytest.raises(ValueError, match="straighten_creases needs sharp_features"):
+        twist.mesh(cells=48, straighten_creases=True, sharp_features=False)
 
 
 def test_a_preview_too_large_for_the_memory_is_refused_with_the_figures():
@@ -222,7 +223,7 @@ def test_gallery_shows_every_registry_type():
         assert os.path.exists(os.path.join(docs, "images", "nodes", t["type"] + ".png"))
 
 
-# -- meshes and OpenVDB grids as solids (issue 13) ---------------------------------------------
+# -- meshes and OpenVDB grids as solids ----------------------------------------------------
 
 def test_meshes_become_exact_solids_and_open_ones_are_refused(tmp_path):
     path = str(tmp_path / "ball.stl")
@@ -369,32 +370,97 @@ def test_repair_printability_and_deviation_of_a_mesh():
 def test_the_cube_mesher_makes_a_third_of_the_tetrahedra_triangles():
     part = csg()
     box = ((-1.2, -1.2, -1.2), (1.2, 1.2, 1.2))
-    cubes = part.node.mesh(box, 0.05)
-    tetra = part.node.mesh(box, 0.05, mesher="tetra")
-    chamfered = part.node.mesh(box, 0.05, sharp=False)
+    cubes = part.mesh(0.05, bbox=box)
+    tetra = part.mesh(0.05, bbox=box, mesher="tetra")
+    chamfered = part.mesh(0.05, bbox=box, sharp_features=False)
     assert 2.5 * cubes.triangle_count < tetra.triangle_count
     assert chamfered.triangle_count < cubes.triangle_count  # creases cost a fan each
     for m in (cubes, tetra, chamfered):
         assert m.check()["printable"]
-    with pytest.raises(ValueError, match="mesher must be 'cubes' or 'tetra', got 'dual'"):
-        part.node.mesh(box, 0.05, mesher="dual")
+    with pytest.raises(ValueError, match="mesher must be cubes or tetra, got 'dual'"):
+        part.mesh(0.05, bbox=box, mesher="dual")
 
 
 def test_flat_vertices_go_by_default_and_the_mesh_stays_printable(tmp_path):
     part = csg()
     box = ((-1.2, -1.2, -1.2), (1.2, 1.2, 1.2))
-    full = part.node.mesh(box, 0.05, fewer_triangles=False)
-    fewer = part.node.mesh(box, 0.05)
+    full = part.mesh(0.05, bbox=box, drop_flat_vertices=False)
+    fewer = part.mesh(0.05, bbox=box)
     assert fewer.triangle_count < 0.95 * full.triangle_count
     # two triangles go with each vertex
     assert (full.triangle_count - fewer.triangle_count
             == 2 * (full.vertex_count - fewer.vertex_count))
     assert fewer.check()["printable"]
-    report = part.node.export(str(tmp_path / "fewer.stl"), bbox=box, resolution=0.05)
+    report = part.export(str(tmp_path / "fewer.stl"), bbox=box, resolution=0.05)
     assert report["written"] and report["triangles"] == fewer.triangle_count
-    report = part.node.export(str(tmp_path / "full.stl"), bbox=box, resolution=0.05,
-                              fewer_triangles=False)
+    report = part.export(str(tmp_path / "full.stl"), bbox=box, resolution=0.05,
+                         drop_flat_vertices=False)
     assert report["written"] and report["triangles"] == full.triangle_count
+
+
+def test_meshing_options_are_one_table_with_real_signatures():
+    names = [row["name"] for row in fc.mesh_settings_table()]
+    assert names == ["mesher", "sharp_features", "drop_flat_vertices", "refine",
+                     "refine_levels", "straighten_creases", "tolerance"]
+    for method in (fc.Shape.mesh, fc.Shape.export):
+        params = inspect.signature(method).parameters
+        for row in fc.mesh_settings_table():
+            assert params[row["name"]].default == row["default"]
+            assert params[row["name"]].kind == inspect.Parameter.KEYWORD_ONLY
+        assert "refine_levels" in method.__doc__
+    defaults = fc.MeshSettings()
+    assert defaults.to_dict() == {row["name"]: row["default"]
+                                  for row in fc.mesh_settings_table()}
+    assert repr(fc.MeshSettings(refine="tips")) == "MeshSettings(refine='tips')"
+    with pytest.raises(TypeError, match="unknown meshing option 'sharpness'; allowed: mesher"):
+        fc.mesh_settings(sharpness=True)
+    with pytest.raises(ValueError, match="refine must be off, thin-parts or tips, got 'all'"):
+        fc.MeshSettings(refine="all")
+    assert fc.MeshSettings(refine_levels=2).problem() == (
+        "refine_levels", "{refine_levels} 2 applies to a refinement: set {refine} to "
+        "thin-parts or tips, or {refine_levels} to 1")
+
+
+def test_node_functions_show_the_signature_they_take():
+    b = fc.box((1, 2, 3), (4, 5, 6))
+    assert b.params["size"] == (1, 2, 3) and b.params["corner"] == (4, 5, 6)
+    assert list(inspect.signature(fc.box).parameters) == ["size", "corner"]
+    for info in fc.node_types():
+        function = getattr(fc, info["type"], None)
+        if function is None:
+            continue
+        params = inspect.signature(function).parameters
+        documented = [line.split()[0] for line in function.__doc__.split("Parameters:")[1]
+                      .splitlines() if line.strip()]
+        named = [n for n, p in params.items() if p.kind in (p.POSITIONAL_OR_KEYWORD,
+                                                            p.KEYWORD_ONLY)]
+        assert named == documented, info["type"]
+        assert {p["name"] for p in info["params"]} == set(named), info["type"]
+        for p in info["params"]:
+            assert params[p["name"]].default == p["default"], (info["type"], p["name"])
+
+
+def test_one_version_and_one_exit_status_table():
+    with open(os.path.join(SOURCE, "Mod", "FRep", "package.xml"), encoding="utf-8") as f:
+        assert "<version>%s</version>" % fc.__version__ in f.read()
+    status = fc.EXIT_STATUS
+    assert fc.exit_status_of(fc.NotPrintable("x", {})) == status["not_printable"] == 1
+    assert fc.exit_status_of(fc.Cancelled("x")) == status["cancelled"] == 130
+    assert fc.exit_status_of(KeyboardInterrupt()) == 130
+    assert fc.exit_status_of(ValueError("x")) == fc.exit_status_of(OSError()) == 2
+    assert fc.exit_status_of(KeyError("x")) == status["internal_error"] == 3
+
+
+def test_older_keyword_spellings_still_mean_the_same_settings():
+    older = fc.mesh_settings(sharp=False, fewer_triangles=False, refine_thin_parts=True,
+                             refine_tips=True)
+    assert older == fc.MeshSettings(sharp_features=False, drop_flat_vertices=False,
+                                    refine="tips")
+    assert fc.mesh_settings(refine_tips=True, refine_thin_parts=True).refine == "tips"
+    part = csg()
+    box = ((-1.2, -1.2, -1.2), (1.2, 1.2, 1.2))
+    assert (part.mesh(0.1, bbox=box, sharp=False).triangle_count
+            == part.mesh(0.1, bbox=box, sharp_features=False).triangle_count)
 
 
 def test_hsplines_refine_edit_and_leave_as_step_stl_and_hs(tmp_path):

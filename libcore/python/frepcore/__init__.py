@@ -16,7 +16,9 @@ the GIL, takes ``progress=callable(fraction) -> bool`` and raises ``Cancelled`` 
 callback returns False; a cancelled export writes no file.
 """
 
+import inspect
 import os
+import textwrap
 
 from ._frepcore import Cancelled, Mesh, Node, node_types, parse_model, read_mesh
 from ._frepcore import check_param, node_reference_markdown
@@ -25,13 +27,16 @@ from ._frepcore import Lattice, deform_mesh, deform_vdb, read_lattice, parse_lat
 from ._frepcore import read_3mf, write_3mf, materials
 from ._frepcore import HSpline, parse_hs, read_hs, read_step_summary, attach_cylinder
 from ._frepcore import set_threads, use_one_job_memory_policy
+from ._frepcore import MeshSettings, mesh_settings_table
+from ._frepcore import EXIT_STATUS, __version__
 from ._frepcore import DEFAULT_CELLS  # cells along the longest side when no resolution is given
 
-__all__ = ["Cancelled", "Mesh", "Node", "Shape", "node_types", "parse_model", "read_mesh",
+__all__ = ["Cancelled", "Mesh", "MeshSettings", "mesh_settings_table", "Node", "Shape", "node_types", "parse_model", "read_mesh",
            "load", "automatic_box", "NotPrintable", "from_mesh", "from_vdb", "vdb_grids",
            "vdb_to_mesh", "Lattice", "deform_mesh", "deform_vdb", "read_lattice",
            "parse_lattice", "read_3mf", "write_3mf", "materials", "HSpline", "parse_hs",
-           "read_hs", "read_step_summary", "attach_cylinder"]
+           "read_hs", "read_step_summary", "attach_cylinder", "mesh_settings", "EXIT_STATUS",
+           "exit_status_of"]
 
 # Positional order of the parameters of the primitive functions, where the registry's order
 # (placement first) would be awkward to call: fc.cylinder(radius, length).
@@ -49,12 +54,73 @@ _POSITIONAL = {
 }
 
 
+# Older spellings of the meshing options, still accepted: keyword -> (option, value), the
+# value None meaning the keyword's own.
+_OLDER_KEYWORDS = {
+    "sharp": ("sharp_features", None),
+    "fewer_triangles": ("drop_flat_vertices", None),
+    "refine_thin_parts": ("refine", "thin-parts"),
+    "refine_tips": ("refine", "tips"),
+}
+
+
+def mesh_settings(settings=None, **options):
+    """A MeshSettings from `settings` (a MeshSettings or None: the defaults) with `options`
+    (the names of mesh_settings_table(), or their older spellings) set on it. An unknown name
+    is a TypeError listing the allowed ones; a bad value a ValueError naming the option."""
+    result = MeshSettings() if settings is None else MeshSettings(**settings.to_dict())
+    refine = None
+    for name, value in options.items():
+        if name in _OLDER_KEYWORDS:
+            option, meaning = _OLDER_KEYWORDS[name]
+            if meaning is None:
+                setattr(result, option, value)
+            elif value and refine != "tips":  # (refine_tips wins over refine_thin_parts)
+                refine = meaning
+            continue
+        if not hasattr(MeshSettings, name) or name.startswith("_"):
+            raise TypeError("unknown meshing option '%s'; allowed: %s"
+                            % (name, ", ".join(row["name"] for row in mesh_settings_table())))
+        setattr(result, name, value)
+    if refine is not None and "refine" not in options:
+        result.refine = refine
+    return result
+
+
+def _with_settings_signature(function, before):
+    """Gives `function` (taking **options) the signature help() and IDEs show: the
+    parameters `before` as written, then each meshing option with its C++ default."""
+    params = [p for name, p in inspect.signature(function).parameters.items()
+              if name in before]
+    params += [inspect.Parameter(row["name"], inspect.Parameter.KEYWORD_ONLY,
+                                 default=row["default"]) for row in mesh_settings_table()]
+    function.__signature__ = inspect.Signature(params)
+    lines = [textwrap.fill("%s: %s" % (row["name"], row["help"].replace("{", "").replace(
+        "}", "")), 92, initial_indent=" " * 8, subsequent_indent=" " * 12)
+        for row in mesh_settings_table()]
+    function.__doc__ = (function.__doc__ or "") + "\n    Meshing options:\n" + "\n".join(lines)
+    return function
+
+
 class NotPrintable(ValueError):
     """An export refused because the mesh failed the CGAL check; .report has the details."""
 
     def __init__(self, message, report):
         super().__init__(message)
         self.report = report
+
+
+def exit_status_of(error):
+    """frepcad's exit status (EXIT_STATUS) for the exception that ended a command: a mesh
+    not printable, a cancel, bad input (ValueError, OSError, running out of memory), else an
+    internal error (a bug)."""
+    if isinstance(error, NotPrintable):
+        return EXIT_STATUS["not_printable"]
+    if isinstance(error, (Cancelled, KeyboardInterrupt)):
+        return EXIT_STATUS["cancelled"]
+    if isinstance(error, (ValueError, OSError, MemoryError)):
+        return EXIT_STATUS["bad_input"]
+    return EXIT_STATUS["internal_error"]
 
 
 class Shape:
@@ -118,60 +184,33 @@ class Shape:
 
     # -- meshing and export ---------------------------------------------------------------
     def mesh(self, resolution=None, bbox=None, cells=None, progress=None, normals=False,
-             tolerance=None, sharp=True, mesher="cubes", fewer_triangles=True,
-             refine_thin_parts=False, refine_tips=False, straighten_creases=False,
-             refine_levels=1):
-        """Polygonises the solid; bbox and resolution default to automatic_box. Creases and
-        corners get vertices unless sharp=False; mesher='tetra' is the marching-tetrahedra
-        mesher of before 0.3 (three times the triangles); the vertices where the surface is
-        flat within a fiftieth of a cell are dropped unless fewer_triangles=False. With a
-        tolerance the mesh is simplified, kept within it of the surface. The mesh's
-        thin_parts dict counts the grid edges where parts thinner than a cell passed between
-        the grid's points: 'solid' left out and 'gaps' closed with no surface near, 'tips' of
-        creases cut short; 'example' is a point on one. With refine_thin_parts=True the
-        cubes round the solid and gaps are meshed again at half a cell
-        (`--refine-thin-parts`; 'refined_cubes' counts them), with refine_tips=True those round
-        the tips too (`--refine-tips`); with refine_levels=2 or 3 (`--refine-levels`) the half
-        cubes are refined again where parts hide between their own points, and where the mesh
-        lies over 0.3 cell from the surface ('refined_levels', 'refined_deeper_cubes'). With
-        straighten_creases=True the vertices either side
-        of a chamfered or zig-zagging crease are merged onto it and its edges flipped along
-        it, within a third of a cell (`--straighten-creases`; before any simplification)."""
+             settings=None, **options):
+        """Polygonises the solid; bbox and resolution default to automatic_box. The meshing
+        options below (or a MeshSettings as settings=) are frepcad export's flags by the same
+        names. The mesh's thin_parts dict counts the grid edges where parts thinner than a
+        cell passed between the grid's points: 'solid' left out and 'gaps' closed with no
+        surface near, 'tips' of creases cut short; 'example' is a point on one; with refine,
+        'refined_cubes' counts the cubes meshed again at half a cell, and with refine_levels
+        2 or 3 'refined_levels' and 'refined_deeper_cubes' those below. With
+        straighten_creases the mesh's straightened says {'merged', 'flipped', 'seconds'}."""
         box, cell = automatic_box(self, resolution=resolution, bbox=bbox, cells=cells)
-        return self.node.mesh(box, cell, progress, normals, tolerance, sharp, mesher,
-                              fewer_triangles, refine_thin_parts, refine_tips,
-                              straighten_creases, refine_levels)
+        return self.node.mesh(box, cell, progress, normals, mesh_settings(settings, **options))
 
     def export(self, path, resolution=None, bbox=None, cells=None, format="", check=True,
-               progress=None, force=False, tolerance=None, sharp=True, mesher="cubes",
-               fewer_triangles=True, refine_thin_parts=False, refine_tips=False,
-               straighten_creases=False, refine_levels=1):
+               progress=None, force=False, settings=None, **options):
         """Meshes, checks with CGAL and writes path atomically (libcore's export pipeline,
-        the same as `frepcad export`); returns the check report (a dict with 'text', and
-        'thin_parts' as in mesh()).
-        Creases and corners get vertices unless sharp=False; mesher='tetra' meshes by
-        marching tetrahedra (`--mesher tetra`); the vertices where the surface is flat within a
-        fiftieth of a cell are dropped unless fewer_triangles=False (`--keep-flat-vertices`);
-        parts thinner than a cell are meshed again at half a cell with refine_thin_parts=True
-        (`--refine-thin-parts`), and round the tips of creases and slivers too with
-        refine_tips=True (`--refine-tips`), down to a cell / 2^refine_levels
-        (`--refine-levels`); creases are straightened with
-        straighten_creases=True (`--straighten-creases`; the report's 'straightened' has
-        'merged', 'flipped' and 'seconds'). With a tolerance (model units) the mesh is
-        simplified first, kept within it of the surface (`frepcad export --tolerance`); the
-        report then has 'triangles_before_simplify' and 'largest_distance'.
+        the same as `frepcad export`, whose flags the meshing options below are); returns
+        the check report (a dict with 'text', and 'thin_parts' as in mesh()). With
+        straighten_creases the report's 'straightened' has 'merged', 'flipped' and
+        'seconds'; with a tolerance it has 'triangles_before_simplify' and
+        'largest_distance'.
 
         Raises NotPrintable (nothing written) when the check fails and force is not given,
         Cancelled when progress returns False (nothing written).
         """
         report = self.node.export(path, bbox=bbox, resolution=resolution, cells=cells,
                                   format=format, check=check, force=force, progress=progress,
-                                  tolerance=tolerance, sharp=sharp, mesher=mesher,
-                                  fewer_triangles=fewer_triangles,
-                                  refine_thin_parts=refine_thin_parts,
-                                  refine_tips=refine_tips,
-                                  straighten_creases=straighten_creases,
-                                  refine_levels=refine_levels)
+                                  settings=mesh_settings(settings, **options))
         if check and not report["printable"] and not force:
             raise NotPrintable("%s: not written, the mesh is not printable: %s"
                                % (path, "; ".join(report["reasons"])), report)
@@ -308,12 +347,25 @@ def _make_function(info):
         def make(*shapes, **kwargs):
             return Shape(Node(type_id, kwargs, [_node(s) for s in shapes], type_id))
 
+    # the parameters in their positional order (keyword-only after it), as help() shows them
+    by_name = {p["name"]: p for p in info["params"]}
+    ordered = [by_name[n] for n in order] + [p for p in info["params"] if p["name"] not in order]
     lines = ["%s: %s" % (type_id, info["doc"]), "", "Formula: " + info["formula"], "",
              "Parameters:"]
-    for p in info["params"]:
+    for p in ordered:
         unit = " [%s]" % p["unit"] if p["unit"] else ""
         lines.append("  %s%s = %r: %s (allowed: %s)" % (p["name"], unit, p["default"], p["doc"],
                                                         p["allowed"]))
+    P = inspect.Parameter
+    if min_in == 0:
+        head, kind = [], P.POSITIONAL_OR_KEYWORD
+    elif max_in == 1:
+        head, kind = [P("shape", P.POSITIONAL_ONLY)], P.POSITIONAL_OR_KEYWORD
+    else:
+        head, kind = [P("shapes", P.VAR_POSITIONAL)], P.KEYWORD_ONLY
+    make.__signature__ = inspect.Signature(head + [
+        P(p["name"], kind if p["name"] in order else P.KEYWORD_ONLY, default=p["default"])
+        for p in ordered])
     make.__name__ = type_id
     make.__qualname__ = type_id
     make.__doc__ = "\n".join(lines)
@@ -331,3 +383,9 @@ def _install_node_functions():
 
 
 _install_node_functions()
+
+
+_with_settings_signature(Shape.mesh, ("self", "resolution", "bbox", "cells", "progress",
+                                      "normals", "settings"))
+_with_settings_signature(Shape.export, ("self", "path", "resolution", "bbox", "cells", "format",
+                                        "check", "progress", "force", "settings"))

@@ -1,4 +1,4 @@
-"""Exports beyond one process: brick jobs scheduled by Dask distributed (issue 17).
+"""Exports beyond one process: brick jobs scheduled by Dask distributed.
 
 The export is cut into jobs, each a box of the mesher's bricks (libcore's
 pipeline/brick_jobs.h). A Dask worker meshes a job into a piece file in a shared work folder.
@@ -35,10 +35,10 @@ RETRIES = 3
 _policy_set = False
 
 
-def mesh_job(model_text, base_dir, bbox, resolution, sharp, mesher, jobs, job, path,
-             threads=0, fewer_triangles=True):
+def mesh_job(model_text, base_dir, bbox, resolution, jobs, job, path, threads=0,
+             settings=None):
     """On a worker: meshes job `job` of the run into the piece file `path` on `threads`
-    threads (0: every core); returns the job's figures (triangles, seconds, the worker's
+    threads (0: every core) with `settings` (MeshSettings.to_dict()); returns the job's figures (triangles, seconds, the worker's
     peak memory in MB)."""
     global _policy_set
     if not _policy_set:
@@ -48,8 +48,8 @@ def mesh_job(model_text, base_dir, bbox, resolution, sharp, mesher, jobs, job, p
         _policy_set = True
     frepcore.set_threads(threads)
     model = frepcore.parse_model(model_text, "model", base_dir)
-    result = model["root"].brick_job(bbox, resolution, sharp, mesher, jobs, job, path,
-                                     fewer_triangles)
+    result = model["root"].brick_job(bbox, resolution, jobs, job, path,
+                                     frepcore.MeshSettings(**(settings or {})))
     result["peak_mb"] = peak_memory_mb()
     result["pid"] = os.getpid()
     return result
@@ -80,10 +80,9 @@ def local_cluster(workers=None):
 
 
 def export_distributed(shape, path, bricks, scheduler=None, client=None, resolution=None,
-                       bbox=None, cells=None, sharp=True, mesher="cubes", format="",
-                       check=True, force=False, work_dir=None, progress=None, workers=None,
-                       base_dir=None, threads_per_job=None, unit="", metadata=None,
-                       fewer_triangles=True):
+                       bbox=None, cells=None, format="", check=True, force=False,
+                       work_dir=None, progress=None, workers=None, base_dir=None,
+                       threads_per_job=None, unit="", metadata=None, settings=None, **options):
     """Meshes `shape` as `bricks` jobs on Dask, welds, checks and writes `path` atomically.
 
     scheduler: a Dask scheduler's address; client: a distributed.Client to use as is;
@@ -95,8 +94,9 @@ def export_distributed(shape, path, bricks, scheduler=None, client=None, resolut
     base_dir: where relative file names in the model (mesh_sdf, vdb_grid) are found.
     threads_per_job: the threads a job meshes on (0: every core of its worker's machine);
     default: the machine's cores shared out among a LocalCluster's workers, else 0.
-    fewer_triangles: the mesher's flat vertices dropped (the default; False keeps them:
-    `frepcad export --keep-flat-vertices`).
+    settings, options: the meshing options, as Shape.export takes them (mesher,
+    sharp_features and drop_flat_vertices apply; a job cannot take a refinement, straightened
+    creases or a tolerance: ValueError).
     unit, metadata: a 3MF's length unit ("micron", "mm", "cm", "inch", "ft", "m") and
     (name, value) pairs. A binary STL or a 3MF is written as the merge goes; other formats
     are merged in memory.
@@ -108,7 +108,8 @@ def export_distributed(shape, path, bricks, scheduler=None, client=None, resolut
     """
     node = frepcore._node(shape)
     box, cell = frepcore.automatic_box(node, resolution=resolution, bbox=bbox, cells=cells)
-    plan = node.brick_plan(box, cell, sharp, mesher, bricks, fewer_triangles)
+    chosen = frepcore.mesh_settings(settings, **options)
+    plan = node.brick_plan(box, cell, bricks, chosen)
     model_text = node.to_json()
     base_dir = os.path.abspath(base_dir or os.getcwd())
     out_dir = os.path.dirname(os.path.abspath(path))
@@ -130,8 +131,8 @@ def export_distributed(shape, path, bricks, scheduler=None, client=None, resolut
                     threads_per_job = max(1, cores // len(own_cluster.workers))
         pieces = [os.path.join(folder, "job-%05d.piece" % j) for j in range(bricks)]
         run = "%016x" % plan["run_id"]
-        futures = [client.submit(mesh_job, model_text, base_dir, box, cell, sharp, mesher,
-                                 bricks, j, pieces[j], threads_per_job or 0, fewer_triangles,
+        futures = [client.submit(mesh_job, model_text, base_dir, box, cell, bricks, j,
+                                 pieces[j], threads_per_job or 0, chosen.to_dict(),
                                  key="frepcad-%s-%d" % (run, j),
                                  retries=RETRIES, pure=False)
                    for j in range(bricks)]
@@ -142,11 +143,11 @@ def export_distributed(shape, path, bricks, scheduler=None, client=None, resolut
         if progress is not None:
             def merge_progress(f):
                 return progress("merge", f, 1.0) is not False
-        report = node.merge_bricks(box, cell, sharp, mesher, bricks, pieces, path,
+        report = node.merge_bricks(box, cell, bricks, pieces, path,
                                    format=format, check=check, force=force,
                                    progress=merge_progress, unit=unit,
                                    metadata=[tuple(m) for m in (metadata or [])],
-                                   fewer_triangles=fewer_triangles)
+                                   settings=chosen)
         report["jobs"] = jobs
         report["split"] = plan["split"]
     finally:
@@ -219,11 +220,12 @@ def main():
         show = _terminal_progress(quiet)
         report = export_distributed(
             shape, args["output"], args["bricks"], scheduler=args.get("scheduler"),
-            resolution=args["resolution"], bbox=args["bbox"], sharp=args.get("sharp", True),
-            mesher=args.get("mesher", "cubes"), format=args.get("format", ""),
+            resolution=args["resolution"], bbox=args["bbox"],
+            settings=frepcore.MeshSettings(**args.get("settings", {})),
+            format=args.get("format", ""),
             force=args.get("force", False), work_dir=args.get("work_dir"), progress=show,
             workers=args.get("workers"), unit=args.get("units", ""),
-            metadata=args.get("metadata"), fewer_triangles=args.get("fewer_triangles", True),
+            metadata=args.get("metadata"),
             base_dir=os.path.dirname(os.path.abspath(args["model"])))
     except frepcore.NotPrintable as e:
         if show:
@@ -231,13 +233,14 @@ def main():
         print(e.report["text"], end="")
         sys.stderr.write("frepcad: refusing to write %s: the mesh is not printable (see "
                          "reasons above; --force writes it anyway)\n" % args["output"])
-        return 1
-    except (KeyboardInterrupt, frepcore.Cancelled):
+        return frepcore.exit_status_of(e)
+    except (KeyboardInterrupt, frepcore.Cancelled) as e:
         sys.stderr.write("\nfrepcad: cancelled; nothing written\n")
-        return 130
+        return frepcore.exit_status_of(e)
     except Exception as e:  # a bad model or option, a file, the scheduler, a job that failed
+        # (the cluster's own failures, a worker killed or a scheduler gone, are no bug here)
         sys.stderr.write("frepcad: %s\n" % (str(e) or type(e).__name__))
-        return 2
+        return frepcore.EXIT_STATUS["bad_input"]
     if show:
         sys.stderr.write("\n")
     if not quiet:
@@ -251,7 +254,7 @@ def main():
                  ", piece by piece" if report.get("checked_in_parts") else ""))
         print(report["text"], end="")
         print("wrote %s" % args["output"])
-    return 1 if report["printable"] is False else 0
+    return frepcore.EXIT_STATUS["not_printable" if report["printable"] is False else "done"]
 
 
 if __name__ == "__main__":

@@ -1,0 +1,53 @@
+"""Helpers every command and panel of the workbench shares: FreeCAD's translation hooks, a
+message the user acknowledges, the active container and one undo step. They import nothing
+of the workbench, so any GUI module may import them."""
+
+import FreeCAD
+import FreeCADGui
+
+try:  # FreeCAD's translation hooks (menu texts and tooltips go through them)
+    from FreeCAD import Qt
+    translate, QT_TRANSLATE_NOOP = Qt.translate, Qt.QT_TRANSLATE_NOOP
+except ImportError:
+    def translate(context, text):
+        return text
+
+    def QT_TRANSLATE_NOOP(context, text):
+        return text
+
+
+def report(title, message, error=True):
+    """A message on the console and, in the GUI, in a dialog the user has to acknowledge."""
+    (FreeCAD.Console.PrintError if error else FreeCAD.Console.PrintMessage)(message + "\n")
+    from PySide import QtGui
+    box = QtGui.QMessageBox.warning if error else QtGui.QMessageBox.information
+    box(FreeCADGui.getMainWindow(), title, message)
+
+
+def add_to_active_container(obj):
+    """A new object goes into the active App::Part, as the Part workbench's own commands put
+    theirs (Part's CommandShapes); with none active it stays at the document's top level."""
+    try:
+        part = FreeCADGui.ActiveDocument.ActiveView.getActiveObject("part")
+    except Exception:  # no 3D view (a macro, a test without one)
+        part = None
+    if part is not None and part.Document == obj.Document and obj not in part.Group:
+        part.addObject(obj)
+
+
+class Transaction:
+    """One undo step; aborted (the document left as it was) when the body raises."""
+
+    def __init__(self, doc, title):
+        self.doc, self.title = doc, title
+
+    def __enter__(self):
+        self.doc.openTransaction(self.title)
+        return self
+
+    def __exit__(self, kind, value, trace):
+        if kind is None:
+            self.doc.commitTransaction()
+        else:
+            self.doc.abortTransaction()
+        return False
