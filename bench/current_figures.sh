@@ -17,7 +17,7 @@ for m in $models; do
   wall=$(sed -n 's/^TIME \([0-9.]*\) [0-9]*/\1/p' <<<"$text")
   kb=$(sed -n 's/^TIME [0-9.]* \([0-9]*\)/\1/p' <<<"$text")
   verdict=$(sed -n 's/^verdict: \(.*\)/\1/p' <<<"$text")
-  printf "| %s | %s | %s | %s | %s | %s | %.0f | %.0f | %s |\n" "$m" "$cells" "${wall:--}" \
-    "${mesh:--}" "${check:--}" "${tri:--}" "$(python3 -c "print(${kb:-0} / 1024)")" \
+  printf "| %s | %s | %s | %.3f | %.3f | %s | %.0f | %.0f | %s |\n" "$m" "$cells" "${wall:--}" \
+    "${mesh:-0}" "${check:-0}" "${tri:--}" "$(python3 -c "print(${kb:-0} / 1024)")" \
     "$(python3 -c "print(${kb:-0} * 1024 / max(1, ${tri:-0}))")" "${verdict:--}"
 done

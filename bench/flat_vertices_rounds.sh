@@ -2,7 +2,7 @@
 # Side by side, one build: frepcad export of the five reference models at 256 cells with the
 # flat vertices kept (--no-drop-flat-vertices) and dropped (the default), alternated, three rounds.
 # Prints per run: model, mode, triangles, meshing s, check s, export wall s, peak KB
-# (docs/performance.md, "flat vertices dropped").
+# (docs/performance.md, "Flat vertices").
 set -u
 cd "$(dirname "$0")/.."
 out_file=$(mktemp --suffix=.stl)
