@@ -30,7 +30,9 @@ long residentPeakKiB() {
   return 0;
 }
 
-void resetResidentPeak() { std::ofstream("/proc/self/clear_refs") << "5"; }
+void resetResidentPeak() {
+  std::ofstream("/proc/self/clear_refs") << "5";
+}
 
 void meshModel(benchmark::State& state, const std::string& name) {
   const frep::Model model =
@@ -54,13 +56,23 @@ void meshModel(benchmark::State& state, const std::string& name) {
   state.counters["bytes_per_tri"] = triangles ? (peak - before) * 1024.0 / triangles : 0.0;
 }
 
-void BM_MeshSphere(benchmark::State& s) { meshModel(s, "sphere"); }
-void BM_MeshCsg(benchmark::State& s) { meshModel(s, "csg"); }
+void BM_MeshSphere(benchmark::State& s) {
+  meshModel(s, "sphere");
+}
+void BM_MeshCsg(benchmark::State& s) {
+  meshModel(s, "csg");
+}
 // The reference models of the modelling set: the 20-sphere blend chain libfive did not finish
 // in fifteen minutes, a lattice and a twist.
-void BM_MeshHelix(benchmark::State& s) { meshModel(s, "helix"); }
-void BM_MeshGyroid(benchmark::State& s) { meshModel(s, "gyroid"); }
-void BM_MeshTwist(benchmark::State& s) { meshModel(s, "twist"); }
+void BM_MeshHelix(benchmark::State& s) {
+  meshModel(s, "helix");
+}
+void BM_MeshGyroid(benchmark::State& s) {
+  meshModel(s, "gyroid");
+}
+void BM_MeshTwist(benchmark::State& s) {
+  meshModel(s, "twist");
+}
 
 // The reference models at N cells across the longest side of their box (the figure the issues
 // quote: "256 cells"), so models of different sizes are compared at the same grid.
@@ -116,9 +128,15 @@ void simplifyAcross(benchmark::State& state, const std::string& name) {
           static_cast<double>(mesh.vertexCount()) * triangles / mesh.triangleCount(),
       benchmark::Counter::kIsIterationInvariantRate);
 }
-void BM_SimplifySphere(benchmark::State& s) { simplifyAcross(s, "sphere"); }
-void BM_SimplifyCsg(benchmark::State& s) { simplifyAcross(s, "csg"); }
-void BM_SimplifyHelix(benchmark::State& s) { simplifyAcross(s, "helix"); }
+void BM_SimplifySphere(benchmark::State& s) {
+  simplifyAcross(s, "sphere");
+}
+void BM_SimplifyCsg(benchmark::State& s) {
+  simplifyAcross(s, "csg");
+}
+void BM_SimplifyHelix(benchmark::State& s) {
+  simplifyAcross(s, "helix");
+}
 
 // Straightened creases (simplify/straighten_creases.h) on the mesher's mesh at N cells, the
 // straightening's seconds alone (the mesh is made once): beside BM_Across* for the meshing.
@@ -213,14 +231,26 @@ BENCHMARK(BM_RefineGyroid)
     ->UseRealTime();
 
 // Without vertex normals: what an STL export and a workbench preview mesh.
-void BM_AcrossHelixNoNormals(benchmark::State& s) { meshAcross(s, "helix", false); }
-void BM_AcrossCsgNoNormals(benchmark::State& s) { meshAcross(s, "csg", false); }
+void BM_AcrossHelixNoNormals(benchmark::State& s) {
+  meshAcross(s, "helix", false);
+}
+void BM_AcrossCsgNoNormals(benchmark::State& s) {
+  meshAcross(s, "csg", false);
+}
 BENCHMARK(BM_AcrossHelixNoNormals)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_AcrossCsgNoNormals)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
-void BM_AcrossHelix(benchmark::State& s) { meshAcross(s, "helix"); }
-void BM_AcrossCsg(benchmark::State& s) { meshAcross(s, "csg"); }
-void BM_AcrossTwist(benchmark::State& s) { meshAcross(s, "twist"); }
-void BM_AcrossGyroid(benchmark::State& s) { meshAcross(s, "gyroid"); }
+void BM_AcrossHelix(benchmark::State& s) {
+  meshAcross(s, "helix");
+}
+void BM_AcrossCsg(benchmark::State& s) {
+  meshAcross(s, "csg");
+}
+void BM_AcrossTwist(benchmark::State& s) {
+  meshAcross(s, "twist");
+}
+void BM_AcrossGyroid(benchmark::State& s) {
+  meshAcross(s, "gyroid");
+}
 BENCHMARK(BM_AcrossHelix)->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Mesher v2 beside marching tetrahedra: each reference model at 128, 256 and 512

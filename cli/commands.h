@@ -24,7 +24,7 @@ using Args = std::vector<std::string>;
 struct ExportOptions {
   std::string input, output, format;
   std::vector<std::string> objects;  // --object NAME (repeatable; documents only)
-  std::string units;                // --units U: a 3MF's unit
+  std::string units;                 // --units U: a 3MF's unit
   std::optional<double> resolution;
   std::optional<int> cells;
   std::optional<Box3> bbox;
@@ -32,8 +32,8 @@ struct ExportOptions {
   // document's Polygonize features take only those given over their own properties.
   MeshSettings mesh;
   std::set<std::string> meshGiven;
-  bool stats = false;               // --stats: the accuracy report
-  bool fog = false;                 // --fog: a .vdb fog volume instead of a level set
+  bool stats = false;             // --stats: the accuracy report
+  bool fog = false;               // --fog: a .vdb fog volume instead of a level set
   std::vector<std::string> sets;  // --set Object.Property=VALUE (documents only)
   bool force = false, quiet = false, help = false;
   // --bricks N: the export as N brick jobs on Dask (frepcore.distributed), on the scheduler

@@ -17,10 +17,10 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "base/errors.h"
 #include "cli/commands.h"
 #include "cli/mesh_settings_flags.h"
 #include "cli/terminal_progress.h"
-#include "base/errors.h"
 
 extern char** environ;
 
@@ -96,11 +96,19 @@ int exportDocument(const ExportOptions& o) {
   // An installed workbench carries its own frepcore; the source tree's is in the build.
   if (!installed) setenv("FREPCORE_PATH", envOr("FREPCORE_PATH", FREPCORE_BUILD_DIR).c_str(), 1);
   // The options travel parsed, so both kinds of input read them alike.
-  nlohmann::json args = {{"document", o.input}, {"output", o.output},     {"format", o.format},
-                         {"objects", o.objects},  {"sets", o.sets},         {"force", o.force},
-                         {"quiet", o.quiet},    {"cells", nullptr},       {"resolution", nullptr},
-                         {"bbox", nullptr},     {"units", o.units},
-                         {"settings", nlohmann::json::parse(meshSettingsJson(o.mesh, o.meshGiven))}};
+  nlohmann::json args = {
+      {"document", o.input},
+      {"output", o.output},
+      {"format", o.format},
+      {"objects", o.objects},
+      {"sets", o.sets},
+      {"force", o.force},
+      {"quiet", o.quiet},
+      {"cells", nullptr},
+      {"resolution", nullptr},
+      {"bbox", nullptr},
+      {"units", o.units},
+      {"settings", nlohmann::json::parse(meshSettingsJson(o.mesh, o.meshGiven))}};
   if (o.cells) args["cells"] = *o.cells;
   if (o.resolution) args["resolution"] = *o.resolution;
   if (o.bbox)

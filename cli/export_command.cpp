@@ -86,8 +86,10 @@ ExportOptions parseExportOptions(const Args& args) {
       if (i + 1 >= args.size()) throw UsageError(a + " expects " + what);
       return args[++i];
     };
-    if (a == "-h" || a == "--help") o.help = true;
-    else if (a == "-o" || a == "--output") o.output = value("an output file");
+    if (a == "-h" || a == "--help")
+      o.help = true;
+    else if (a == "-o" || a == "--output")
+      o.output = value("an output file");
     else if (a == "--resolution") {
       o.resolution = parseNumber(value("a cell size"), a);
       if (!(*o.resolution > 0) || !std::isfinite(*o.resolution))
@@ -99,23 +101,33 @@ ExportOptions parseExportOptions(const Args& args) {
                          ", got '" + args[i] + "'");
       o.cells = static_cast<int>(n);
     } else if (takeMeshSettingFlag(args, i, o.mesh, o.meshGiven)) {
-    }
-    else if (a == "--stats") o.stats = true;
-    else if (a == "--fog") o.fog = true;
-    else if (a == "--format") o.format = value("a format");
-    else if (a == "--units") o.units = value("a unit (micron, mm, cm, inch, ft, m)");
-    else if (a == "--force") o.force = true;
-    else if (a == "--quiet") o.quiet = true;
-    else if (a == "--object") o.objects.push_back(value("an object name"));
-    else if (a == "--set") o.sets.push_back(value("Object.Property=VALUE"));
+    } else if (a == "--stats")
+      o.stats = true;
+    else if (a == "--fog")
+      o.fog = true;
+    else if (a == "--format")
+      o.format = value("a format");
+    else if (a == "--units")
+      o.units = value("a unit (micron, mm, cm, inch, ft, m)");
+    else if (a == "--force")
+      o.force = true;
+    else if (a == "--quiet")
+      o.quiet = true;
+    else if (a == "--object")
+      o.objects.push_back(value("an object name"));
+    else if (a == "--set")
+      o.sets.push_back(value("Object.Property=VALUE"));
     else if (a == "--bricks") {
       const std::string& n = value("a number of brick jobs");
       const double v = parseNumber(n, a);
       if (!(v >= 1 && v <= 65536) || v != std::floor(v))
-        throw UsageError("--bricks must be a whole number of jobs from 1 to 65536, got '" + n + "'");
+        throw UsageError("--bricks must be a whole number of jobs from 1 to 65536, got '" + n +
+                         "'");
       o.bricks = static_cast<int>(v);
-    } else if (a == "--scheduler") o.scheduler = value("a Dask scheduler address (tcp://HOST:8786)");
-    else if (a == "--work-dir") o.workDir = value("a folder every worker can reach");
+    } else if (a == "--scheduler")
+      o.scheduler = value("a Dask scheduler address (tcp://HOST:8786)");
+    else if (a == "--work-dir")
+      o.workDir = value("a folder every worker can reach");
     else if (a == "--bbox") {
       Box3 b;
       for (int k = 0; k < 6; ++k) {
@@ -127,15 +139,16 @@ ExportOptions parseExportOptions(const Args& args) {
       o.bbox = b;
     } else if (!a.empty() && a[0] == '-' && a.size() > 1)
       throw UsageError("unknown option '" + a + "' for export (see frepcad export --help)");
-    else if (o.input.empty()) o.input = a;
-    else throw UsageError("export takes one input file, got a second: '" + a + "'");
+    else if (o.input.empty())
+      o.input = a;
+    else
+      throw UsageError("export takes one input file, got a second: '" + a + "'");
   }
   if (o.help) return o;
   if (o.input.empty()) throw UsageError("export needs an input file (MODEL.json or DOC.FCStd)");
   if (o.output.empty()) throw UsageError("export needs -o OUT");
   if (o.resolution && o.cells) throw UsageError("give --resolution or --cells, not both");
-  if (o.fog && !isVdbPath(o.output))
-    throw UsageError("--fog applies to a .vdb output only");
+  if (o.fog && !isVdbPath(o.output)) throw UsageError("--fog applies to a .vdb output only");
   if ((!o.scheduler.empty() || !o.workDir.empty()) && !o.bricks)
     throw UsageError("--scheduler and --work-dir apply to --bricks only");
   validateMeshFlags(o.mesh);
@@ -240,8 +253,9 @@ int exportModel(const ExportOptions& opt) {
       r = exportField(program, request, opt.output, opt.input);
     } catch (const TooLargeError& e) {
       // too large for this process: brick jobs keep every process small
-      throw ModelError(std::string(e.what()) + "; or mesh it as brick jobs across processes "
-                                               "or machines: --bricks 64 (docs/distributed.md)");
+      throw ModelError(std::string(e.what()) +
+                       "; or mesh it as brick jobs across processes "
+                       "or machines: --bricks 64 (docs/distributed.md)");
     }
   }
   if (!opt.quiet)
@@ -251,7 +265,8 @@ int exportModel(const ExportOptions& opt) {
   if (!opt.quiet && r.simplified)
     std::cout << "simplified " << r.simplify.trianglesBefore << " -> " << r.simplify.trianglesAfter
               << " triangles in " << r.simplify.seconds << " s, the faces it made within "
-              << r.simplify.largestDistance << " of the exact surface (tolerance " << *opt.mesh.tolerance
+              << r.simplify.largestDistance << " of the exact surface (tolerance "
+              << *opt.mesh.tolerance
               << (r.simplify.largestDistance > *opt.mesh.tolerance
                       ? "; where the grid had cut a crease off by more, only made better)\n"
                       : ")\n");
@@ -305,8 +320,9 @@ void checkOutputPath(const std::string& output, const std::string& input) {
   const fs::file_status st = fs::symlink_status(out, ec);
   if (fs::exists(st)) {
     if (fs::is_symlink(st))
-      throw FileError(output + ": is a symbolic link; give the name of a regular file (the "
-                               "output replaces the file, not the link's target)");
+      throw FileError(output +
+                      ": is a symbolic link; give the name of a regular file (the "
+                      "output replaces the file, not the link's target)");
     if (fs::is_directory(st)) throw FileError(output + ": is a folder; give a file name");
     if (!fs::is_regular_file(st))
       throw FileError(output + ": is a device, FIFO or socket; give a regular file name");

@@ -44,10 +44,10 @@ const HeavyModule* load() {
     return m;
   }
   throw FileError("cannot load frepcad's OpenVDB and OpenCASCADE module (" +
-                           (why.empty() ? "libfrepcad_heavy.so is neither in " + dir.string() +
-                                              " nor in " + (dir / ".." / "lib" / "frepcad").string()
-                                        : why) +
-                           "): reinstall frepcad");
+                  (why.empty() ? "libfrepcad_heavy.so is neither in " + dir.string() + " nor in " +
+                                     (dir / ".." / "lib" / "frepcad").string()
+                               : why) +
+                  "): reinstall frepcad");
 }
 
 }  // namespace

@@ -3,12 +3,12 @@
 #include <cstdio>
 #include <iostream>
 
-#include "cli/commands.h"
-#include "cli/terminal_progress.h"
 #include "base/errors.h"
 #include "base/exit_status.h"
 #include "base/process_memory.h"
+#include "cli/commands.h"
 #include "cli/heavy_module.h"
+#include "cli/terminal_progress.h"
 
 namespace {
 
@@ -82,7 +82,8 @@ int main(int argc, char** argv) {
       std::cout << "frepcad " FREPCAD_VERSION "\n";
       return 0;
     }
-    throw UsageError("unknown command '" + command + "'; commands: export, deform, check, repair, compare, info, hspline");
+    throw UsageError("unknown command '" + command +
+                     "'; commands: export, deform, check, repair, compare, info, hspline");
   } catch (const UsageError& e) {
     std::cerr << "frepcad: " << e.what() << "\n" << kUsage;
     return frep::exitStatus(frep::Outcome::BadInput);

@@ -1,10 +1,9 @@
 #include "cli/mesh_settings_flags.h"
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <utility>
-
-#include <nlohmann/json.hpp>
 
 namespace frep::cli {
 
@@ -92,7 +91,9 @@ std::string wrapped(const std::string& head, const std::string& text) {
 
 }  // namespace
 
-std::string settingFlag(const std::string& option) { return "--" + dashes(option); }
+std::string settingFlag(const std::string& option) {
+  return "--" + dashes(option);
+}
 
 bool takeMeshSettingFlag(const Args& args, std::size_t& i, MeshSettings& settings,
                          std::set<std::string>& given) {
@@ -159,8 +160,12 @@ std::string meshSettingsHelp() {
         head = std::get<bool>(value) ? "--[no-]" + flag.substr(2) : flag;
         if (std::get<bool>(value)) text += " (on by default)";
         break;
-      case SettingKind::WholeNumber: head = flag + " N"; break;
-      case SettingKind::Distance: head = flag + " D"; break;
+      case SettingKind::WholeNumber:
+        head = flag + " N";
+        break;
+      case SettingKind::Distance:
+        head = flag + " D";
+        break;
       case SettingKind::Choice: {
         head = flag + " ";
         for (std::size_t k = 0; k < info.choices.size(); ++k)

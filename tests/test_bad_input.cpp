@@ -77,8 +77,7 @@ TEST(BadModel, UnknownKeysAndFormatVersions) {
   expectHas(parseError(R"({"frepcad": "1", "root": {"type": "sphere"}})"), "allowed: 1");
   expectHas(parseError(R"({"root": {"type": "sphere"}, "export": {"resolutoin": 0.1}})"),
             "export: unknown key \"resolutoin\"");
-  expectHas(parseError(R"({"root": {"type": "sphere", "parms": {}}})"),
-            "unknown key \"parms\"");
+  expectHas(parseError(R"({"root": {"type": "sphere", "parms": {}}})"), "unknown key \"parms\"");
 }
 
 TEST(BadModel, MalformedJsonInOurWords) {
@@ -141,11 +140,11 @@ TEST(BadModel, HostileFormulas) {
               makeNode("formula", {{"formula", textValue(nested)}}, {}, "root");
             }),
             "nested deeper than 500 levels");
-  expectHas(messageOf([&] {
-              makeNode("formula", {{"formula", textValue(std::string(1000000, '-') + "x")}}, {},
-                       "root");
-            }),
-            "nested deeper than 500 levels");
+  expectHas(
+      messageOf([&] {
+        makeNode("formula", {{"formula", textValue(std::string(1000000, '-') + "x")}}, {}, "root");
+      }),
+      "nested deeper than 500 levels");
   // a long flat sum is not nesting: it compiles (iteratively) and evaluates
   std::string sum = "1 - sqrt(x*x + y*y + z*z)";
   for (int i = 0; i < 100000; ++i) sum += " + 0*x";
@@ -160,8 +159,8 @@ TEST(BadModel, NaNConstantsStayNaN) {
   EXPECT_TRUE(std::isnan(p.eval(0, 0, 0)));
   expectHas(messageOf([] {
               makeNode("formula",
-                       {{"formula", textValue("r - x")}, {"parameters", textValue("r = 0/0")}},
-                       {}, "root");
+                       {{"formula", textValue("r - x")}, {"parameters", textValue("r = 0/0")}}, {},
+                       "root");
             }),
             "is not a finite number");
 }
@@ -217,15 +216,17 @@ TEST_F(BadFiles, LyingAndGarbageMeshFiles) {
   expectHas(messageOf([&] { readMesh(file("a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")); }),
             "vertex index 8 out of range (3 vertices)");
   expectHas(messageOf([&] {
-              readMesh(file("a.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
-                                     "property float y\nproperty float z\nelement face 1\n"
-                                     "property list uchar int vertex_indices\nend_header\n"
-                                     "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"));
+              readMesh(file("a.ply",
+                            "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                            "property float y\nproperty float z\nelement face 1\n"
+                            "property list uchar int vertex_indices\nend_header\n"
+                            "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"));
             }),
             "out of range");
   expectHas(messageOf([&] {
-              readMesh(file("b.ply", "ply\nformat ascii 1.0\nelement junk 4000000000000\n"
-                                     "end_header\n"));
+              readMesh(file("b.ply",
+                            "ply\nformat ascii 1.0\nelement junk 4000000000000\n"
+                            "end_header\n"));
             }),
             "element 'junk' has no properties");
 }

@@ -4,19 +4,19 @@
 
 #include <cmath>
 
+#include "base/triangle_geometry.h"
 #include "frep/bounds.h"
 #include "frep/structural_bounds.h"
 #include "frep/tree.h"
 #include "mesh/mesher.h"
-#include "base/triangle_geometry.h"
 #include "random_trees.h"
 #include "test_nodes.h"
 
 namespace frep {
 namespace {
 
-using frep::testing::sphere;
 using frep::testing::box;
+using frep::testing::sphere;
 
 SolidBounds boundsOf(const NodePtr& n) {
   return findBounds(compile(n));
@@ -95,7 +95,8 @@ SolidBounds boundsWithStructure(const NodePtr& n) {
 
 TEST(StructuralBounds, TwistedBoxIsBoundedByItsCylinder) {
   // Intervals alone cannot bound a twist (sin and cos of z mix x and y); the structure can.
-  const NodePtr t = makeNode("twist", {{"rate", realValue(90)}}, {box({-0.5, -0.5, -1}, {1, 1, 2})});
+  const NodePtr t =
+      makeNode("twist", {{"rate", realValue(90)}}, {box({-0.5, -0.5, -1}, {1, 1, 2})});
   EXPECT_FALSE(boundsOf(t).bounded());
   const SolidBounds b = boundsWithStructure(t);
   ASSERT_TRUE(b.bounded());
@@ -114,10 +115,12 @@ TEST(StructuralBounds, LatticeInsideASphereAndDisjointBoxes) {
   const Box3 b = structuralBounds(makeNode("intersection", {}, {lattice, sphere(0.5, {1, 0, 0})}));
   EXPECT_EQ(b.lo[0], 0.5);
   EXPECT_EQ(b.hi[0], 1.5);
-  const NodePtr apart = makeNode("intersection", {}, {box({0, 0, 0}, {1, 1, 1}), box({2, 0, 0}, {1, 1, 1})});
+  const NodePtr apart =
+      makeNode("intersection", {}, {box({0, 0, 0}, {1, 1, 1}), box({2, 0, 0}, {1, 1, 1})});
   EXPECT_TRUE(boundsWithStructure(apart).empty);
   // An infinite cylinder along z: bounded across, unbounded along.
-  const Box3 c = structuralBounds(makeNode("cylinder", {{"length", realValue(0)}, {"radius", realValue(2)}}, {}));
+  const Box3 c = structuralBounds(
+      makeNode("cylinder", {{"length", realValue(0)}, {"radius", realValue(2)}}, {}));
   EXPECT_EQ(c.hi[0], 2.0);
   EXPECT_TRUE(std::isinf(c.hi[2]));
 }
@@ -131,20 +134,28 @@ TEST(StructuralBounds, EncloseEveryInsidePointOfRandomTrees) {
     NodePtr n = r.tree(3);
     switch (t % 5) {
       case 0:
-        n = makeNode("twist", {{"rate", realValue(r.uniform(-120, 120))},
-                               {"axis", vec3Value(r.direction())}, {"center", vec3Value(r.point(0.3))}},
+        n = makeNode("twist",
+                     {{"rate", realValue(r.uniform(-120, 120))},
+                      {"axis", vec3Value(r.direction())},
+                      {"center", vec3Value(r.point(0.3))}},
                      {n});
         break;
       case 1:
-        n = makeNode("taper", {{"axis", vec3Value(r.direction())}, {"scale1", realValue(r.uniform(0.3, 2))},
-                               {"scale2", realValue(r.uniform(0.3, 2))}, {"length", realValue(r.uniform(0.2, 2))}},
+        n = makeNode("taper",
+                     {{"axis", vec3Value(r.direction())},
+                      {"scale1", realValue(r.uniform(0.3, 2))},
+                      {"scale2", realValue(r.uniform(0.3, 2))},
+                      {"length", realValue(r.uniform(0.2, 2))}},
                      {n});
         break;
-      case 2: n = makeNode("shell", {{"thickness", realValue(0.1)}}, {n}); break;
+      case 2:
+        n = makeNode("shell", {{"thickness", realValue(0.1)}}, {n});
+        break;
       case 3:
         n = makeNode("metamorphosis", {{"t", realValue(r.uniform(0, 1))}}, {n, r.tree(2)});
         break;
-      default: break;
+      default:
+        break;
     }
     const Program p = compile(n);
     const Box3 known = structuralBounds(n);

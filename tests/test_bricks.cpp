@@ -65,8 +65,8 @@ TEST(BrickJobs, ReferenceModelsInOneEightAndSixtyFourJobsAreTheOneProcessMesh) {
     const Program p = compile(m.root);
     const MeshingBox box{*m.bbox, 2.4 / 72};  // 5 bricks of 16 cells per axis
     for (bool sharp : {true, false}) {
-      const TriangleMesh whole =
-          polygonize(p, brickMeshingOptions(planBrickJobs(box, settingsOf(sharp, Extraction::Cubes), 1, 0)));
+      const TriangleMesh whole = polygonize(
+          p, brickMeshingOptions(planBrickJobs(box, settingsOf(sharp, Extraction::Cubes), 1, 0)));
       ASSERT_GT(whole.triangleCount(), 1000u);
       for (std::uint32_t jobs : {1u, 8u, 64u}) {
         const BrickJobPlan plan = planBrickJobs(box, settingsOf(sharp, Extraction::Cubes), jobs, 7);
@@ -166,7 +166,8 @@ TEST_F(PieceFiles, RoundTripAndExportAsOneProcess) {
   const Model m = loadModel(std::string(FREP_SOURCE_DIR) + "/examples/csg.json");
   const Program p = compile(m.root);
   const MeshingBox box{*m.bbox, 2.4 / 64};
-  const BrickJobPlan plan = planBrickJobs(box, settingsOf(true, Extraction::Cubes), 8, textFingerprint("csg"));
+  const BrickJobPlan plan =
+      planBrickJobs(box, settingsOf(true, Extraction::Cubes), 8, textFingerprint("csg"));
   std::vector<std::string> files;
   for (std::uint32_t j = 0; j < plan.jobs; ++j) {
     const MeshPiece piece = runBrickJob(p, plan, j);
@@ -287,8 +288,8 @@ TEST_F(PieceFiles, TheCheckPieceByPieceIsTheWholeChecksReport) {
 
 TEST_F(PieceFiles, HostileFilesAreRefusedBeforeTheyCostMemory) {
   const Program p = compile(loadModel(std::string(FREP_SOURCE_DIR) + "/examples/sphere.json").root);
-  const BrickJobPlan plan =
-      planBrickJobs({{{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}}, 0.1}, settingsOf(true, Extraction::Cubes), 1, 0);
+  const BrickJobPlan plan = planBrickJobs({{{-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}}, 0.1},
+                                          settingsOf(true, Extraction::Cubes), 1, 0);
   writePieceFile(runBrickJob(p, plan, 0), file("good"));
   const std::string good = bytes(file("good"));
   auto refused = [&](const std::string& data, const std::string& words) {

@@ -18,8 +18,8 @@
 #include "lattice_samples.h"
 #include "mesh/mesh_ffd.h"
 #include "mesh/mesher.h"
-#include "volume/field_sources.h"
 #include "test_nodes.h"
+#include "volume/field_sources.h"
 
 namespace frep {
 namespace {

@@ -2,13 +2,12 @@
 // brute-force union of every copy, in every evaluator mode, and meshed with 10,000 copies.
 #include <gtest/gtest.h>
 
-#include <limits>
-
 #include <cmath>
+#include <limits>
 #include <random>
 
-#include "check/mesh_check.h"
 #include "base/errors.h"
+#include "check/mesh_check.h"
 #include "frep/instances.h"
 #include "frep/ops.h"
 #include "frep/program.h"
@@ -254,8 +253,10 @@ TEST(Instancer, SpecialisedToABoxGivesTheSameValues) {
         ASSERT_EQ(batch, whole.eval(x, y, z));
         ASSERT_EQ(part.evalGradient(x, y, z).d[0], whole.evalGradient(x, y, z).d[0]);
       }
-      const Interval a = part.evalInterval({c[0] - h / 2, c[0]}, {c[1], c[1] + h / 3}, {c[2], c[2]});
-      const Interval e = whole.evalInterval({c[0] - h / 2, c[0]}, {c[1], c[1] + h / 3}, {c[2], c[2]});
+      const Interval a =
+          part.evalInterval({c[0] - h / 2, c[0]}, {c[1], c[1] + h / 3}, {c[2], c[2]});
+      const Interval e =
+          whole.evalInterval({c[0] - h / 2, c[0]}, {c[1], c[1] + h / 3}, {c[2], c[2]});
       ASSERT_TRUE(a.lo == e.lo && a.hi == e.hi && a.nan == e.nan);
     }
   }
@@ -368,7 +369,8 @@ TEST(Instancer, ManyTurnedCopiesEvaluateAlikeInPointAndBatch) {
     turns.push_back({angle(g), angle(g), angle(g)});
   }
   const NodePtr brick = makeNode(
-      "box", {{"corner", vec3Value({-0.1, -0.2, -0.15})}, {"size", vec3Value({0.4, 0.3, 0.2})}}, {});
+      "box", {{"corner", vec3Value({-0.1, -0.2, -0.15})}, {"size", vec3Value({0.4, 0.3, 0.2})}},
+      {});
   for (const char* combine : {"union", "blend"}) {
     const Program p = compile(makeNode("instancer",
                                        {{"positions", pointsValue(at)},

@@ -224,7 +224,8 @@ TEST(LocalRefinement, RefinementLevelsOutOfRangeAreRefused) {
       polygonize(compile(m.root), o);
       ADD_FAILURE() << levels;
     } catch (const ModelError& e) {
-      EXPECT_NE(std::string(e.what()).find("refine_levels must be a whole number from 1 to 3"), std::string::npos)
+      EXPECT_NE(std::string(e.what()).find("refine_levels must be a whole number from 1 to 3"),
+                std::string::npos)
           << e.what();
     }
   }

@@ -203,28 +203,33 @@ TEST(ThreeMf, AStreamedObjectThatBreaksARuleIsRefusedByNameAndNothingIsLeft) {
     }
     EXPECT_TRUE(fs::is_empty(folder));  // neither the target, the temporary nor the spill
   };
-  refuses([](ThreeMfStreamWriter& w) {
-    w.beginObject("bad part");
-    w.vertex({0, 0, 0});
-    w.triangle({0, 1, 2});  // (spilled: judged when the vertices close)
-    w.vertex({1, 0, 0});
-    w.vertex({0, 1, 0});
-    w.triangle({0, 2, 3});
-    w.endObject();
-  }, "refers to vertex 3 of 3");
-  refuses([](ThreeMfStreamWriter& w) {
-    w.beginObject("bad part");
-    w.vertex({0, 0, 0});
-    w.vertex({0, std::nanf(""), 0});
-  }, "non-finite");
-  refuses([](ThreeMfStreamWriter& w) {
-    TriangleMesh m;
-    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-    m.triangles = {{0, 1, 1}};
-    w.addObject("bad part", m);
-  }, "twice");
-  refuses([](ThreeMfStreamWriter& w) { w.addObject("bad part", TriangleMesh{}); },
-          "no triangles");
+  refuses(
+      [](ThreeMfStreamWriter& w) {
+        w.beginObject("bad part");
+        w.vertex({0, 0, 0});
+        w.triangle({0, 1, 2});  // (spilled: judged when the vertices close)
+        w.vertex({1, 0, 0});
+        w.vertex({0, 1, 0});
+        w.triangle({0, 2, 3});
+        w.endObject();
+      },
+      "refers to vertex 3 of 3");
+  refuses(
+      [](ThreeMfStreamWriter& w) {
+        w.beginObject("bad part");
+        w.vertex({0, 0, 0});
+        w.vertex({0, std::nanf(""), 0});
+      },
+      "non-finite");
+  refuses(
+      [](ThreeMfStreamWriter& w) {
+        TriangleMesh m;
+        m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+        m.triangles = {{0, 1, 1}};
+        w.addObject("bad part", m);
+      },
+      "twice");
+  refuses([](ThreeMfStreamWriter& w) { w.addObject("bad part", TriangleMesh{}); }, "no triangles");
 }
 
 TEST(ThreeMf, AnObjectThatBreaksTheCoreRulesIsRefusedByNameAndNothingIsWritten) {

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <random>
 
-#include "check/mesh_check.h"
 #include "base/errors.h"
+#include "check/mesh_check.h"
 #include "frep/structural_bounds.h"
 #include "frep/tree.h"
 #include "mesh/mesher.h"
@@ -16,11 +16,10 @@
 namespace frep {
 namespace {
 
-using frep::testing::sphere;
 using frep::testing::box;
+using frep::testing::sphere;
 
 constexpr double kPi = 3.14159265358979323846;
-
 
 std::vector<Vec3> randomPoints(int n, double reach, unsigned seed = 3) {
   std::mt19937 g(seed);
@@ -47,8 +46,8 @@ double meshVolume(const NodePtr& n, double reach, double h) {
 TEST(BoundedBlend, FullInsideTheBoundNoneOutside) {
   const NodePtr a = box({-1, -1, -1}, {2, 2, 1}), b = box({-0.25, -1, -0.5}, {0.5, 2, 1.5});
   const NodePtr bound = sphere(0.6, {0, -1, 0});
-  const NodePtr bounded = makeNode("bounded_blend", {{"a0", realValue(0.3)}, {"a3", realValue(0.2)}},
-                                   {a, b, bound});
+  const NodePtr bounded =
+      makeNode("bounded_blend", {{"a0", realValue(0.3)}, {"a3", realValue(0.2)}}, {a, b, bound});
   const Program pb = compile(bounded), pbound = compile(bound);
   const Program plain = compile(makeNode("union", {}, {a, b}));
   const Program blend = compile(makeNode("blend_union", {{"a0", realValue(0.3)}}, {a, b}));
@@ -69,9 +68,11 @@ TEST(BoundedBlend, FullInsideTheBoundNoneOutside) {
 
 TEST(Superellipsoid, ExponentsOneMakeTheEllipsoidAndSmallOnesTheBox) {
   auto superell = [](double e1, double e2) {
-    return compile(makeNode("superellipsoid", {{"radii", vec3Value({1, 0.5, 0.8})},
-                                               {"exponent1", realValue(e1)},
-                                               {"exponent2", realValue(e2)}}, {}));
+    return compile(makeNode("superellipsoid",
+                            {{"radii", vec3Value({1, 0.5, 0.8})},
+                             {"exponent1", realValue(e1)},
+                             {"exponent2", realValue(e2)}},
+                            {}));
   };
   const Program round = superell(1, 1);
   for (const Vec3& q : randomPoints(300, 1.2)) {
@@ -85,9 +86,11 @@ TEST(Superellipsoid, ExponentsOneMakeTheEllipsoidAndSmallOnesTheBox) {
   MeshingOptions o;
   o.bbox = {{-1.1, -1.1, -1.1}, {1.1, 1.1, 1.1}};
   o.resolution = 1.0 / 32;
-  const NodePtr rounded = makeNode("superellipsoid", {{"radii", vec3Value({1, 0.5, 0.8})},
-                                                      {"exponent1", realValue(0.3)},
-                                                      {"exponent2", realValue(0.3)}}, {});
+  const NodePtr rounded = makeNode("superellipsoid",
+                                   {{"radii", vec3Value({1, 0.5, 0.8})},
+                                    {"exponent1", realValue(0.3)},
+                                    {"exponent2", realValue(0.3)}},
+                                   {});
   EXPECT_TRUE(checkMesh(polygonize(compile(rounded), o)).printable());
   // The poles and the equator stay on the radii for every exponent.
   for (double e : {0.2, 1.0, 2.0, 3.0}) {
@@ -103,17 +106,20 @@ ParamValue pointsValue(const std::vector<Vec3>& pts) {
 }
 
 double segmentDistance(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 e = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, d = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
-  const double t = std::clamp((d[0] * e[0] + d[1] * e[1] + d[2] * e[2]) /
-                                  (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]), 0.0, 1.0);
+  const Vec3 e = {b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+             d = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+  const double t = std::clamp(
+      (d[0] * e[0] + d[1] * e[1] + d[2] * e[2]) / (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]), 0.0,
+      1.0);
   return norm3({d[0] - t * e[0], d[1] - t * e[1], d[2] - t * e[2]});
 }
 
 TEST(Sweep, ExactDistanceToAStraightSegment) {
   const Vec3 a = {-0.5, 0.2, 0.1}, b = {0.7, -0.3, 0.4};
-  const Program p = compile(makeNode("sweep", {{"points", pointsValue({a, b})},
-                                               {"radius1", realValue(0.3)},
-                                               {"radius2", realValue(0.3)}}, {}));
+  const Program p = compile(makeNode(
+      "sweep",
+      {{"points", pointsValue({a, b})}, {"radius1", realValue(0.3)}, {"radius2", realValue(0.3)}},
+      {}));
   for (const Vec3& q : randomPoints(500, 1.5))
     EXPECT_NEAR(eval(p, q), 0.3 - segmentDistance(q, a, b), 1e-12);
 }
@@ -126,9 +132,10 @@ TEST(Sweep, ArcPolylineAndTaperedRadius) {
     const double th = kPi / 2 * i / 64;
     arc.push_back({std::cos(th), std::sin(th), 0});
   }
-  const Program p = compile(makeNode("sweep", {{"points", pointsValue(arc)},
-                                               {"radius1", realValue(0.2)},
-                                               {"radius2", realValue(0.2)}}, {}));
+  const Program p = compile(makeNode(
+      "sweep",
+      {{"points", pointsValue(arc)}, {"radius1", realValue(0.2)}, {"radius2", realValue(0.2)}},
+      {}));
   for (const Vec3& q : randomPoints(500, 1.3)) {
     const double rho = std::hypot(q[0], q[1]);
     if (q[0] <= 0 || q[1] <= 0 || rho < 0.1) continue;  // the arc's angular range
@@ -136,9 +143,10 @@ TEST(Sweep, ArcPolylineAndTaperedRadius) {
     EXPECT_NEAR(eval(p, q), exact, 1e-4);
   }
   // The radius goes linearly along the length: r1 at the start, r2 at the end.
-  const Program taper = compile(makeNode("sweep", {{"points", pointsValue(arc)},
-                                                   {"radius1", realValue(0.3)},
-                                                   {"radius2", realValue(0.1)}}, {}));
+  const Program taper = compile(makeNode(
+      "sweep",
+      {{"points", pointsValue(arc)}, {"radius1", realValue(0.3)}, {"radius2", realValue(0.1)}},
+      {}));
   EXPECT_NEAR(taper.eval(1, 0, 0), 0.3, 1e-12);
   EXPECT_NEAR(taper.eval(0, 1, 0), 0.1, 1e-9);
   const double mid = kPi / 4;
@@ -150,11 +158,13 @@ TEST(Sweep, ExactOnAnArcWithLinesAround) {
   // origin through its middle, and a line again; exact everywhere, not within sampling.
   const double c = std::cos(kPi / 4), s = std::sin(kPi / 4);
   const std::vector<Vec3> path = {{1, -1, 0}, {1, -0.5, 0}, {1, 0, 0}, {c, s, 0},
-                                  {0, 1, 0}, {-0.5, 1, 0}, {-1, 1, 0}};
-  const NodePtr n = makeNode("sweep", {{"points", pointsValue(path)},
-                                       {"radius1", realValue(0.2)},
-                                       {"radius2", realValue(0.2)},
-                                       {"segments", choiceValue("arcs")}}, {});
+                                  {0, 1, 0},  {-0.5, 1, 0}, {-1, 1, 0}};
+  const NodePtr n = makeNode("sweep",
+                             {{"points", pointsValue(path)},
+                              {"radius1", realValue(0.2)},
+                              {"radius2", realValue(0.2)},
+                              {"segments", choiceValue("arcs")}},
+                             {});
   const Program p = compile(n);
   int onArc = 0;
   for (const Vec3& q : randomPoints(4000, 1.6)) {
@@ -167,10 +177,12 @@ TEST(Sweep, ExactOnAnArcWithLinesAround) {
   }
   EXPECT_GT(onArc, 100);
   // the radius goes along the arc length of lines and arcs alike
-  const Program taper = compile(makeNode("sweep", {{"points", pointsValue(path)},
-                                                   {"radius1", realValue(0.3)},
-                                                   {"radius2", realValue(0.1)},
-                                                   {"segments", choiceValue("arcs")}}, {}));
+  const Program taper = compile(makeNode("sweep",
+                                         {{"points", pointsValue(path)},
+                                          {"radius1", realValue(0.3)},
+                                          {"radius2", realValue(0.1)},
+                                          {"segments", choiceValue("arcs")}},
+                                         {}));
   EXPECT_NEAR(taper.eval(c, s, 0), 0.2, 1e-12);  // the middle of the length
   EXPECT_NEAR(taper.eval(1, 0, 0), 0.3 - 0.2 * 1 / (2 + kPi / 2), 1e-12);
   // the structural box holds the arc's bulge
@@ -196,10 +208,12 @@ TEST(Sweep, ExactOnAnArcWithLinesAround) {
 TEST(Sweep, FollowsABsplineFromItsControlPoints) {
   // four control points: the clamped cubic is the Bezier curve of them
   const std::vector<Vec3> ctrl = {{0, 0, 0}, {0.5, 1, 0}, {1.5, -1, 0}, {2, 0, 0}};
-  const Program p = compile(makeNode("sweep", {{"points", pointsValue(ctrl)},
-                                               {"radius1", realValue(0.2)},
-                                               {"radius2", realValue(0.2)},
-                                               {"segments", choiceValue("bspline")}}, {}));
+  const Program p = compile(makeNode("sweep",
+                                     {{"points", pointsValue(ctrl)},
+                                      {"radius1", realValue(0.2)},
+                                      {"radius2", realValue(0.2)},
+                                      {"segments", choiceValue("bspline")}},
+                                     {}));
   const double tol = 1e-4 * std::sqrt(4.0 + 4.0);  // of the control polygon's diagonal
   for (int i = 0; i <= 200; ++i) {
     const double t = i / 200.0, u = 1 - t;
@@ -207,15 +221,18 @@ TEST(Sweep, FollowsABsplineFromItsControlPoints) {
     for (int c = 0; c < 3; ++c)
       b[c] = u * u * u * ctrl[0][c] + 3 * u * u * t * ctrl[1][c] + 3 * u * t * t * ctrl[2][c] +
              t * t * t * ctrl[3][c];
-    EXPECT_NEAR(p.eval(b[0], b[1], b[2]), 0.2, tol);         // on the curve
-    EXPECT_NEAR(p.eval(b[0], b[1], 0.15), 0.05, tol);        // above it, in its plane's normal
+    EXPECT_NEAR(p.eval(b[0], b[1], b[2]), 0.2, tol);   // on the curve
+    EXPECT_NEAR(p.eval(b[0], b[1], 0.15), 0.05, tol);  // above it, in its plane's normal
   }
   // several spans: collinear control points keep the curve on their line, ends clamped
   const Program line = compile(makeNode(
-      "sweep", {{"points", pointsValue({{0, 0, 0}, {0.3, 0, 0}, {1, 0, 0}, {1.2, 0, 0},
-                                        {2, 0, 0}, {3, 0, 0}})},
-                {"segments", choiceValue("bspline")}, {"radius1", realValue(0.1)},
-                {"radius2", realValue(0.1)}}, {}));
+      "sweep",
+      {{"points",
+        pointsValue({{0, 0, 0}, {0.3, 0, 0}, {1, 0, 0}, {1.2, 0, 0}, {2, 0, 0}, {3, 0, 0}})},
+       {"segments", choiceValue("bspline")},
+       {"radius1", realValue(0.1)},
+       {"radius2", realValue(0.1)}},
+      {}));
   EXPECT_NEAR(line.eval(0, 0, 0), 0.1, 1e-12);
   EXPECT_NEAR(line.eval(3, 0, 0), 0.1, 1e-12);
   EXPECT_NEAR(line.eval(-0.05, 0, 0), 0.05, 1e-12);
@@ -249,8 +266,8 @@ TEST(Blobs, KernelsAtTheirCentresAndSummedNearby) {
 }
 
 TEST(Blobs, SoftObjectsStopExactlyAtTheirRadius) {
-  const Program far = compile(blob("soft_objects", {{-1, 0, 0}, {1, 0, 0}},
-                                   {{"radius", realValue(0.6)}}));
+  const Program far =
+      compile(blob("soft_objects", {{-1, 0, 0}, {1, 0, 0}}, {{"radius", realValue(0.6)}}));
   EXPECT_EQ(far.eval(-1, 0, 0), 1.0 - 0.5);  // the other centre adds exactly nothing
   EXPECT_EQ(far.eval(0, 0, 0), -0.5);
   EXPECT_EQ(far.eval(0, 0.61, 0), -0.5);
@@ -321,8 +338,7 @@ TEST(Blobs, ManyCentresGoThroughTheIndexWithTheSameValues) {
     EXPECT_GT(inside, 300) << id;
     std::vector<double> out(x.size());
     p.evalBatch(x.data(), y.data(), z.data(), x.size(), out.data());
-    for (std::size_t i = 0; i < x.size(); ++i)
-      ASSERT_EQ(out[i], p.eval(x[i], y[i], z[i])) << id;
+    for (std::size_t i = 0; i < x.size(); ++i) ASSERT_EQ(out[i], p.eval(x[i], y[i], z[i])) << id;
     std::uniform_real_distribution<double> size(0.01, 0.8);
     for (int b = 0; b < 200; ++b) {
       const double cx = u(g), cy = u(g), cz = u(g), h = size(g);
@@ -330,8 +346,8 @@ TEST(Blobs, ManyCentresGoThroughTheIndexWithTheSameValues) {
       std::uniform_real_distribution<double> in(-h, h);
       for (int k = 0; k < 40; ++k) {
         const double v = p.eval(cx + in(g), cy + in(g), cz + in(g));
-        ASSERT_TRUE(range.contains(v)) << id << ": " << v << " outside [" << range.lo << ", "
-                                       << range.hi << "]";
+        ASSERT_TRUE(range.contains(v))
+            << id << ": " << v << " outside [" << range.lo << ", " << range.hi << "]";
       }
     }
   }
@@ -393,8 +409,8 @@ TEST(Blobs, HundredThousandMetaballsMeshPrintable) {
     for (int j = 0; j < 100; ++j)
       for (int k = 0; k < 10; ++k)
         centres.push_back({0.1 * i + jitter(g), 0.1 * j + jitter(g), 0.1 * k + jitter(g)});
-  const NodePtr n = blob("metaballs", centres,
-                         {{"radius", realValue(0.15)}, {"threshold", realValue(0.5)}});
+  const NodePtr n =
+      blob("metaballs", centres, {{"radius", realValue(0.15)}, {"threshold", realValue(0.5)}});
   MeshingOptions o;
   o.bbox = structuralBounds(n);
   o.resolution = 0.1;
@@ -408,15 +424,15 @@ TEST(Blobs, HundredThousandMetaballsMeshPrintable) {
 }
 
 TEST(Blobs, MetaballsArePiecewiseQuadraticC1AndZeroBeyondTheRadius) {
-  const NodePtr n = blob("metaballs", {{0, 0, 0}},
-                         {{"strength", realValue(2.0)}, {"radius", realValue(0.9)},
-                          {"threshold", realValue(0.5)}});
+  const NodePtr n = blob(
+      "metaballs", {{0, 0, 0}},
+      {{"strength", realValue(2.0)}, {"radius", realValue(0.9)}, {"threshold", realValue(0.5)}});
   const Program p = compile(n);
   auto kernel = [&](double r) { return p.eval(r, 0, 0) + 0.5; };
   EXPECT_NEAR(kernel(0), 2.0, 1e-15);
-  EXPECT_NEAR(kernel(0.3), 2.0 * 2 / 3, 1e-14);             // t = 1/3: both pieces agree
-  EXPECT_NEAR(kernel(0.45), 1.5 * 2.0 * 0.25, 1e-14);       // t = 1/2 on the outer piece
-  EXPECT_NEAR(kernel(0.15), 2.0 * (1 - 3.0 / 36), 1e-14);   // t = 1/6 on the inner piece
+  EXPECT_NEAR(kernel(0.3), 2.0 * 2 / 3, 1e-14);            // t = 1/3: both pieces agree
+  EXPECT_NEAR(kernel(0.45), 1.5 * 2.0 * 0.25, 1e-14);      // t = 1/2 on the outer piece
+  EXPECT_NEAR(kernel(0.15), 2.0 * (1 - 3.0 / 36), 1e-14);  // t = 1/6 on the inner piece
   EXPECT_EQ(kernel(0.9), 0.0);
   EXPECT_EQ(kernel(1.7), 0.0);
   // C1 at t = 1/3: the slopes on either side agree (-2 strength / radius)
@@ -444,8 +460,8 @@ TEST(Blobs, SegmentConvolutionIsTheKernelIntegratedAlongTheSkeleton) {
       // midpoint rule along each segment, 4000 steps each
       double integral = 0;
       for (std::size_t k = 0; k + 1 < path.size(); ++k) {
-        const Vec3 a = path[k], e = {path[k + 1][0] - a[0], path[k + 1][1] - a[1],
-                                     path[k + 1][2] - a[2]};
+        const Vec3 a = path[k],
+                   e = {path[k + 1][0] - a[0], path[k + 1][1] - a[1], path[k + 1][2] - a[2]};
         const double l = norm3(e);
         const int steps = 4000;
         for (int i = 0; i < steps; ++i) {
@@ -486,11 +502,10 @@ TEST(Stretch, ScalesAlongOneDirectionOnly) {
             compile(ball).eval(0.3, 0.2, 0.1));
   const Vec3 d = {1 / std::sqrt(2.0), 1 / std::sqrt(2.0), 0};
   for (double k : {2.0, 0.5}) {
-    const NodePtr n = makeNode("stretch",
-                               {{"factor", realValue(k)},
-                                {"direction", vec3Value({1, 1, 0})},
-                                {"center", vec3Value(c)}},
-                               {ball});
+    const NodePtr n = makeNode(
+        "stretch",
+        {{"factor", realValue(k)}, {"direction", vec3Value({1, 1, 0})}, {"center", vec3Value(c)}},
+        {ball});
     const Program p = compile(n);
     auto at = [&](const Vec3& dir, double r) {
       return p.eval(c[0] + r * dir[0], c[1] + r * dir[1], c[2] + r * dir[2]);
@@ -509,8 +524,8 @@ TEST(Arrays, LinearArrayIsTheUnionOfAllCopiesAtThreeEvaluations) {
   // 10,000 overlapping spheres (radius 0.8, step 1): the field is the union of every copy,
   // while the program holds the sphere only three times.
   const NodePtr ball = sphere(0.8, {0.2, 0, 0});
-  const NodePtr row = makeNode("linear_array", {{"count", realValue(10000)},
-                                                {"step", vec3Value({1, 0, 0})}}, {ball});
+  const NodePtr row = makeNode(
+      "linear_array", {{"count", realValue(10000)}, {"step", vec3Value({1, 0, 0})}}, {ball});
   const Program p = compile(row), one = compile(ball);
   EXPECT_LT(p.instructionCount(), 4 * one.instructionCount() + 40);
   std::mt19937 g(5);
@@ -530,8 +545,9 @@ TEST(Arrays, BlendedCopiesArePaskosBlendUnionOfTheirNeighbours) {
   // copies all round a polar array must not blend a copy with itself.
   const NodePtr ball = sphere(0.4, {0.6, 0, 0});
   auto blendOf = [&](const NodePtr& a, const NodePtr& b) {
-    return compile(makeNode("blend_union", {{"a0", realValue(0.2)}, {"a1", realValue(0.3)},
-                                            {"a2", realValue(0.3)}}, {a, b}));
+    return compile(
+        makeNode("blend_union",
+                 {{"a0", realValue(0.2)}, {"a1", realValue(0.3)}, {"a2", realValue(0.3)}}, {a, b}));
   };
   const std::map<std::string, ParamValue> blend = {{"combine", choiceValue("blend")},
                                                    {"blend_amount", realValue(0.2)},
@@ -540,8 +556,8 @@ TEST(Arrays, BlendedCopiesArePaskosBlendUnionOfTheirNeighbours) {
     p.insert(blend.begin(), blend.end());
     return p;
   };
-  const NodePtr row = makeNode("linear_array", with({{"count", realValue(2)},
-                                                     {"step", vec3Value({0.7, 0, 0})}}), {ball});
+  const NodePtr row = makeNode(
+      "linear_array", with({{"count", realValue(2)}, {"step", vec3Value({0.7, 0, 0})}}), {ball});
   const NodePtr ring = makeNode("polar_array", with({{"count", realValue(2)}}), {ball});
   const Program pr = compile(row), pp = compile(ring);
   const Program rowRef = blendOf(ball, sphere(0.4, {1.3, 0, 0}));
@@ -573,7 +589,8 @@ TEST(Arrays, PolarArrayFullAndPartial) {
     return best;
   };
   const Program full = compile(makeNode("polar_array", {{"count", realValue(6)}}, {ball}));
-  const Program part = compile(makeNode("polar_array", {{"count", realValue(3)}, {"angle", realValue(90)}}, {ball}));
+  const Program part =
+      compile(makeNode("polar_array", {{"count", realValue(3)}, {"angle", realValue(90)}}, {ball}));
   for (const Vec3& q : randomPoints(2000, 1.5)) {
     EXPECT_NEAR(eval(full, q), brute(q, 6, 60), 1e-12);
     EXPECT_NEAR(eval(part, q), brute(q, 3, 45), 1e-12);
@@ -581,7 +598,8 @@ TEST(Arrays, PolarArrayFullAndPartial) {
   MeshingOptions o;
   o.bbox = {{-1.5, -1.5, -0.5}, {1.5, 1.5, 0.5}};
   o.resolution = 1.0 / 32;
-  const NodePtr ring = makeNode("polar_array", {{"count", realValue(12)}}, {sphere(0.3, {1, 0, 0})});
+  const NodePtr ring =
+      makeNode("polar_array", {{"count", realValue(12)}}, {sphere(0.3, {1, 0, 0})});
   const CheckReport r = checkMesh(polygonize(compile(ring), o));
   EXPECT_TRUE(r.printable());
   EXPECT_EQ(r.components, 1u);  // neighbours 0.52 apart, radius 0.3: one ring
@@ -654,7 +672,8 @@ TEST(Bend, TurnsTheLineIntoAnArcOfTheGivenAngle) {
   // along z.
   const NodePtr bar = box({-0.5, -0.3, -0.2}, {3, 0.6, 0.4});
   const Program plain = compile(bar);
-  const Program bent = compile(makeNode("bend", {{"angle", realValue(90)}, {"length", realValue(2)}}, {bar}));
+  const Program bent =
+      compile(makeNode("bend", {{"angle", realValue(90)}, {"length", realValue(2)}}, {bar}));
   const double R = 2 / (kPi / 2);
   for (const Vec3& q : randomPoints(300, 1.5)) {
     if (std::abs(q[2]) > R / 2) continue;  // beyond the arc's centre space folds (documented)
@@ -669,10 +688,11 @@ TEST(Bend, TurnsTheLineIntoAnArcOfTheGivenAngle) {
 TEST(DeformPoint, RaisesABumpAndLeavesTheRestAlone) {
   const NodePtr ball = sphere(1);
   const Program plain = compile(ball);
-  const Program bumped = compile(makeNode(
-      "deform_point", {{"point", vec3Value({0, 0, 1})}, {"displacement", vec3Value({0, 0, 0.3})},
-                       {"radius", realValue(0.5)}},
-      {ball}));
+  const Program bumped = compile(makeNode("deform_point",
+                                          {{"point", vec3Value({0, 0, 1})},
+                                           {"displacement", vec3Value({0, 0, 0.3})},
+                                           {"radius", realValue(0.5)}},
+                                          {ball}));
   EXPECT_LT(plain.eval(0, 0, 1.2), 0.0);
   EXPECT_GT(bumped.eval(0, 0, 1.2), 0.0);  // the top moved up
   for (const Vec3& q : randomPoints(500, 2)) {
@@ -764,14 +784,17 @@ TEST(Tpms, AnInputFieldGradesTheLevel) {
 }
 
 TEST(InfillAcceptance, SkinOutsideLatticeInsidePrintable) {
-  const NodePtr s = makeNode("infill", {{"lattice", choiceValue("gyroid")}, {"wall", realValue(0.1)},
-                                        {"cell", realValue(0.5)}, {"level", realValue(0.3)}},
+  const NodePtr s = makeNode("infill",
+                             {{"lattice", choiceValue("gyroid")},
+                              {"wall", realValue(0.1)},
+                              {"cell", realValue(0.5)},
+                              {"level", realValue(0.3)}},
                              {sphere(1)});
   const Program p = compile(s), lattice = compile(tpms("gyroid", 0.5));
-  EXPECT_GT(p.eval(0.95, 0, 0), 0.0);   // in the skin
-  EXPECT_LT(p.eval(1.05, 0, 0), 0.0);   // outside
+  EXPECT_GT(p.eval(0.95, 0, 0), 0.0);  // in the skin
+  EXPECT_LT(p.eval(1.05, 0, 0), 0.0);  // outside
   for (const Vec3& q : randomPoints(300, 0.8)) {
-    if (norm3(q) > 0.85) continue;      // deep inside: the lattice decides
+    if (norm3(q) > 0.85) continue;  // deep inside: the lattice decides
     EXPECT_EQ(eval(p, q) > 0, eval(lattice, q) > 0);
   }
   MeshingOptions o;

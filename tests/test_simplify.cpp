@@ -68,8 +68,8 @@ double distanceEstimate(const Field& f, const Box3& box, const Vec3& p) {
 NodePtr turnedCube() {
   const NodePtr cube = makeNode(
       "box", {{"corner", vec3Value({-0.5, -0.5, -0.5})}, {"size", vec3Value({1, 1, 1})}}, {});
-  const NodePtr a = makeNode("rotate", {{"axis", vec3Value({0, 0, 1})}, {"angle", realValue(30)}},
-                             {cube});
+  const NodePtr a =
+      makeNode("rotate", {{"axis", vec3Value({0, 0, 1})}, {"angle", realValue(30)}}, {cube});
   return makeNode("rotate", {{"axis", vec3Value({1, 0, 0})}, {"angle", realValue(20)}}, {a});
 }
 
@@ -182,8 +182,9 @@ void simplifyRandomTrees(unsigned seed, int trees) {
       const TriangleMesh s = simplifyMesh(mesh, p, o);
       const CheckReport r = checkMesh(s);
       ASSERT_TRUE(r.printable()) << "tree " << i << " sharp " << sharp << " tolerance "
-                                 << o.tolerance << " regions " << o.regionCells << ": " << reasons(r)
-                                 << "\n" << modelToJson(Model{tree, box, cell, ""});
+                                 << o.tolerance << " regions " << o.regionCells << ": "
+                                 << reasons(r) << "\n"
+                                 << modelToJson(Model{tree, box, cell, ""});
       ASSERT_EQ(countSelfIntersectionsWithCgal(s.positions, s.triangles, true), 0u) << "tree " << i;
       EXPECT_EQ(r.components, components) << "tree " << i;
       fewer += (tetra ? 2 : 1) * s.triangleCount() < mesh.triangleCount();
@@ -353,7 +354,8 @@ TEST(Accuracy, MeshToSurfaceIsTightOnThinSheets) {
     return static_cast<long>(std::floor((v[a] - box.lo[a]) / cell));
   };
   std::map<std::array<long, 3>, std::vector<Vec3f>> buckets;
-  for (const Vec3f& v : fine.positions) buckets[{cellOf(v, 0), cellOf(v, 1), cellOf(v, 2)}].push_back(v);
+  for (const Vec3f& v : fine.positions)
+    buckets[{cellOf(v, 0), cellOf(v, 1), cellOf(v, 2)}].push_back(v);
   double brute = 0.0;
   std::vector<Vec3f> points = mesh.positions;
   for (const Triangle& t : mesh.triangles) {
@@ -493,7 +495,7 @@ TEST(Simplify, CreaseFlipsStraightenTheTwistsSimplifiedCreases) {
     hausdorff[flips] = acc.hausdorff / cell;
   }
   EXPECT_LT(excess[1], 0.8 * excess[0]) << "without flips " << excess[0] + kTwistCreaseLength
-                                         << ", with " << excess[1] + kTwistCreaseLength;
+                                        << ", with " << excess[1] + kTwistCreaseLength;
   EXPECT_LT(hausdorff[1], 0.5) << "without flips " << hausdorff[0];
 }
 

@@ -33,11 +33,11 @@ TEST(ThinParts, ATentThatReachesZeroIsFoundWhereItsLinesMeet) {
 
 TEST(ThinParts, NoTentWhereTheLinesMeetShortOfZeroOrTheFieldIsMonotone) {
   double t = -1.0;
-  EXPECT_FALSE(tentCrossesZero(-0.2, -0.1, -0.1, -0.2, &t));    // peak -0.05
-  EXPECT_FALSE(tentCrossesZero(-0.4, -0.3, -0.2, -0.1, &t));    // rising all along
-  EXPECT_FALSE(tentCrossesZero(-0.1, -0.2, -0.2, -0.1, &t));    // a valley seen from outside
+  EXPECT_FALSE(tentCrossesZero(-0.2, -0.1, -0.1, -0.2, &t));      // peak -0.05
+  EXPECT_FALSE(tentCrossesZero(-0.4, -0.3, -0.2, -0.1, &t));      // rising all along
+  EXPECT_FALSE(tentCrossesZero(-0.1, -0.2, -0.2, -0.1, &t));      // a valley seen from outside
   EXPECT_FALSE(tentCrossesZero(-0.135, -0.035, 0.01, -0.1, &t));  // ends on two sides
-  EXPECT_FALSE(tentCrossesZero(0.2, 0.1, 0.1, 0.2, &t));        // valley at 0.05: still inside
+  EXPECT_FALSE(tentCrossesZero(0.2, 0.1, 0.1, 0.2, &t));          // valley at 0.05: still inside
   const double nan = std::numeric_limits<double>::quiet_NaN();
   EXPECT_FALSE(tentCrossesZero(-0.135, nan, -0.035, -0.135, &t));
   EXPECT_FALSE(tentCrossesZero(nan, -0.035, -0.035, -0.135, &t));
@@ -58,7 +58,8 @@ TEST(ThinParts, TheSieveKeepsEveryTent) {
       b[i] = step(rng) / 16.0;
       after[i] = step(rng) / 16.0;
     }
-    const bool any = sieveTentRow(before.data(), a.data(), b.data(), after.data(), 64, flags.data());
+    const bool any =
+        sieveTentRow(before.data(), a.data(), b.data(), after.data(), 64, flags.data());
     bool seen = false;
     for (int i = 0; i < 64; ++i) {
       double t;
@@ -66,11 +67,13 @@ TEST(ThinParts, TheSieveKeepsEveryTent) {
       tents += tent;
       flagged += flags[i] != 0.0;
       seen = seen || flags[i] != 0.0;
-      if (tent) ASSERT_EQ(flags[i], 1.0) << before[i] << " " << a[i] << " " << b[i] << " " << after[i];
+      if (tent) {
+        ASSERT_EQ(flags[i], 1.0) << before[i] << " " << a[i] << " " << b[i] << " " << after[i];
+      }
     }
     ASSERT_EQ(any, seen);
   }
-  EXPECT_GT(tents, 100);           // the rows hold tents
+  EXPECT_GT(tents, 100);              // the rows hold tents
   EXPECT_LT(flagged, 2000 * 64 / 4);  // and the sieve passes few of the rest
   // Stand-ins: of the ends' side they pass as neighbours; as ends, or of the other side, not.
   const double bf[4] = {-kInf, -0.2, -0.135, kInf}, af[4] = {-0.035, -0.035, -kInf, -0.035},

@@ -16,7 +16,9 @@ enum class Outcome {
   Cancelled = 130,    // Ctrl-C or SIGTERM (128 + SIGINT, as shells report it)
 };
 
-inline int exitStatus(Outcome outcome) { return static_cast<int>(outcome); }
+inline int exitStatus(Outcome outcome) {
+  return static_cast<int>(outcome);
+}
 
 // The outcome of the exception `error` and the one line that says it (without the program's
 // name): ModelError and FileError are bad input, as is running out of memory (the line says

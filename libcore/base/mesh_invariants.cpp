@@ -15,8 +15,8 @@ std::string meshInvariantBroken(const TriangleMesh& mesh) {
   for (std::size_t f = 0; f < t.size(); ++f)
     for (int i = 0; i < 3; ++i) {
       const std::uint32_t a = t[f][i], b = t[f][(i + 1) % 3], g = next[f][i];
-      const std::string edge =
-          "edge " + std::to_string(a) + "-" + std::to_string(b) + " of triangle " + std::to_string(f);
+      const std::string edge = "edge " + std::to_string(a) + "-" + std::to_string(b) +
+                               " of triangle " + std::to_string(f);
       if (g == kNoNeighbour) return edge + " is a border or shared by more than two triangles";
       bool opposite = false;
       for (int j = 0; j < 3; ++j) opposite |= t[g][j] == b && t[g][(j + 1) % 3] == a;

@@ -50,7 +50,8 @@ ProgressCallback Progress::callback() const {
 }
 
 ThreadedProgress::ThreadedProgress(Progress range, std::size_t total, std::size_t reports)
-    : range_(std::move(range)), total_(total),
+    : range_(std::move(range)),
+      total_(total),
       every_(std::max<std::size_t>(1, total / std::max<std::size_t>(1, reports))) {}
 
 void ThreadedProgress::itemDone() {
@@ -60,6 +61,8 @@ void ThreadedProgress::itemDone() {
   if (!range_.count(done, total_)) cancelled_ = true;
 }
 
-bool ThreadedProgress::cancelled() const { return cancelled_.load(std::memory_order_relaxed); }
+bool ThreadedProgress::cancelled() const {
+  return cancelled_.load(std::memory_order_relaxed);
+}
 
 }  // namespace frep

@@ -15,12 +15,12 @@
 #include <cstring>
 #include <future>
 #include <memory>
-#include <stdexcept>
 #include <numeric>
+#include <stdexcept>
 #include <tuple>
 
-#include "base/triangle_geometry.h"
 #include "base/progress.h"
+#include "base/triangle_geometry.h"
 #include "check/cgal_surface.h"
 #include "check/face_pair_test.h"
 #include "check/mesh_check_passes.h"
@@ -146,7 +146,7 @@ std::vector<std::uint32_t> distinctPoints(const std::vector<Vec3f>& pos,
              !table[h].compare_exchange_weak(held, i, std::memory_order_acq_rel)) {
       }
       if (held == UINT32_MAX) return table[h];  // (inserted)
-      if (held == i || pos[held] == p) {  // (itself: a NaN equals nothing)
+      if (held == i || pos[held] == p) {        // (itself: a NaN equals nothing)
         while (insert && i < held &&
                !table[h].compare_exchange_weak(held, i, std::memory_order_acq_rel)) {
         }
@@ -412,7 +412,6 @@ void addReasons(CheckReport& r) {
     r.reasons.push_back("not outward-oriented: the triangles face into the solid");
 }
 
-
 CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)>& progress,
                       std::size_t selfIntersectionLimit) {
   // (the check cannot be cancelled but by its caller's throwing from `progress`)
@@ -484,9 +483,8 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
   // vertex come in order): made on a thread of its own while the passes below run on the
   // others. (Declared before the future, which is joined first whatever happens.)
   std::vector<std::uint32_t> start, incident;
-  std::future<void> table = std::async(std::launch::async, [&] {
-    vertexFaces(pos.size(), faces, &start, &incident);
-  });
+  std::future<void> table =
+      std::async(std::launch::async, [&] { vertexFaces(pos.size(), faces, &start, &incident); });
   // Volume, area, bounding box.
   sumAreaAndVolume(pos, faces, &r.area, &r.volume);
   std::vector<char> collinearFace;

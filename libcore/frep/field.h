@@ -22,9 +22,9 @@
 #include <cstddef>
 #include <memory>
 
+#include "base/vec.h"
 #include "frep/dual.h"
 #include "frep/interval.h"
-#include "base/vec.h"
 
 namespace frep {
 
@@ -36,8 +36,7 @@ class Field {
   // out[i] = eval(x[i], y[i], z[i]); the default loops over eval.
   virtual void evalBatch(const double* x, const double* y, const double* z, std::size_t n,
                          double* out) const;
-  virtual Interval evalInterval(const Interval& x, const Interval& y,
-                                const Interval& z) const = 0;
+  virtual Interval evalInterval(const Interval& x, const Interval& y, const Interval& z) const = 0;
   virtual Dual evalGradient(const Dual& x, const Dual& y, const Dual& z) const = 0;
   // out[i] = evalGradient(x[i], y[i], z[i]); the default loops over evalGradient. (Normals
   // of a whole brick's vertices at once.)

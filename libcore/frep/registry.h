@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "frep/program_builder.h"
 #include "base/vec.h"
+#include "frep/program_builder.h"
 
 namespace frep {
 
@@ -47,7 +47,7 @@ struct ParamTemplate {
   std::vector<std::string> choices;
   bool filePath = false;  // Text: a file's path; a model file's relative paths are read
                           // relative to the model file's folder
-  std::string unit;  // "length", "angle" (degrees) or "" (dimensionless)
+  std::string unit;       // "length", "angle" (degrees) or "" (dimensionless)
   std::string doc;
 
   // Returns an empty string when v is allowed, else what is wrong and what is allowed.

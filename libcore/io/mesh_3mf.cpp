@@ -15,8 +15,8 @@
 
 #include "base/atomic_file.h"
 #include "base/errors.h"
-#include "base/progress.h"
 #include "base/file_names.h"
+#include "base/progress.h"
 #include "io/three_mf_stream.h"
 
 namespace frep {

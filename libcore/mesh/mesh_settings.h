@@ -4,12 +4,15 @@
 // feature's properties are all spelled from the table below, so an option has one name:
 //
 //   table name          C++ field            Python keyword        frepcad flag            property
-//   sharp_features      sharpFeatures        sharp_features=       --[no-]sharp-features   SharpFeatures
+//   sharp_features      sharpFeatures        sharp_features=       --[no-]sharp-features
+//   SharpFeatures
 //
-// A new option is a field here, a row in meshSettingsTable() (mesh_settings.cpp) and a row in
-// the Polygonize feature's property table (Mod/FRep/FRepPolygonize.py).
+// A new option is a field here, a row in meshSettingsTable() (mesh_settings.cpp, its name,
+// kind, help and field) and a row in the Polygonize feature's property table
+// (Mod/FRep/FRepPolygonize.py); the rest follows from the table.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <variant>
@@ -105,10 +108,14 @@ using SettingValue = std::variant<std::monostate, bool, long, double, std::strin
 enum class SettingKind { Switch, WholeNumber, Distance, Choice };
 
 struct MeshSettingInfo {
-  const char* name;                  // snake_case: Python keyword; dashes for frepcad's flag
+  const char* name;  // snake_case: Python keyword; dashes for frepcad's flag
   SettingKind kind;
   std::vector<std::string> choices;  // a Choice's words, in order
   const char* help;                  // one paragraph for every front end's help
+  // The option's value in a MeshSettings, and setting it (a value of the wrong kind or a
+  // word the choice does not have: SettingError naming the option).
+  std::function<SettingValue(const MeshSettings&)> get;
+  std::function<void(MeshSettings&, const SettingValue&)> set;
 };
 
 // Every option, in the order the front ends list them.

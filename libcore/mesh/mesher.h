@@ -1,4 +1,5 @@
-// Polygonisation of a field (a compiled FRep tree or any other Field) inside a bounding box at a given cell size.
+// Polygonisation of a field (a compiled FRep tree or any other Field) inside a bounding box at a
+// given cell size.
 //
 // Guarantees, for any function: the mesh is closed, 2-manifold, consistently oriented with
 // normals pointing out of the solid F >= 0, free of self-intersections, and every triangle
@@ -34,7 +35,7 @@ struct MeshingOptions {
   // At most this many cubes are meshed again by settings.refine.
   std::size_t refinementCubes = 200000;
   double resolution = 0.05;  // target cell size; the grid fits the box exactly (cells <= this)
-  int brickCells = 16;  // cells per brick edge: the unit of pruning and threading (even)
+  int brickCells = 16;       // cells per brick edge: the unit of pruning and threading (even)
   int rootIterations = 8;    // Illinois iterations per edge vertex
   bool normals = true;       // per-vertex normals from the gradient
   // Memory the mesh may take (bytes; 0: no limit) at `bytesPerTriangle` (the mesher's own
@@ -49,7 +50,7 @@ struct MeshingOptions {
 };
 
 struct MeshingStats {
-  MeshSettings settings;  // what the mesh was made with
+  MeshSettings settings;             // what the mesh was made with
   std::size_t cells[3] = {0, 0, 0};  // grid cells per axis (including the outside layer)
   std::size_t bricksTotal = 0;
   std::size_t bricksActive = 0;  // bricks interval pruning could not prove empty or full

@@ -191,9 +191,8 @@ class TriangleGrid {
             if (it == cells_.end()) continue;
             for (std::uint32_t t : it->second) {
               const Triangle& tr = m_.triangles[t];
-              const Vec3d q = closestPointOnTriangle(p, toD(m_.positions[tr[0]]),
-                                                     toD(m_.positions[tr[1]]),
-                                                     toD(m_.positions[tr[2]]));
+              const Vec3d q = closestPointOnTriangle(
+                  p, toD(m_.positions[tr[0]]), toD(m_.positions[tr[1]]), toD(m_.positions[tr[2]]));
               const double d = std::sqrt(dotD(minus(p, q), minus(p, q)));
               if (d < best) {
                 best = d;
@@ -209,14 +208,16 @@ class TriangleGrid {
   std::int64_t index(double v) const { return static_cast<std::int64_t>(std::floor(v / cell_)); }
   static std::uint64_t key(std::int64_t i, std::int64_t j, std::int64_t k) {
     const std::uint64_t m = (1u << 21) - 1;
-    return ((static_cast<std::uint64_t>(k) & m) << 42) | ((static_cast<std::uint64_t>(j) & m) << 21) |
-           (static_cast<std::uint64_t>(i) & m);
+    return ((static_cast<std::uint64_t>(k) & m) << 42) |
+           ((static_cast<std::uint64_t>(j) & m) << 21) | (static_cast<std::uint64_t>(i) & m);
   }
   void range(std::uint32_t t, std::int64_t lo[3], std::int64_t hi[3]) const {
     const Triangle& tr = m_.triangles[t];
     for (int a = 0; a < 3; ++a) {
-      lo[a] = index(std::min({m_.positions[tr[0]][a], m_.positions[tr[1]][a], m_.positions[tr[2]][a]}));
-      hi[a] = index(std::max({m_.positions[tr[0]][a], m_.positions[tr[1]][a], m_.positions[tr[2]][a]}));
+      lo[a] =
+          index(std::min({m_.positions[tr[0]][a], m_.positions[tr[1]][a], m_.positions[tr[2]][a]}));
+      hi[a] =
+          index(std::max({m_.positions[tr[0]][a], m_.positions[tr[1]][a], m_.positions[tr[2]][a]}));
     }
   }
   const TriangleMesh& m_;
@@ -280,7 +281,8 @@ AccuracyReport measureAccuracy(const TriangleMesh& mesh, const Field& field,
       const Triangle& tr = mesh.triangles[i - nv];
       for (int a = 0; a < 3; ++a)
         p[a] = (double(mesh.positions[tr[0]][a]) + mesh.positions[tr[1]][a] +
-                mesh.positions[tr[2]][a]) / 3.0;
+                mesh.positions[tr[2]][a]) /
+               3.0;
     }
     bool reached = false;
     double d = distanceToSurface(field, o.bbox, p, 2.0 * o.cell, &reached);
@@ -340,8 +342,10 @@ AccuracyReport measureAccuracy(const TriangleMesh& mesh, const Field& field,
       const std::uint32_t u = neighbours[t][e];
       if (u == kNoNeighbour || u < t) continue;  // each edge once
       const Triangle &a = mesh.triangles[t], &b = mesh.triangles[u];
-      const Vec3d na = triangleCross(mesh.positions[a[0]], mesh.positions[a[1]], mesh.positions[a[2]]);
-      const Vec3d nb = triangleCross(mesh.positions[b[0]], mesh.positions[b[1]], mesh.positions[b[2]]);
+      const Vec3d na =
+          triangleCross(mesh.positions[a[0]], mesh.positions[a[1]], mesh.positions[a[2]]);
+      const Vec3d nb =
+          triangleCross(mesh.positions[b[0]], mesh.positions[b[1]], mesh.positions[b[2]]);
       const double la = norm(na), lb = norm(nb);
       if (!(la > 0) || !(lb > 0) || dotD(na, nb) >= cosLimit * la * lb) continue;
       const Vec3d p = toD(mesh.positions[a[e]]), q = toD(mesh.positions[a[(e + 1) % 3]]);

@@ -51,8 +51,8 @@ std::uint64_t textFingerprint(const std::string& text) {
   return h;
 }
 
-BrickJobPlan planBrickJobs(const MeshingBox& box, const MeshSettings& settings,
-                           std::uint32_t jobs, std::uint64_t model) {
+BrickJobPlan planBrickJobs(const MeshingBox& box, const MeshSettings& settings, std::uint32_t jobs,
+                           std::uint64_t model) {
   settings.validate();
   // (the simplifier and the straightening work on the whole mesh; a job's refined cubes
   // would change its neighbours' faces)
@@ -275,9 +275,8 @@ ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::strin
         if (!ec) pieceBytes += size;
       }
       threeMf = std::make_unique<ThreeMfStreamWriter>(path, request.threeMf, 5 * pieceBytes);
-      threeMf->beginObject(request.objectName.empty()
-                               ? std::filesystem::path(path).stem().string()
-                               : request.objectName);
+      threeMf->beginObject(request.objectName.empty() ? std::filesystem::path(path).stem().string()
+                                                      : request.objectName);
     }
     struct Sink : PieceMerger::Sink {
       StlStreamWriter* stl;
@@ -285,8 +284,7 @@ ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::strin
       void vertex(const Vec3f& p) override {
         if (threeMf) threeMf->vertex(p);
       }
-      void triangle(const Triangle& ids, const Vec3f& a, const Vec3f& b,
-                    const Vec3f& c) override {
+      void triangle(const Triangle& ids, const Vec3f& a, const Vec3f& b, const Vec3f& c) override {
         if (stl)
           stl->add(a, b, c);
         else
@@ -381,9 +379,8 @@ ExportResult exportPieces(const BrickJobPlan& plan, const std::vector<std::strin
   }
   t = Clock::now();
   report(ExportStage::Write, 0.0);
-  writeMesh(mesh, path, format, [&](double f) {
-    return !request.progress || request.progress(ExportStage::Write, f);
-  });
+  writeMesh(mesh, path, format,
+            [&](double f) { return !request.progress || request.progress(ExportStage::Write, f); });
   result.written = true;
   result.seconds[3] = since(t);
   report(ExportStage::Write, 1.0);

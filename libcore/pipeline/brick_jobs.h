@@ -37,8 +37,8 @@ std::uint64_t textFingerprint(const std::string& text);
 // Throws ModelError for a job count below 1, above kMaxBrickJobs or above what the bricks
 // allow (naming the bricks per axis), SettingError for settings a job cannot take (a
 // refinement, straightened creases, a tolerance).
-BrickJobPlan planBrickJobs(const MeshingBox& box, const MeshSettings& settings,
-                           std::uint32_t jobs, std::uint64_t model);
+BrickJobPlan planBrickJobs(const MeshingBox& box, const MeshSettings& settings, std::uint32_t jobs,
+                           std::uint64_t model);
 
 // The mesher's options every job of the run uses (no normals: pieces carry positions).
 MeshingOptions brickMeshingOptions(const BrickJobPlan& plan);

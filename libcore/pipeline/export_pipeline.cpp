@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <chrono>
-#include <filesystem>
-#include <optional>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <future>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "base/errors.h"
@@ -94,16 +94,20 @@ std::size_t availableMemory() {
 
 const char* stageName(ExportStage s) {
   switch (s) {
-    case ExportStage::Bounds: return "bounds";
-    case ExportStage::Mesh: return "meshing";
-    case ExportStage::Check: return "checking";
-    case ExportStage::Write: return "writing";
+    case ExportStage::Bounds:
+      return "bounds";
+    case ExportStage::Mesh:
+      return "meshing";
+    case ExportStage::Check:
+      return "checking";
+    case ExportStage::Write:
+      return "writing";
   }
   return "?";
 }
 
-ExportResult exportField(const Field& field, const ExportRequest& request,
-                         const std::string& path, const std::string& name) {
+ExportResult exportField(const Field& field, const ExportRequest& request, const std::string& path,
+                         const std::string& name) {
   using Clock = std::chrono::steady_clock;
   auto report = [&](ExportStage s, double f) {
     if (request.progress && !request.progress(s, f)) throw Cancelled();
@@ -182,8 +186,8 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
   // (io/three_mf_stream.h): the check of the mesh is the check of the file.
   const std::string objectName =
       request.objectName.empty() ? fs::path(path).stem().string() : request.objectName;
-  auto writeUncommitted = [&mesh, &path, &request, format, objectName](
-                              const WriteProgress& progress) -> Pending {
+  auto writeUncommitted = [&mesh, &path, &request, format,
+                           objectName](const WriteProgress& progress) -> Pending {
     if (format != MeshFormat::ThreeMf) return writeMeshUncommitted(mesh, path, format, progress);
     ThreeMfOptions threeMf = request.threeMf;
     threeMf.validate = false;  // the check is the judge (stricter than lib3mf's rule)
@@ -230,9 +234,8 @@ ExportResult exportField(const Field& field, const ExportRequest& request,
   t = Clock::now();
   report(ExportStage::Write, 0.0);
   if (!pending)  // (no check, or the mesh changed after a refused simplification)
-    pending = writeUncommitted([&](double f) {
-      return !request.progress || request.progress(ExportStage::Write, f);
-    });
+    pending = writeUncommitted(
+        [&](double f) { return !request.progress || request.progress(ExportStage::Write, f); });
   pending->commit();
   result.written = true;
   result.seconds[3] = since(t);

@@ -92,7 +92,7 @@ struct ExportResult {
   bool written = false;  // false: the check refused the mesh (and force was not given)
   std::size_t triangles = 0;
   bool simplified = false;
-  SimplifyStats simplify;            // when simplified (its seconds are part of meshing's)
+  SimplifyStats simplify;  // when simplified (its seconds are part of meshing's)
   bool straightened = false;
   SimplifyStats straighten;  // when creases were straightened (seconds: as simplify's)
   // The simplified or straightened mesh failed the check (a bug: please report it) and the
@@ -108,8 +108,8 @@ struct ExportResult {
 // Meshes `field`, checks and writes `path` atomically (nothing is left on failure or cancel;
 // an existing file is replaced only by a complete new one). `name` names the solid in
 // messages. Throws ModelError, FileError, Cancelled.
-ExportResult exportField(const Field& field, const ExportRequest& request,
-                         const std::string& path, const std::string& name);
+ExportResult exportField(const Field& field, const ExportRequest& request, const std::string& path,
+                         const std::string& name);
 
 // Several meshes as the objects of one 3MF: the package is made in memory and read back
 // (io/mesh_3mf.h), every object as the file holds it is checked, and the file is written

@@ -3,6 +3,7 @@
 #include <pybind11/functional.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -16,8 +17,8 @@
 #include "base/atomic_file.h"
 #include "base/errors.h"
 #include "base/exit_status.h"
-#include "base/progress.h"
 #include "base/process_memory.h"
+#include "base/progress.h"
 #include "base/triangle_geometry.h"
 #include "check/mesh_check.h"
 #include "check/mesh_deviation.h"
@@ -64,8 +65,7 @@ ParamValue toParamValue(const ParamTemplate& t, const py::handle& v, const std::
     if (py::isinstance<py::str>(v) || !py::isinstance<py::sequence>(v))
       fail("must be a sequence of points (x, y, z)");
     for (auto q : v.cast<py::sequence>()) {
-      if (py::isinstance<py::str>(q) || !py::isinstance<py::sequence>(q) ||
-          py::len(q) != 3)
+      if (py::isinstance<py::str>(q) || !py::isinstance<py::sequence>(q) || py::len(q) != 3)
         fail("must be a sequence of points (x, y, z)");
       try {
         for (auto c : q.cast<py::sequence>()) out.numbers.push_back(c.cast<double>());
@@ -166,8 +166,8 @@ PyNode makePyNode(const std::string& typeId, const py::dict& params,
 
 // A brick-job run of this solid (pipeline/brick_jobs.h); the run's id fingerprints the
 // tree's canonical JSON, so the driver and every worker agree on it.
-BrickJobPlan brickPlanOf(PyNode& n, const py::object& bbox, double resolution,
-                         std::uint32_t jobs, const MeshSettings& settings) {
+BrickJobPlan brickPlanOf(PyNode& n, const py::object& bbox, double resolution, std::uint32_t jobs,
+                         const MeshSettings& settings) {
   MeshingBox box{toBox(bbox.cast<py::sequence>()), resolution};
   Model model;
   model.root = n.node;
@@ -209,8 +209,8 @@ SolidBounds boundsFromDict(const py::dict& d) {
   return b;
 }
 
-BoxRequest boxRequest(const py::object& bbox, const py::object& resolution,
-                      const py::object& cells, double paddingCells) {
+BoxRequest boxRequest(const py::object& bbox, const py::object& resolution, const py::object& cells,
+                      double paddingCells) {
   BoxRequest r;
   if (!bbox.is_none()) r.bbox = toBox(bbox.cast<py::sequence>());
   if (!resolution.is_none()) r.resolution = resolution.cast<double>();
@@ -226,7 +226,8 @@ py::dict gridInfoDict(const GridInfo& g) {
   d["grid_class"] = g.gridClass;
   d["voxel_size"] = py::make_tuple(g.voxelSize[0], g.voxelSize[1], g.voxelSize[2]);
   d["active_voxels"] = g.activeVoxels;
-  d["box"] = g.worldBox.lo[0] > g.worldBox.hi[0] ? py::object(py::none()) : py::object(fromBox(g.worldBox));
+  d["box"] = g.worldBox.lo[0] > g.worldBox.hi[0] ? py::object(py::none())
+                                                 : py::object(fromBox(g.worldBox));
   d["metadata"] = g.metadata;
   d["text"] = describeGrid(g);
   return d;
@@ -273,8 +274,8 @@ py::dict exportResultDict(const ExportResult& result, const std::string& path) {
   d["checked_in_parts"] = result.checkedInParts;
   d["box"] = fromBox(result.box.box);
   d["resolution"] = result.box.resolution;
-  d["seconds"] = py::make_tuple(result.seconds[0], result.seconds[1], result.seconds[2],
-                                result.seconds[3]);
+  d["seconds"] =
+      py::make_tuple(result.seconds[0], result.seconds[1], result.seconds[2], result.seconds[3]);
   return d;
 }
 

@@ -21,9 +21,9 @@
 #include "base/errors.h"
 #include "base/vec.h"
 #include "frep/bounds.h"
+#include "frep/program.h"
 #include "frep/registry.h"
 #include "frep/tree.h"
-#include "frep/program.h"
 #include "mesh/mesher.h"
 #include "pipeline/brick_jobs.h"
 #include "pipeline/export_pipeline.h"
@@ -121,8 +121,8 @@ PyNode makePyNode(const std::string& typeId, const py::dict& params,
 
 // A brick-job run of this solid (pipeline/brick_jobs.h); the run's id fingerprints the
 // tree's canonical JSON, so the driver and every worker agree on it.
-BrickJobPlan brickPlanOf(PyNode& n, const py::object& bbox, double resolution,
-                         std::uint32_t jobs, const MeshSettings& settings);
+BrickJobPlan brickPlanOf(PyNode& n, const py::object& bbox, double resolution, std::uint32_t jobs,
+                         const MeshSettings& settings);
 
 py::dict nodeParams(const PyNode& n);
 
@@ -130,8 +130,8 @@ py::dict boundsDict(const SolidBounds& b);
 
 SolidBounds boundsFromDict(const py::dict& d);
 
-BoxRequest boxRequest(const py::object& bbox, const py::object& resolution,
-                      const py::object& cells, double paddingCells);
+BoxRequest boxRequest(const py::object& bbox, const py::object& resolution, const py::object& cells,
+                      double paddingCells);
 
 py::dict gridInfoDict(const GridInfo& g);
 

@@ -8,6 +8,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 #include <tbb/global_control.h>
+
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -21,8 +22,8 @@
 #include "base/atomic_file.h"
 #include "base/errors.h"
 #include "base/exit_status.h"
-#include "base/progress.h"
 #include "base/process_memory.h"
+#include "base/progress.h"
 #include "base/triangle_geometry.h"
 #include "check/mesh_check.h"
 #include "check/mesh_deviation.h"
@@ -42,6 +43,7 @@
 #include "mesh/mesher.h"
 #include "pipeline/brick_jobs.h"
 #include "pipeline/export_pipeline.h"
+#include "python/binding_helpers.h"
 #include "python/bindings.h"
 #include "repair/repair.h"
 #include "simplify/straighten_creases.h"
@@ -49,7 +51,6 @@
 #include "volume/grid_ffd.h"
 #include "volume/grid_set.h"
 #include "volume/level_sets.h"
-#include "python/binding_helpers.h"
 
 PYBIND11_MODULE(_frepcore, m) {
   using namespace frep;

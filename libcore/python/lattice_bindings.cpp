@@ -2,6 +2,7 @@
 #include <pybind11/functional.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -15,8 +16,8 @@
 #include "base/atomic_file.h"
 #include "base/errors.h"
 #include "base/exit_status.h"
-#include "base/progress.h"
 #include "base/process_memory.h"
+#include "base/progress.h"
 #include "base/triangle_geometry.h"
 #include "check/mesh_check.h"
 #include "check/mesh_deviation.h"
@@ -36,6 +37,7 @@
 #include "mesh/mesher.h"
 #include "pipeline/brick_jobs.h"
 #include "pipeline/export_pipeline.h"
+#include "python/binding_helpers.h"
 #include "python/bindings.h"
 #include "repair/repair.h"
 #include "simplify/straighten_creases.h"
@@ -43,7 +45,6 @@
 #include "volume/grid_ffd.h"
 #include "volume/grid_set.h"
 #include "volume/level_sets.h"
-#include "python/binding_helpers.h"
 
 namespace frep {
 
@@ -61,25 +62,36 @@ void bindLattice(py::module_& m) {
            py::arg("points") = py::none())
       .def_property_readonly("rest_min", [](const FfdLattice& l) { return l.rest().lo; })
       .def_property_readonly("rest_max", [](const FfdLattice& l) { return l.rest().hi; })
-      .def_property_readonly("divisions", [](const FfdLattice& l) {
-        return std::array<int, 3>{l.divisions(0), l.divisions(1), l.divisions(2)};
-      })
+      .def_property_readonly(
+          "divisions",
+          [](const FfdLattice& l) {
+            return std::array<int, 3>{l.divisions(0), l.divisions(1), l.divisions(2)};
+          })
       .def_property_readonly("points", &FfdLattice::points)
-      .def("rest_points", [](const FfdLattice& l) {
-        return FfdLattice(l.rest(), l.divisions(0), l.divisions(1), l.divisions(2)).points();
-      }, "The undeformed control points.")
+      .def(
+          "rest_points",
+          [](const FfdLattice& l) {
+            return FfdLattice(l.rest(), l.divisions(0), l.divisions(1), l.divisions(2)).points();
+          },
+          "The undeformed control points.")
       .def("set_point", &FfdLattice::setPoint, py::arg("i"), py::arg("j"), py::arg("k"),
            py::arg("point"))
       .def("deform", &FfdLattice::deform, py::arg("point"),
            "A point moved by the lattice (points outside the rest box do not move).")
-      .def("inverse", [](const FfdLattice& l, const Vec3& y) -> py::object {
-        if (auto s = l.inverse(y)) return py::cast(l.restPoint(*s));
-        return py::none();
-      }, py::arg("point"), "The rest-space point the lattice moves to `point`, or None.")
-      .def("find_fold", [](const FfdLattice& l) -> py::object {
-        if (auto f = l.findFold()) return py::str(f->text());
-        return py::none();
-      }, "None, or where the lattice folds over itself (its cell), as text.")
+      .def(
+          "inverse",
+          [](const FfdLattice& l, const Vec3& y) -> py::object {
+            if (auto s = l.inverse(y)) return py::cast(l.restPoint(*s));
+            return py::none();
+          },
+          py::arg("point"), "The rest-space point the lattice moves to `point`, or None.")
+      .def(
+          "find_fold",
+          [](const FfdLattice& l) -> py::object {
+            if (auto f = l.findFold()) return py::str(f->text());
+            return py::none();
+          },
+          "None, or where the lattice folds over itself (its cell), as text.")
       .def("to_json", &latticeToJson, "The lattice file's text (docs/file-formats.md).")
       .def("write", &writeLatticeFile, py::arg("path"), "Writes a lattice file atomically.");
   m.def("read_lattice", &readLatticeFile, py::arg("path"));
@@ -104,11 +116,15 @@ void bindLattice(py::module_& m) {
          const std::string& interpolation, bool keepVectors, bool rebuild, bool splat,
          py::object progress) {
         GridFfdOptions o;
-        if (interpolation == "nearest") o.interpolation = 0;
-        else if (interpolation == "linear") o.interpolation = 1;
-        else if (interpolation == "quadratic") o.interpolation = 2;
-        else throw ModelError("deform_vdb: interpolation '" + interpolation +
-                              "' is not allowed; allowed: nearest, linear, quadratic");
+        if (interpolation == "nearest")
+          o.interpolation = 0;
+        else if (interpolation == "linear")
+          o.interpolation = 1;
+        else if (interpolation == "quadratic")
+          o.interpolation = 2;
+        else
+          throw ModelError("deform_vdb: interpolation '" + interpolation +
+                           "' is not allowed; allowed: nearest, linear, quadratic");
         o.keepVectors = keepVectors;
         o.rebuildLevelSets = rebuild;
         if (splat) o.method = GridFfdOptions::Method::ForwardSplat;

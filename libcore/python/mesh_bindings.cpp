@@ -3,6 +3,7 @@
 #include <pybind11/functional.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -16,8 +17,8 @@
 #include "base/atomic_file.h"
 #include "base/errors.h"
 #include "base/exit_status.h"
-#include "base/progress.h"
 #include "base/process_memory.h"
+#include "base/progress.h"
 #include "base/triangle_geometry.h"
 #include "check/mesh_check.h"
 #include "check/mesh_deviation.h"
@@ -37,6 +38,7 @@
 #include "mesh/mesher.h"
 #include "pipeline/brick_jobs.h"
 #include "pipeline/export_pipeline.h"
+#include "python/binding_helpers.h"
 #include "python/bindings.h"
 #include "repair/repair.h"
 #include "simplify/straighten_creases.h"
@@ -44,7 +46,6 @@
 #include "volume/grid_ffd.h"
 #include "volume/grid_set.h"
 #include "volume/level_sets.h"
-#include "python/binding_helpers.h"
 
 namespace frep {
 
@@ -176,11 +177,14 @@ void bindMesh(py::module_& m) {
           },
           py::arg("other"), "The Hausdorff distance to another mesh, both ways, sampled.");
 
-  m.def("materials", [] {
-    py::dict d;
-    for (const Material& x : materials()) d[x.name] = x.density;
-    return d;
-  }, "The printing materials the printability report knows: name -> density in g/cm3.");
+  m.def(
+      "materials",
+      [] {
+        py::dict d;
+        for (const Material& x : materials()) d[x.name] = x.density;
+        return d;
+      },
+      "The printing materials the printability report knows: name -> density in g/cm3.");
   m.def(
       "read_3mf",
       [](const std::string& path) {

@@ -35,10 +35,14 @@ py::object fromSettingValue(const SettingValue& v) {
 
 const char* kindName(SettingKind kind) {
   switch (kind) {
-    case SettingKind::Switch: return "switch";
-    case SettingKind::WholeNumber: return "whole number";
-    case SettingKind::Distance: return "distance";
-    case SettingKind::Choice: return "choice";
+    case SettingKind::Switch:
+      return "switch";
+    case SettingKind::WholeNumber:
+      return "whole number";
+    case SettingKind::Distance:
+      return "distance";
+    case SettingKind::Choice:
+      return "choice";
   }
   return "?";
 }
@@ -60,8 +64,11 @@ void bindMeshSettings(py::module_& m) {
   for (const MeshSettingInfo& info : meshSettingsTable()) {
     const std::string name = info.name;
     cls.def_property(
-        info.name, [name](const MeshSettings& s) { return fromSettingValue(getMeshSetting(s, name)); },
-        [name](MeshSettings& s, const py::object& v) { setMeshSetting(s, name, toSettingValue(v)); },
+        info.name,
+        [name](const MeshSettings& s) { return fromSettingValue(getMeshSetting(s, name)); },
+        [name](MeshSettings& s, const py::object& v) {
+          setMeshSetting(s, name, toSettingValue(v));
+        },
         spellNames(info.help, [](const std::string& n) { return n; }).c_str());
   }
   cls.def(

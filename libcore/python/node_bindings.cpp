@@ -3,6 +3,7 @@
 #include <pybind11/functional.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -16,8 +17,8 @@
 #include "base/atomic_file.h"
 #include "base/errors.h"
 #include "base/exit_status.h"
-#include "base/progress.h"
 #include "base/process_memory.h"
+#include "base/progress.h"
 #include "base/triangle_geometry.h"
 #include "check/mesh_check.h"
 #include "check/mesh_deviation.h"
@@ -37,6 +38,7 @@
 #include "mesh/mesher.h"
 #include "pipeline/brick_jobs.h"
 #include "pipeline/export_pipeline.h"
+#include "python/binding_helpers.h"
 #include "python/bindings.h"
 #include "repair/repair.h"
 #include "simplify/straighten_creases.h"
@@ -44,7 +46,6 @@
 #include "volume/grid_ffd.h"
 #include "volume/grid_set.h"
 #include "volume/level_sets.h"
-#include "python/binding_helpers.h"
 
 namespace frep {
 
@@ -217,11 +218,12 @@ void bindNode(py::module_& m) {
             d["path"] = path;
             d["vertices"] = piece.keys.size();
             d["triangles"] = piece.triangles.size();
-            d["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            d["seconds"] =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             return d;
           },
-          py::arg("bbox"), py::arg("resolution"), py::arg("jobs"), py::arg("job"),
-          py::arg("path"), py::arg("settings") = MeshSettings(),
+          py::arg("bbox"), py::arg("resolution"), py::arg("jobs"), py::arg("job"), py::arg("path"),
+          py::arg("settings") = MeshSettings(),
           "Meshes job `job` of the run into a piece file at `path` (written atomically).")
       .def(
           "merge_bricks",
@@ -245,7 +247,8 @@ void bindNode(py::module_& m) {
                   // the jobs' check summaries, where every piece has one
                   std::vector<std::string> summaries;
                   for (const std::string& piece : pieces)
-                    if (std::filesystem::exists(piece + ".check")) summaries.push_back(piece + ".check");
+                    if (std::filesystem::exists(piece + ".check"))
+                      summaries.push_back(piece + ".check");
                   if (summaries.size() != pieces.size()) summaries.clear();
                   return exportPieces(plan, pieces, r, path, summaries);
                 },

@@ -107,7 +107,8 @@ GridSet sampleLevelSet(const Field& field, const Box3& box, const LevelSetOption
       if (!mayCross(field.evalInterval(riv[0], riv[1], riv[2]))) continue;
       std::shared_ptr<const Field> holder;
       const Field& f = specialiseInto(
-          field, Box3{{riv[0].lo, riv[1].lo, riv[2].lo}, {riv[0].hi, riv[1].hi, riv[2].hi}}, holder);
+          field, Box3{{riv[0].lo, riv[1].lo, riv[2].lo}, {riv[0].hi, riv[1].hi, riv[2].hi}},
+          holder);
       for (std::int64_t bi = kRegion * ri; bi < std::min(nb[0], kRegion * (ri + 1)); ++bi)
         for (std::int64_t bj = kRegion * rj; bj < std::min(nb[1], kRegion * (rj + 1)); ++bj)
           for (std::int64_t bk = kRegion * rk; bk < std::min(nb[2], kRegion * (rk + 1)); ++bk) {
@@ -136,7 +137,8 @@ GridSet sampleLevelSet(const Field& field, const Box3& box, const LevelSetOption
               // field's values exceed the band's width right next to its surface).
               int m = 0;
               for (int i = 0; i < 512; ++i)
-                if (std::abs(v[i]) < background || std::abs(v[i]) < 2.0 * background * differenceSlope(v, i, h)) {
+                if (std::abs(v[i]) < background ||
+                    std::abs(v[i]) < 2.0 * background * differenceSlope(v, i, h)) {
                   near[m] = i;
                   x[m] = Dual(vx[i], 1, 0, 0);
                   y[m] = Dual(vy[i], 0, 1, 0);
@@ -154,7 +156,8 @@ GridSet sampleLevelSet(const Field& field, const Box3& box, const LevelSetOption
             // OpenVDB's leaf order is x-major like the loop above.
             for (openvdb::Index i = 0; i < 512; ++i) {
               const double sv = v[i] == v[i] ? -v[i] : double(background);
-              const float c = static_cast<float>(std::clamp(sv, -double(background), double(background)));
+              const float c =
+                  static_cast<float>(std::clamp(sv, -double(background), double(background)));
               leaf->setValueOnly(i, c);
               if (std::abs(c) < background) leaf->setValueOn(i);
             }
@@ -214,9 +217,8 @@ GridSet meshToLevelSet(const TriangleMesh& mesh, const LevelSetOptions& o,
     triangles[i] = openvdb::Vec3I(mesh.triangles[i][0], mesh.triangles[i][1], mesh.triangles[i][2]);
   const openvdb::math::Transform::Ptr xform =
       openvdb::math::Transform::createLinearTransform(o.voxel);
-  const float inside = std::isfinite(o.interiorWidthVoxels)
-                           ? float(o.interiorWidthVoxels)
-                           : std::numeric_limits<float>::max();
+  const float inside = std::isfinite(o.interiorWidthVoxels) ? float(o.interiorWidthVoxels)
+                                                            : std::numeric_limits<float>::max();
   openvdb::FloatGrid::Ptr grid = openvdb::tools::meshToSignedDistanceField<openvdb::FloatGrid>(
       *xform, points, triangles, {}, float(o.halfWidthVoxels), inside);
   grid->setGridClass(openvdb::GRID_LEVEL_SET);
@@ -224,7 +226,8 @@ GridSet meshToLevelSet(const TriangleMesh& mesh, const LevelSetOptions& o,
   return gridSetOf({grid});
 }
 
-TriangleMesh levelSetToMesh(const GridSet& grids, std::size_t index, double iso, double adaptivity) {
+TriangleMesh levelSetToMesh(const GridSet& grids, std::size_t index, double iso,
+                            double adaptivity) {
   initializeOpenVdb();
   const openvdb::GridBase::Ptr& g = grids.impl->grids.at(index);
   std::vector<openvdb::Vec3s> points;
@@ -243,7 +246,8 @@ TriangleMesh levelSetToMesh(const GridSet& grids, std::size_t index, double iso,
   for (const auto& t : triangles) m.triangles.push_back({t[0], t[1], t[2]});
   auto d2 = [&](std::uint32_t a, std::uint32_t b) {
     double s = 0;
-    for (int k = 0; k < 3; ++k) s += double(points[a][k] - points[b][k]) * (points[a][k] - points[b][k]);
+    for (int k = 0; k < 3; ++k)
+      s += double(points[a][k] - points[b][k]) * (points[a][k] - points[b][k]);
     return s;
   };
   for (const auto& q : quads) {
