@@ -131,8 +131,8 @@ def _export_3mf(objects, filename, progress, cells, resolution, bbox, force, set
             solid, (box, cell) = solid_and_box([obj], None if own else cells,
                                                None if own else resolution,
                                                None if own else bbox)
-            mesh = solid.node.mesh(box, cell, lambda f, i=i: tick(i * share + f * share), False,
-                                   settings_for(obj, None if own else settings))
+            mesh = solid.node.mesh(box, cell, frepcore.progress_part(tick, i * share, share),
+                                   False, settings_for(obj, None if own else settings))
             FRepMeshing.warn_thin_parts(obj.Label, getattr(mesh, "thin_parts", None))
             FRepMeshing.report_straightened(obj.Label, getattr(mesh, "straightened", None))
             meshes.append((obj.Label, mesh))
@@ -140,7 +140,7 @@ def _export_3mf(objects, filename, progress, cells, resolution, bbox, force, set
         report = frepcore.write_3mf(
             meshes, filename, unit=unit, force=force,
             metadata={"Title": doc.Label, "Application": "FRepCAD workbench for FreeCAD"},
-            progress=lambda f: tick(0.8 + 0.2 * f))
+            progress=frepcore.progress_part(tick, 0.8, 0.2))
         report["triangles"] = sum(m.triangle_count for _, m in meshes)
         if not report["written"]:
             refused = [o["name"] for o in report["objects"] if not o["printable"]]

@@ -36,7 +36,7 @@ __all__ = ["Cancelled", "Mesh", "MeshSettings", "mesh_settings_table", "Node", "
            "vdb_to_mesh", "Lattice", "deform_mesh", "deform_vdb", "read_lattice",
            "parse_lattice", "read_3mf", "write_3mf", "materials", "HSpline", "parse_hs",
            "read_hs", "read_step_summary", "attach_cylinder", "mesh_settings", "EXIT_STATUS",
-           "exit_status_of"]
+           "exit_status_of", "progress_part"]
 
 # Positional order of the parameters of the primitive functions, where the registry's order
 # (placement first) would be awkward to call: fc.cylinder(radius, length).
@@ -283,10 +283,13 @@ def _flattened(type_id, a, b):
     return Shape(Node(type_id, {}, inputs))
 
 
-def _scaled(progress, lo, hi):
+def progress_part(progress, start, share):
+    """The part [start, start + share) of a progress(fraction) callback's bar as a callback of
+    its own (None for None): Python's side of libcore's one progress type (base/progress.h),
+    so that no caller scales fractions by hand."""
     if progress is None:
         return None
-    return lambda f: progress(lo + (hi - lo) * f)
+    return lambda f: progress(start + share * f)
 
 
 def automatic_box(shape, resolution=None, bbox=None, cells=None, padding_cells=1.5,
