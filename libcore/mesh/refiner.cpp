@@ -146,5 +146,53 @@ void Refiner::evaluate(const std::vector<std::array<std::int64_t, 3>>& points) {
     values_[keys[i]] = combine(v[i], g_.boxField(x[i], y[i], z[i]));
 }
 
+std::vector<std::uint64_t> Refiner::halvesOfFarCubes() const {
+  std::vector<std::uint64_t> out;
+  for (std::uint64_t id : mustRefine_) {
+    if (!region_.count(id)) continue;
+    std::int64_t c[3];
+    cubeOf(id, c);
+    for (int h = 0; h < 8; ++h) out.push_back(halfCubeId(c, h));
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+void Refiner::handDown(Refiner& next) const {
+  for (const auto& [key, v] : sides_) {
+    std::int64_t f[3];
+    f[0] = static_cast<std::int64_t>(key % finePoints_[0]);
+    f[1] = static_cast<std::int64_t>((key / finePoints_[0]) % finePoints_[1]);
+    f[2] = static_cast<std::int64_t>(key / (finePoints_[0] * finePoints_[1]));
+    const std::int64_t there[3] = {2 * f[0], 2 * f[1], 2 * f[2]};
+    next.values_[next.fineKey(there)] = v;
+  }
+  next.above_ = this;
+}
+
+void Refiner::reset(const TriangleMesh& original) {
+  mesh_ = original;
+  region_.clear();
+  cubes_.clear();
+  removed_.clear();
+  seam_.clear();
+  cells_.clear();
+  edgeVertex_.clear();
+  rootVertex_.clear();
+  roots_.clear();
+  stats_.cubes = stats_.trianglesRemoved = stats_.trianglesAdded = 0;
+}
+
+void Refiner::evaluateCubes(const std::vector<std::uint64_t>& cubes) {
+  std::vector<std::array<std::int64_t, 3>> pts;
+  for (std::uint64_t id : cubes) {
+    std::int64_t c[3];
+    cubeOf(id, c);
+    for (int d = 0; d < 27; ++d)
+      pts.push_back({2 * c[0] + d % 3, 2 * c[1] + (d / 3) % 3, 2 * c[2] + d / 9});
+  }
+  evaluate(pts);
+}
+
 }  // namespace refinement
 }  // namespace frep

@@ -142,47 +142,16 @@ class Refiner {
   }
   // The half cubes of the cubes refined for lying far from the surface (in the region): the
   // next level looks at them again, on this level's mesh.
-  std::vector<std::uint64_t> halvesOfFarCubes() const {
-    std::vector<std::uint64_t> out;
-    for (std::uint64_t id : mustRefine_) {
-      if (!region_.count(id)) continue;
-      std::int64_t c[3];
-      cubeOf(id, c);
-      for (int h = 0; h < 8; ++h) out.push_back(halfCubeId(c, h));
-    }
-    std::sort(out.begin(), out.end());
-    return out;
-  }
+  std::vector<std::uint64_t> halvesOfFarCubes() const;
   // Takes the sides this level meshed the region's points with as the next level's grid
   // values, and its region as where the next level may refine.
-  void handDown(Refiner& next) const {
-    for (const auto& [key, v] : sides_) {
-      std::int64_t f[3];
-      f[0] = static_cast<std::int64_t>(key % finePoints_[0]);
-      f[1] = static_cast<std::int64_t>((key / finePoints_[0]) % finePoints_[1]);
-      f[2] = static_cast<std::int64_t>(key / (finePoints_[0] * finePoints_[1]));
-      const std::int64_t there[3] = {2 * f[0], 2 * f[1], 2 * f[2]};
-      next.values_[next.fineKey(there)] = v;
-    }
-    next.above_ = this;
-  }
+  void handDown(Refiner& next) const;
   void recordSides();
 
   void run(const std::vector<std::uint64_t>& seedCubes, std::size_t maxCubes);
 
  private:
-  void reset(const TriangleMesh& original) {
-    mesh_ = original;
-    region_.clear();
-    cubes_.clear();
-    removed_.clear();
-    seam_.clear();
-    cells_.clear();
-    edgeVertex_.clear();
-    rootVertex_.clear();
-    roots_.clear();
-    stats_.cubes = stats_.trianglesRemoved = stats_.trianglesAdded = 0;
-  }
+  void reset(const TriangleMesh& original);
 
   // ---- indices
   std::uint64_t cubeId(std::int64_t i, std::int64_t j, std::int64_t k) const {
@@ -212,16 +181,7 @@ class Refiner {
 
   // ---- values of the half-cell grid
   void evaluate(const std::vector<std::array<std::int64_t, 3>>& points);
-  void evaluateCubes(const std::vector<std::uint64_t>& cubes) {
-    std::vector<std::array<std::int64_t, 3>> pts;
-    for (std::uint64_t id : cubes) {
-      std::int64_t c[3];
-      cubeOf(id, c);
-      for (int d = 0; d < 27; ++d)
-        pts.push_back({2 * c[0] + d % 3, 2 * c[1] + (d / 3) % 3, 2 * c[2] + d / 9});
-    }
-    evaluate(pts);
-  }
+  void evaluateCubes(const std::vector<std::uint64_t>& cubes);
   double value(const std::int64_t f[3]) const {
     const auto it = values_.find(fineKey(f));
     if (it == values_.end()) throw Abort("a point of the half-cell grid was not evaluated");
@@ -395,15 +355,7 @@ class Refiner {
       if (c[a] < n.lo[a] || c[a] > n.hi[a]) return false;
     return true;
   }
-  void setSpan(Near& n) const {
-    const auto& P = mesh_.positions;
-    const Triangle& tr = mesh_.triangles[n.t];
-    for (int a = 0; a < 3; ++a) {
-      const float mn = std::min({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]});
-      const float mx = std::max({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]});
-      span(a, mn, mx, &n.lo[a], &n.hi[a]);
-    }
-  }
+  void setSpan(Near& n) const;
   // A crease flip's pair (mesh/crease_flips.h), (v1, a, v2) and (v1, v2, b) with v1 and v2
   // feature vertices inside two cubes sharing a face and a, b on it, is turned back into the
   // two cubes' own fan triangles (v1, a, b) and (v2, b, a), as the cube extraction made them
@@ -414,17 +366,7 @@ class Refiner {
 
   // Cubes that must be refined together with the refined ones among them: queued to join,
   // or, where one of them was left out, the refined ones are left out too.
-  void join(const std::vector<std::uint64_t>& cubes, std::vector<std::uint64_t>* joined) {
-    bool conflict = false;
-    for (std::uint64_t id : cubes) conflict = conflict || isBanned(id);
-    if (!conflict) {
-      for (std::uint64_t id : cubes)
-        if (!region_.count(id)) joined->push_back(id);
-      return;
-    }
-    for (std::uint64_t id : cubes)
-      if (region_.count(id)) failed_.cubes.push_back(id);
-  }
+  void join(const std::vector<std::uint64_t>& cubes, std::vector<std::uint64_t>* joined);
 
   // The grid-edge vertices of the removed triangles: the coarse crossings virtual edges keep.
   void findEdgeVertices();

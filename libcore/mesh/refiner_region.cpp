@@ -407,5 +407,27 @@ void Refiner::close(std::size_t maxCubes) {
   std::sort(cubes_.begin(), cubes_.end());
 }
 
+void Refiner::setSpan(Near& n) const {
+  const auto& P = mesh_.positions;
+  const Triangle& tr = mesh_.triangles[n.t];
+  for (int a = 0; a < 3; ++a) {
+    const float mn = std::min({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]});
+    const float mx = std::max({P[tr[0]][a], P[tr[1]][a], P[tr[2]][a]});
+    span(a, mn, mx, &n.lo[a], &n.hi[a]);
+  }
+}
+
+void Refiner::join(const std::vector<std::uint64_t>& cubes, std::vector<std::uint64_t>* joined) {
+  bool conflict = false;
+  for (std::uint64_t id : cubes) conflict = conflict || isBanned(id);
+  if (!conflict) {
+    for (std::uint64_t id : cubes)
+      if (!region_.count(id)) joined->push_back(id);
+    return;
+  }
+  for (std::uint64_t id : cubes)
+    if (region_.count(id)) failed_.cubes.push_back(id);
+}
+
 }  // namespace refinement
 }  // namespace frep
