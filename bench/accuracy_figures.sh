@@ -1,5 +1,5 @@
 #!/bin/bash
-# Issue 12's accuracy acceptance in one run: each reference model exported at 128, 256 and
+# The meshing's accuracy goals in one run: each reference model exported at 128, 256 and
 # 512 cells with --stats (the default mesher), the gyroid again with --refine tips
 # --refine-levels 2 and the twist with --straighten-creases: the check's verdict, the
 # Hausdorff distance to the exact surface in cells (goal 0.5), the volume (the sphere's

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes examples/helix.json, the reference model 'helix' of issue 5, exactly:
+"""Writes examples/helix.json, the reference model 'helix', exactly:
 
 20 spheres of radius 0.3, f_i = 0.3 - |p - c_i|, centred at c_i = (cos t, sin t, t/4 - 3 pi/4)
 with t = i 6 pi / 19 (i = 0..19), chained by Pasko's blend union on the max union

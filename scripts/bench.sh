@@ -16,7 +16,7 @@ FREECAD_USER_HOME="$home" FREPCORE_PATH="$(realpath "$build")/python" \
   "$FREP_PYTHON" bench/workbench_latency.py "$build/bench-workbench.json" 2>&1 \
   | grep -v '^ *#\|^$\|^FreeCAD\|^©\|wouldn.t be possible'
 
-# How fast an hspline drag updates the document (issue 15): build/bench-hspline.json.
+# How fast an hspline drag updates the document: build/bench-hspline.json.
 FREECAD_USER_HOME="$home" FREPCORE_PATH="$(realpath "$build")/python" \
   "$FREP_PYTHON" bench/hspline_latency.py "$build/bench-hspline.json" 2>&1 \
   | grep -v '^ *#\|^$\|^FreeCAD\|^©\|wouldn.t be possible'
