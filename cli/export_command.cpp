@@ -17,6 +17,7 @@
 #include "cli/terminal_progress.h"
 #include "frep/model_json.h"
 #include "frep/structural_bounds.h"
+#include "pipeline/brick_jobs.h"
 #include "pipeline/export_pipeline.h"
 
 namespace frep::cli {
@@ -159,9 +160,11 @@ ExportOptions parseExportOptions(const Args& args) {
     // (the simplifier, the straightening and the accuracy report work on the whole mesh, a
     // brick job's refined cubes would change its neighbours' faces; a level set is OpenVDB's,
     // a document FreeCAD's)
-    for (const char* option : {"tolerance", "straighten_creases", "refine"})
-      if (getMeshSetting(o.mesh, option) != getMeshSetting(MeshSettings{}, option))
-        throw UsageError("--bricks cannot be combined with " + settingFlag(option) + " yet");
+    try {
+      checkBrickJobSettings(o.mesh);
+    } catch (const SettingError& e) {
+      throw flagError(e);
+    }
     if (o.stats) throw UsageError("--bricks cannot be combined with --stats yet");
     if (isVdbPath(o.output)) throw UsageError("--bricks writes meshes, not .vdb volumes");
     if (isDocumentPath(o.input))

@@ -38,7 +38,7 @@ void set(MeshSettings& settings, const std::string& option, const SettingValue& 
   try {
     setMeshSetting(settings, option, value);
   } catch (const SettingError& e) {
-    throw UsageError(spellFlags(e.templ));
+    throw flagError(e);
   }
   given.insert(option);
 }
@@ -125,11 +125,15 @@ bool takeMeshSettingFlag(const Args& args, std::size_t& i, MeshSettings& setting
   return false;
 }
 
+UsageError flagError(const SettingError& error) {
+  return UsageError(spellFlags(error.templ));
+}
+
 void validateMeshFlags(const MeshSettings& settings) {
   try {
     settings.validate();
   } catch (const SettingError& e) {
-    throw UsageError(spellFlags(e.templ));
+    throw flagError(e);
   }
 }
 

@@ -21,6 +21,9 @@ std::string settingFlag(const std::string& option);
 bool takeMeshSettingFlag(const Args& args, std::size_t& i, MeshSettings& settings,
                          std::set<std::string>& given);
 
+// A SettingError as a UsageError that names the flags.
+UsageError flagError(const SettingError& error);
+
 // MeshSettings::validate, its error as a UsageError that names the flags.
 void validateMeshFlags(const MeshSettings& settings);
 

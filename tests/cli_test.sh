@@ -61,7 +61,7 @@ if [ -z "$plain" ] || [ -z "$straight" ] || [ "$straight" -ge "$plain" ]; then
   echo "FAIL: --straighten-creases on a document made $straight triangles against $plain"
   failures=$((failures + 1))
 fi
-expect 2 "--bricks cannot be combined with --straighten-creases yet" -- "$frepcad" export "$src/examples/twist.json" -o "$work/x.stl" --straighten-creases --bricks 8
+expect 2 "brick jobs cannot be combined with --straighten-creases yet" -- "$frepcad" export "$src/examples/twist.json" -o "$work/x.stl" --straighten-creases --bricks 8
 # a ball and a fin 0.3 cell thick between two layers of grid points: printable, with a warning
 echo '{"root": {"type": "union", "inputs": [{"type": "sphere", "params": {"radius": 0.5}},
   {"type": "box", "params": {"corner": [-0.015, 0.6, 0.6], "size": [0.03, 0.3, 0.3]}}]},
@@ -79,7 +79,7 @@ echo '{"root": {"type": "union", "inputs": [{"type": "sphere", "params": {"radiu
 expect 0 "components +1" -- "$frepcad" export "$work/fin4.json" -o "$work/fin4.stl" --refine-thin-parts --stats
 expect 0 "smaller cubes meshed again below that, down to a cell / 4" -- "$frepcad" export "$work/fin4.json" -o "$work/fin4.stl" --refine-thin-parts --refine-levels 2
 expect 0 "components +2" -- "$frepcad" export "$work/fin4.json" -o "$work/fin4.stl" --refine-thin-parts --refine-levels 2 --stats
-expect 2 "--bricks cannot be combined with --refine yet" -- "$frepcad" export "$src/examples/twist.json" -o "$work/x.stl" --refine-tips --bricks 8
+expect 2 "brick jobs cannot be combined with --refine yet" -- "$frepcad" export "$src/examples/twist.json" -o "$work/x.stl" --refine-tips --bricks 8
 expect 2 "--refine-levels 2 applies to a refinement: set --refine to thin-parts or tips, or --refine-levels to 1" -- "$frepcad" export "$work/fin4.json" -o "$work/x.stl" --refine-levels 2
 expect 2 "--refine-levels must be a whole number from 1 to 3, got 4" -- "$frepcad" export "$work/fin4.json" -o "$work/x.stl" --refine tips --refine-levels 4
 expect 2 "--refine must be off, thin-parts or tips, got 'all'" -- "$frepcad" export "$work/fin4.json" -o "$work/x.stl" --refine all

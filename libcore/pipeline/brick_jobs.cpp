@@ -51,9 +51,7 @@ std::uint64_t textFingerprint(const std::string& text) {
   return h;
 }
 
-BrickJobPlan planBrickJobs(const MeshingBox& box, const MeshSettings& settings, std::uint32_t jobs,
-                           std::uint64_t model) {
-  settings.validate();
+void checkBrickJobSettings(const MeshSettings& settings) {
   // (the simplifier and the straightening work on the whole mesh; a job's refined cubes
   // would change its neighbours' faces)
   for (const char* option : {"refine", "straighten_creases", "tolerance"})
@@ -61,6 +59,12 @@ BrickJobPlan planBrickJobs(const MeshingBox& box, const MeshSettings& settings, 
       throw SettingError(option, std::string("brick jobs cannot be combined with {") + option +
                                      "} yet: leave it at " +
                                      settingText(getMeshSetting(MeshSettings{}, option)));
+}
+
+BrickJobPlan planBrickJobs(const MeshingBox& box, const MeshSettings& settings, std::uint32_t jobs,
+                           std::uint64_t model) {
+  settings.validate();
+  checkBrickJobSettings(settings);
   if (jobs < 1 || jobs > kMaxBrickJobs)
     throw ModelError("bricks: the number of brick jobs must be 1 to " +
                      std::to_string(kMaxBrickJobs) + ", got " + std::to_string(jobs));

@@ -32,6 +32,10 @@ struct BrickJobPlan {
 // A 64-bit fingerprint of a text (FNV-1a): the model's part of a run's id.
 std::uint64_t textFingerprint(const std::string& text);
 
+// The settings a brick job cannot take yet (a refinement, straightened creases, a
+// tolerance): SettingError naming the first. planBrickJobs checks them too.
+void checkBrickJobSettings(const MeshSettings& settings);
+
 // Splits the box's bricks into `jobs` boxes of bricks, as even and as cubic as the job
 // count's factors allow. `model` is a fingerprint of the model (textFingerprint of its JSON).
 // Throws ModelError for a job count below 1, above kMaxBrickJobs or above what the bricks
