@@ -229,9 +229,12 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
   slabStart.push_back(layers);
 
   // Two faces with a common vertex whose fan is proved embedded cannot intersect.
-  auto shareEmbeddedFan = [&](const FaceIndices& f, const FaceIndices& g) {
-    for (std::uint32_t v : f)
-      if ((v == g[0] || v == g[1] || v == g[2]) && (*embeddedFans)[v]) return true;
+  auto sharesEmbeddedFan = [](const auto& a, const auto& b) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = a.corners[k];
+      if ((a.flags & (8 << k)) && (v == b.corners[0] || v == b.corners[1] || v == b.corners[2]))
+        return true;
+    }
     return false;
   };
   tbb::enumerable_thread_specific<std::size_t> found(0);
@@ -332,12 +335,15 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
       tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 1024),
                         [&](const tbb::blocked_range<std::size_t>& range) {
                           std::size_t& local = found.local();
-                          // A cell's faces, copied together first: each pair then reads nearby
-                          // memory.
+                          // A cell's faces, copied together first with what the pair rule
+                          // and the shared-fan rule read: each pair then reads nearby memory.
                           struct Item {
                             Box box;
-                            Cell lo;
+                            FaceIndices corners;
                             std::uint32_t face;
+                            // bit k: the box starts in this cell along axis k; bit 3 + c:
+                            // corner c's fan is proved embedded
+                            std::uint8_t flags;
                           };
                           std::vector<Item> items;
                           for (std::size_t next = range.begin(); next < range.end();) {
@@ -351,31 +357,37 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
                             next = to;
                             if (to - from < 2) continue;
                             const std::uint64_t here = cellOf(from);
-                            const std::uint32_t ci = static_cast<std::uint32_t>(here % dx),
-                                                cj = static_cast<std::uint32_t>(here % dxy / dx),
-                                                ck = static_cast<std::uint32_t>(here / dxy + k0);
+                            const Cell c = {static_cast<std::uint32_t>(here % dx),
+                                            static_cast<std::uint32_t>(here % dxy / dx),
+                                            static_cast<std::uint32_t>(here / dxy + k0)};
                             items.clear();
                             for (std::size_t e = from; e < to; ++e) {
                               const std::uint32_t f = static_cast<std::uint32_t>(entries[e]);
                               Item item;
                               item.box = boxOf(f);
-                              Cell hi;
-                              cellsOf(item.box, item.lo, hi);
+                              item.corners = faces[f];
                               item.face = f;
+                              Cell lo, hi;
+                              cellsOf(item.box, lo, hi);
+                              item.flags = 0;
+                              for (int k = 0; k < 3; ++k) {
+                                item.flags |= static_cast<std::uint8_t>((lo[k] == c[k]) << k);
+                                if (embeddedFans && (*embeddedFans)[item.corners[k]])
+                                  item.flags |= static_cast<std::uint8_t>(8 << k);
+                              }
                               items.push_back(item);
                             }
                             for (std::size_t a = 0; a < items.size(); ++a) {
                               const Item& ia = items[a];
                               for (std::size_t b = a + 1; b < items.size(); ++b) {
                                 const Item& ib = items[b];
+                                // The pair is tested in the cell holding the lowest corner of
+                                // the boxes' intersection: along each axis one of the two
+                                // starts here (both reach this cell).
+                                if (((ia.flags | ib.flags) & 7) != 7) continue;
                                 if (!overlap(ia.box, ib.box)) continue;
-                                if (std::max(ia.lo[0], ib.lo[0]) != ci ||
-                                    std::max(ia.lo[1], ib.lo[1]) != cj ||
-                                    std::max(ia.lo[2], ib.lo[2]) != ck)
-                                  continue;
-                                const FaceIndices &fa = faces[ia.face], &fb = faces[ib.face];
-                                if (embeddedFans && shareEmbeddedFan(fa, fb)) continue;
-                                if (facesIntersect(points, fa, fb)) ++local;
+                                if (sharesEmbeddedFan(ia, ib)) continue;
+                                if (facesIntersect(points, ia.corners, ib.corners)) ++local;
                               }
                             }
                           }

@@ -12,10 +12,12 @@
 #include <future>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <sstream>
 
 #include "base/errors.h"
 #include "base/mesh_invariants.h"
+#include "base/phase_times.h"
 #include "base/progress.h"
 #include "base/qef.h"
 #include "base/triangle_geometry.h"
@@ -173,6 +175,7 @@ TriangleMesh weld(const Grid& g, int bc, const std::int64_t bricksPerAxis[3],
   // The output's arrays are zeroed by one thread, and most of that is the first touch of
   // fresh pages (0.1 s on the gyroid at 256 cells): done on a thread of their own while the
   // numbering below runs on the others. (Declared after `mesh`: joined before it goes.)
+  std::optional<Phase> serial(std::in_place, "mesh: weld's serial parts", PhaseKind::Serial);
   TriangleMesh mesh;
   std::vector<std::size_t> firstTriangle(count + 1, 0);
   for (std::size_t i = 0; i < count; ++i)
@@ -187,6 +190,7 @@ TriangleMesh weld(const Grid& g, int bc, const std::int64_t bricksPerAxis[3],
     brickIndex[i] = {brickLinear(b), static_cast<std::uint32_t>(i)};
   }
   std::sort(brickIndex.begin(), brickIndex.end());
+  serial.reset();
 
   // 1. Per brick: its own vertices, numbered in local order; the keys others may ask for
   // (those on its lower faces: a neighbour's upper face), sorted.
@@ -207,12 +211,14 @@ TriangleMesh weld(const Grid& g, int bc, const std::int64_t bricksPerAxis[3],
     std::sort(ownedKeys[i].begin(), ownedKeys[i].end());
     base[i + 1] = static_cast<std::size_t>(next);
   });
+  serial.emplace("mesh: weld's serial parts", PhaseKind::Serial);
   for (std::size_t i = 0; i < count; ++i) base[i + 1] += base[i];
   std::future<void> zeroedPositions =
       std::async(std::launch::async, [&mesh, &base, count, normals] {
         mesh.positions.resize(base[count]);
         if (normals) mesh.normals.resize(base[count]);
       });
+  serial.reset();
 
   // 2. Per brick: the global number of every local vertex.
   std::vector<std::vector<std::uint32_t>> global(count);
@@ -248,11 +254,13 @@ TriangleMesh weld(const Grid& g, int bc, const std::int64_t bricksPerAxis[3],
   }
 
   // 3. Positions, normals and triangles, written in place per brick.
+  serial.emplace("mesh: weld's serial parts", PhaseKind::Serial);
   zeroed.get();
   zeroedPositions.get();
   for (std::size_t i = 0; i < count; ++i)
     for (std::uint32_t t : results[i].flippable)
       flippable->push_back(static_cast<std::uint32_t>(firstTriangle[i]) + t);
+  serial.reset();
   tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
     BrickResult& r = results[i];
     for (std::size_t v = 0; v < r.keys.size(); ++v)
@@ -445,7 +453,10 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
   const Grid g = makeGrid(opt, &cells, b1);
   const int bc = opt.brickCells;
   std::vector<ActiveBrick> bricks;
-  collectBricks(field, nullptr, g, cells, bc, b0, b1, bricks);
+  {
+    const Phase phase("mesh: the octree of bricks", PhaseKind::Serial);
+    collectBricks(field, nullptr, g, cells, bc, b0, b1, bricks);
+  }
   refuseOverBudget(opt, g, bricks.size());
 
   // The bar: the bricks up to 0.95, or, where the thin parts are refined (several times the
@@ -457,8 +468,13 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
   MeshingOptions brickOptions = opt;
   brickOptions.progress = bar.sub(0.0, bricksEnd).callback();
   std::vector<BrickResult> results;
-  const std::size_t evaluated = meshBricks(field, g, brickOptions, bricks, results);
+  std::size_t evaluated = 0;
+  {
+    const Phase phase("mesh: bricks", PhaseKind::Parallel);
+    evaluated = meshBricks(field, g, brickOptions, bricks, results);
+  }
   std::size_t refinementEvaluations = 0;
+  const Phase gather("mesh: thin parts and hidden edges gathered", PhaseKind::Serial);
   countThinParts(results, stats);
   std::vector<std::uint64_t> hiddenEdges;
   for (const BrickResult& b : results) {
@@ -469,9 +485,17 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
   }
   bool bySorting = false;
   std::vector<std::uint32_t> flippable;
-  TriangleMesh mesh = weld(g, bc, b1, bricks, results, opt.normals, &bySorting, &flippable);
-  flipCreases(mesh, flippable);
+  TriangleMesh mesh;
+  {
+    const Phase phase("mesh: weld", PhaseKind::Parallel);
+    mesh = weld(g, bc, b1, bricks, results, opt.normals, &bySorting, &flippable);
+  }
+  {
+    const Phase phase("mesh: crease flips", PhaseKind::Serial);
+    flipCreases(mesh, flippable);
+  }
   if (!hiddenEdges.empty() || (refining && opt.settings.refineLevels > 1)) {
+    const Phase phase("mesh: refinement", PhaseKind::Parallel);
     std::sort(hiddenEdges.begin(), hiddenEdges.end());
     LocalRefinementStats rs;
     // (the bricks' own bar ends at 0.95 of theirs: the weld takes the rest)

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "base/errors.h"
+#include "base/phase_times.h"
 #include "base/progress.h"
 
 namespace frep {
@@ -125,6 +126,7 @@ ExportResult exportField(const Field& field, const ExportRequest& request, const
   ExportResult result;
 
   auto t = Clock::now();
+  std::optional<Phase> phase(std::in_place, "export: the box", PhaseKind::Serial);
   report(ExportStage::Bounds, 0.0);
   try {
     result.box = chooseBox(field, request.known, request.box);
@@ -135,6 +137,7 @@ ExportResult exportField(const Field& field, const ExportRequest& request, const
   result.seconds[0] = since(t);
 
   t = Clock::now();
+  phase.reset();
   MeshingOptions o;
   o.bbox = result.box.box;
   o.resolution = result.box.resolution;
@@ -204,7 +207,9 @@ ExportResult exportField(const Field& field, const ExportRequest& request, const
       // next phase, before anything is written.
       report(ExportStage::Check, f);
     });
+    phase.emplace("export: waiting for the file", PhaseKind::Serial);
     if (writing.valid()) pending = writing.get();  // (a write error is thrown here)
+    phase.reset();
     // Every collapse was proved safe, so a refused simplification is a bug; the mesher's
     // own mesh is checked then and written if printable, and the result says so.
     if (!result.report.printable() && (result.simplified || result.straightened)) {
@@ -232,6 +237,7 @@ ExportResult exportField(const Field& field, const ExportRequest& request, const
   }
 
   t = Clock::now();
+  phase.emplace("export: writing", PhaseKind::Serial);
   report(ExportStage::Write, 0.0);
   if (!pending)  // (no check, or the mesh changed after a refused simplification)
     pending = writeUncommitted(

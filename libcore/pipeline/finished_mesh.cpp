@@ -6,6 +6,7 @@
 
 #include "base/errors.h"
 #include "base/mesh_invariants.h"
+#include "base/phase_times.h"
 #include "base/progress.h"
 #include "simplify/straighten_creases.h"
 
@@ -35,12 +36,14 @@ FinishedMesh meshAndFinish(const Field& field, MeshingOptions options,
     changed = true;
   };
   if (settings.straightenCreases) {
+    const Phase timed("finish: straightened creases", PhaseKind::Parallel);
     StraightenOptions st{options.bbox, options.resolution, phase[1].callback()};
     replace(straightenCreases(out.mesh, field, st, &out.straighten));
     FREP_ASSERT_MESH(out.mesh, "the straightening");
     out.straightened = true;
   }
   if (settings.tolerance) {
+    const Phase timed("finish: simplification", PhaseKind::Parallel);
     SimplifyOptions so;
     so.bbox = options.bbox;
     so.cell = options.resolution;
