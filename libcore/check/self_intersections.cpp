@@ -9,7 +9,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <optional>
 
+#include "base/phase_times.h"
 #include "check/cgal_surface.h"
 #include "check/face_pair_test.h"
 
@@ -21,11 +23,77 @@ struct Box {  // a face's box: floats, exact (the coordinates are floats)
   float lo[3], hi[3];
 };
 
-bool overlap(const Box& a, const Box& b) {  // closed boxes, as CGAL's box intersection
-  for (int k = 0; k < 3; ++k)
-    if (a.hi[k] < b.lo[k] || b.hi[k] < a.lo[k]) return false;
-  return true;
-}
+// The faces whose boxes reach one grid cell, copied side by side (one array per coordinate,
+// so the compiler tests a face against many at once) with what the pair rules read: bits
+// 0-2 of a face's flags say its box starts in this cell along x, y, z; bit 3 + c that its
+// corner c's fan is proved embedded.
+class CellFaces {
+ public:
+  // Room for m faces, set by set().
+  void resize(std::size_t m) {
+    for (int k = 0; k < 3; ++k) {
+      lo_[k].resize(m);
+      hi_[k].resize(m);
+      corner_[k].resize(m);
+    }
+    flags_.resize(m);
+  }
+  void set(std::size_t i, const Box& b, const FaceIndices& corners, std::uint32_t flags) {
+    for (int k = 0; k < 3; ++k) {
+      lo_[k][i] = b.lo[k];
+      hi_[k][i] = b.hi[k];
+      corner_[k][i] = corners[k];
+    }
+    flags_[i] = flags;
+  }
+  FaceIndices corners(std::size_t i) const { return {corner_[0][i], corner_[1][i], corner_[2][i]}; }
+
+  // Calls test(a, b), a < b, for each pair that must be tested here: their boxes overlap
+  // (closed boxes, as CGAL's box intersection), this cell holds the lowest corner of the
+  // boxes' intersection (along each axis one of the two starts here: both reach it), so each
+  // pair is met in one cell only, and they share no vertex whose fan is proved embedded (two
+  // such faces cannot intersect).
+  template <class Test>
+  void forEachCandidate(Test&& test) {
+    const std::size_t m = flags_.size();
+    keep_.resize(m);
+    for (std::size_t a = 0; a + 1 < m; ++a) {
+      const float alx = lo_[0][a], aly = lo_[1][a], alz = lo_[2][a];
+      const float ahx = hi_[0][a], ahy = hi_[1][a], ahz = hi_[2][a];
+      const std::uint32_t fa = flags_[a];
+      // a's corners with proved fans (an index that matches nothing where unproved)
+      const std::uint32_t e0 = (fa & 8) ? corner_[0][a] : kNone;
+      const std::uint32_t e1 = (fa & 16) ? corner_[1][a] : kNone;
+      const std::uint32_t e2 = (fa & 32) ? corner_[2][a] : kNone;
+      const float *blx = lo_[0].data(), *bly = lo_[1].data(), *blz = lo_[2].data();
+      const float *bhx = hi_[0].data(), *bhy = hi_[1].data(), *bhz = hi_[2].data();
+      const std::uint32_t *c0 = corner_[0].data(), *c1 = corner_[1].data(), *c2 = corner_[2].data();
+      const std::uint32_t* fb = flags_.data();
+      std::uint32_t* keep = keep_.data();
+      std::uint32_t any = 0;
+      // (branch-free, so that it vectorises: most pairs fail one rule or another)
+      for (std::size_t b = a + 1; b < m; ++b) {
+        const bool corner = ((fa | fb[b]) & 7u) == 7u;
+        const bool boxes = (ahx >= blx[b]) & (bhx[b] >= alx) & (ahy >= bly[b]) & (bhy[b] >= aly) &
+                           (ahz >= blz[b]) & (bhz[b] >= alz);
+        const bool shared = (e0 == c0[b]) | (e0 == c1[b]) | (e0 == c2[b]) | (e1 == c0[b]) |
+                            (e1 == c1[b]) | (e1 == c2[b]) | (e2 == c0[b]) | (e2 == c1[b]) |
+                            (e2 == c2[b]);
+        keep[b] = static_cast<std::uint32_t>(corner & boxes & !shared);
+        any |= keep[b];
+      }
+      if (!any) continue;
+      for (std::size_t b = a + 1; b < m; ++b)
+        if (keep[b]) test(a, b);
+    }
+  }
+
+ private:
+  static constexpr std::uint32_t kNone = UINT32_MAX;  // (no vertex has this index)
+  std::vector<float> lo_[3], hi_[3];
+  std::vector<std::uint32_t> corner_[3], flags_;
+  std::vector<std::uint32_t> keep_;
+};
 
 // Grid limits: beyond them the grid would not pay and CGAL's box tree is used.
 constexpr double kMaxEntriesPerFace = 12.0;  // cells a face's box covers, on average
@@ -178,6 +246,8 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
           for (std::uint64_t i = lo[0]; i <= hi[0]; ++i) use((k - k0) * dxy + j * dx + i, f);
     }
   };
+  std::optional<Phase> phase(std::in_place, "check: self-intersections: layers",
+                             PhaseKind::Parallel);
   // 1. Each block's and run's layers (a slab visits only those that reach into it), the entries
   // by layer, and whether a face covers more cells than all faces together may have (a
   // giant face: CGAL's box tree takes over).
@@ -228,16 +298,8 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
   }
   slabStart.push_back(layers);
 
-  // Two faces with a common vertex whose fan is proved embedded cannot intersect.
-  auto sharesEmbeddedFan = [](const auto& a, const auto& b) {
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t v = a.corners[k];
-      if ((a.flags & (8 << k)) && (v == b.corners[0] || v == b.corners[1] || v == b.corners[2]))
-        return true;
-    }
-    return false;
-  };
   tbb::enumerable_thread_specific<std::size_t> found(0);
+  tbb::enumerable_thread_specific<CellFaces> cellFaces;
   std::vector<std::uint64_t> entries;
   std::vector<std::size_t> at;  // by block, then bucket: where the block writes next
   tbb::enumerable_thread_specific<std::vector<std::uint64_t>> scratch;
@@ -245,6 +307,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
   for (std::size_t slab = 0; slab + 1 < slabStart.size(); ++slab) {
     const std::uint64_t k0 = slabStart[slab], k1 = slabStart[slab + 1];
     auto reaches = [&](std::size_t block) { return blockLayers[block].reach(k0, k1); };
+    phase.emplace("check: self-intersections: entries", PhaseKind::Parallel);
     // 2. The slab's entries, (cell << 32 | face) for every cell a face's box covers,
     // grouped by cell: a counting sort on the cell's top 8 bits straight into place (each
     // block of faces counts its entries per bucket, then writes them where its counts
@@ -281,6 +344,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
     });
     auto cellOf = [&](std::size_t e) { return entries[e] >> 32; };
     tbb::enumerable_thread_specific<double> bucketPairs(0.0);
+    phase.emplace("check: self-intersections: cells sorted", PhaseKind::Parallel);
     tbb::parallel_for(std::size_t(0), kBuckets, [&](std::size_t bucket) {
       const std::size_t from = bucketStart[bucket], size = bucketStart[bucket + 1] - from;
       if (size < 2) return;
@@ -321,6 +385,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
     // A range of entries [begin, end) stands for the cells that start in it.
     auto startsCell = [&](std::size_t e) { return e == 0 || cellOf(e) != cellOf(e - 1); };
 
+    phase.emplace("check: self-intersections: pairs", PhaseKind::Parallel);
     // 3. Each pair of overlapping boxes is tested once: in the cell holding the lowest
     // corner of the two boxes' intersection (both boxes cover that cell). In parts of
     // about a twentieth of the slab each, so progress (and a cancel) comes between them.
@@ -335,17 +400,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
       tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 1024),
                         [&](const tbb::blocked_range<std::size_t>& range) {
                           std::size_t& local = found.local();
-                          // A cell's faces, copied together first with what the pair rule
-                          // and the shared-fan rule read: each pair then reads nearby memory.
-                          struct Item {
-                            Box box;
-                            FaceIndices corners;
-                            std::uint32_t face;
-                            // bit k: the box starts in this cell along axis k; bit 3 + c:
-                            // corner c's fan is proved embedded
-                            std::uint8_t flags;
-                          };
-                          std::vector<Item> items;
+                          CellFaces& cell = cellFaces.local();
                           for (std::size_t next = range.begin(); next < range.end();) {
                             if (!startsCell(next)) {
                               ++next;
@@ -360,36 +415,22 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
                             const Cell c = {static_cast<std::uint32_t>(here % dx),
                                             static_cast<std::uint32_t>(here % dxy / dx),
                                             static_cast<std::uint32_t>(here / dxy + k0)};
-                            items.clear();
+                            cell.resize(to - from);
                             for (std::size_t e = from; e < to; ++e) {
                               const std::uint32_t f = static_cast<std::uint32_t>(entries[e]);
-                              Item item;
-                              item.box = boxOf(f);
-                              item.corners = faces[f];
-                              item.face = f;
+                              const Box box = boxOf(f);
                               Cell lo, hi;
-                              cellsOf(item.box, lo, hi);
-                              item.flags = 0;
+                              cellsOf(box, lo, hi);
+                              std::uint32_t flags = 0;
                               for (int k = 0; k < 3; ++k) {
-                                item.flags |= static_cast<std::uint8_t>((lo[k] == c[k]) << k);
-                                if (embeddedFans && (*embeddedFans)[item.corners[k]])
-                                  item.flags |= static_cast<std::uint8_t>(8 << k);
+                                flags |= static_cast<std::uint32_t>(lo[k] == c[k]) << k;
+                                if (embeddedFans && (*embeddedFans)[faces[f][k]]) flags |= 8u << k;
                               }
-                              items.push_back(item);
+                              cell.set(e - from, box, faces[f], flags);
                             }
-                            for (std::size_t a = 0; a < items.size(); ++a) {
-                              const Item& ia = items[a];
-                              for (std::size_t b = a + 1; b < items.size(); ++b) {
-                                const Item& ib = items[b];
-                                // The pair is tested in the cell holding the lowest corner of
-                                // the boxes' intersection: along each axis one of the two
-                                // starts here (both reach this cell).
-                                if (((ia.flags | ib.flags) & 7) != 7) continue;
-                                if (!overlap(ia.box, ib.box)) continue;
-                                if (sharesEmbeddedFan(ia, ib)) continue;
-                                if (facesIntersect(points, ia.corners, ib.corners)) ++local;
-                              }
-                            }
+                            cell.forEachCandidate([&](std::size_t a, std::size_t b) {
+                              if (facesIntersect(points, cell.corners(a), cell.corners(b))) ++local;
+                            });
                           }
                         });
     }
