@@ -5,6 +5,7 @@
 //   frepcad_phases [--cells N] [--threads 1,2] [--rounds R] MODEL...   (examples/MODEL.json)
 // Each thread count is run R times, alternating, and the fastest whole export of each kept.
 #include "base/phase_times.h"
+#include "base/process_memory.h"
 
 #include <tbb/global_control.h>
 #include <unistd.h>
@@ -55,6 +56,7 @@ int usage() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  frep::useLargePageHeap();  // memory taken as frepcad takes it, so the phases are its own
   long cells = 512;
   int rounds = 3;
   std::vector<int> threadCounts{1, 2};
