@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# make bench: the Google Benchmark suite of libcore (results in build/bench-results.json) and
+# make bench: the Google Benchmark suite of libcore (results in build/bench-results.json), the
+# export's phases (build/bench-phases.md) and
 # the workbench's recompute latency in FreeCAD (build/bench-workbench.json). Figures are
 # recorded in docs/performance.md. Extra arguments go to the Google Benchmark binary.
 set -euo pipefail
@@ -9,6 +10,10 @@ out="$build/bench-results.json"
 "$build/bin/frepcad_bench" --benchmark_out="$out" --benchmark_out_format=json \
   --benchmark_repetitions=1 "${@:2}"
 echo "results written to $out"
+# Where the default export's time goes, phase by phase, on 1 and 2 threads, and its serial
+# share (bench/phase_times.cpp): build/bench-phases.md.
+"$build/bin/frepcad_phases" --cells 512 --rounds 2 csg helix gyroid > "$build/bench-phases.md"
+echo "phases written to $build/bench-phases.md"
 
 home="$(realpath "$build")/freecad-home"
 bash scripts/install-workbench.sh "$home" >/dev/null
