@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <string>
 
+#include "dense_route.h"
 #include "frep/model_json.h"
 #include "pipeline/export_pipeline.h"
 #include "volume/openvdb_grids.h"
@@ -77,7 +78,6 @@ void openVdbRoute(benchmark::State& state, const std::string& name) {
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
                               static_cast<std::size_t>(state.range(1)));
   const double h = r.cell;
-  const float band = 3.0f * static_cast<float>(h);
   // The box's grid points and one layer beyond it, so a solid the box cuts is closed.
   openvdb::Coord lo, hi;
   for (int a = 0; a < 3; ++a) {
@@ -86,26 +86,7 @@ void openVdbRoute(benchmark::State& state, const std::string& name) {
   }
   std::size_t triangles = 0;
   for (auto _ : state) {
-    openvdb::tools::Dense<float> dense(openvdb::CoordBBox(lo, hi));
-    tbb::parallel_for(lo[0], hi[0] + 1, [&](int i) {
-      const int n = hi[2] - lo[2] + 1;
-      std::vector<double> x(n), y(n), z(n), v(n);
-      for (int j = lo[1]; j <= hi[1]; ++j) {
-        for (int k = 0; k < n; ++k) {
-          x[k] = i * h;
-          y[k] = j * h;
-          z[k] = (lo[2] + k) * h;
-        }
-        r.program.evalBatch(x.data(), y.data(), z.data(), n, v.data());
-        for (int k = 0; k < n; ++k)
-          dense.setValue(openvdb::Coord(i, j, lo[2] + k),
-                         std::clamp(static_cast<float>(-v[k]), -band, band));
-      }
-    });
-    auto grid = openvdb::FloatGrid::create(band);
-    grid->setTransform(openvdb::math::Transform::createLinearTransform(h));
-    openvdb::tools::copyFromDense(dense, grid->tree(), 0.0f);
-    grid->setGridClass(openvdb::GRID_LEVEL_SET);
+    const openvdb::FloatGrid::Ptr grid = bench::denseLevelSet(r.program, lo, hi, h);
     std::vector<openvdb::Vec3s> points;
     std::vector<openvdb::Vec3I> tris;
     std::vector<openvdb::Vec4I> quads;

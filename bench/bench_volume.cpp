@@ -27,6 +27,7 @@
 #include "volume/grid_field.h"
 #include "volume/level_sets.h"
 #include "volume/openvdb_grids.h"
+#include "dense_route.h"
 #include "../tests/volume_samples.h"
 
 namespace frep {
@@ -99,28 +100,7 @@ void BM_FieldToLevelSetDense(benchmark::State& state) {
   const openvdb::Coord hi(int(std::ceil(m.box.hi[0] / h)), int(std::ceil(m.box.hi[1] / h)),
                           int(std::ceil(m.box.hi[2] / h)));
   for (auto _ : state) {
-    openvdb::tools::Dense<float> dense(openvdb::CoordBBox(lo, hi));
-    // In parallel over x slabs, as our sampler is (TBB).
-    tbb::parallel_for(lo[0], hi[0] + 1, [&](int i) {
-      const int n = hi[2] - lo[2] + 1;
-      std::vector<double> x(n), y(n), z(n), v(n);
-      for (int j = lo[1]; j <= hi[1]; ++j) {
-        for (int k = 0; k < n; ++k) {
-          x[k] = i * h;
-          y[k] = j * h;
-          z[k] = (lo[2] + k) * h;
-        }
-        m.program.evalBatch(x.data(), y.data(), z.data(), n, v.data());
-        for (int k = 0; k < n; ++k)
-          dense.setValue(openvdb::Coord(i, j, lo[2] + k),
-                         std::clamp(float(-v[k]), -3.0f * float(h), 3.0f * float(h)));
-      }
-    });
-    // The far values (the background) become tiles: a sparse grid of the same band.
-    auto grid = openvdb::FloatGrid::create(3.0f * float(h));
-    grid->setTransform(openvdb::math::Transform::createLinearTransform(h));
-    openvdb::tools::copyFromDense(dense, grid->tree(), 0.0f);
-    grid->setGridClass(openvdb::GRID_LEVEL_SET);
+    auto grid = bench::denseLevelSet(m.program, lo, hi, h);
     benchmark::DoNotOptimize(grid);
   }
 }
