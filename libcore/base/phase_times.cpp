@@ -22,29 +22,17 @@ struct Recorder {
   Clock::time_point since;      // when the current slice began
   std::vector<Slot> open;       // the phases entered and not yet left, innermost last
   std::vector<PhaseTime> sums;  // by name, first-seen order; sums[0]: outside any phase
-  Clock::time_point started;
 
+  PhaseTime& sumOf(const Slot& slot) {
+    for (PhaseTime& p : sums)
+      if (p.name == slot.name && p.kind == slot.kind) return p;
+    sums.push_back({slot.name, slot.kind, 0.0, 0});
+    return sums.back();
+  }
   void closeSlice(Clock::time_point now) {
     const double s = std::chrono::duration<double>(now - since).count();
     since = now;
-    if (open.empty()) {
-      sums[0].seconds += s;
-      return;
-    }
-    for (PhaseTime& p : sums)
-      if (p.name == open.back().name && p.kind == open.back().kind) {
-        p.seconds += s;
-        return;
-      }
-    sums.push_back({open.back().name, open.back().kind, s, 0});
-  }
-  void count(const Slot& slot) {
-    for (PhaseTime& p : sums)
-      if (p.name == slot.name && p.kind == slot.kind) {
-        ++p.calls;
-        return;
-      }
-    sums.push_back({slot.name, slot.kind, 0.0, 1});
+    (open.empty() ? sums[0] : sumOf(open.back())).seconds += s;
   }
 };
 
@@ -60,7 +48,7 @@ Recorder* mine() {
 PhaseRecording::PhaseRecording() {
   auto* r = new Recorder;
   r->thread = std::this_thread::get_id();
-  r->since = r->started = Clock::now();
+  r->since = Clock::now();
   r->sums.push_back({"(outside any phase)", PhaseKind::Serial, 0.0, 0});
   Recorder* none = nullptr;
   if (!active.compare_exchange_strong(none, r)) {
@@ -85,7 +73,7 @@ Phase::Phase(const char* name, PhaseKind kind) : recorded_(false) {
   recorded_ = true;
   r->closeSlice(Clock::now());
   r->open.push_back({name, kind});
-  r->count(r->open.back());
+  ++r->sumOf(r->open.back()).calls;
 }
 
 Phase::~Phase() {

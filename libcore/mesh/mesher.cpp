@@ -172,10 +172,10 @@ TriangleMesh weld(const Grid& g, int bc, const std::int64_t bricksPerAxis[3],
     }
     return brickLinear(b);
   };
+  std::optional<Phase> serial(std::in_place, "mesh: weld's serial parts", PhaseKind::Serial);
   // The output's arrays are zeroed by one thread, and most of that is the first touch of
   // fresh pages (0.1 s on the gyroid at 256 cells): done on a thread of their own while the
   // numbering below runs on the others. (Declared after `mesh`: joined before it goes.)
-  std::optional<Phase> serial(std::in_place, "mesh: weld's serial parts", PhaseKind::Serial);
   TriangleMesh mesh;
   std::vector<std::size_t> firstTriangle(count + 1, 0);
   for (std::size_t i = 0; i < count; ++i)
