@@ -2,10 +2,11 @@
 // phase's single-thread seconds, its speed-up, and the share of the single-thread time that
 // runs serially (phases marked serial, and any time in no phase), with the speed-up that share
 // allows on 16 cores (Amdahl). base/phase_times.h says how phases are cut.
-//   frepcad_phases [--cells N] [--threads 1,2] [--rounds R] MODEL...   (examples/MODEL.json)
+//   frepcad_phases [--cells N] [--threads 1,2] [--rounds R] [--set NAME=VALUE]... MODEL...
+// (examples/MODEL.json; --set: a mesh setting by its table name, e.g. tolerance=0.001 or
+// straighten_creases=true, mesh/mesh_settings.h)
 // Each thread count is run R times, alternating, and the fastest whole export of each kept.
 #include "base/phase_times.h"
-#include "base/process_memory.h"
 
 #include <tbb/global_control.h>
 #include <unistd.h>
@@ -18,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "base/process_memory.h"
 #include "frep/model_json.h"
 #include "pipeline/export_pipeline.h"
 
@@ -49,8 +51,21 @@ double secondsOf(const Run& run, const std::string& name) {
 }
 
 int usage() {
-  std::fprintf(stderr, "usage: frepcad_phases [--cells N] [--threads 1,2] [--rounds R] MODEL...\n");
+  std::fprintf(stderr,
+               "usage: frepcad_phases [--cells N] [--threads 1,2] [--rounds R] "
+               "[--set NAME=VALUE]... MODEL...\n");
   return 2;
+}
+
+// A setting's value from its text, as the table's kinds take it.
+frep::SettingValue settingValue(const std::string& text) {
+  if (text == "true" || text == "false") return text == "true";
+  char* end = nullptr;
+  const long whole = std::strtol(text.c_str(), &end, 10);
+  if (!text.empty() && *end == '\0') return whole;
+  const double number = std::strtod(text.c_str(), &end);
+  if (!text.empty() && *end == '\0') return number;
+  return text;
 }
 
 }  // namespace
@@ -61,9 +76,21 @@ int main(int argc, char** argv) {
   int rounds = 3;
   std::vector<int> threadCounts{1, 2};
   std::vector<std::string> models;
+  frep::MeshSettings settings;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if ((a == "--cells" || a == "--rounds" || a == "--threads") && i + 1 < argc) {
+    if (a == "--set" && i + 1 < argc) {
+      const std::string v = argv[++i];
+      const std::size_t eq = v.find('=');
+      if (eq == std::string::npos) return usage();
+      try {
+        frep::setMeshSetting(settings, v.substr(0, eq), settingValue(v.substr(eq + 1)));
+        settings.validate();
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "frepcad_phases: %s\n", e.what());
+        return 2;
+      }
+    } else if ((a == "--cells" || a == "--rounds" || a == "--threads") && i + 1 < argc) {
       const std::string v = argv[++i];
       if (a == "--cells") cells = std::atol(v.c_str());
       if (a == "--rounds") rounds = std::atoi(v.c_str());
@@ -89,6 +116,7 @@ int main(int argc, char** argv) {
         frep::loadModel(std::string(FREP_SOURCE_DIR) + "/examples/" + name + ".json");
     const frep::Program program = frep::compile(m.root);
     frep::ExportRequest request;
+    request.mesh = settings;
     request.box.bbox = *m.bbox;
     double longest = 0.0;
     for (int a = 0; a < 3; ++a) longest = std::max(longest, m.bbox->hi[a] - m.bbox->lo[a]);

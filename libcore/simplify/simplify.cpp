@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "base/errors.h"
+#include "base/phase_times.h"
 #include "base/qef.h"
 #include "base/triangle_geometry.h"
 #include "check/face_pair_test.h"
@@ -64,6 +65,7 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field, const Si
   const auto start = std::chrono::steady_clock::now();
   validate(o);
   const Surface surface(field, o.bbox);
+  std::optional<Phase> phase(std::in_place, "simplify: set-up", PhaseKind::Serial);
   const std::size_t nv = mesh.positions.size();
   State s;
   s.pos = mesh.positions;
@@ -77,6 +79,7 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field, const Si
     s.nearCrease.assign(nv, 0);
   }
   // Hermite data: each vertex's tangent plane of the meshed surface
+  phase.emplace("simplify: Hermite data", PhaseKind::Parallel);
   tbb::parallel_for(std::size_t(0), nv, [&](std::size_t v) {
     const Vec3 p = toVec3(s.pos[v]);
     double value;
@@ -96,6 +99,7 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field, const Si
   const double shifts[4] = {0.0, 0.5, 0.25, 0.75};
   for (int pass = 0; pass < o.passes; ++pass) {
     if (o.progress && !o.progress(static_cast<double>(pass) / o.passes)) throw Cancelled();
+    phase.emplace("simplify: faces sorted into regions", PhaseKind::Serial);
     Regions regions;
     for (int a = 0; a < 3; ++a)
       regions.origin[a] = o.bbox.lo[a] - shifts[pass % 4] * side - o.cell * (pass / 4) * 0.37;
@@ -160,6 +164,7 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field, const Si
                       static_cast<std::size_t>(range.second - range.first), pass + 2 >= o.passes});
       i = j;
     }
+    phase.emplace("simplify: regions", PhaseKind::Parallel);
     std::vector<RegionOutput> results(work.size());
     tbb::enumerable_thread_specific<std::unique_ptr<RegionSimplifier>> simplifiers;
     tbb::parallel_for(std::size_t(0), work.size(), [&](std::size_t r) {
@@ -167,6 +172,7 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field, const Si
       if (!rs) rs = std::make_unique<RegionSimplifier>(s, field, o, regions, faces);
       rs->run(work[r], results[r]);
     });
+    phase.emplace("simplify: regions' faces gathered", PhaseKind::Serial);
     std::vector<Triangle> next;
     next.reserve(faces.size());
     for (std::uint32_t f : crossing) next.push_back(faces[f]);
@@ -180,6 +186,7 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field, const Si
   }
 
   // the surviving vertices, renumbered in their order
+  phase.emplace("simplify: vertices renumbered", PhaseKind::Serial);
   TriangleMesh result;
   std::vector<std::uint32_t> number(nv, kNone);
   for (std::size_t v = 0; v < nv; ++v)
