@@ -18,7 +18,7 @@ import FRepPolygonize
 import FRepProperties as props
 import FRepTree
 from FRepGuiHelpers import (QT_TRANSLATE_NOOP, Transaction, add_to_active_container, report,
-                            translate)
+                            report_if_failed, translate)
 
 MENU = "FRep"
 TOOLBARS = (
@@ -130,6 +130,8 @@ class NodeCommand:
         except ValueError as e:
             report("FRep " + self.title, str(e))
             return
+        # (a failed feature is kept: the user changes what the dialog's line says)
+        report_if_failed("FRep " + self.title, obj)
         FreeCADGui.Selection.clearSelection()
         FreeCADGui.Selection.addSelection(obj)
         if not inputs and len(doc.Objects) == 1:
@@ -163,9 +165,7 @@ class PolygonizeCommand:
         # Recompute outside the transaction: a cancel or an error marks the feature, the user
         # sees why in the tree and can change its settings, and undo still removes it.
         doc.recompute()
-        if "Invalid" in obj.State:
-            report("FRep Polygonize", "%s: see the report view for why the mesh could not be "
-                   "made; change its properties and recompute" % obj.Label)
+        report_if_failed("FRep Polygonize", obj)
 
 
 class ExportCommand:
@@ -352,6 +352,8 @@ class LatticeCommand:
                 doc.recompute()
         except ValueError as e:
             report("FRep Lattice", str(e))
+            return
+        report_if_failed("FRep Lattice", obj)
 
 
 class DeformCommand:
@@ -391,6 +393,7 @@ class DeformCommand:
         except ValueError as e:
             report("FRep Deform", str(e))
             return
+        report_if_failed("FRep Deform", obj)
         FreeCADGui.Selection.clearSelection()
         FreeCADGui.Selection.addSelection(obj)
 

@@ -12,6 +12,7 @@ import os
 
 import FreeCAD
 
+import FRepErrors
 import FRepMeshing
 import FRepPolygonize
 import FRepTree
@@ -41,6 +42,7 @@ def solid_and_box(objects, cells=None, resolution=None, bbox=None):
         raise ValueError("nothing to export: select FRep features or Polygonize features")
     shapes, boxes = [], []
     for obj in objects:
+        refuse_failed(obj)
         if isinstance(getattr(obj, "Proxy", None), FRepPolygonize.Polygonize):
             if obj.Source is None:
                 raise ValueError("%s: property 'Source' is empty" % obj.Label)
@@ -61,6 +63,15 @@ def solid_and_box(objects, cells=None, resolution=None, bbox=None):
                                              bbox=bbox)
     except ValueError as e:
         raise ValueError("%s: %s" % (label, e))
+
+
+def refuse_failed(obj):
+    """A ValueError when anything obj is built from failed its last recompute. (obj itself
+    is meshed from its properties, which the tree checks again; its own failure may have
+    been a cancelled preview.)"""
+    why = FRepErrors.built_on_failed(obj, "recompute before exporting")
+    if why:
+        raise ValueError(why)
 
 
 def settings_for(obj, given):

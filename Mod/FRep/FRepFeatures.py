@@ -20,6 +20,7 @@ import FRepMeshing
 import FRepPoints
 import FRepProperties as props
 import FRepTree
+from FRepErrors import FeatureError, one_line_errors
 from FRepProxy import FeatureProxy
 from FRepPaths import frepcore
 
@@ -170,6 +171,7 @@ class FRepFeature(FeatureProxy):
             return FRepPoints.position_points(obj, source, getattr(obj, source))
         return props.check_value(obj, self.FREP_TYPE, param)
 
+    @one_line_errors
     def execute(self, obj):
         EXECUTIONS.append((obj.Document.Name, obj.Name))
         del EXECUTIONS[:-_MAX_LOG]
@@ -217,7 +219,7 @@ def _preview_or_cancel(obj, shape, box, cell, progress):
     try:
         return shape.node.mesh(box, cell, progress)
     except frepcore.Cancelled:
-        raise RuntimeError("%s: the preview was cancelled; lower the preview quality (FRep > "
+        raise FeatureError("%s: the preview was cancelled; lower the preview quality (FRep > "
                            "Preview quality) or hide the feature, then recompute" % obj.Label)
 
 

@@ -1,9 +1,11 @@
 """Helpers every command and panel of the workbench shares: FreeCAD's translation hooks, a
-message the user acknowledges, the active container and one undo step. They import nothing
-of the workbench, so any GUI module may import them."""
+message the user acknowledges, the active container and one undo step. Of the workbench they
+import only FRepErrors (which imports none of it), so any GUI module may import them."""
 
 import FreeCAD
 import FreeCADGui
+
+import FRepErrors
 
 try:  # FreeCAD's translation hooks (menu texts and tooltips go through them)
     from FreeCAD import Qt
@@ -22,6 +24,20 @@ def report(title, message, error=True):
     from PySide import QtGui
     box = QtGui.QMessageBox.warning if error else QtGui.QMessageBox.information
     box(FreeCADGui.getMainWindow(), title, message)
+
+
+def report_if_failed(title, obj):
+    """After a command's recompute: a feature it made or changed that failed, or that waits
+    for a failed input, gets a dialog saying why (the report view has FreeCAD's line for a
+    failure; a wait is printed there too). Returns whether it did."""
+    why = FRepErrors.why_failed(obj)
+    if why is None:
+        return False
+    if "Invalid" not in obj.State:
+        FreeCAD.Console.PrintError(why + "\n")
+    from PySide import QtGui
+    QtGui.QMessageBox.warning(FreeCADGui.getMainWindow(), title, why)
+    return True
 
 
 def add_to_active_container(obj):

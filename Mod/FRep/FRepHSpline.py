@@ -24,6 +24,7 @@ Scripting:
 import FreeCAD
 
 from FRepPaths import frepcore
+from FRepErrors import one_line_errors
 from FRepProxy import FeatureProxy
 
 GROUP = "HSpline"
@@ -126,6 +127,7 @@ class HSplineFeature(FeatureProxy):
         else:
             tag_cv(obj, cv)
 
+    @one_line_errors
     def execute(self, obj):
         h = _shared(obj)
         # The exact B-spline face (a solid when closed), built by OpenCASCADE in frepcore with

@@ -15,6 +15,7 @@ import FreeCAD
 import FRepHSpline as H
 import FRepMeshing
 from FRepPaths import frepcore
+from FRepErrors import one_line_errors
 from FRepProxy import FeatureProxy
 
 GROUP = "Attachment"
@@ -67,6 +68,7 @@ class AttachmentFeature(FeatureProxy):
                             "Catmull-Clark steps (0 to 6): each makes four times the faces.")
             obj.Subdivisions = (3, 0, 6, 1)
 
+    @one_line_errors
     def execute(self, obj):
         for name in ("Parent", "Cylinder"):
             if not H.is_hspline(getattr(obj, name)):

@@ -32,6 +32,7 @@ import FRepProperties as props
 import FRepSolids
 import FRepTree
 from FRepPaths import frepcore
+from FRepErrors import one_line_errors
 from FRepProxy import FeatureProxy
 
 GROUP = "Lattice"
@@ -194,6 +195,7 @@ class LatticeFeature(FeatureProxy):
         """Moves control point (i, j, k) by delta (an offset change, one property change)."""
         move_point(obj, index, point_offset(obj, index) + FreeCAD.Vector(delta))
 
+    @one_line_errors
     def execute(self, obj):
         import Part
         lattice = self.lattice(obj)
@@ -330,6 +332,7 @@ class DeformFeature(_FFD):
             return FRepSolids.solid_shape(obj)
         return super().local_shape(obj, builder)
 
+    @one_line_errors
     def execute(self, obj):
         mesh_base = self.mesh_input(obj)
         if mesh_base is None:

@@ -9,6 +9,7 @@ import FreeCAD
 
 import FRepMeshing
 import FRepTree
+from FRepErrors import FeatureError, one_line_errors
 from FRepProxy import FeatureProxy
 from FRepPaths import frepcore
 
@@ -141,6 +142,7 @@ class Polygonize(FeatureProxy):
             for name in ("BoundsMin", "BoundsMax"):
                 obj.setEditorMode(name, 1 if obj.AutoBounds else 0)
 
+    @one_line_errors
     def execute(self, obj):
         if obj.Source is None:
             raise ValueError("%s: property 'Source' is empty; link the FRep feature to mesh"
@@ -161,7 +163,7 @@ def _mesh_or_cancel(obj, shape, box, cell, progress):
     try:
         return shape.node.mesh(box, cell, progress, False, settings)
     except frepcore.Cancelled:
-        raise RuntimeError("%s: polygonizing was cancelled; the previous mesh is kept"
+        raise FeatureError("%s: polygonizing was cancelled; the previous mesh is kept"
                            % obj.Label)
 
 

@@ -92,16 +92,27 @@ def as_frepcore_mesh(freecad_mesh):
         os.remove(path)
 
 
+# frepcore's words for a mesh whose only defect is that its triangles meet: its shells still
+# bound an inside, which a level set can take.
+_OVERLAPPING = "its triangles intersect each other"
+# where frepcore's reason ends and its advice for the command line begins
+_CLI_ADVICE = "; the exact distance needs"
+
+
 def _distance_field(obj, mesh, voxel):
     name = "%s (%s)" % (obj.Label, obj.TypeId)
     try:
         return frepcore.from_mesh(mesh, "exact", 0.0, name)
     except OSError as e:
-        if "intersect" not in str(e):
-            raise OSError("%s: cannot be an FRep input: %s" % (obj.Label, e)) from None
+        reason = str(e).split(_CLI_ADVICE)[0]
+        if _OVERLAPPING not in reason:
+            raise OSError("%s: cannot be an FRep input: %s; select it and use FRep > Repair mesh "
+                          "to mend it (FRep > Printability lists every defect)"
+                          % (obj.Label, reason)) from None
         FreeCAD.Console.PrintWarning(
             "%s: its triangles intersect each other; using an OpenVDB level set (voxel %g mm) "
-            "instead of the exact distance\n" % (obj.Label, voxel))
+            "instead of the exact distance (FRep > Repair mesh removes the intersections)\n"
+            % (obj.Label, voxel))
         return frepcore.from_mesh(mesh, "grid", voxel, name)
 
 

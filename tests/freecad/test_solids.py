@@ -80,6 +80,26 @@ def test_objects_without_a_solid_are_refused_naming_what_is_accepted(doc):
     assert "solids" in u.getStatusString()
 
 
+def test_open_mesh_is_refused_pointing_to_repair_not_taken_as_overlapping(doc, tmp_path):
+    path = str(tmp_path / "ball.stl")
+    frepcore.sphere(1.0).mesh(cells=16).write(path)
+    ball = Mesh.Mesh(path)
+    ball.removeFacets([0, 1, 2])  # a few triangles gone: open
+    feature = doc.addObject("Mesh::Feature", "Dented")
+    feature.Mesh = ball
+    builds = len(FRepSolids.BUILDS)
+    o = F.make("offset", doc, name="Grow", inputs=[feature])
+    doc.recompute()
+    assert not o.isValid()
+    why = o.getStatusString()
+    assert why.startswith("Dented: cannot be an FRep input: Dented (Mesh::Feature): the mesh "
+                          "is open ("), why
+    assert why.endswith("border edges), so it has no inside; select it and use FRep > Repair "
+                        "mesh to mend it (FRep > Printability lists every defect)"), why
+    assert "frepcad" not in why
+    assert len(FRepSolids.BUILDS) == builds  # no level set built in its place
+
+
 def test_solid_tolerance_is_a_document_setting(doc):
     cyl = doc.addObject("Part::Feature", "Rod")
     cyl.Shape = Part.makeCylinder(2, 5)
