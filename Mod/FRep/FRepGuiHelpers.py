@@ -18,6 +18,18 @@ except ImportError:
         return text
 
 
+# The widest a task box's title gets (px): the box is never narrower than its title, and the
+# Combo View is 264 px wide by default (the box's icon and margins take the rest).
+TITLE_MAX_WIDTH = 150
+
+
+def panel_title(text):
+    """A task panel's title, elided in the middle to fit the Combo View."""
+    from PySide import QtCore, QtGui
+    metrics = QtGui.QFontMetrics(QtGui.QApplication.font())
+    return metrics.elidedText(text, QtCore.Qt.ElideMiddle, TITLE_MAX_WIDTH)
+
+
 def report(title, message, error=True):
     """A message on the console and, in the GUI, in a dialog the user has to acknowledge."""
     (FreeCAD.Console.PrintError if error else FreeCAD.Console.PrintMessage)(message + "\n")

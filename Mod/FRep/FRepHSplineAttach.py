@@ -51,6 +51,19 @@ def cylinder_over_ring(parent, rect, rows=5, height=10.0, taper=0.7):
 
 
 class AttachmentFeature(FeatureProxy):
+    # what its view provider (the FRep features' own) asks: the icon, the tree's children
+    # and the task panel's fields (none: its settings are in the property view)
+    FREP_TYPE = "hspline_attachment"
+
+    def category(self):
+        return "hspline"
+
+    def inputs(self, obj):
+        return [o for o in (obj.Parent, obj.Cylinder) if o is not None]
+
+    def parameters(self):
+        return []
+
     def setup(self, obj):
         have = obj.PropertiesList
         for name, doc in (("Parent", "The hspline the cylinder attaches to."),

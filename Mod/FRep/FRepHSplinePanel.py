@@ -5,7 +5,7 @@ undo step; a refused request says why in the panel."""
 
 import FreeCAD
 
-from FRepGuiHelpers import translate
+from FRepGuiHelpers import panel_title, translate
 
 TAG_TOOLS = (
     ("level", "Level", "Tag every CV of the shown level"),
@@ -25,7 +25,7 @@ class HSplinePanel:
         self.obj = obj
         self.form = QtGui.QWidget()
         self.form.setObjectName("FRepHSplinePanel")
-        self.form.setWindowTitle(translate("FRep", "Edit %s") % obj.Label)
+        self.form.setWindowTitle(panel_title(translate("FRep", "Edit %s") % obj.Label))
         layout = QtGui.QVBoxLayout(self.form)
         text = QtGui.QLabel(translate(
             "FRep", "Ctrl+click a CV to tag it (fixed CVs, grey, cannot be tagged: they keep the "
@@ -43,38 +43,40 @@ class HSplinePanel:
         self.level.valueChanged.connect(self.show_level)
         row.addWidget(self.level)
         layout.addLayout(row)
+        # Two buttons a row and one field a row: the panel fits the Combo View (264 px wide
+        # by default).
         grid = QtGui.QGridLayout()
         for k, (how, label, tip) in enumerate(TAG_TOOLS):
             b = QtGui.QPushButton(translate("FRep", label))
             b.setObjectName("Tag_" + how)
             b.setToolTip(translate("FRep", tip))
             b.clicked.connect(lambda _=False, how=how: self.tag(how))
-            grid.addWidget(b, k // 3, k % 3)
+            grid.addWidget(b, k // 2, k % 2)
         layout.addLayout(grid)
-        row = QtGui.QHBoxLayout()
-        for name, label, slot in (("Refine", "Refine", self.refine),
-                                  ("ZeroOffsets", "Zero offsets", self.zero),
-                                  ("Unrefine", "Unrefine", self.unrefine),
-                                  ("OwnProperty", "Own property", self.expose)):
+        grid = QtGui.QGridLayout()
+        for k, (name, label, slot) in enumerate((("Refine", "Refine", self.refine),
+                                                 ("ZeroOffsets", "Zero offsets", self.zero),
+                                                 ("Unrefine", "Unrefine", self.unrefine),
+                                                 ("OwnProperty", "Own property", self.expose))):
             b = QtGui.QPushButton(translate("FRep", label))
             b.setObjectName(name)
             b.clicked.connect(slot)
-            row.addWidget(b)
-        layout.addLayout(row)
-        grid = QtGui.QGridLayout()
+            grid.addWidget(b, k // 2, k % 2)
+        layout.addLayout(grid)
+        form = QtGui.QFormLayout()
         self.move = []
-        for k, (axis, label) in enumerate((("dx", "dx"), ("dy", "dy"), ("dz", "dz"),
-                                           ("normal", "along normal"))):
+        for axis, label in (("dx", "dx"), ("dy", "dy"), ("dz", "dz"), ("normal", "Along normal")):
             box = QtGui.QDoubleSpinBox()
             box.setRange(-1e6, 1e6)
             box.setDecimals(3)
             box.setSuffix(" mm")
             box.setObjectName("Move_" + axis)
-            box.setToolTip(translate("FRep", "Move the tagged CVs by %s") % label)
-            grid.addWidget(QtGui.QLabel(translate("FRep", label)), k // 2, 2 * (k % 2))
-            grid.addWidget(box, k // 2, 2 * (k % 2) + 1)
+            box.setToolTip(translate("FRep", "Move the tagged CVs by %s") % label.lower())
+            box.setMinimumWidth(64)
+            box.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Fixed)
+            form.addRow(translate("FRep", label), box)
             self.move.append(box)
-        layout.addLayout(grid)
+        layout.addLayout(form)
         b = QtGui.QPushButton(translate("FRep", "Move tagged CVs"))
         b.setObjectName("MoveTagged")
         b.clicked.connect(self.move_tagged)

@@ -142,7 +142,9 @@ def check_value(obj, type_id, param):
     if problem:
         # The registry says "<value> is out of range; allowed: (0, inf)" in its own names;
         # the user sees the property, its value in FreeCAD units and the allowed range.
-        core = problem.split(" is ", 1)[1] if " is " in problem else problem
+        # (or, with no value to name, "is empty; allowed: ...")
+        core = problem[3:] if problem.startswith("is ") else \
+            problem.split(" is ", 1)[1] if " is " in problem else problem
         raise ValueError("%s: property '%s' = %s is %s%s" % (
             obj.Label, property_name(param["name"]), value_text(param, value), core,
             UNIT_SUFFIX[param["unit"]]))

@@ -11,6 +11,7 @@ import FreeCAD
 import FreeCADGui
 
 import FRepProperties as props
+from FRepGuiHelpers import panel_title
 
 try:
     translate = FreeCAD.Qt.translate
@@ -20,12 +21,40 @@ except AttributeError:  # FreeCAD without its Qt helpers (headless tests)
 
 # A field's range: the registry's allowed range where finite, else this.
 UNBOUNDED = 1e9
+# The narrowest a number field gets (px): the Combo View is 264 px wide by default, and a spin
+# box would otherwise ask for the width of its range's longest number (-1000000000.000000).
+FIELD_MIN_WIDTH = 64
+UNIT_SUFFIX = {"length": " mm", "angle": " \u00b0", "": ""}
 
 
 def _limits(param):
     lo = param["min"] if param["min"] is not None else -UNBOUNDED
     hi = param["max"] if param["max"] is not None else UNBOUNDED
     return lo, hi
+
+
+def decimals_for(*values):
+    """The decimals a field shows: three, or as many (up to six) as its value needs so that
+    opening the panel does not round it."""
+    for places in range(3, 7):
+        if all(abs(round(v, places) - v) <= 1e-9 * max(1.0, abs(v)) for v in values):
+            return places
+    return 6
+
+
+def narrow(field):
+    """A field that fits the Combo View: as narrow as FIELD_MIN_WIDTH, as wide as the row
+    allows."""
+    from PySide import QtGui
+    field.setMinimumWidth(FIELD_MIN_WIDTH)
+    field.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Fixed)
+    return field
+
+
+def compact(box, param):
+    """A parameter's spin box, narrow, with the parameter's unit."""
+    box.setSuffix(UNIT_SUFFIX.get(param["unit"], ""))
+    return narrow(box)
 
 
 class ParametersPanel:
@@ -39,8 +68,11 @@ class ParametersPanel:
         self.doc.openTransaction(translate("FRep", "Edit %s") % obj.Label)
         self.form = QtGui.QWidget()
         self.form.setObjectName("FRepParametersPanel")
-        self.form.setWindowTitle(translate("FRep", "%s parameters") % obj.Label)
+        self.form.setWindowTitle(panel_title(obj.Label))
         layout = QtGui.QFormLayout(self.form)
+        # a label above its field where the two do not fit side by side
+        layout.setRowWrapPolicy(QtGui.QFormLayout.WrapLongRows)
+        layout.setFieldGrowthPolicy(QtGui.QFormLayout.AllNonFixedFieldsGrow)
         skipped = []
         for param in obj.Proxy.parameters():
             name = props.property_name(param["name"])
@@ -69,12 +101,13 @@ class ParametersPanel:
             box = QtGui.QDoubleSpinBox() if t == "real" else QtGui.QSpinBox()
             lo, hi = _limits(param)
             if t == "real":
-                box.setDecimals(6)
+                box.setDecimals(decimals_for(float(value)))
                 box.setSingleStep(0.1)
             else:
                 lo, hi = int(max(lo, -2 ** 31 + 1)), int(min(hi, 2 ** 31 - 1))
             box.setRange(lo, hi)
             box.setValue(float(value) if t == "real" else int(value))
+            compact(box, param)
             box.setObjectName(name)
             box.valueChanged.connect(lambda v, n=name: self._apply(n, v))
             self.fields[name] = box
@@ -88,6 +121,9 @@ class ParametersPanel:
             return box
         if t == "choice":
             box = QtGui.QComboBox()
+            # (as narrow as eight characters; the list opens as wide as its longest choice)
+            box.setSizeAdjustPolicy(QtGui.QComboBox.AdjustToMinimumContentsLengthWithIcon)
+            box.setMinimumContentsLength(8)
             box.addItems(list(param["choices"]))
             box.setCurrentIndex(list(param["choices"]).index(value))
             box.setObjectName(name)
@@ -96,18 +132,25 @@ class ParametersPanel:
             self.fields[name] = box
             return box
         if t == "vector3":
+            # x, y and z one under the other: three fields side by side do not fit the
+            # Combo View
             row = QtGui.QWidget()
             row.setObjectName(name)
-            h = QtGui.QHBoxLayout(row)
-            h.setContentsMargins(0, 0, 0, 0)
+            grid = QtGui.QGridLayout(row)
+            grid.setContentsMargins(0, 0, 0, 0)
+            grid.setVerticalSpacing(2)
+            grid.setColumnStretch(1, 1)  # (the fields take the width, not the axis letters)
             boxes = []
+            places = decimals_for(*value)
             for axis in range(3):
                 b = QtGui.QDoubleSpinBox()
-                b.setDecimals(6)
+                b.setDecimals(places)
                 b.setRange(-UNBOUNDED, UNBOUNDED)
                 b.setValue(value[axis])
                 b.setObjectName("%s.%s" % (name, "xyz"[axis]))
-                h.addWidget(b)
+                compact(b, param)
+                grid.addWidget(QtGui.QLabel("xyz"[axis]), axis, 0)
+                grid.addWidget(b, axis, 1)
                 boxes.append(b)
             for b in boxes:
                 b.valueChanged.connect(lambda _v, n=name, bs=boxes: self._apply(
@@ -159,7 +202,7 @@ class LatticeEditPanel:
         self.obj = obj
         self.form = QtGui.QWidget()
         self.form.setObjectName("FRepLatticeEditPanel")
-        self.form.setWindowTitle(translate("FRep", "Edit %s") % obj.Label)
+        self.form.setWindowTitle(panel_title(translate("FRep", "Edit %s") % obj.Label))
         layout = QtGui.QVBoxLayout(self.form)
         text = QtGui.QLabel(translate(
             "FRep", "Drag a control point's handle to move it: the cube moves it freely, the "
@@ -228,31 +271,38 @@ class PrintabilityPanel:
         self.report = None
         self.form = QtGui.QWidget()
         self.form.setObjectName("FRepPrintabilityPanel")
-        self.form.setWindowTitle(translate("FRep", "Printability of %s") % obj.Label)
+        self.form.setWindowTitle(panel_title(translate("FRep", "Printability of %s")
+                                             % obj.Label))
         layout = QtGui.QFormLayout(self.form)
+        layout.setRowWrapPolicy(QtGui.QFormLayout.WrapLongRows)
+        layout.setFieldGrowthPolicy(QtGui.QFormLayout.AllNonFixedFieldsGrow)
         self.min_wall = QtGui.QDoubleSpinBox()
         self.min_wall.setObjectName("MinWall")
         self.min_wall.setDecimals(3)
         self.min_wall.setRange(0.0, 1000.0)
         self.min_wall.setValue(0.8)
         self.min_wall.setSuffix(" mm")
+        narrow(self.min_wall)
         self.min_wall.setToolTip(translate("FRep", "Walls thinner than this are shown in red "
                                                    "and make the part not printable (0: none)"))
         layout.addRow(translate("FRep", "Minimum wall"), self.min_wall)
         self.material = QtGui.QComboBox()
         self.material.setObjectName("Material")
         self.material.addItems(sorted(frepcore.materials()))
+        narrow(self.material)
         self.material.setCurrentIndex(self.material.findText("pla"))
         layout.addRow(translate("FRep", "Material"), self.material)
         self.up = QtGui.QComboBox()
         self.up.setObjectName("BuildDirection")
         self.up.addItems([name for name, _ in self.DIRECTIONS])
+        narrow(self.up)
         layout.addRow(translate("FRep", "Build direction"), self.up)
         self.overhang = QtGui.QDoubleSpinBox()
         self.overhang.setObjectName("Overhang")
         self.overhang.setRange(0.0, 90.0)
         self.overhang.setValue(45.0)
-        self.overhang.setSuffix(" deg")
+        self.overhang.setSuffix(" \u00b0")
+        narrow(self.overhang)
         layout.addRow(translate("FRep", "Overhang from vertical"), self.overhang)
         run = QtGui.QPushButton(translate("FRep", "Check"))
         run.setObjectName("RunPrintability")

@@ -82,6 +82,10 @@ def test_bad_parameter_names_feature_property_and_range(doc):
     c.Axis = FreeCAD.Vector(0, 0, 0)
     doc.recompute()
     assert "Rod: property 'Axis'" in error_of(c) and "not all zero" in error_of(c)
+    m = F.make("mesh_sdf", doc, name="Scan")
+    doc.recompute()
+    assert error_of(m) == ("Scan: property 'Path' = \"\" is empty; allowed: a file path "
+                           "(relative paths: from the model file's folder)")
 
 
 def test_missing_input_names_property(doc):
