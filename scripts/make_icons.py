@@ -332,6 +332,381 @@ def solid_icon(body, defs):
     return lambda: svg(body(), defs)
 
 
+# -- primitives without a plain geometric body --------------------------------------------
+def superellipsoid():
+    """A squircle: a box with round edges."""
+    return svg('<rect x="7" y="7" width="50" height="50" rx="19" fill="url(#b)" %s/>\n'
+               % stroke(), radial("b", BLUE))
+
+
+def sweep():
+    """A ball swept along a curve: a tube with its path dashed inside."""
+    path = "M8,50 C16,10 40,58 56,14"
+    body = ('<path d="%s" fill="none" stroke="%s" stroke-width="17" stroke-linecap="round"/>\n'
+            '<path d="%s" fill="none" stroke="%s" stroke-width="12" stroke-linecap="round"/>\n'
+            '<path d="%s" fill="none" stroke="%s" stroke-width="1.5" stroke-dasharray="3,3"/>\n'
+            % (path, STROKE, path, BLUE[0], path, ORANGE[1]))
+    return svg(body)
+
+
+def centres(points, colour=STROKE, r=2.5):
+    return "".join('<circle cx="%g" cy="%g" r="%g" fill="%s"/>\n' % (x, y, r, colour)
+                   for x, y in points)
+
+
+def merged(circles, fill="url(#b)"):
+    """Discs drawn as one solid: outlines first, then the fills over the inner lines."""
+    body = "".join('<circle cx="%g" cy="%g" r="%g" fill="none" %s/>\n' % (x, y, r, stroke(3))
+                   for x, y, r in circles)
+    body += "".join('<circle cx="%g" cy="%g" r="%g" fill="%s"/>\n' % (x, y, r - 1.2, fill)
+                    for x, y, r in circles)
+    return body
+
+
+def blobby():
+    """Blinn's blobs: three discs melted into one, their centres marked."""
+    circles = [(21, 24, 15), (43, 24, 15), (32, 43, 15), (32, 30, 10)]
+    return svg(merged(circles) + centres([(21, 24), (43, 24), (32, 43)]), radial("b", BLUE))
+
+
+def soft_objects():
+    """Wyvill's soft objects: two blobs joined, each with its dashed radius of influence."""
+    body = "".join('<circle cx="%g" cy="32" r="27" fill="none" stroke="%s" stroke-width="1.5" '
+                   'stroke-dasharray="4,3"/>\n' % (x, ORANGE[1]) for x in (22, 42))
+    body += merged([(22, 32, 13), (42, 32, 13), (32, 32, 8)])
+    return svg(body + centres([(22, 32), (42, 32)]), radial("b", BLUE))
+
+
+def convolution():
+    """A field convolved from points: each point's glow fading outwards."""
+    body = ""
+    for x, y in ((20, 22), (44, 26), (30, 46)):
+        for r, o in ((20, 0.25), (14, 0.45), (8, 0.9)):
+            body += '<circle cx="%g" cy="%g" r="%g" fill="%s" opacity="%g"/>\n' % (
+                x, y, r, BLUE[1], o)
+    return svg(body + centres([(20, 22), (44, 26), (30, 46)], ORANGE[1], 3))
+
+
+def metaballs():
+    """Metaballs: a big ball and two smaller ones, merged."""
+    return svg(merged([(24, 38, 18), (45, 22, 12), (48, 47, 9), (36, 34, 9)]),
+               radial("b", BLUE))
+
+
+def convolution_segments():
+    """Convolution along line segments: a thick polyline around its skeleton."""
+    path = "M8,50 L24,16 L40,44 L56,12"
+    body = ('<path d="%s" fill="none" stroke="%s" stroke-width="17" stroke-linecap="round" '
+            'stroke-linejoin="round"/>\n<path d="%s" fill="none" stroke="%s" stroke-width="12" '
+            'stroke-linecap="round" stroke-linejoin="round"/>\n<path d="%s" fill="none" '
+            'stroke="%s" stroke-width="2"/>\n' % (path, STROKE, path, BLUE[0], path, STROKE))
+    return svg(body + centres([(8, 50), (24, 16), (40, 44), (56, 12)]))
+
+
+def mesh_sdf():
+    """A triangle mesh turned into a distance field: facets, then rings round them."""
+    body = ""
+    for r, o in ((29, 0.18), (23, 0.3), (17, 0.5)):
+        body += '<circle cx="34" cy="34" r="%g" fill="%s" opacity="%g"/>\n' % (r, BLUE[1], o)
+    pts = [(34, 20), (22, 30), (46, 30), (26, 46), (42, 46)]
+    for t in ((0, 1, 2), (1, 3, 2), (3, 4, 2)):
+        body += '<path d="M%s Z" fill="%s" %s/>\n' % (
+            " L".join("%g,%g" % pts[i] for i in t), BLUE[0], stroke(1.5))
+    return svg(body)
+
+
+def vdb_grid():
+    """A sparse voxel grid: a few cubes of a level set."""
+    body = ""
+    for x, y in ((8, 30), (26, 30), (17, 14), (35, 14)):
+        body += cube(x, y, 16, 6).replace('stroke-width="2"', 'stroke-width="1.5"')
+    return svg(body)
+
+
+# -- operations and deformations ------------------------------------------------------------
+def blend_union_icon():
+    """The blend union: the fillet between the two discs marked in orange."""
+    text = blend("union")
+    fillet = ('<path d="M25,15 C29,16 31,19 32,22 C33,19 35,16 39,15" fill="none" stroke="%s" '
+              'stroke-width="3"/>\n<path d="M25,49 C29,48 31,45 32,42 C33,45 35,48 39,49" '
+              'fill="none" stroke="%s" stroke-width="3"/>\n' % (ORANGE[1], ORANGE[1]))
+    return text.replace("</svg>", fillet + "</svg>")
+
+
+def bounded_blend():
+    """A blend acting only in a bounded region: the fillet inside a dashed box."""
+    text = blend_union_icon()
+    box = ('<rect x="20" y="4" width="24" height="56" fill="none" stroke="%s" stroke-width="2" '
+           'stroke-dasharray="4,3"/>\n' % GREEN[1])
+    return text.replace("</svg>", box + "</svg>")
+
+
+def bend():
+    """A bar bent into an arc, with the bending arrow."""
+    body = ('<path d="M6,54 A30,30 0 0 1 58,54 L46,54 A18,18 0 0 0 18,54 Z" fill="url(#lb)" '
+            '%s/>\n' % stroke())
+    body += ('<path d="M14,20 A22,22 0 0 1 50,20" fill="none" stroke="%s" stroke-width="3" '
+             'stroke-linecap="round"/>\n<path d="M55,14 L53,26 L44,18 Z" fill="%s"/>\n'
+             % (ORANGE[1], ORANGE[1]))
+    return svg(body, linear("lb", BLUE))
+
+
+def deform_point():
+    """A block pushed in at one point."""
+    body = ('<path d="M8,16 L24,16 C28,32 36,32 40,16 L56,16 L56,56 L8,56 Z" fill="url(#lb)" '
+            '%s/>\n' % stroke())
+    body += arrow(32, 2, 32, 24, ORANGE[1], 3)
+    return svg(body, linear("lb", BLUE, 0, 1))
+
+
+def ffd():
+    """The free-form deformation node: a band bent under its control polygon."""
+    body = ('<path d="M6,50 Q32,18 58,50 L58,60 Q32,30 6,60 Z" fill="url(#lb)" %s/>\n'
+            % stroke())
+    body += ('<g fill="none" stroke="%s" stroke-width="2"><path d="M6,40 Q32,4 58,40"/>'
+             '<path d="M6,40 L6,60 M58,40 L58,60"/></g>\n' % ORANGE[1])
+    body += ('<g fill="%s"><circle cx="6" cy="40" r="3"/><circle cx="32" cy="22" r="3.5"/>'
+             '<circle cx="58" cy="40" r="3"/></g>\n' % ORANGE[1])
+    return svg(body, linear("lb", BLUE, 0, 1))
+
+
+def lattice_net():
+    """The Lattice command: a control net of points."""
+    body = ('<g fill="none" stroke="%s" stroke-width="2.5" stroke-linejoin="round">\n'
+            '<path d="M6,44 Q32,30 58,44"/><path d="M6,24 Q32,6 58,24"/>\n'
+            '<path d="M6,24 L6,44 M24,16 L24,36 M40,16 L40,36 M58,24 L58,44"/>\n'
+            '<path d="M6,34 Q32,18 58,34"/>\n</g>\n' % ORANGE[1])
+    body += centres([(6, 24), (24, 16), (40, 16), (58, 24), (6, 44), (24, 36), (40, 36),
+                     (58, 44)], STROKE, 3.5)
+    return svg(body)
+
+
+def deform():
+    """The Deform command: a ball squeezed by the lattice round it."""
+    body = ('<ellipse cx="32" cy="38" rx="22" ry="14" fill="url(#b)" %s/>\n' % stroke())
+    body += ('<path d="M6,20 Q32,36 58,20 M6,56 L58,56 M6,20 L6,56 M58,20 L58,56" fill="none" '
+             'stroke="%s" stroke-width="2.5"/>\n' % ORANGE[1])
+    body += centres([(6, 20), (32, 28), (58, 20), (6, 56), (58, 56)], STROKE, 3.5)
+    return svg(body, radial("b", BLUE))
+
+
+def instancer():
+    """Copies of a solid at points: a grid of small balls."""
+    body = "".join(sphere(x, y, 7.5) for x in (12, 32, 52) for y in (12, 32, 52)
+                   if (x, y) != (52, 12))
+    body += '<circle cx="52" cy="12" r="7.5" fill="none" %s stroke-dasharray="3,2"/>\n' % stroke()
+    return svg(body, radial("b", BLUE))
+
+
+# -- microstructures: each surface's own pattern in a block ---------------------------------
+def tile(pattern, defs=""):
+    body = ('<rect x="4" y="4" width="56" height="56" rx="6" fill="#dcecff" %s/>\n' % stroke()
+            + pattern)
+    return svg(body, defs)
+
+
+def schwarz_p():
+    """Schwarz P: round holes through a block, a hole at each face's centre (a quarter of
+    one at each corner of the view)."""
+    holes = '<circle cx="32" cy="32" r="13" fill="#ffffff" %s/>\n' % stroke(2)
+    for (cx, cy), (ax, ay), (bx, by) in (((4, 4), (4, 15), (15, 4)),
+                                         ((60, 4), (49, 4), (60, 15)),
+                                         ((60, 60), (60, 49), (49, 60)),
+                                         ((4, 60), (15, 60), (4, 49))):
+        holes += ('<path d="M%g,%g A11,11 0 0 0 %g,%g L%g,%g Z" fill="#ffffff" %s/>\n'
+                  % (ax, ay, bx, by, cx, cy, stroke(2)))
+    return tile('<rect x="4" y="4" width="56" height="56" rx="6" fill="url(#lb)"/>\n' + holes,
+                linear("lb", BLUE))
+
+
+def schwarz_d():
+    """Schwarz D: two families of diagonal channels crossing, within the block."""
+    def diagonal(c, rising):
+        # y = x + c (falling in the view) or y = c - x, cut to the block [4, 60]^2
+        xs = [x for x in (4, 60, 4 - c, 60 - c, c - 4, c - 60) if 4 <= x <= 60]
+        ends = sorted({(x, x + c if not rising else c - x) for x in xs
+                       if 4 <= (x + c if not rising else c - x) <= 60})
+        return ends[0], ends[-1]
+    pattern = ""
+    for c in (-28, 0, 28):
+        (x1, y1), (x2, y2) = diagonal(c, False)
+        pattern += ('<line x1="%g" y1="%g" x2="%g" y2="%g" stroke="%s" stroke-width="6" '
+                    'stroke-linecap="round"/>\n' % (x1, y1, x2, y2, BLUE[1]))
+    for c in (36, 64, 92):
+        (x1, y1), (x2, y2) = diagonal(c, True)
+        pattern += ('<line x1="%g" y1="%g" x2="%g" y2="%g" stroke="%s" stroke-width="3.5" '
+                    'opacity="0.75" stroke-linecap="round"/>\n' % (x1, y1, x2, y2, BLUE[1]))
+    return tile(pattern)
+
+
+def diamond():
+    """Diamond: the tetrahedral network of carbon's crystal."""
+    pts = [(14, 14), (32, 24), (50, 14), (32, 44), (14, 54), (50, 54)]
+    body = "".join('<line x1="%g" y1="%g" x2="%g" y2="%g" stroke="%s" stroke-width="6" '
+                   'stroke-linecap="round"/>\n' % (pts[a] + pts[b] + (BLUE[1],))
+                   for a, b in ((0, 1), (2, 1), (1, 3), (3, 4), (3, 5)))
+    return tile(body + centres(pts, STROKE, 5))
+
+
+def neovius():
+    """Neovius: a block with a cross-shaped cavity and round openings."""
+    body = ('<rect x="4" y="4" width="56" height="56" rx="6" fill="url(#lb)"/>\n'
+            '<path d="M26,8 L38,8 L38,26 L56,26 L56,38 L38,38 L38,56 L26,56 L26,38 L8,38 '
+            'L8,26 L26,26 Z" fill="#ffffff" %s/>\n' % stroke(2))
+    return tile(body, linear("lb", BLUE))
+
+
+def lidinoid():
+    """Lidinoid: two families of waves woven through each other."""
+    body = ""
+    for y in (16, 32, 48):
+        body += ('<path d="M4,%g C14,%g 22,%g 32,%g S50,%g 60,%g" fill="none" stroke="%s" '
+                 'stroke-width="4.5"/>\n' % (y, y - 10, y + 10, y, y - 10, y, BLUE[1]))
+    for x in (18, 46):
+        body += ('<path d="M%g,4 C%g,18 %g,46 %g,60" fill="none" stroke="%s" stroke-width="3"/>\n'
+                 % (x, x - 10, x + 10, x, ORANGE[1]))
+    return tile(body)
+
+
+def infill():
+    """Infill: a part's skin (thick outline) with a lattice inside."""
+    body = ('<path d="M6,58 L6,14 L30,6 L58,14 L58,58 Z" fill="#dcecff" stroke="%s" '
+            'stroke-width="5" stroke-linejoin="round"/>\n' % BLUE[1])
+    for y in (24, 36, 48):
+        body += ('<path d="M10,%g C20,%g 24,%g 32,%g C40,%g 44,%g 54,%g" fill="none" '
+                 'stroke="%s" stroke-width="3"/>\n' % (y, y - 7, y + 7, y, y - 7, y + 7, y,
+                                                      BLUE[1]))
+    return svg(body)
+
+
+# -- meshing and printing -------------------------------------------------------------------
+def solid_tolerance():
+    """The solid input tolerance: an arc and the facets that stand for it, the gap marked."""
+    body = ('<path d="M6,52 A30,30 0 0 1 58,52" fill="none" %s/>\n'
+            '<path d="M6,52 L14,30 L32,20 L50,30 L58,52" fill="none" stroke="%s" '
+            'stroke-width="2.5"/>\n' % (stroke(3), ORANGE[1]))
+    body += ('<path d="M32,22 L32,8 M28,12 L32,6 L36,12" fill="none" stroke="%s" stroke-width="2"'
+             '/>\n' % GREEN[1])
+    return svg(body + centres([(6, 52), (14, 30), (32, 20), (50, 30), (58, 52)], STROKE, 2.5))
+
+
+def printability():
+    body = ('<rect x="4" y="52" width="56" height="6" fill="#666666" stroke="#333333" '
+            'stroke-width="2"/>\n<path d="M12,52 L12,20 L52,20 L52,52 L44,52 L44,28 L20,28 '
+            'L20,52 Z" fill="url(#b)" %s/>\n<rect x="44" y="28" width="8" height="24" '
+            'fill="#e03030" %s/>\n<path d="M24,8 L24,16 M20,12 L24,6 L28,12" fill="none" '
+            'stroke="%s" stroke-width="3" stroke-linecap="round" stroke-linejoin="round"/>\n'
+            % (stroke(), stroke(), GREEN[1]))
+    return svg(body, radial("b", BLUE))
+
+
+def repair():
+    body = ('<path d="M8,40 L26,10 L46,22 L52,44 L30,56 Z" fill="url(#b)" %s/>\n'
+            '<path d="M26,10 L30,56 M8,40 L46,22" fill="none" %s/>\n'
+            '<path d="M34,30 L44,26 L40,36 Z" fill="#ffffff" stroke="#b02020" stroke-width="2" '
+            'stroke-linejoin="round"/>\n<path d="M42,46 L58,30 L62,34 L46,50 Z" fill="#c8c8c8" '
+            'stroke="#333333" stroke-width="2" stroke-linejoin="round"/>\n<path d="M54,26 L60,20 '
+            'L62,22 L58,30" fill="#c8c8c8" stroke="#333333" stroke-width="2" '
+            'stroke-linejoin="round"/>\n' % (stroke(), stroke(1.5)))
+    return svg(body, radial("b", BLUE))
+
+
+# -- hsplines: a surface of B-spline patches (tan) with its control points -----------------
+TAN, TAN_EDGE, CV_GREEN, CV_RED = "#d9b56a", "#7a5a1a", "#1a8a3a", "#d01c1c"
+
+
+def hspline_sheet(cv_colour=CV_RED, detail=True, extra=""):
+    body = ('<path d="M4,46 C16,30 28,54 40,38 C48,28 54,34 60,30 L60,50 C54,54 48,48 40,58 '
+            'C28,74 16,50 4,62 Z" fill="%s" stroke="%s" stroke-width="2"/>\n' % (TAN, TAN_EDGE))
+    body += ('<path d="M4,30 L22,22 L40,24 L60,16" fill="none" stroke="%s" stroke-width="1.5"/>\n'
+             % STROKE)
+    body += centres([(4, 30), (22, 22), (40, 24), (60, 16)], CV_GREEN, 3.5)
+    if detail:
+        body += ('<path d="M26,40 L34,36 L42,38" fill="none" stroke="%s" stroke-width="1.5"/>\n'
+                 % STROKE + centres([(26, 40), (34, 36), (42, 38)], cv_colour, 2.8))
+    return svg(body + extra)
+
+
+def hspline_zero():
+    body = ('<path d="M4,40 C20,34 44,34 60,40 L60,56 C44,50 20,50 4,56 Z" fill="%s" '
+            'stroke="%s" stroke-width="2"/>\n<path d="M32,8 L32,30" stroke="%s" stroke-width="3"/>'
+            '<path d="M24,22 L32,32 L40,22" fill="none" stroke="%s" stroke-width="3"/>\n'
+            % (TAN, TAN_EDGE, CV_RED, CV_RED))
+    return svg(body + centres([(32, 36)], CV_GREEN, 4))
+
+
+def hspline_unrefine():
+    return hspline_sheet(detail=False, extra='<path d="M20,8 L44,32 M44,8 L20,32" stroke="%s" '
+                         'stroke-width="4"/>\n' % CV_RED)
+
+
+def hspline_plane():
+    """A new hspline plane: a flat sheet and its grid of control points."""
+    body = ('<path d="M4,48 L20,20 L60,20 L44,48 Z" fill="%s" stroke="%s" stroke-width="2"/>\n'
+            % (TAN, TAN_EDGE))
+    pts = [(4 + 13.3 * i + 8 * j, 48 - 14 * j) for i in range(4) for j in range(3)]
+    return svg(body + centres(pts, CV_GREEN, 3) + plus_badge())
+
+
+def hspline_cylinder():
+    """A new hspline cylinder: a tube of patches and its rings of control points."""
+    body = ('<path d="M12,14 L12,50 A20,7 0 0 0 52,50 L52,14 Z" fill="%s" stroke="%s" '
+            'stroke-width="2"/>\n<ellipse cx="32" cy="14" rx="20" ry="7" fill="#f0dcae" '
+            'stroke="%s" stroke-width="2"/>\n' % (TAN, TAN_EDGE, TAN_EDGE))
+    pts = [(12, 32), (22, 37), (32, 39), (42, 37), (52, 32), (12, 50), (32, 57), (52, 50)]
+    return svg(body + centres(pts, CV_GREEN, 3) + plus_badge())
+
+
+def hspline_torus():
+    """A new hspline torus."""
+    body = ('<ellipse cx="32" cy="34" rx="28" ry="17" fill="%s" stroke="%s" stroke-width="2"/>\n'
+            '<ellipse cx="32" cy="31" rx="12" ry="5.5" fill="#ffffff" stroke="%s" '
+            'stroke-width="2"/>\n' % (TAN, TAN_EDGE, TAN_EDGE))
+    pts = [(6, 34), (16, 45), (32, 50), (48, 45), (58, 34), (32, 19)]
+    return svg(body + centres(pts, CV_GREEN, 3) + plus_badge())
+
+
+def hspline_from_face():
+    """An hspline from a B-spline face: a solid's face lifted off as a sheet."""
+    body = cube(4, 22, 30, 10, GREY).replace('fill="#e4e4e4"', 'fill="#f2f2f2"', 1)
+    body += ('<path d="M30,14 C40,4 52,10 60,4 L60,24 C52,30 40,24 30,34 Z" fill="%s" '
+             'stroke="%s" stroke-width="2"/>\n' % (TAN, TAN_EDGE))
+    return svg(body + arrow(22, 30, 38, 20, ORANGE[1], 3))
+
+
+def hspline_solid():
+    """To solid: a closed hspline filled."""
+    body = ('<ellipse cx="32" cy="34" rx="28" ry="17" fill="url(#b)" %s/>\n'
+            '<ellipse cx="32" cy="31" rx="12" ry="5.5" fill="#ffffff" %s/>\n'
+            % (stroke(), stroke()))
+    return svg(body + centres([(6, 34), (32, 51), (58, 34), (32, 17)], CV_GREEN, 3),
+               radial("b", BLUE))
+
+
+def file_page(extra):
+    return ('<path d="M14,4 L42,4 L52,14 L52,60 L14,60 Z" fill="#ffffff" %s/>\n'
+            '<path d="M42,4 L42,14 L52,14" fill="none" %s/>\n'
+            '<text x="33" y="56" text-anchor="middle" font-family="sans-serif" font-size="12" '
+            'font-weight="bold" fill="%s">.hs</text>\n' % (stroke(), stroke(), TAN_EDGE) + extra)
+
+
+def hspline_import():
+    return svg(file_page('<path d="M18,38 C24,28 32,44 40,32" fill="none" stroke="%s" '
+                         'stroke-width="4"/>\n' % TAN_EDGE) + arrow(2, 24, 24, 24, GREEN[1], 4))
+
+
+def hspline_export():
+    return svg(file_page('<path d="M18,38 C24,28 32,44 40,32" fill="none" stroke="%s" '
+                         'stroke-width="4"/>\n' % TAN_EDGE) + arrow(40, 24, 62, 24, GREEN[1], 4))
+
+
+def plus_badge():
+    """A green plus in the lower right: the command makes a new object."""
+    return ('<circle cx="52" cy="52" r="10" fill="%s" stroke="#ffffff" stroke-width="2"/>\n'
+            '<path d="M52,46 L52,58 M46,52 L58,52" stroke="#ffffff" stroke-width="3"/>\n'
+            % GREEN[1])
+
+
 ICONS = {
     "frep": frep,
     "sphere": lambda: svg(sphere(), radial("b", BLUE)),
@@ -349,7 +724,7 @@ ICONS = {
     "intersection": lambda: venn("intersection"),
     "difference": lambda: venn("difference"),
     "complement": complement,
-    "blend_union": lambda: blend("union"),
+    "blend_union": blend_union_icon,
     "blend_intersection": lambda: blend("intersection"),
     "polygonize": polygonize,
     "export": export,
@@ -366,6 +741,42 @@ ICONS = {
     "formula": formula,
     "stretch": stretch,
     "category-formula": formula,
+    "superellipsoid": superellipsoid,
+    "sweep": sweep,
+    "blobby": blobby,
+    "soft_objects": soft_objects,
+    "convolution": convolution,
+    "metaballs": metaballs,
+    "convolution_segments": convolution_segments,
+    "mesh_sdf": mesh_sdf,
+    "vdb_grid": vdb_grid,
+    "bounded_blend": bounded_blend,
+    "bend": bend,
+    "deform_point": deform_point,
+    "ffd": ffd,
+    "instancer": instancer,
+    "schwarz_p": schwarz_p,
+    "schwarz_d": schwarz_d,
+    "diamond": diamond,
+    "neovius": neovius,
+    "lidinoid": lidinoid,
+    "infill": infill,
+    "lattice": lattice_net,
+    "deform": deform,
+    "solid_tolerance": solid_tolerance,
+    "printability": printability,
+    "repair": repair,
+    "hspline": hspline_sheet,
+    "hspline_refine": lambda: hspline_sheet("#1c3ad0"),
+    "hspline_zero": hspline_zero,
+    "hspline_unrefine": hspline_unrefine,
+    "hspline_plane": hspline_plane,
+    "hspline_cylinder": hspline_cylinder,
+    "hspline_torus": hspline_torus,
+    "hspline_from_face": hspline_from_face,
+    "hspline_solid": hspline_solid,
+    "hspline_import": hspline_import,
+    "hspline_export": hspline_export,
     # Fallbacks for node types added without their own icon, by registry category.
     "category-primitive": lambda: svg(sphere(), radial("b", BLUE)),
     "category-transform": transform,

@@ -21,47 +21,132 @@ from FRepGuiHelpers import (QT_TRANSLATE_NOOP, Transaction, add_to_active_contai
                             report_if_failed, translate)
 
 MENU = "FRep"
-TOOLBARS = (
-    ("FRep primitives", ("primitive", "formula")),
-    ("FRep operations", ("set operation", "blend", "field operation")),
-    ("FRep transforms", ("transform", "deformation", "array")),
-    ("FRep microstructures", ("microstructure",)),
+# The toolbars as a user sees them at FreeCAD's default width: the commonest commands as
+# buttons, the rest of a family behind a drop-down (a group command, as Part's primitives).
+# An entry is a node type, another command's name (FRep_...), or a group: (its command name,
+# its title, its tooltip, its members). A node type placed nowhere goes to "FRep more".
+LAYOUT = (
+    ("FRep primitives", (
+        "sphere", "box", "cylinder", "cone", "torus",
+        ("FRep_MorePrimitives", "More primitives", "Ellipsoid, superellipsoid, half-space",
+         ("ellipsoid", "superellipsoid", "halfspace")),
+        ("FRep_SoftSolids", "Blobs and convolution",
+         "Solids around points and skeletons: blobby, soft objects, metaballs, convolution, "
+         "sweep", ("blobby", "soft_objects", "metaballs", "convolution", "convolution_segments",
+                   "sweep")),
+        ("FRep_FieldSources", "Formula and files",
+         "A solid written as a formula, or read from a mesh or an OpenVDB grid",
+         ("formula", "mesh_sdf", "vdb_grid")))),
+    ("FRep operations", (
+        "union", "intersection", "difference",
+        ("FRep_Blends", "Blends", "Set operations with a smooth fillet",
+         ("blend_union", "blend_intersection", "bounded_blend")),
+        ("FRep_FieldOperations", "Offset and shell", "Grow, hollow, invert or morph a solid",
+         ("offset", "shell", "complement", "metamorphosis")))),
+    ("FRep transforms", (
+        ("FRep_Placements", "Move", "Translate, rotate, scale or transform a solid",
+         ("translate", "rotate", "scale", "transform")),
+        ("FRep_Deformations", "Deform", "Twist, bend, taper, stretch or push a solid",
+         ("twist", "bend", "taper", "stretch", "deform_point")),
+        ("FRep_Arrays", "Arrays", "Copies of a solid in a row, round an axis or at points",
+         ("linear_array", "polar_array", "instancer")))),
+    ("FRep microstructures", (
+        ("FRep_Surfaces", "Lattice surfaces",
+         "Triply periodic surfaces as sheets or networks: gyroid, Schwarz P and D, diamond, "
+         "Neovius, lidinoid", ("gyroid", "schwarz_p", "schwarz_d", "diamond", "neovius",
+                               "lidinoid")),
+        "infill")),
+    ("FRep lattice", ("FRep_Lattice", "FRep_Deform", "ffd")),
+    ("FRep hspline", (
+        ("FRep_HSplineNew", "New hspline", "A new hspline: a plane, a cylinder, a torus or "
+         "from a selected face", ("FRep_HSplinePlane", "FRep_HSplineCylinder",
+                                  "FRep_HSplineTorus", "FRep_HSplineFromFace")),
+        "FRep_HSplineRefine", "FRep_HSplineZeroOffsets", "FRep_HSplineUnrefine",
+        "FRep_HSplineToSolid",
+        ("FRep_HSplineFiles", "Hspline files", "Import or export .hs, STEP or a checked STL",
+         ("FRep_HSplineImport", "FRep_HSplineExport")))),
+    ("FRep mesh", (
+        "FRep_Polygonize", "FRep_Export", "FRep_Repair", "FRep_Printability",
+        ("FRep_Settings", "Meshing settings", "The preview's quality and the tolerance solids "
+         "are tessellated at", ("FRep_PreviewQuality", "FRep_SolidTolerance")))),
 )
-LATTICE_COMMANDS = ["FRep_Lattice", "FRep_Deform"]
-MESH_COMMANDS = ["FRep_Polygonize", "FRep_Export", "FRep_PreviewQuality", "FRep_SolidTolerance"]
-PRINT_COMMANDS = ["FRep_Repair", "FRep_Printability"]
 
 
-def command_name(type_id):
-    return "FRep_" + props.type_class_name(type_id)
-
-
-def commands_by_category():
-    """[(category, [command names])] in registry order, categories in first-seen order."""
-    groups = {}
-    for type_id, info in FRepFeatures.NODE_TYPES.items():
-        groups.setdefault(info["category"], []).append(command_name(type_id))
-    return list(groups.items())
+def command_name(entry):
+    """A layout entry's command: a node type's (sphere -> FRep_Sphere) or the name given."""
+    if entry.startswith("FRep_"):
+        return entry
+    return "FRep_" + props.type_class_name(entry)
 
 
 def toolbars():
-    """[(toolbar title, [command names])]: the registry's categories, then meshing. A category
-    the registry gains later gets a toolbar of its own."""
-    groups = dict(commands_by_category())
-    bars, placed = [], set()
-    for title, categories in TOOLBARS:
-        names = [n for c in categories for n in groups.get(c, [])]
-        placed.update(categories)
-        if names:
-            bars.append((title, names))
-    for category, names in groups.items():
-        if category not in placed:
-            bars.append(("FRep " + category, names))
-    bars.append(("FRep lattice", LATTICE_COMMANDS))
-    bars.append(("FRep hspline", FRepHSplineCommands.HSPLINE_COMMANDS))
-    bars.append(("FRep print", PRINT_COMMANDS))
-    bars.append(("FRep mesh", MESH_COMMANDS))
-    return bars
+    """[(toolbar title, [command names])], groups as their own command names, and the groups
+    as {group command name: (title, tooltip, [member command names])}."""
+    bars, groups, placed = [], {}, set()
+    for title, entries in LAYOUT:
+        names = []
+        for entry in entries:
+            if isinstance(entry, tuple):
+                name, text, tip, members = entry
+                groups[name] = (text, tip, [command_name(m) for m in members])
+                placed.update(members)
+                names.append(name)
+            else:
+                placed.add(entry)
+                names.append(command_name(entry))
+        bars.append((title, names))
+    rest = [command_name(t) for t in FRepFeatures.NODE_TYPES if t not in placed]
+    if rest:
+        bars.insert(len(bars) - 3, ("FRep more", rest))
+    return bars, groups
+
+
+def menus():
+    """[(submenu title, [command names])]: the toolbars with their groups spelled out."""
+    bars, groups = toolbars()
+    return [(title.replace("FRep ", "").capitalize(),
+             [m for n in names for m in (groups[n][2] if n in groups else [n])])
+            for title, names in bars]
+
+
+def place_toolbars():
+    """Puts the workbench's toolbars on a row of their own (or as many rows as they need)
+    where they would share one with FreeCAD's own: Qt squeezes a crowded row, and most
+    buttons went behind ». Toolbars the user has moved, or that fit, stay where they are."""
+    from PySide import QtCore, QtGui
+    mw = FreeCADGui.getMainWindow()
+    bars = [mw.findChild(QtGui.QToolBar, title) for title, _ in toolbars()[0]]
+    bars = [b for b in bars if b is not None and b.isVisible() and
+            mw.toolBarArea(b) == QtCore.Qt.TopToolBarArea]
+    if not bars or all(b.width() >= b.sizeHint().width() for b in bars):
+        return
+    room = mw.width() - 20
+    row = 0
+    for k, bar in enumerate(bars):
+        wants = bar.sizeHint().width()
+        if k == 0 or row + wants > room:
+            mw.insertToolBarBreak(bar)
+            row = 0
+        row += wants
+
+
+class GroupCommand:
+    """A drop-down of commands on a toolbar (FreeCAD's group command)."""
+
+    def __init__(self, title, tip, members):
+        self.title, self.tip, self.members = title, tip, members
+
+    def GetCommands(self):
+        return tuple(self.members)
+
+    def GetDefaultCommand(self):
+        return 0
+
+    def GetResources(self):
+        return {"MenuText": translate("FRep", self.title), "ToolTip": translate("FRep", self.tip)}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None
 
 
 class NodeCommand:
@@ -81,7 +166,7 @@ class NodeCommand:
         # The registry's texts are translated at run time (context "FRep"); they are not
         # literals a translation tool could collect.
         return {"Pixmap": FRepPaths.icon(self.type_id, self.info["category"]),
-                "MenuText": translate("FRep", self.type_id.replace("_", " ").capitalize()),
+                "MenuText": translate("FRep", self.info["title"]),
                 "ToolTip": translate("FRep", tip)}
 
     def input_rule(self):
@@ -290,7 +375,7 @@ class PreviewQualityCommand:
 
 class SolidToleranceCommand:
     def GetResources(self):
-        return {"Pixmap": FRepPaths.icon("solid-tolerance", "field source"),
+        return {"Pixmap": FRepPaths.icon("solid_tolerance"),
                 "MenuText": QT_TRANSLATE_NOOP("FRep_SolidTolerance", "Solid input tolerance..."),
                 "ToolTip": translate(
                     "FRep_SolidTolerance",
@@ -360,7 +445,7 @@ class DeformCommand:
     """The selected object deformed by the selected lattice (or by a new one fitted to it)."""
 
     def GetResources(self):
-        return {"Pixmap": FRepPaths.icon("ffd", "deformation"),
+        return {"Pixmap": FRepPaths.icon("deform"),
                 "MenuText": QT_TRANSLATE_NOOP("FRep_Deform", "Deform"),
                 "ToolTip": translate(
                     "FRep_Deform",
@@ -469,17 +554,25 @@ class PrintabilityCommand:
         panel.run()
 
 
+# Every command of the workbench but the toolbars' groups, by name (filled by register()).
+COMMANDS = {}
+
+
 def register():
-    """Adds every command to FreeCAD; returns the toolbars as (title, command names)."""
+    """Adds every command to FreeCAD; returns the toolbars as (title, command names) and the
+    menus as (submenu title, command names)."""
+    COMMANDS.clear()
     for type_id in FRepFeatures.NODE_TYPES:
-        FreeCADGui.addCommand(command_name(type_id), NodeCommand(type_id))
-    FreeCADGui.addCommand("FRep_Polygonize", PolygonizeCommand())
-    FreeCADGui.addCommand("FRep_Export", ExportCommand())
-    FreeCADGui.addCommand("FRep_PreviewQuality", PreviewQualityCommand())
-    FreeCADGui.addCommand("FRep_SolidTolerance", SolidToleranceCommand())
-    FreeCADGui.addCommand("FRep_Lattice", LatticeCommand())
-    FreeCADGui.addCommand("FRep_Deform", DeformCommand())
-    FreeCADGui.addCommand("FRep_Repair", RepairCommand())
-    FreeCADGui.addCommand("FRep_Printability", PrintabilityCommand())
-    FRepHSplineCommands.register()
-    return toolbars()
+        COMMANDS[command_name(type_id)] = NodeCommand(type_id)
+    COMMANDS.update({"FRep_Polygonize": PolygonizeCommand(), "FRep_Export": ExportCommand(),
+                     "FRep_PreviewQuality": PreviewQualityCommand(),
+                     "FRep_SolidTolerance": SolidToleranceCommand(),
+                     "FRep_Lattice": LatticeCommand(), "FRep_Deform": DeformCommand(),
+                     "FRep_Repair": RepairCommand(), "FRep_Printability": PrintabilityCommand()})
+    COMMANDS.update(FRepHSplineCommands.commands())
+    for name, command in COMMANDS.items():
+        FreeCADGui.addCommand(name, command)
+    bars, groups = toolbars()
+    for name, (title, tip, members) in groups.items():
+        FreeCADGui.addCommand(name, GroupCommand(title, tip, members))
+    return bars, menus()

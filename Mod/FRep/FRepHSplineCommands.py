@@ -9,11 +9,6 @@ import FreeCADGui
 import FRepPaths
 from FRepGuiHelpers import QT_TRANSLATE_NOOP, Transaction, add_to_active_container, report
 
-HSPLINE_COMMANDS = ["FRep_HSplinePlane", "FRep_HSplineCylinder", "FRep_HSplineTorus",
-                    "FRep_HSplineFromFace", "FRep_HSplineRefine", "FRep_HSplineZeroOffsets",
-                    "FRep_HSplineUnrefine", "FRep_HSplineToSolid", "FRep_HSplineImport",
-                    "FRep_HSplineExport"]
-
 
 def _selected_hsplines():
     import FRepHSpline
@@ -39,7 +34,8 @@ class NewHSplineCommand:
 
     def GetResources(self):
         text, tip = self.SHAPES[self.shape]
-        return {"Pixmap": FRepPaths.icon("hspline"), "MenuText": text, "ToolTip": tip}
+        return {"Pixmap": FRepPaths.icon("hspline_" + self.shape), "MenuText": text,
+                "ToolTip": tip}
 
     def IsActive(self):
         return FreeCAD.ActiveDocument is not None
@@ -58,7 +54,7 @@ class NewHSplineCommand:
 
 class FromFaceCommand:
     def GetResources(self):
-        return {"Pixmap": FRepPaths.icon("hspline"),
+        return {"Pixmap": FRepPaths.icon("hspline_from_face"),
                 "MenuText": QT_TRANSLATE_NOOP("FRep_HSplineFromFace", "Hspline from face"),
                 "ToolTip": QT_TRANSLATE_NOOP(
                     "FRep_HSplineFromFace",
@@ -101,7 +97,7 @@ class EditCommand:
         "unrefine": ("hspline_unrefine", "Unrefine",
                      "Removes the CVs with zero offset that no detail needs, and empty levels; "
                      "the surface does not change."),
-        "solid": ("hspline", "To solid",
+        "solid": ("hspline_solid", "To solid",
                   "Makes the selected closed hspline (periodic both ways, like a torus) a solid."),
     }
 
@@ -134,7 +130,7 @@ class EditCommand:
 
 class ImportCommand:
     def GetResources(self):
-        return {"Pixmap": FRepPaths.icon("hspline"), "MenuText": "Import .hs...",
+        return {"Pixmap": FRepPaths.icon("hspline_import"), "MenuText": "Import .hs...",
                 "ToolTip": "Reads an hspline file (.hs, docs/file-formats.md) into a new HSpline."}
 
     def IsActive(self):
@@ -164,7 +160,7 @@ class ExportCommand:
                "STL mesh, checked (*.stl)")
 
     def GetResources(self):
-        return {"Pixmap": FRepPaths.icon("export"), "MenuText": "Export hspline...",
+        return {"Pixmap": FRepPaths.icon("hspline_export"), "MenuText": "Export hspline...",
                 "ToolTip": "Writes the selected hspline as .hs (optionally unrefined), as STEP "
                            "(a solid when closed) or as an STL mesh checked printable."}
 
@@ -196,12 +192,14 @@ class ExportCommand:
         FreeCADGui.getMainWindow().statusBar().showMessage("Wrote %s" % path, 10000)
 
 
-def register():
-    for shape in ("plane", "cylinder", "torus"):
-        FreeCADGui.addCommand("FRep_HSpline" + shape.capitalize(), NewHSplineCommand(shape))
-    FreeCADGui.addCommand("FRep_HSplineFromFace", FromFaceCommand())
+def commands():
+    """The hspline commands by name (FRepCommands registers them)."""
+    made = {"FRep_HSpline" + shape.capitalize(): NewHSplineCommand(shape)
+            for shape in ("plane", "cylinder", "torus")}
+    made["FRep_HSplineFromFace"] = FromFaceCommand()
     for action, name in (("refine", "Refine"), ("zero", "ZeroOffsets"), ("unrefine", "Unrefine"),
                          ("solid", "ToSolid")):
-        FreeCADGui.addCommand("FRep_HSpline" + name, EditCommand(action))
-    FreeCADGui.addCommand("FRep_HSplineImport", ImportCommand())
-    FreeCADGui.addCommand("FRep_HSplineExport", ExportCommand())
+        made["FRep_HSpline" + name] = EditCommand(action)
+    made["FRep_HSplineImport"] = ImportCommand()
+    made["FRep_HSplineExport"] = ExportCommand()
+    return made

@@ -19,13 +19,20 @@ class FRepWorkbench(FreeCADGui.Workbench):
 
     def Initialize(self):
         import FRepCommands
-        bars = FRepCommands.register()
+        bars, menus = FRepCommands.register()
         for title, names in bars:
             self.appendToolbar(title, names)
-            if names is not FRepCommands.MESH_COMMANDS:  # those go at the menu's top level
-                self.appendMenu([FRepCommands.MENU, title.replace("FRep ", "").capitalize()],
-                                names)
-        self.appendMenu(FRepCommands.MENU, FRepCommands.MESH_COMMANDS)
+        for title, names in menus:
+            if title == "Mesh":  # meshing and printing: at the menu's top level
+                self.appendMenu(FRepCommands.MENU, names)
+            else:
+                self.appendMenu([FRepCommands.MENU, title], names)
+
+    def Activated(self):
+        # (once FreeCAD has laid its toolbars out: after the activation's events)
+        from PySide import QtCore
+        import FRepCommands
+        QtCore.QTimer.singleShot(0, FRepCommands.place_toolbars)
 
     def GetClassName(self):
         return "Gui::PythonWorkbench"

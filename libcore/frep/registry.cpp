@@ -1,7 +1,9 @@
 #include "frep/registry.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <map>
 #include <sstream>
 #include <utility>
 
@@ -12,14 +14,22 @@ namespace frep {
 
 const char* paramTypeName(ParamType t) {
   switch (t) {
-    case ParamType::Real: return "real";
-    case ParamType::Integer: return "integer";
-    case ParamType::Boolean: return "boolean";
-    case ParamType::Vector3: return "vector3";
-    case ParamType::Matrix3x4: return "matrix3x4";
-    case ParamType::Choice: return "choice";
-    case ParamType::Points: return "points";
-    case ParamType::Text: return "text";
+    case ParamType::Real:
+      return "real";
+    case ParamType::Integer:
+      return "integer";
+    case ParamType::Boolean:
+      return "boolean";
+    case ParamType::Vector3:
+      return "vector3";
+    case ParamType::Matrix3x4:
+      return "matrix3x4";
+    case ParamType::Choice:
+      return "choice";
+    case ParamType::Points:
+      return "points";
+    case ParamType::Text:
+      return "text";
   }
   return "?";
 }
@@ -44,11 +54,15 @@ ParamTemplate base(std::string name, ParamType type, std::string unit, std::stri
 
 std::size_t expectedCount(ParamType t) {
   switch (t) {
-    case ParamType::Vector3: return 3;
-    case ParamType::Matrix3x4: return 12;
+    case ParamType::Vector3:
+      return 3;
+    case ParamType::Matrix3x4:
+      return 12;
     case ParamType::Choice:
-    case ParamType::Text: return 0;
-    default: return 1;
+    case ParamType::Text:
+      return 0;
+    default:
+      return 1;
   }
 }
 }  // namespace
@@ -105,7 +119,8 @@ ParamTemplate fileParam(std::string name, std::string doc) {
 ParamTemplate pointsParam(std::string name, std::vector<Vec3> def, std::size_t minPoints,
                           std::string unit, std::string doc) {
   ParamTemplate p = base(std::move(name), ParamType::Points, std::move(unit), std::move(doc));
-  for (const Vec3& q : def) p.defaultValue.numbers.insert(p.defaultValue.numbers.end(), q.begin(), q.end());
+  for (const Vec3& q : def)
+    p.defaultValue.numbers.insert(p.defaultValue.numbers.end(), q.begin(), q.end());
   p.minPoints = minPoints;
   return p;
 }
@@ -127,21 +142,27 @@ ParamTemplate& range(ParamTemplate& p, double lo, double hi, bool loOpen, bool h
 
 std::string ParamTemplate::rangeText() const {
   switch (type) {
-    case ParamType::Boolean: return "true or false";
+    case ParamType::Boolean:
+      return "true or false";
     case ParamType::Choice: {
       std::string s = "one of";
-      for (std::size_t i = 0; i < choices.size(); ++i) s += (i ? ", \"" : " \"") + choices[i] + "\"";
+      for (std::size_t i = 0; i < choices.size(); ++i)
+        s += (i ? ", \"" : " \"") + choices[i] + "\"";
       return s;
     }
-    case ParamType::Text: return filePath ? "a file path (relative paths: from the model file's folder)" : "text";
-    case ParamType::Matrix3x4: return "12 finite numbers (rows of a 3x4 affine matrix, invertible)";
+    case ParamType::Text:
+      return filePath ? "a file path (relative paths: from the model file's folder)" : "text";
+    case ParamType::Matrix3x4:
+      return "12 finite numbers (rows of a 3x4 affine matrix, invertible)";
     case ParamType::Points:
-      return "a list of at least " + std::to_string(minPoints) + " points [x, y, z] of finite numbers";
-    default: break;
+      return "a list of at least " + std::to_string(minPoints) +
+             " points [x, y, z] of finite numbers";
+    default:
+      break;
   }
   // an infinite bound is never attained: always shown open
-  std::string s = (minExclusive || std::isinf(min) ? "(" : "[") + number(min) + ", " +
-                  number(max) + (maxExclusive || std::isinf(max) ? ")" : "]");
+  std::string s = (minExclusive || std::isinf(min) ? "(" : "[") + number(min) + ", " + number(max) +
+                  (maxExclusive || std::isinf(max) ? ")" : "]");
   if (type == ParamType::Integer) s = "an integer in " + s;
   if (type == ParamType::Vector3) {
     s = "3 numbers, each in " + s;
@@ -195,7 +216,8 @@ std::string ParamTemplate::check(const ParamValue& v) const {
   if (type == ParamType::Matrix3x4) {
     Mat34 m{};
     std::copy(v.numbers.begin(), v.numbers.begin() + 12, m.begin());
-    if (std::abs(linearDeterminant(m)) < 1e-12) return "the matrix is singular; allowed: " + rangeText();
+    if (std::abs(linearDeterminant(m)) < 1e-12)
+      return "the matrix is singular; allowed: " + rangeText();
   }
   return "";
 }
@@ -219,8 +241,39 @@ std::string NodeType::inputsText() const {
   return std::to_string(minInputs) + " to " + std::to_string(maxInputs);
 }
 
+namespace {
+
+// Titles that the id does not spell out: abbreviations, proper names, what a short id means.
+const std::map<std::string, std::string>& titleTable() {
+  static const std::map<std::string, std::string> titles = {
+      {"halfspace", "Half-space"},           {"ffd", "Free-form deformation"},
+      {"deform_point", "Point deformation"}, {"schwarz_p", "Schwarz P surface"},
+      {"schwarz_d", "Schwarz D surface"},    {"gyroid", "Gyroid surface"},
+      {"diamond", "Diamond surface"},        {"neovius", "Neovius surface"},
+      {"lidinoid", "Lidinoid surface"},      {"mesh_sdf", "Mesh distance field"},
+      {"vdb_grid", "OpenVDB grid"},          {"instancer", "Instances at points"},
+      {"transform", "Affine transform"},
+  };
+  return titles;
+}
+
+std::string titleFromId(const std::string& id) {
+  std::string title = id;
+  for (char& c : title)
+    if (c == '_') c = ' ';
+  if (!title.empty())
+    title[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(title[0])));
+  return title;
+}
+
+}  // namespace
+
 void Registry::add(NodeType type) {
   if (byId_.count(type.id)) throw ModelError("node type '" + type.id + "' registered twice");
+  if (type.title.empty()) {
+    const auto it = titleTable().find(type.id);
+    type.title = it != titleTable().end() ? it->second : titleFromId(type.id);
+  }
   types_.push_back(std::make_unique<NodeType>(std::move(type)));
   byId_[types_.back()->id] = types_.back().get();
 }

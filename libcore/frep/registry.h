@@ -99,6 +99,10 @@ struct NodeType {
   // Checks that need the whole node (e.g. a formula naming its parameters and inputs);
   // returns "" or the problem, naming the parameter. Optional.
   std::function<std::string(const Node&)> check = nullptr;
+  // The name a user reads in menus and the node reference ("Free-form deformation"). Left
+  // empty, Registry::add takes it from the registry's table of titles, else from the id
+  // ("blend_union" -> "Blend union").
+  std::string title = {};
 
   const ParamTemplate* findParam(const std::string& name) const;
   // "unknown parameter 'x'; parameters of T: a, b" for error messages

@@ -1,7 +1,7 @@
 #include "frep/registry_docs.h"
 
-#include <nlohmann/json.hpp>
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 namespace frep {
@@ -11,27 +11,33 @@ namespace {
 nlohmann::json defaultJson(const ParamTemplate& p) {
   switch (p.type) {
     case ParamType::Choice:
-    case ParamType::Text: return p.defaultValue.text;
-    case ParamType::Boolean: return p.defaultValue.numbers.at(0) != 0.0;
+    case ParamType::Text:
+      return p.defaultValue.text;
+    case ParamType::Boolean:
+      return p.defaultValue.numbers.at(0) != 0.0;
     case ParamType::Real:
-    case ParamType::Integer: return p.defaultValue.numbers.at(0);
+    case ParamType::Integer:
+      return p.defaultValue.numbers.at(0);
     case ParamType::Points: {
       nlohmann::json points = nlohmann::json::array();
       for (const Vec3& q : pointsOf(p.defaultValue)) points.push_back({q[0], q[1], q[2]});
       return points;
     }
-    default: return p.defaultValue.numbers;
+    default:
+      return p.defaultValue.numbers;
   }
 }
 
 nlohmann::json toJson(const NodeType& t) {
   nlohmann::json j;
   j["type"] = t.id;
+  j["title"] = t.title;
   j["category"] = t.category;
   j["doc"] = t.doc;
   j["formula"] = t.formula;
-  j["inputs"] = {{"min", t.minInputs}, {"max", t.maxInputs == kVariadic ? nlohmann::json(nullptr)
-                                                                         : nlohmann::json(t.maxInputs)}};
+  j["inputs"] = {
+      {"min", t.minInputs},
+      {"max", t.maxInputs == kVariadic ? nlohmann::json(nullptr) : nlohmann::json(t.maxInputs)}};
   j["params"] = nlohmann::json::array();
   for (const auto& p : t.params) {
     nlohmann::json pj;
@@ -40,7 +46,9 @@ nlohmann::json toJson(const NodeType& t) {
     pj["default"] = defaultJson(p);
     pj["allowed"] = p.rangeText();
     // The same range as numbers, for programs (null: unbounded on that side).
-    auto bound = [](double v) { return std::isinf(v) ? nlohmann::json(nullptr) : nlohmann::json(v); };
+    auto bound = [](double v) {
+      return std::isinf(v) ? nlohmann::json(nullptr) : nlohmann::json(v);
+    };
     pj["min"] = bound(p.min);
     pj["max"] = bound(p.max);
     pj["min_exclusive"] = p.minExclusive;
@@ -74,7 +82,9 @@ std::string nodeTypeText(const NodeType& t) {
   return os.str();
 }
 
-std::string nodeTypeJson(const NodeType& t) { return toJson(t).dump(2) + "\n"; }
+std::string nodeTypeJson(const NodeType& t) {
+  return toJson(t).dump(2) + "\n";
+}
 
 std::string registryJson() {
   nlohmann::json all = nlohmann::json::array();
@@ -94,7 +104,7 @@ std::string registryMarkdown() {
       category = t->category;
       os << "## " << category << "\n\n";
     }
-    os << "### `" << t->id << "`\n\n" << t->doc << "\n\n";
+    os << "### `" << t->id << "`\n\n**" << t->title << ".** " << t->doc << "\n\n";
     os << "Inputs: " << t->inputsText() << ".\n\n";
     os << "```\n" << t->formula << "\n```\n\n";
     if (!t->params.empty()) {
