@@ -292,8 +292,13 @@ class ExportCommand:
             report("FRep export", str(e))
             return
         FreeCAD.Console.PrintMessage("%s\n" % result["text"])
-        FreeCADGui.getMainWindow().statusBar().showMessage(
-            "Wrote %s (%d triangles, printable)" % (filename, result["triangles"]), 10000)
+        # (after the warnings the export printed, which FreeCAD's status bar shows as well)
+        from PySide import QtCore
+        written = ("Wrote %s: %d triangles, watertight (closed, manifold, outward, no "
+                   "self-intersections); walls and overhangs: FRep > Printability"
+                   % (filename, result["triangles"]))
+        QtCore.QTimer.singleShot(200, lambda: FreeCADGui.getMainWindow().statusBar()
+                                 .showMessage(written, 15000))
 
 
 def export_options(objects, filename):

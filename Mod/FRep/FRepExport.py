@@ -65,6 +65,38 @@ def solid_and_box(objects, cells=None, resolution=None, bbox=None):
         raise ValueError("%s: %s" % (label, e))
 
 
+def is_plain_mesh(obj):
+    """A Mesh feature of FreeCAD's own (imported, repaired, made by another workbench), not
+    a feature whose mesh is the preview of a solid."""
+    return obj.TypeId == "Mesh::Feature"
+
+
+def _export_mesh_as_it_is(obj, filename, fmt, force, progress):
+    """A mesh that is the part itself is written as it is, after the same check: meshing it
+    again (through its distance field) would only change it."""
+    import FRepSolids
+    name = os.path.basename(filename)
+    if obj.Mesh.CountFacets == 0:
+        raise ValueError("%s: the mesh is empty" % obj.Label)
+    mesh = FRepSolids.as_frepcore_mesh(obj.Mesh)  # (its points already placed)
+
+    def work(tick):
+        report = mesh.check(name, tick)
+        if not report["printable"] and not force:
+            raise frepcore.NotPrintable("%s: not written, the mesh is not printable: %s"
+                                        % (filename, "; ".join(report["reasons"])), report)
+        try:
+            mesh.write(filename, fmt, tick)
+        except frepcore.Cancelled:
+            raise RuntimeError("export of %s cancelled; no file written" % name)
+        report["written"] = True
+        return report
+
+    if progress is not None:
+        return work(progress)
+    return FRepMeshing.run_with_progress("Exporting %s" % name, work)
+
+
 def refuse_failed(obj):
     """A ValueError when anything obj is built from failed its last recompute. (obj itself
     is meshed from its properties, which the tree checks again; its own failure may have
@@ -98,6 +130,10 @@ def export_objects(objects, filename, progress=None, cells=None, fmt="", resolut
                            settings, unit)
     if unit != "mm":
         raise ValueError("%s: a unit applies to a 3MF output only" % os.path.basename(filename))
+    if len(objects) == 1 and is_plain_mesh(objects[0]) and cells is None and \
+            resolution is None and bbox is None and not settings and \
+            not filename.lower().endswith(".vdb"):
+        return _export_mesh_as_it_is(objects[0], filename, fmt, force, progress)
     solid, (box, cell) = solid_and_box(objects, cells, resolution, bbox)
     name = os.path.basename(filename)
     if filename.lower().endswith(".vdb"):

@@ -257,6 +257,27 @@ class LatticeEditPanel:
         return True
 
 
+def watertight(report):
+    """What Export checks of a mesh (its CGAL check): closed, manifold, outward, no
+    self-intersection, no degenerate triangle."""
+    return (report["closed"] and report["outward"] and not report["non_manifold_edges"] and
+            not report["non_manifold_vertices"] and not report["self_intersections"] and
+            not report["degenerate_triangles"])
+
+
+def verdict_lines(report, wall):
+    """The panel's verdict in the words Export uses: watertight or not (Export's check), then
+    the walls this panel adds."""
+    lines = ["%s%s" % ("PRINTABLE" if report["printable"] else "NOT printable",
+                       " with walls of at least %g mm" % wall if wall else "")]
+    lines.append("Watertight (what Export checks): %s" % (
+        "yes" if watertight(report) else "no"))
+    if wall:
+        lines.append("Triangles where the wall is thinner than %g mm: %d (in red)"
+                     % (wall, report["print"]["thin_triangles"]))
+    return "\n".join(lines)
+
+
 class PrintabilityPanel:
     """The printability report of a mesh: minimum wall, material, build direction and
     overhang angle in, the report out, the triangles thinner than the wall in red."""
@@ -324,8 +345,8 @@ class PrintabilityPanel:
         except (ValueError, OSError) as e:
             self.text.setPlainText(str(e))
             return None
-        verdict = "PRINTABLE" if self.report["printable"] else "NOT printable"
-        self.text.setPlainText("%s\n\n%s" % (verdict, self.report["text"]))
+        self.text.setPlainText("%s\n\n%s" % (verdict_lines(self.report, wall),
+                                               self.report["text"]))
         FRepManufacturing.show_thin_regions(self.obj, self.report["thin"])
         return self.report
 

@@ -397,3 +397,25 @@ def test_cancelled_polygonize_keeps_previous_mesh(doc, monkeypatch):
     doc.recompute()
     assert "cancelled" in error_of(p)
     assert p.Mesh.CountFacets == before
+
+
+def test_a_plain_mesh_feature_exports_as_it_is_after_the_check(doc, tmp_path):
+    import Mesh
+    source = str(tmp_path / "ball.stl")
+    frepcore.sphere(1.0).mesh(cells=20).write(source)
+    ball = doc.addObject("Mesh::Feature", "Scan")
+    ball.Mesh = Mesh.Mesh(source)
+    ball.Placement.Base = FreeCAD.Vector(5, 0, 0)
+    target = str(tmp_path / "scan.stl")
+    report = FRepExport.export_objects([ball], target)
+    assert report["printable"] and report["written"]
+    written = frepcore.read_mesh(target)
+    assert written.triangle_count == ball.Mesh.CountFacets  # not meshed again
+    assert min(p[0] for p in written.points) == pytest.approx(4.0, abs=0.01)  # placed
+    # an open one is refused as it is, nothing written
+    broken = ball.Mesh.copy()
+    broken.removeFacets([0, 1])
+    ball.Mesh = broken
+    with pytest.raises(frepcore.NotPrintable, match="not printable"):
+        FRepExport.export_objects([ball], str(tmp_path / "open.stl"))
+    assert not (tmp_path / "open.stl").exists()
