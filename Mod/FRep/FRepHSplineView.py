@@ -53,6 +53,7 @@ class ViewProviderHSpline(DraggerHost, StatelessProxy):
         self.edit_root = None
         self.draggers = []
         self.callback = None
+        self.panel = None  # the edit panel while open (it shows the tag count)
         self.preview = None
         self.detail = None
 
@@ -67,6 +68,8 @@ class ViewProviderHSpline(DraggerHost, StatelessProxy):
             self.rebuild()
         elif prop == "Tagged":
             self.rebuild(surface=False)
+        if prop in ("Tagged", "Shape") and getattr(self, "panel", None) is not None:
+            self.panel.describe()  # (its counts: a Ctrl+click tags without the panel)
 
     def onChanged(self, vobj, prop):
         if prop in ("ShowLevel", "ShowCvs"):
@@ -158,26 +161,32 @@ class ViewProviderHSpline(DraggerHost, StatelessProxy):
         import FreeCADGui
         import FRepHSplinePanel
         self.build_draggers(vobj)
+        self.remove_callback()  # (one callback, however often edit mode is entered)
         try:
             view = FreeCADGui.ActiveDocument.ActiveView
             self.callback = (view, view.addEventCallback("SoMouseButtonEvent", self.clicked))
         except Exception:  # no 3D view
             self.callback = None
-        FreeCADGui.Control.showDialog(FRepHSplinePanel.HSplinePanel(vobj.Object))
+        self.panel = FRepHSplinePanel.HSplinePanel(vobj.Object)
+        FreeCADGui.Control.showDialog(self.panel)
         return True
+
+    def remove_callback(self):
+        if getattr(self, "callback", None) is not None:
+            view, cb = self.callback
+            try:
+                view.removeEventCallback("SoMouseButtonEvent", cb)
+            except Exception:  # the view is gone
+                pass
+        self.callback = None
 
     def unsetEdit(self, vobj, mode=0):
         if mode != 0:
             return None
         import FreeCADGui
         self.remove_draggers(vobj)
-        if self.callback is not None:
-            view, cb = self.callback
-            try:
-                view.removeEventCallback("SoMouseButtonEvent", cb)
-            except Exception:
-                pass
-            self.callback = None
+        self.remove_callback()
+        self.panel = None
         FreeCADGui.Control.closeDialog()
         return True
 
