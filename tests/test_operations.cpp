@@ -809,5 +809,61 @@ TEST(InfillAcceptance, SkinOutsideLatticeInsidePrintable) {
   EXPECT_LT(r.volume, 0.7 * full);
 }
 
+TEST(Infill, ThicknessIsTheSheetsWidthInModelUnits) {
+  // The sheets' width, measured across them along the surface's normal at points of the
+  // surface g = 0 deep inside the part, is the thickness asked for (to the accuracy of one
+  // typical gradient per surface), and twice the thickness gives twice the width.
+  auto meanWidth = [](double t) {
+    const Program p = compile(makeNode("infill",
+                                       {{"lattice", choiceValue("gyroid")},
+                                        {"wall", realValue(0.1)},
+                                        {"cell", realValue(0.5)},
+                                        {"thickness", realValue(t)}},
+                                       {sphere(1)}));
+    const Program g = compile(tpms("gyroid", 0.5, "network", 1e-9));  // about -g
+    double sum = 0.0;
+    int count = 0;
+    for (const Vec3& a : randomPoints(400, 0.55)) {
+      Vec3 b = a;
+      b[0] += 0.2;
+      double ga = eval(g, a), gb = eval(g, b);
+      if ((ga > 0) == (gb > 0)) continue;
+      Vec3 lo = a, hi = b;  // bisection onto g = 0
+      for (int i = 0; i < 50; ++i) {
+        Vec3 mid = {(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
+        ((eval(g, mid) > 0) == (ga > 0) ? lo : hi) = mid;
+      }
+      Vec3 n;
+      const double e = 1e-6;
+      for (int k = 0; k < 3; ++k) {
+        Vec3 u = lo, v = lo;
+        u[k] += e;
+        v[k] -= e;
+        n[k] = (eval(g, u) - eval(g, v)) / (2 * e);
+      }
+      const double len = norm3(n);
+      double width = 0.0;
+      for (double side : {-1.0, 1.0}) {
+        double s = 0.0;
+        while (s < 0.2) {
+          const Vec3 q = {lo[0] + side * s * n[0] / len, lo[1] + side * s * n[1] / len,
+                          lo[2] + side * s * n[2] / len};
+          if (eval(p, q) < 0) break;
+          s += 1e-4;
+        }
+        width += s;
+      }
+      sum += width;
+      ++count;
+    }
+    EXPECT_GT(count, 50);
+    return sum / count;
+  };
+  const double thin = meanWidth(0.04), thick = meanWidth(0.08);
+  EXPECT_NEAR(thin, 0.04, 0.012);
+  EXPECT_NEAR(thick, 0.08, 0.024);
+  EXPECT_NEAR(thick / thin, 2.0, 0.1);
+}
+
 }  // namespace
 }  // namespace frep

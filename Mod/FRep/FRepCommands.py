@@ -209,7 +209,7 @@ class NodeCommand:
                 return
         try:
             with Transaction(doc, "Create " + self.title):
-                obj = FRepFeatures.make(self.type_id, doc, inputs=inputs)
+                obj = FRepFeatures.make(self.type_id, doc, inputs=inputs, sized=True)
                 add_to_active_container(obj)
                 doc.recompute()
         except ValueError as e:

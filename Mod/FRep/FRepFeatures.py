@@ -187,6 +187,7 @@ class FRepFeature(FeatureProxy):
             return
         box, cell = FRepMeshing.display_box(obj.Label, shape,
                                             FRepMeshing.preview_cells(obj.Document), bounds)
+        _warn_detail_below(obj, cell)
         mesh = FRepMeshing.run_with_progress(
             "Meshing the preview of %s" % obj.Label,
             lambda progress: _preview_or_cancel(obj, shape, box, cell, progress))
@@ -213,6 +214,19 @@ class FRepFeature(FeatureProxy):
                 FreeCAD.Console.PrintError(message + "\n")
         elif prop == "Visibility" and obj.Visibility and obj.Mesh.CountFacets == 0:
             _refresh_preview_later(obj)
+
+
+def _warn_detail_below(obj, cell):
+    """A warning where a length that sets the solid's detail (an infill's skin and sheets) is
+    below the preview's cell: the preview then shows specks, not the part."""
+    small = [(name, getattr(obj, name).Value) for name in ("Wall", "Thickness")
+             if getattr(obj.Proxy, "FREP_TYPE", "") == "infill" and
+             0 < getattr(obj, name).Value < cell]
+    for name, value in small:
+        FreeCAD.Console.PrintWarning(
+            "%s: property '%s' = %.3g mm is below the preview's cell (%.3g mm): the preview "
+            "shows it broken; the export meshes finer (or raise FRep > Preview quality)\n"
+            % (obj.Label, name, value, cell))
 
 
 def _preview_or_cancel(obj, shape, box, cell, progress):
@@ -254,8 +268,73 @@ def _generate_feature_classes():
 FEATURE_CLASSES = _generate_feature_classes()
 
 
-def make(type_id, doc=None, inputs=(), name=None, hide_inputs=True, **params):
-    """Adds an FRep feature of a registry type; params use the registry's names."""
+# Lengths a feature made on inputs takes from their size, as fractions of the smallest side of
+# their bounding box, instead of the registry's defaults (which suit a part a few units
+# across): an infill of a 40 x 25 x 12 mm part gets a 0.48 mm skin, not 0.1 mm.
+SIZED_FROM_INPUTS = {
+    "infill": {"wall": 0.04, "cell": 0.3},
+    "offset": {"distance": 0.05},
+    "shell": {"thickness": 0.05},
+}
+# An infill's cells are at least this many of the preview's cells (the part's longest side
+# over the preview quality), and its sheets this fraction of a cell: sheets a preview cell and
+# a half across, which the preview shows as sheets rather than specks. (A sheet much thicker
+# than a sixth of its cell fills the cell: the gyroid's |g| is below 1.5 everywhere.)
+INFILL_CELL_PREVIEW_CELLS = 10
+INFILL_SHEET_OF_CELL = 0.15
+
+
+def inputs_extent(inputs):
+    """(smallest, longest side) of the inputs' joint bounding box, or None when it is not
+    known (an unbounded input)."""
+    box = FreeCAD.BoundBox()
+    for i in inputs:
+        shape = getattr(i, "Shape", None)
+        mesh = getattr(i, "Mesh", None)
+        if i.isDerivedFrom("Part::Feature") and shape is not None and shape.BoundBox.isValid():
+            box.add(shape.BoundBox)
+        elif mesh is not None and mesh.CountFacets and not hasattr(i, "Proxy"):
+            box.add(mesh.BoundBox)
+        else:
+            try:
+                b = FRepTree.shape_of(i).bounds()
+            except ValueError:
+                return None
+            if not b["bounded"] or b["empty"]:
+                return None
+            (x0, y0, z0), (x1, y1, z1) = b["box"]
+            box.add(FreeCAD.BoundBox(x0, y0, z0, x1, y1, z1))
+    if not box.isValid():
+        return None
+    sides = (box.XLength, box.YLength, box.ZLength)
+    return min(sides), max(sides)
+
+
+def size_from_inputs(obj, type_id, inputs, given=()):
+    """Sets the lengths of SIZED_FROM_INPUTS (and an infill's sheet thickness) from the
+    inputs' size, leaving those in `given` as they are."""
+    extent = inputs_extent(inputs) if type_id in SIZED_FROM_INPUTS else None
+    if extent is None or not extent[0] > 0:
+        return
+    smallest, longest = extent
+    by_name = {p["name"]: p for p in NODE_TYPES[type_id]["params"]}
+    values = {name: fraction * smallest
+              for name, fraction in SIZED_FROM_INPUTS[type_id].items() if name not in given}
+    if type_id == "infill":
+        preview_cell = longest / FRepMeshing.preview_cells(obj.Document)
+        if "cell" in values:
+            values["cell"] = max(values["cell"], INFILL_CELL_PREVIEW_CELLS * preview_cell)
+        if "thickness" not in given and "level" not in given:
+            cell = values.get("cell", props.get_value(obj, by_name["cell"]))
+            values["thickness"] = INFILL_SHEET_OF_CELL * cell
+    for name, value in values.items():
+        props.set_value(obj, by_name[name], float("%.3g" % value))
+
+
+def make(type_id, doc=None, inputs=(), name=None, hide_inputs=True, sized=False, **params):
+    """Adds an FRep feature of a registry type; params use the registry's names. With sized,
+    the lengths SIZED_FROM_INPUTS names not among params come from the inputs' size (what
+    the toolbar commands do)."""
     if type_id not in NODE_TYPES:
         raise ValueError("unknown FRep node type '%s'; known types: %s"
                          % (type_id, ", ".join(NODE_TYPES)))
@@ -274,6 +353,8 @@ def make(type_id, doc=None, inputs=(), name=None, hide_inputs=True, **params):
         props.set_value(obj, by_name[key], value)
     if inputs:
         set_inputs(obj, list(inputs))
+        if sized:
+            size_from_inputs(obj, type_id, inputs, given=params)
         if hide_inputs:
             for i in inputs:
                 i.Visibility = False

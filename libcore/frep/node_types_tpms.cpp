@@ -34,6 +34,9 @@ struct TpmsSurface {
   const char* id;
   const char* doc;
   const char* formula;
+  // The typical |grad g| on the surface g = 0 (in q, the median of points sampled there):
+  // what turns a length into `level` (infill's thickness).
+  double gradient;
   Surface g;
 };
 const std::vector<TpmsSurface>& surfaces();
@@ -92,10 +95,19 @@ void addInfill(Registry& r) {
       choiceParam("lattice", surfaceIds(), "The lattice filling the inside."),
       positiveLength("wall", 0.1, "Thickness of the solid skin kept inside the surface.")};
   for (const ParamTemplate& p : latticeParams()) params.push_back(p);
+  ParamTemplate thickness = realParam(
+      "thickness", 0.0, "length",
+      "The lattice's sheet thickness (sheet), or how far a network's surface moves out "
+      "(network), in model units; it sets `level` from the surface's typical gradient. 0: "
+      "`level` as given.");
+  params.push_back(range(thickness, 0.0, kInf));
   r.add({"infill", "microstructure",
          "Hollows a solid to a skin of the given wall thickness and fills its inside with a "
          "lattice: light, printable infill that follows the part's shape.",
-         "F = max(min(f, wall - f), min(f, lattice))", 1, 1, params,
+         "F = max(min(f, wall - f), min(f, lattice));  lattice as its surface's node with level = "
+         "pi thickness |grad g| / cell (sheet) or 2 pi thickness |grad g| / cell (network) when "
+         "thickness > 0",
+         1, 1, params,
          [](CompileContext& c) {
            auto& b = c.b;
            const std::string& id = c.param("lattice").text;
@@ -103,7 +115,13 @@ void addInfill(Registry& r) {
                                            [&](const TpmsSurface& s) { return id == s.id; });
            const Slot f = c.input(0);
            const Slot skin = b.min(f, b.sub(b.constant(c.real("wall")), f));
-           const Slot lattice = latticeField(c, found->g, b.constant(c.real("level")));
+           // a sheet is 2 level cell / (2 pi |grad g|) thick; a network's surface moves out
+           // by level cell / (2 pi |grad g|)
+           const double t = c.real("thickness");
+           const double perLevel = c.real("cell") / (2.0 * kPi * found->gradient);
+           const bool sheet = c.param("kind").text == "sheet";
+           const double level = t > 0.0 ? t / (sheet ? 2.0 : 1.0) / perLevel : c.real("level");
+           const Slot lattice = latticeField(c, found->g, b.constant(level));
            return b.max(skin, b.min(f, lattice));
          },
          [](const Node&, const std::vector<Box3>& in) { return in[0]; }});
@@ -114,17 +132,18 @@ const std::vector<TpmsSurface>& surfaces() {
       {"gyroid",
        "Schoen's gyroid lattice: one connected wall, no straight lines; the most used TPMS for "
        "infill.",
-       "sin qx cos qy + sin qy cos qz + sin qz cos qx",
+       "sin qx cos qy + sin qy cos qz + sin qz cos qx", 1.50,
        [](ProgramBuilder& b, Trig& t, const Point3Slots&) {
          return sum3(b, b.mul(t.s[0], t.c[1]), b.mul(t.s[1], t.c[2]), b.mul(t.s[2], t.c[0]));
        }},
       {"schwarz_p", "Schwarz's primitive (P) lattice: channels along the three axes.",
-       "cos qx + cos qy + cos qz",
+       "cos qx + cos qy + cos qz", 1.27,
        [](ProgramBuilder& b, Trig& t, const Point3Slots&) {
          return sum3(b, t.c[0], t.c[1], t.c[2]);
        }},
       {"schwarz_d", "Schwarz's diamond (D) surface, in its four-term nodal form.",
        "sin qx sin qy sin qz + sin qx cos qy cos qz + cos qx sin qy cos qz + cos qx cos qy sin qz",
+       1.45,
        [](ProgramBuilder& b, Trig& t, const Point3Slots&) {
          return b.add(sum3(b, mul3(b, t.s[0], t.s[1], t.s[2]), mul3(b, t.s[0], t.c[1], t.c[2]),
                            mul3(b, t.c[0], t.s[1], t.c[2])),
@@ -133,12 +152,12 @@ const std::vector<TpmsSurface>& surfaces() {
       {"diamond",
        "The diamond lattice in the two-term form common in lattice tools (the D surface with "
        "another phase than schwarz_d).",
-       "cos qx cos qy cos qz - sin qx sin qy sin qz",
+       "cos qx cos qy cos qz - sin qx sin qy sin qz", 1.03,
        [](ProgramBuilder& b, Trig& t, const Point3Slots&) {
          return b.sub(mul3(b, t.c[0], t.c[1], t.c[2]), mul3(b, t.s[0], t.s[1], t.s[2]));
        }},
       {"neovius", "Neovius' surface: Schwarz P's channels with extra openings.",
-       "3 (cos qx + cos qy + cos qz) + 4 cos qx cos qy cos qz",
+       "3 (cos qx + cos qy + cos qz) + 4 cos qx cos qy cos qz", 2.57,
        [](ProgramBuilder& b, Trig& t, const Point3Slots&) {
          const Slot sum = sum3(b, t.c[0], t.c[1], t.c[2]);
          const Slot prod = mul3(b, t.c[0], t.c[1], t.c[2]);
@@ -147,6 +166,7 @@ const std::vector<TpmsSurface>& surfaces() {
       {"lidinoid", "Lidin's lidinoid: a gyroid relative with wavier channels.",
        "(sin 2qx cos qy sin qz + sin 2qy cos qz sin qx + sin 2qz cos qx sin qy) / 2 - "
        "(cos 2qx cos 2qy + cos 2qy cos 2qz + cos 2qz cos 2qx) / 2 + 0.15",
+       1.12,
        [](ProgramBuilder& b, Trig& t, const Point3Slots& q) {
          const Slot axes[3] = {q.x, q.y, q.z};
          for (int a = 0; a < 3; ++a) {
@@ -157,8 +177,8 @@ const std::vector<TpmsSurface>& surfaces() {
          const Slot waves =
              sum3(b, mul3(b, t.s2[0], t.c[1], t.s[2]), mul3(b, t.s2[1], t.c[2], t.s[0]),
                   mul3(b, t.s2[2], t.c[0], t.s[1]));
-         const Slot pairs = sum3(b, b.mul(t.c2[0], t.c2[1]), b.mul(t.c2[1], t.c2[2]),
-                                 b.mul(t.c2[2], t.c2[0]));
+         const Slot pairs =
+             sum3(b, b.mul(t.c2[0], t.c2[1]), b.mul(t.c2[1], t.c2[2]), b.mul(t.c2[2], t.c2[0]));
          return b.affine(waves, pairs, pairs, 0.5, -0.5, 0.0, 0.15);
        }},
   };

@@ -142,3 +142,26 @@ def test_vdb_files_import_as_a_feature_and_solids_export_as_level_sets(doc, tmp_
     grid.Path = "nothing.vdb"
     doc.recompute()
     assert not grid.isValid() and "nothing.vdb" in grid.getStatusString()
+
+
+def test_infill_made_on_a_part_is_sized_from_it_and_previews_as_a_lattice(doc):
+    block = doc.addObject("Part::Box", "Bracket")
+    block.Length, block.Width, block.Height = 40, 25, 12
+    infill = F.make("infill", doc, inputs=[block], sized=True)
+    doc.recompute()
+    assert infill.isValid(), infill.getStatusString()
+    # the skin from the part's smallest side (12 mm), the cells ten preview cells (40 mm / 48
+    # cells each), the sheets a preview cell and a half across, all in mm
+    assert infill.Wall.Value >= 0.02 * 12 and infill.Cell.Value >= 0.1 * 12
+    assert infill.Thickness.Value >= 1.5 * 40 / 48 - 1e-3
+    assert infill.Thickness.Value < infill.Cell.Value / 4
+    # a lattice, not specks: one connected preview with most of the box hollow
+    mesh = infill.Mesh
+    assert 0.15 * 40 * 25 * 12 < mesh.Volume < 0.6 * 40 * 25 * 12
+    assert mesh.CountFacets < 200000
+    assert len(mesh.getSeparateComponents()) <= 3
+    # given values stay as given; without sized, the registry's defaults
+    plain = F.make("infill", doc, inputs=[block], sized=True, cell=2.0)
+    assert plain.Cell.Value == 2.0 and plain.Wall.Value == pytest.approx(0.48)
+    assert plain.Thickness.Value == pytest.approx(0.3)
+    assert F.make("infill", doc, inputs=[block]).Cell.Value == 1.0
