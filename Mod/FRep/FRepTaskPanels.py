@@ -81,7 +81,8 @@ class ParametersPanel:
                 skipped.append(name)
                 continue
             widget.setToolTip(props.tooltip(param))
-            layout.addRow(name, widget)
+            # (a formula's letter gets the registry's words: "Strength (a0)")
+            layout.addRow(translate("FRep", param.get("title") or name), widget)
         if skipped:
             note = QtGui.QLabel(translate("FRep", "Edit in the property view: %s")
                                 % ", ".join(skipped))

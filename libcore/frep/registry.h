@@ -49,6 +49,9 @@ struct ParamTemplate {
                           // relative to the model file's folder
   std::string unit;       // "length", "angle" (degrees) or "" (dimensionless)
   std::string doc;
+  // The label a user reads where the name is a formula's letter ("Strength (A0)" for a0);
+  // empty: the name says it.
+  std::string title = {};
 
   // Returns an empty string when v is allowed, else what is wrong and what is allowed.
   std::string check(const ParamValue& v) const;

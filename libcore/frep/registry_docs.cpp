@@ -42,6 +42,7 @@ nlohmann::json toJson(const NodeType& t) {
   for (const auto& p : t.params) {
     nlohmann::json pj;
     pj["name"] = p.name;
+    pj["title"] = p.title;
     pj["type"] = paramTypeName(p.type);
     pj["default"] = defaultJson(p);
     pj["allowed"] = p.rangeText();
@@ -113,7 +114,8 @@ std::string registryMarkdown() {
       for (const auto& p : t->params)
         os << "| `" << p.name << "` | " << paramTypeName(p.type) << " | `"
            << p.valueText(p.defaultValue) << "` | " << p.rangeText() << " | "
-           << (p.unit.empty() ? "-" : p.unit) << " | " << p.doc << " |\n";
+           << (p.unit.empty() ? "-" : p.unit) << " | "
+           << (p.title.empty() ? "" : "**" + p.title + ".** ") << p.doc << " |\n";
       os << "\n";
     }
   }
