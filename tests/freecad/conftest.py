@@ -35,3 +35,12 @@ def doc():
     yield d
     if name in FreeCAD.listDocuments():
         FreeCAD.closeDocument(name)
+
+
+def ball_mesh(tmp_path, cells):
+    """A FreeCAD mesh of the unit ball, meshed by frepcore at `cells` and read back."""
+    import Mesh
+    from FRepPaths import frepcore
+    path = str(tmp_path / ("ball-%d.stl" % cells))
+    frepcore.sphere(1.0).mesh(cells=cells).write(path)
+    return Mesh.Mesh(path)

@@ -6,6 +6,7 @@ import FreeCAD
 import Part  # noqa: F401  (registers Part::Box and the other primitives)
 import pytest
 
+from conftest import ball_mesh
 import FRepExamples
 import FRepExport
 import FRepFeatures as F
@@ -400,11 +401,8 @@ def test_cancelled_polygonize_keeps_previous_mesh(doc, monkeypatch):
 
 
 def test_a_plain_mesh_feature_exports_as_it_is_after_the_check(doc, tmp_path):
-    import Mesh
-    source = str(tmp_path / "ball.stl")
-    frepcore.sphere(1.0).mesh(cells=20).write(source)
     ball = doc.addObject("Mesh::Feature", "Scan")
-    ball.Mesh = Mesh.Mesh(source)
+    ball.Mesh = ball_mesh(tmp_path, 20)
     ball.Placement.Base = FreeCAD.Vector(5, 0, 0)
     target = str(tmp_path / "scan.stl")
     report = FRepExport.export_objects([ball], target)

@@ -3,10 +3,11 @@ printable, recomputed when the part changes, meshes and partial primitives as in
 refusals that say what is accepted."""
 
 import FreeCAD
-import Mesh
+import Mesh  # noqa: F401  (registers Mesh::Feature)
 import Part
 import pytest
 
+from conftest import ball_mesh
 import FRepExamples
 import FRepFeatures as F
 import FRepSolids
@@ -53,10 +54,8 @@ def test_partdesign_part_infilled_exports_printable_and_follows_the_part(doc, tm
 
 
 def test_mesh_feature_and_part_solid_are_inputs(doc, tmp_path):
-    path = str(tmp_path / "ball.stl")
-    frepcore.sphere(1.0).mesh(cells=32).write(path)
     feature = doc.addObject("Mesh::Feature", "Ball")
-    feature.Mesh = Mesh.Mesh(path)
+    feature.Mesh = ball_mesh(tmp_path, 32)
     feature.Placement.Base = FreeCAD.Vector(3, 0, 0)
     solid = doc.addObject("Part::Feature", "Block")
     solid.Shape = Part.makeBox(1, 1, 1, FreeCAD.Vector(-0.5, -0.5, -0.5))
@@ -81,9 +80,7 @@ def test_objects_without_a_solid_are_refused_naming_what_is_accepted(doc):
 
 
 def test_open_mesh_is_refused_pointing_to_repair_not_taken_as_overlapping(doc, tmp_path):
-    path = str(tmp_path / "ball.stl")
-    frepcore.sphere(1.0).mesh(cells=16).write(path)
-    ball = Mesh.Mesh(path)
+    ball = ball_mesh(tmp_path, 16)
     ball.removeFacets([0, 1, 2])  # a few triangles gone: open
     feature = doc.addObject("Mesh::Feature", "Dented")
     feature.Mesh = ball
