@@ -12,6 +12,7 @@ sys.tracebacklimit is 0: that limit is set only as a user's error leaves a featu
 back as the recompute ends (or as the next feature starts, whichever comes first).
 """
 
+import functools
 import sys
 
 import FreeCAD
@@ -72,17 +73,14 @@ def failure(obj, error):
 def one_line_errors(execute):
     """Decorates a proxy's execute(self, obj): a user's error leaves as failure(obj, e)."""
 
+    @functools.wraps(execute)
     def wrapped(self, obj):
         restore_tracebacks()
         try:
             return execute(self, obj)
-        except FeatureError as e:
-            raise failure(obj, e) from None
-        except USER_ERRORS as e:
+        except USER_ERRORS as e:  # (FeatureError among them)
             raise failure(obj, e) from None
 
-    wrapped.__name__ = execute.__name__
-    wrapped.__doc__ = execute.__doc__
     return wrapped
 
 

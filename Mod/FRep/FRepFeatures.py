@@ -219,10 +219,12 @@ class FRepFeature(FeatureProxy):
 def _warn_detail_below(obj, cell):
     """A warning where a length that sets the solid's detail (an infill's skin and sheets) is
     below the preview's cell: the preview then shows specks, not the part."""
-    small = [(name, getattr(obj, name).Value) for name in ("Wall", "Thickness")
-             if getattr(obj.Proxy, "FREP_TYPE", "") == "infill" and
-             0 < getattr(obj, name).Value < cell]
-    for name, value in small:
+    if obj.Proxy.FREP_TYPE != "infill":
+        return
+    for name in ("Wall", "Thickness"):
+        value = getattr(obj, name).Value
+        if not 0 < value < cell:
+            continue
         FreeCAD.Console.PrintWarning(
             "%s: property '%s' = %.3g mm is below the preview's cell (%.3g mm): the preview "
             "shows it broken; the export meshes finer (or raise FRep > Preview quality)\n"

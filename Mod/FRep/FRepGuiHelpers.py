@@ -30,6 +30,20 @@ def panel_title(text):
     return metrics.elidedText(text, QtCore.Qt.ElideMiddle, TITLE_MAX_WIDTH)
 
 
+# The narrowest a number field gets (px): the Combo View is 264 px wide by default, and a spin
+# box would otherwise ask for the width of its range's longest number (-1000000000.000000).
+FIELD_MIN_WIDTH = 64
+
+
+def narrow(field):
+    """A field that fits the Combo View: as narrow as FIELD_MIN_WIDTH, as wide as the row
+    allows."""
+    from PySide import QtGui
+    field.setMinimumWidth(FIELD_MIN_WIDTH)
+    field.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Fixed)
+    return field
+
+
 def report(title, message, error=True):
     """A message on the console and, in the GUI, in a dialog the user has to acknowledge."""
     (FreeCAD.Console.PrintError if error else FreeCAD.Console.PrintMessage)(message + "\n")

@@ -5,7 +5,7 @@ undo step; a refused request says why in the panel."""
 
 import FreeCAD
 
-from FRepGuiHelpers import panel_title, translate
+from FRepGuiHelpers import narrow, panel_title, translate
 
 TAG_TOOLS = (
     ("level", "Level", "Tag every CV of the shown level"),
@@ -72,9 +72,7 @@ class HSplinePanel:
             box.setSuffix(" mm")
             box.setObjectName("Move_" + axis)
             box.setToolTip(translate("FRep", "Move the tagged CVs by %s") % label.lower())
-            box.setMinimumWidth(64)
-            box.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Fixed)
-            form.addRow(translate("FRep", label), box)
+            form.addRow(translate("FRep", label), narrow(box))
             self.move.append(box)
         layout.addLayout(form)
         b = QtGui.QPushButton(translate("FRep", "Move tagged CVs"))

@@ -68,7 +68,7 @@ class ViewProviderHSpline(DraggerHost, StatelessProxy):
             self.rebuild()
         elif prop == "Tagged":
             self.rebuild(surface=False)
-        if prop in ("Tagged", "Shape") and getattr(self, "panel", None) is not None:
+        if prop in ("Tagged", "Shape") and self.panel is not None:
             self.panel.describe()  # (its counts: a Ctrl+click tags without the panel)
 
     def onChanged(self, vobj, prop):

@@ -11,7 +11,7 @@ import FreeCAD
 import FreeCADGui
 
 import FRepProperties as props
-from FRepGuiHelpers import panel_title
+from FRepGuiHelpers import narrow, panel_title
 
 try:
     translate = FreeCAD.Qt.translate
@@ -21,9 +21,6 @@ except AttributeError:  # FreeCAD without its Qt helpers (headless tests)
 
 # A field's range: the registry's allowed range where finite, else this.
 UNBOUNDED = 1e9
-# The narrowest a number field gets (px): the Combo View is 264 px wide by default, and a spin
-# box would otherwise ask for the width of its range's longest number (-1000000000.000000).
-FIELD_MIN_WIDTH = 64
 UNIT_SUFFIX = {"length": " mm", "angle": " \u00b0", "": ""}
 
 
@@ -40,15 +37,6 @@ def decimals_for(*values):
         if all(abs(round(v, places) - v) <= 1e-9 * max(1.0, abs(v)) for v in values):
             return places
     return 6
-
-
-def narrow(field):
-    """A field that fits the Combo View: as narrow as FIELD_MIN_WIDTH, as wide as the row
-    allows."""
-    from PySide import QtGui
-    field.setMinimumWidth(FIELD_MIN_WIDTH)
-    field.setSizePolicy(QtGui.QSizePolicy.Ignored, QtGui.QSizePolicy.Fixed)
-    return field
 
 
 def compact(box, param):
