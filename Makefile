@@ -88,6 +88,7 @@ examples: build
 screenshots: build
 	bash tests/gui/run_gui.sh $(BUILD_DIR) . $(BUILD_DIR)/gui
 	cp $(BUILD_DIR)/gui/workbench-*.png $(BUILD_DIR)/gui/lattice-*.png $(BUILD_DIR)/gui/hspline-*.png docs/images/
+	mkdir -p docs/images/panels && cp $(BUILD_DIR)/gui/panels/*.png docs/images/panels/
 	bash tests/gui/run_gallery.sh $(BUILD_DIR) . docs
 
 format:

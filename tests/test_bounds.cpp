@@ -61,6 +61,38 @@ TEST(Bounds, RotatedBoxEnclosesItsMesh) {
   }
 }
 
+// A rotated torus has no flat face: the search ends on cells thin across the direction, whose
+// intervals are loose while they are wide sideways. The box must still be tight.
+TEST(Bounds, RotatedTorusIsTightToItsMesh) {
+  NodePtr torus =
+      makeNode("torus", {{"major_radius", realValue(1.0)}, {"minor_radius", realValue(0.25)}}, {});
+  NodePtr rotated =
+      makeNode("rotate", {{"axis", vec3Value({1, 1, 0})}, {"angle", realValue(37)}}, {torus});
+  Program p = compile(rotated);
+  BoundsOptions options;  // as the export and the workbench call it
+  options.known = structuralBounds(rotated);
+  SolidBounds b = findBounds(p, options);
+  ASSERT_TRUE(b.bounded());
+  MeshingOptions o;
+  o.bbox = Box3{{-2, -2, -2}, {2, 2, 2}};
+  o.resolution = 0.02;
+  TriangleMesh m = polygonize(p, o);
+  ASSERT_GT(m.triangleCount(), 0u);
+  Vec3 lo{1e9, 1e9, 1e9}, hi{-1e9, -1e9, -1e9};
+  for (const Vec3f& v : m.positions)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], double(v[a]));
+      hi[a] = std::max(hi[a], double(v[a]));
+    }
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_LE(b.box.lo[a], lo[a] + 1e-6);
+    EXPECT_GE(b.box.hi[a], hi[a] - 1e-6);
+    // Within 2 % of the torus's size (2.5): a looser box is a coarser preview.
+    EXPECT_NEAR(b.box.lo[a], lo[a], 0.05);
+    EXPECT_NEAR(b.box.hi[a], hi[a], 0.05);
+  }
+}
+
 TEST(Bounds, DisjointIntersectionIsEmpty) {
   NodePtr n = makeNode("intersection", {}, {sphere(1, {0, 0, 0}), sphere(1, {5, 0, 0})});
   SolidBounds b = boundsOf(n);

@@ -156,6 +156,24 @@ TEST(Docs, NodeReferenceIsGeneratedFromTheRegistry) {
       << "docs/node-reference.md is stale: build/bin/frepcad info --markdown > docs/node-reference.md";
 }
 
+// docs/workbench.md pictures every task panel: each node type's, and the workbench's own.
+TEST(Docs, WorkbenchPicturesEveryTaskPanel) {
+  const std::string docs = std::string(FREP_SOURCE_DIR) + "/docs/";
+  std::ifstream in(docs + "workbench.md");
+  ASSERT_TRUE(in);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::vector<std::string> panels = {"hspline", "lattice", "printability"};
+  for (const NodeType* t : registry().all()) panels.push_back(t->id);
+  for (const auto& panel : panels) {
+    const std::string image = "images/panels/" + panel + ".png";
+    EXPECT_NE(ss.str().find("(" + image + ")"), std::string::npos)
+        << "docs/workbench.md does not show " << image;
+    EXPECT_TRUE(std::ifstream(docs + image).good())
+        << "docs/" << image << " missing: make screenshots (or make test-trixie for FreeCAD 1.0)";
+  }
+}
+
 // The affine helpers the node types build on (Eigen behind base/affine.h).
 TEST(Affine, RotationInverseDeterminant) {
   auto apply = [](const Mat34& m, const Vec3& p) {

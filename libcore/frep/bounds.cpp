@@ -20,8 +20,11 @@ namespace {
 
 constexpr double kAspect = 8.0;
 constexpr int kBisectionSteps = 6;
-constexpr double kCoarseCellsPerSpan = 8.0;
+constexpr double kCoarseCellsPerSpan = 4.0;
 constexpr std::size_t kMaxCoarseCells = 4096;
+// A cell thinner than the tolerance across the searched direction is split sideways down to
+// this fraction of the cells' span before its far side is taken as the extent.
+constexpr double kFinestCellsPerSpan = 16.0;
 
 struct Cell {
   Box3 box;
@@ -47,22 +50,75 @@ bool mayBeInside(const Field& p, const Box3& b) {
   return !(v.hi < 0.0);
 }
 
+// The deepest coordinate along `axis` (towards `sign`) beyond which the span of the cells is
+// provably empty, to within the tolerance; the span's own far side where nothing is proven.
+double spanCut(const Field& p, const BoundsOptions& o, const std::vector<Box3>& cells, int axis,
+               int sign, std::size_t* evaluations, double* finest) {
+  if (cells.empty()) return 0.0;
+  Box3 span = cells[0];
+  for (const Box3& c : cells)
+    for (int a = 0; a < 3; ++a) {
+      span.lo[a] = std::min(span.lo[a], c.lo[a]);
+      span.hi[a] = std::max(span.hi[a], c.hi[a]);
+    }
+  for (int a = 0; a < 3; ++a)
+    *finest = std::max(*finest, (span.hi[a] - span.lo[a]) / kFinestCellsPerSpan);
+  double keep = sign > 0 ? span.lo[axis] : span.hi[axis];  // slab from here: not empty
+  double cut = sign > 0 ? span.hi[axis] : span.lo[axis];   // slab from here: empty
+  while (std::abs(cut - keep) > o.tolerance && *evaluations < o.maxEvaluations) {
+    const double t = 0.5 * (keep + cut);
+    Box3 slab = span;
+    (sign > 0 ? slab.lo : slab.hi)[axis] = t;
+    ++*evaluations;
+    (mayBeInside(p, slab) ? keep : cut) = t;
+  }
+  return cut;
+}
+
 // Returns the extent of the solid along `axis` in direction `sign` (+1: max, -1: min), or
 // nothing when every cell is proven outside.
-bool extremeAlong(const Field& p, const BoundsOptions& o, const std::vector<Box3>& start,
-                  int axis, int sign, double* out) {
+bool extremeAlong(const Field& p, const BoundsOptions& o, const std::vector<Box3>& start, int axis,
+                  int sign, double* out) {
   auto reach = [&](const Box3& b) { return sign > 0 ? b.hi[axis] : -b.lo[axis]; };
   std::priority_queue<Cell, std::vector<Cell>, CellOrder> queue;
   auto inner = [&](const Box3& b) { return sign > 0 ? b.lo[axis] : b.hi[axis]; };
-  for (const Box3& b : start) queue.push({b, reach(b), 0, inner(b)});
   std::size_t evaluations = 0;
+  // One cut across all the start cells first: the deepest slab of their whole span that is
+  // provably empty. A face across the direction (a box's, a half-space's) or a round far side
+  // is found in a few evaluations here, where cell by cell every cell along the face would
+  // have to be shrunk to the tolerance on its own.
+  double finest = o.tolerance;  // sideways size of a thin cell whose interval is trusted
+  const double cut = spanCut(p, o, start, axis, sign, &evaluations, &finest);
+  for (Box3 b : start) {
+    if (sign > 0 ? b.lo[axis] >= cut : b.hi[axis] <= cut) continue;
+    (sign > 0 ? b.hi : b.lo)[axis] =
+        sign > 0 ? std::min(b.hi[axis], cut) : std::max(b.lo[axis], cut);
+    queue.push({b, reach(b), 0, inner(b)});
+  }
   while (!queue.empty()) {
     Cell c = queue.top();
     if (evaluations >= o.maxEvaluations) break;  // c.priority bounds every remaining cell
     queue.pop();
     ++evaluations;
     if (!mayBeInside(p, c.box)) continue;
-    if (c.box.hi[axis] - c.box.lo[axis] <= o.tolerance) {  // it reaches furthest of all
+    if (c.box.hi[axis] - c.box.lo[axis] <= o.tolerance) {
+      // Thin, but wide sideways its interval may be loose (a cell that shrank to its near
+      // side): split it sideways until it is small next to the span, then it reaches
+      // furthest of all. Along a real face this is one short dive.
+      int wide = -1;
+      for (int k = 0; k < 3; ++k)
+        if (k != axis && c.box.hi[k] - c.box.lo[k] > finest &&
+            (wide < 0 || c.box.hi[k] - c.box.lo[k] > c.box.hi[wide] - c.box.lo[wide]))
+          wide = k;
+      if (wide >= 0) {
+        const double mid = 0.5 * (c.box.lo[wide] + c.box.hi[wide]);
+        Box3 a = c.box, b = c.box;
+        a.hi[wide] = mid;
+        b.lo[wide] = mid;
+        queue.push({a, reach(a), c.depth + 1, c.keep});
+        queue.push({b, reach(b), c.depth + 1, c.keep});
+        continue;
+      }
       *out = sign > 0 ? c.box.hi[axis] : c.box.lo[axis];
       return true;
     }
@@ -163,8 +219,8 @@ SolidBounds findBounds(const Field& program, const BoundsOptions& given) {
   bool knownSide[3][2] = {};
   for (int a = 0; a < 3; ++a) {
     const double lo = given.known.lo[a], hi = given.known.hi[a];
-    const double pad = (std::isfinite(lo) && std::isfinite(hi) ? 1e-3 * (hi - lo) : 0.0) +
-                       4 * given.tolerance;
+    const double pad =
+        (std::isfinite(lo) && std::isfinite(hi) ? 1e-3 * (hi - lo) : 0.0) + 4 * given.tolerance;
     if (std::isfinite(lo) && lo - pad > options.search.lo[a]) {
       options.search.lo[a] = lo - pad;
       knownSide[a][0] = true;

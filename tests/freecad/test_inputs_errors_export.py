@@ -129,6 +129,25 @@ def test_unbounded_result_previews_but_cannot_be_polygonized(doc, tmp_path):
     assert not os.path.exists(out)
 
 
+def test_a_consumed_unbounded_input_is_not_warned_of(doc, monkeypatch):
+    # an infinite cylinder drilled through a box: the cylinder alone is unbounded, and the
+    # preview says so while it is shown; once a Difference consumes it, it is not
+    said = []
+    monkeypatch.setattr(FreeCAD.Console, "PrintWarning", said.append)
+    hole = F.make("cylinder", doc, name="Hole", radius=0.3, length=0)
+    doc.recompute()
+    assert [w for w in said if w.startswith("Hole: the solid is unbounded towards -z, +z")]
+    said.clear()
+    block = F.make("box", doc, name="Block", size=(2, 2, 2), corner=(-1, -1, -1))
+    drilled = F.make("difference", doc, name="Drilled", inputs=[block, hole])
+    doc.recompute()
+    hole.Radius = 0.4
+    doc.recompute()
+    assert drilled.isValid() and drilled.Mesh.CountFacets > 0
+    assert not hole.Visibility and hole.Mesh.CountFacets == 0
+    assert not [w for w in said if "unbounded" in w], said
+
+
 def test_polygonize_warns_of_parts_thinner_than_a_cell(doc, monkeypatch):
     # a fin 0.3 cell thick between two layers of grid points (20 cells across [-1, 1] mm)
     fin = F.make("box", doc, name="Fin", size=(0.03, 0.3, 0.3), corner=(-0.015, 0.6, 0.6))
