@@ -34,16 +34,14 @@ TEST(Bounds, SphereIsTight) {
   }
 }
 
-TEST(Bounds, RotatedBoxEnclosesItsMesh) {
-  NodePtr box = makeNode("box", {{"size", vec3Value({1, 2, 0.5})}}, {});
-  NodePtr rotated =
-      makeNode("rotate", {{"axis", vec3Value({1, 1, 0})}, {"angle", realValue(37)}}, {box});
-  Program p = compile(rotated);
-  SolidBounds b = findBounds(p);
+// The box encloses the solid's mesh (cell `resolution` over `extent`) and is within `slack`
+// of it on every side: mesh vertices lie on the surface up to root-finding error.
+void expectTightToMesh(const Program& p, const SolidBounds& b, double extent, double resolution,
+                       double slack) {
   ASSERT_TRUE(b.bounded());
   MeshingOptions o;
-  o.bbox = Box3{{-5, -5, -5}, {5, 5, 5}};
-  o.resolution = 0.05;
+  o.bbox = Box3{{-extent, -extent, -extent}, {extent, extent, extent}};
+  o.resolution = resolution;
   TriangleMesh m = polygonize(p, o);
   ASSERT_GT(m.triangleCount(), 0u);
   Vec3 lo{1e9, 1e9, 1e9}, hi{-1e9, -1e9, -1e9};
@@ -55,10 +53,17 @@ TEST(Bounds, RotatedBoxEnclosesItsMesh) {
   for (int a = 0; a < 3; ++a) {
     EXPECT_LE(b.box.lo[a], lo[a] + 1e-6);
     EXPECT_GE(b.box.hi[a], hi[a] - 1e-6);
-    // Mesh vertices lie on the surface up to root-finding error; the box is within a cell.
-    EXPECT_NEAR(b.box.lo[a], lo[a], 0.05);
-    EXPECT_NEAR(b.box.hi[a], hi[a], 0.05);
+    EXPECT_NEAR(b.box.lo[a], lo[a], slack);
+    EXPECT_NEAR(b.box.hi[a], hi[a], slack);
   }
+}
+
+TEST(Bounds, RotatedBoxEnclosesItsMesh) {
+  NodePtr box = makeNode("box", {{"size", vec3Value({1, 2, 0.5})}}, {});
+  NodePtr rotated =
+      makeNode("rotate", {{"axis", vec3Value({1, 1, 0})}, {"angle", realValue(37)}}, {box});
+  Program p = compile(rotated);
+  expectTightToMesh(p, findBounds(p), 5, 0.05, 0.05);  // within a cell
 }
 
 // A rotated torus has no flat face: the search ends on cells thin across the direction, whose
@@ -71,26 +76,8 @@ TEST(Bounds, RotatedTorusIsTightToItsMesh) {
   Program p = compile(rotated);
   BoundsOptions options;  // as the export and the workbench call it
   options.known = structuralBounds(rotated);
-  SolidBounds b = findBounds(p, options);
-  ASSERT_TRUE(b.bounded());
-  MeshingOptions o;
-  o.bbox = Box3{{-2, -2, -2}, {2, 2, 2}};
-  o.resolution = 0.02;
-  TriangleMesh m = polygonize(p, o);
-  ASSERT_GT(m.triangleCount(), 0u);
-  Vec3 lo{1e9, 1e9, 1e9}, hi{-1e9, -1e9, -1e9};
-  for (const Vec3f& v : m.positions)
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = std::min(lo[a], double(v[a]));
-      hi[a] = std::max(hi[a], double(v[a]));
-    }
-  for (int a = 0; a < 3; ++a) {
-    EXPECT_LE(b.box.lo[a], lo[a] + 1e-6);
-    EXPECT_GE(b.box.hi[a], hi[a] - 1e-6);
-    // Within 2 % of the torus's size (2.5): a looser box is a coarser preview.
-    EXPECT_NEAR(b.box.lo[a], lo[a], 0.05);
-    EXPECT_NEAR(b.box.hi[a], hi[a], 0.05);
-  }
+  // within 2 % of the torus's size (2.5): a looser box is a coarser preview
+  expectTightToMesh(p, findBounds(p, options), 2, 0.02, 0.05);
 }
 
 TEST(Bounds, DisjointIntersectionIsEmpty) {
