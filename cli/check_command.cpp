@@ -89,7 +89,7 @@ int checkCommand(const Args& args) {
     else
       throw UsageError("check takes one mesh file, got a second: '" + a + "'");
   }
-  if (path.empty()) throw UsageError("check needs a mesh file (.stl, .obj, .ply or .3mf)");
+  if (path.empty()) throw UsageError("check needs a mesh file (.stl, .obj, .ply, .off or .3mf)");
   if (printOption && !print)
     throw UsageError("--min-wall, --material, --density, --up and --overhang apply with --print");
   const TriangleMesh mesh = readMesh(path);

@@ -19,7 +19,7 @@ namespace frep::cli {
 namespace {
 
 const char* const kDeformHelp =
-    "usage: frepcad deform IN.stl|IN.obj|IN.ply|IN.vdb --lattice LATTICE.json -o OUT\n"
+    "usage: frepcad deform IN.stl|IN.obj|IN.ply|IN.off|IN.vdb --lattice LATTICE.json -o OUT\n"
     "                      [--format stl|stl-ascii|obj|ply|bms] [--force] [--quiet]\n"
     "                      [--interpolation nearest|linear|quadratic] [--keep-vectors]\n"
     "                      [--no-rebuild] [--splat]\n\n"

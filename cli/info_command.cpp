@@ -1,11 +1,10 @@
 #include <iostream>
-
 #include <nlohmann/json.hpp>
 
-#include "cli/commands.h"
-#include "frep/registry_docs.h"
 #include "base/file_names.h"
+#include "cli/commands.h"
 #include "cli/heavy_module.h"
+#include "frep/registry_docs.h"
 
 namespace frep::cli {
 
@@ -21,10 +20,16 @@ int infoCommand(const Args& args) {
                    "grids of an OpenVDB file (names, value types, classes, voxel sizes, counts).\n";
       return 0;
     }
-    if (a == "--json") json = true;
-    else if (a == "--markdown") markdown = true;
-    else if (!a.empty() && a[0] == '-') throw UsageError("unknown option '" + a + "' for info");
-    else type = a;
+    if (a == "--json")
+      json = true;
+    else if (a == "--markdown")
+      markdown = true;
+    else if (!a.empty() && a[0] == '-')
+      throw UsageError("unknown option '" + a + "' for info");
+    else if (!type.empty())
+      throw UsageError("info takes one node type or .vdb file; got '" + type + "' and '" + a + "'");
+    else
+      type = a;
   }
   if (isVdbPath(type)) {
     if (markdown) throw UsageError("--markdown lists node types, not a .vdb file's grids");

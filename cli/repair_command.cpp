@@ -95,7 +95,7 @@ int repairCommand(const Args& args) {
     else
       throw UsageError("repair takes one input mesh, got a second: '" + a + "'");
   }
-  if (input.empty()) throw UsageError("repair needs an input mesh (.stl, .obj, .ply or .3mf)");
+  if (input.empty()) throw UsageError("repair needs an input mesh (.stl, .obj, .ply, .off or .3mf)");
   if (output.empty()) throw UsageError("repair needs -o OUT");
   const MeshFormat outFormat = format.empty() ? formatFromPath(output) : parseFormat(format);
   ThreeMfOptions threeMf;

@@ -213,9 +213,35 @@ sed 's/ball.stl/nothing.stl/' "$work/vol.json" > "$work/missing.json"
 expect 2 "nothing.stl: cannot open the mesh file" -- "$frepcad" export "$work/missing.json" -o "$work/m.stl"
 printf 'not a volume' > "$work/bad.vdb"
 sed 's/csg.vdb/bad.vdb/' "$work/vol.json" > "$work/bad.json"
-expect 2 "bad.vdb: not a readable OpenVDB file" -- "$frepcad" export "$work/bad.json" -o "$work/b.stl"
-expect 2 "bad.vdb: not a readable OpenVDB file" -- "$frepcad" info "$work/bad.vdb"
+expect 2 "bad.vdb: not an OpenVDB file \(no OpenVDB magic number" -- "$frepcad" export "$work/bad.json" -o "$work/b.stl"
+expect 2 "bad.vdb: not an OpenVDB file" -- "$frepcad" info "$work/bad.vdb"
+head -c 30 "$work/csg.vdb" > "$work/cut.VDB"
+expect 2 "cut.VDB: the OpenVDB file ends inside its header \(30 of at least 57 bytes\)" -- "$frepcad" info "$work/cut.VDB"
+expect 2 "info takes one node type or .vdb file; got 'sphere' and 'box'" -- "$frepcad" info sphere box
 [ ! -e "$work/m.stl" ] && [ ! -e "$work/b.stl" ] && [ ! -e "$work/x.vdb" ] || { echo "FAIL: a refused export left a file"; failures=$((failures + 1)); }
+
+# OFF: checked, repaired and read by mesh_sdf like the other mesh files; strict readers
+"$frepcad" export "$src/examples/sphere.json" -o "$work/ball.obj" --cells 24 --quiet
+awk '$1 == "v" {v[++nv] = $2 " " $3 " " $4} $1 == "f" {split($2, a, "/"); split($3, b, "/"); split($4, c, "/");
+     f[++nf] = "3 " a[1] - 1 " " b[1] - 1 " " c[1] - 1}
+     END {print "OFF"; print nv, nf, 0; for (i = 1; i <= nv; i++) print v[i]; for (i = 1; i <= nf; i++) print f[i]}' \
+  "$work/ball.obj" > "$work/ball.off"
+expect 0 "verdict: printable" -- "$frepcad" check "$work/ball.off"
+expect 0 "nothing to repair: the mesh is printable" -- "$frepcad" repair "$work/ball.off" -o "$work/ball-repaired.stl"
+sed 's/ball.stl/ball.off/' "$work/vol.json" > "$work/off.json"
+expect 0 "verdict: printable" -- "$frepcad" export "$work/off.json" -o "$work/off.stl" --cells 64
+head -n 4 "$work/ball.off" > "$work/points.off"
+expect 2 "points.off:2: OFF header claims" -- "$frepcad" check "$work/points.off"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\n' > "$work/cloud.obj"
+expect 2 "cloud.obj: no faces \(3 vertices\)" -- "$frepcad" check "$work/cloud.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1.9 2.9 3.9\n' > "$work/frac.obj"
+expect 2 "frac.obj:4: '1.9' is not a whole number" -- "$frepcad" repair "$work/frac.obj" -o "$work/frac.stl"
+mkdir -p "$work/scans.atos"
+expect 2 "scans.atos/o: the file name has no extension; read: .stl, .obj, .ply, .off" -- "$frepcad" check "$work/scans.atos/o"
+head -n -1 "$work/ball.off" > "$work/open.off"
+sed -i "2s/.*/$(sed -n 2p "$work/ball.off" | awk '{print $1, $2 - 1, 0}')/" "$work/open.off"
+expect 1 "volume +none \(the surface is open\)" -- "$frepcad" check "$work/open.off"
+expect 1 '"volume": null' -- "$frepcad" check "$work/open.off" --json
 
 # deform: a lattice file applied to a mesh (checked) and to a .vdb (every grid); the ffd node
 expect 0 "verdict: printable" -- "$frepcad" export "$src/examples/bent_bar.json" -o "$work/bent.stl" --resolution 0.05

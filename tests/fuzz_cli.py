@@ -92,7 +92,10 @@ def mutate_mesh(rng, data):
     elif kind == 3:
         at = rng.randrange(len(data))
         data[at:at] = rng.choice([b"\nf 1 2 99999\n", b"\nv nan nan nan\n", b"element x 99\n",
-                                  b"facet normal\n", b"\x00" * 50, b"endsolid\n", b"-1 -1 -1\n"])
+                                  b"facet normal\n", b"\x00" * 50, b"endsolid\n", b"-1 -1 -1\n",
+                                  b"\nf 1.9 2.9 3.9\n", b"1abc", b"\nf 0 1 2\n",
+                                  b"property int128 x\n", b"\n99999999 99999999 0\n",
+                                  b"\n5 0 1 2\n", b" one "])
     else:
         at = rng.randrange(len(data))
         data[at:at + 8] = b""
@@ -114,7 +117,22 @@ def seeds(frepcad, src, work):
         with open(path, "rb") as f:
             meshes.append((ext, f.read()))
         os.remove(path)
+    meshes.append((".off", off_of_obj(dict(meshes)[".obj"])))
     return models, meshes
+
+
+def off_of_obj(obj):
+    """The OBJ seed as OFF text (frepcad reads OFF but does not write it)."""
+    points, faces = [], []
+    for line in obj.decode().splitlines():
+        words = line.split()
+        if words and words[0] == "v":
+            points.append(" ".join(words[1:4]))
+        elif words and words[0] == "f":
+            faces.append([int(w.split("/")[0]) - 1 for w in words[1:]])
+    lines = ["OFF", "%d %d 0" % (len(points), len(faces))] + points
+    lines += ["%d %s" % (len(f), " ".join(map(str, f))) for f in faces]
+    return ("\n".join(lines) + "\n").encode()
 
 
 def run_case(frepcad, work, index, kind, payload, ext, keep):
@@ -166,7 +184,9 @@ def run_case(frepcad, work, index, kind, payload, ext, keep):
         problems.append("a failed repair wrote a file")
     if kind == "check" and p.returncode in (0, 1):
         try:
-            json.loads(p.stdout.decode("utf-8"))
+            report = json.loads(p.stdout.decode("utf-8"))
+            if not report["closed"] and report["volume"] is not None:
+                problems.append("check gave a volume for an open surface")
         except ValueError:
             problems.append("check --json printed invalid JSON")
     STATUS[p.returncode] = STATUS.get(p.returncode, 0) + 1

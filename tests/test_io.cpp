@@ -1,19 +1,20 @@
 // Writers and readers: round trips, atomic writes (no partial file), clear errors.
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "base/errors.h"
+#include "base/file_names.h"
+#include "base/triangle_adjacency.h"
 #include "frep/tree.h"
 #include "io/mesh_io.h"
 #include "mesh/mesher.h"
 #include "mesh/openmesh_bridge.h"
-#include "base/triangle_adjacency.h"
 
 namespace fs = std::filesystem;
 
@@ -23,8 +24,9 @@ namespace {
 class MeshIo : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("frepcad-io-" + std::to_string(getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() /
+           ("frepcad-io-" + std::to_string(getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(dir_);
     MeshingOptions o;
     o.bbox = {{-1.5, -1.5, -1.5}, {1.5, 1.5, 1.5}};
@@ -35,7 +37,8 @@ class MeshIo : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
   std::size_t filesInDir() const {
-    return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
+    return static_cast<std::size_t>(
+        std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
   }
 
   fs::path dir_;
@@ -55,8 +58,8 @@ std::vector<std::array<float, 9>> corners(const TriangleMesh& m) {
 }
 
 TEST_F(MeshIo, EveryFormatRoundTripsTheSameTriangles) {
-  for (MeshFormat f : {MeshFormat::StlBinary, MeshFormat::StlAscii, MeshFormat::Obj, MeshFormat::Ply,
-                       MeshFormat::FreecadBms}) {
+  for (MeshFormat f : {MeshFormat::StlBinary, MeshFormat::StlAscii, MeshFormat::Obj,
+                       MeshFormat::Ply, MeshFormat::FreecadBms}) {
     const std::string ext = f == MeshFormat::StlAscii ? "stl" : formatName(f);
     const std::string p = path("m." + ext);
     writeMesh(mesh_, p, f);
@@ -148,16 +151,17 @@ TEST_F(MeshIo, CancelledWriteLeavesNoFileAndKeepsTheOldOne) {
   EXPECT_FALSE(fs::exists(p));
   EXPECT_EQ(filesInDir(), 0u);
   std::ofstream(p) << "old";
-  EXPECT_THROW(writeMesh(mesh_, p, MeshFormat::StlBinary, [](double f) { return f < 0.5; }), Cancelled);
+  EXPECT_THROW(writeMesh(mesh_, p, MeshFormat::StlBinary, [](double f) { return f < 0.5; }),
+               Cancelled);
   std::ifstream in(p);
   std::string content;
   in >> content;
   EXPECT_EQ(content, "old");
   EXPECT_EQ(filesInDir(), 1u);
   // a 3MF cancelled after its vertices: the deflate workers stop, no temporary or spill left
-  EXPECT_THROW(writeMesh(mesh_, path("part.3mf"), MeshFormat::ThreeMf,
-                         [](double f) { return f < 0.5; }),
-               Cancelled);
+  EXPECT_THROW(
+      writeMesh(mesh_, path("part.3mf"), MeshFormat::ThreeMf, [](double f) { return f < 0.5; }),
+      Cancelled);
   EXPECT_EQ(filesInDir(), 1u);
 }
 
@@ -185,6 +189,85 @@ TEST_F(MeshIo, BadFilesAreClearErrors) {
   EXPECT_THROW(readMesh(path("bad.obj")), FileError);
   EXPECT_THROW(parseFormat("amf"), ModelError);
   EXPECT_EQ(parseFormat("3mf"), MeshFormat::ThreeMf);
+}
+
+// The torus as OFF text, written here (frepcad reads OFF, it does not write it).
+std::string offText(const TriangleMesh& m, const std::string& header) {
+  std::ostringstream os;
+  os.precision(9);
+  os << header << "\n# a comment line\n" << m.vertexCount() << " " << m.triangleCount() << " 0\n";
+  for (const Vec3f& p : m.positions) os << p[0] << " " << p[1] << " " << p[2] << "\n";
+  for (const Triangle& t : m.triangles) os << "3 " << t[0] << " " << t[1] << " " << t[2] << "\n";
+  return os.str();
+}
+
+TEST_F(MeshIo, OffFilesReadTheSameTriangles) {
+  std::ofstream(path("torus.off")) << offText(mesh_, "OFF");
+  EXPECT_EQ(corners(readMesh(path("torus.off"))), corners(mesh_));
+  // counts on the keyword's line, a quad (fan-triangulated), per-vertex colours, upper-case
+  // extension
+  std::ofstream(path("quad.OFF")) << "COFF 4 1 0\n0 0 0 255 0 0 255\n1 0 0 255 0 0 255\n"
+                                     "1 1 0 255 0 0 255\n0 1 0 255 0 0 255\n4 0 1 2 3\n";
+  const TriangleMesh quad = readMesh(path("quad.OFF"));
+  EXPECT_EQ(quad.vertexCount(), 4u);
+  EXPECT_EQ(quad.triangleCount(), 2u);
+}
+
+// Every reader takes a number only when the whole word is one, and refuses a file whose
+// header promises more than it holds, before reserving for it.
+TEST_F(MeshIo, ReadersRefuseWhatIsNotWhatItClaims) {
+  const std::string tetraV = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
+  const std::string plyHead =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::vector<std::array<std::string, 3>> cases = {
+      {"fraction.obj", tetraV + "f 1.9 2.9 3.9\n", "'1.9' is not a whole number"},
+      {"suffix.obj", tetraV + "f 1abc 2 3\n", "'1abc' is not a whole number"},
+      {"zero.obj", tetraV + "f 0 1 2\n", "face index 0; OBJ counts vertices from 1"},
+      {"word.obj", "v 0 0 one\n", "'one' is not a finite number"},
+      {"nan.obj", "v 0 nan 0\n", "'nan' is not a finite number"},
+      {"points.obj", tetraV, "no faces (4 vertices)"},
+      {"int128.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty int128 x\nend_header\n1\n",
+       "PLY property type 'int128' is not one of"},
+      {"fraction.ply", plyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2.5\n", "'2.5' is not a whole number"},
+      {"negative.ply", "ply\nformat ascii 1.0\nelement vertex -3\nend_header\n",
+       "element count -3 is negative"},
+      {"lying.off", "OFF\n4 4000000 0\n0 0 0\n1 0 0\n", "more than"},
+      {"short.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n", "OFF ends after 0 of 1 faces"},
+      {"listed.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4 0 1 2\n", "says 4 vertices but lists 3"},
+      {"binary.off", "OFF BINARY\n", "binary OFF is not supported"},
+      {"noff.off", "STL 3 1 0\n", "not an OFF file"},
+  };
+  for (const auto& [name, text, expected] : cases) {
+    std::ofstream(path(name)) << text;
+    try {
+      readMesh(path(name));
+      ADD_FAILURE() << name << " was read";
+    } catch (const FileError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos)
+          << name << ": " << e.what();
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  }
+}
+
+// The type comes from the file name's extension, not from a dot in a folder's name.
+TEST_F(MeshIo, TheExtensionIsTheFileNames) {
+  EXPECT_EQ(fileExtension("a.b/c.STL"), "stl");
+  EXPECT_EQ(fileExtension("scans.atos/out7/o"), "");
+  EXPECT_EQ(fileExtension("dir/.hidden"), "");
+  EXPECT_TRUE(isVdbPath("X.VDB"));
+  EXPECT_FALSE(isVdbPath("x.vdb/part.stl"));
+  fs::create_directories(dir_ / "scans.atos");
+  try {
+    readMesh(path("scans.atos/o"));
+    FAIL();
+  } catch (const FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("the file name has no extension"), std::string::npos)
+        << e.what();
+  }
+  writeMesh(mesh_, path("upper.PLY"), formatFromPath(path("upper.PLY")));
+  EXPECT_EQ(corners(readMesh(path("upper.PLY"))), corners(mesh_));
 }
 
 TEST_F(MeshIo, OpenMeshBridgeKeepsTheMesh) {

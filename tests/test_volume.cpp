@@ -1,9 +1,9 @@
 // volume/: meshes and OpenVDB grids as fields (mesh_sdf, vdb_grid), level sets from fields and
 // meshes, meshes from level sets, and .vdb files.
 #include <gtest/gtest.h>
-
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
+#include <openvdb/tools/Interpolation.h>
 
 #include <cmath>
 #include <cstring>
@@ -16,6 +16,8 @@
 #include "frep/model_json.h"
 #include "frep/structural_bounds.h"
 #include "frep/tree.h"
+#include "lattice/ffd_map.h"
+#include "lattice_samples.h"
 #include "mesh/mesher.h"
 #include "volume/field_sources.h"
 #include "volume/grid_ffd.h"
@@ -24,9 +26,6 @@
 #include "volume/mesh_distance.h"
 #include "volume/openvdb_grids.h"
 #include "volume_samples.h"
-#include "lattice/ffd_map.h"
-#include "lattice_samples.h"
-#include <openvdb/tools/Interpolation.h>
 
 namespace frep {
 namespace {
@@ -34,7 +33,9 @@ namespace {
 using testing::icosphere;
 using testing::sampleFolder;
 
-double norm3(double x, double y, double z) { return std::sqrt(x * x + y * y + z * z); }
+double norm3(double x, double y, double z) {
+  return std::sqrt(x * x + y * y + z * z);
+}
 
 // How far the icosphere's triangles come inside the unit sphere: its vertices lie on the
 // sphere, so this is the largest gap between the two surfaces (the tessellation error).
@@ -44,7 +45,9 @@ double inscribedGap(const TriangleMesh& m) {
     double c[3] = {0, 0, 0};
     for (std::uint32_t v : t)
       for (int a = 0; a < 3; ++a) c[a] += m.positions[v][a] / 3.0;
-    gap = std::max(gap, 1.0 - norm3(c[0], c[1], c[2]));  // the centroid is the face's nearest point to the centre
+    gap = std::max(
+        gap,
+        1.0 - norm3(c[0], c[1], c[2]));  // the centroid is the face's nearest point to the centre
   }
   return gap;
 }
@@ -57,8 +60,10 @@ std::string writeSample(const TriangleMesh& m, const std::string& name) {
 
 NodePtr meshSdf(const std::string& path, const std::string& method = "exact", double voxel = 0) {
   registerVolumeSources();
-  return makeNode("mesh_sdf", {{"path", textValue(path)}, {"method", choiceValue(method)},
-                               {"voxel", realValue(voxel)}}, {});
+  return makeNode(
+      "mesh_sdf",
+      {{"path", textValue(path)}, {"method", choiceValue(method)}, {"voxel", realValue(voxel)}},
+      {});
 }
 
 TEST(MeshSdf, SphereFromAnStlIsTheSphereWithinTheTessellationErrorInAllFourModes) {
@@ -96,10 +101,12 @@ TEST(MeshSdf, SphereFromAnStlIsTheSphereWithinTheTessellationErrorInAllFourModes
       }
       if (i % 50 == 0) {
         const double h = 0.05;
-        const Interval iv = f.evalInterval({x[i] - h, x[i] + h}, {y[i] - h, y[i] + h}, {z[i] - h, z[i] + h});
+        const Interval iv =
+            f.evalInterval({x[i] - h, x[i] + h}, {y[i] - h, y[i] + h}, {z[i] - h, z[i] + h});
         ASSERT_TRUE(iv.contains(v));
         for (int k = 0; k < 8; ++k)
-          ASSERT_TRUE(iv.contains(f.eval(x[i] + (k & 1 ? h : -h), y[i] + (k & 2 ? h : -h), z[i] + (k & 4 ? h : -h))));
+          ASSERT_TRUE(iv.contains(
+              f.eval(x[i] + (k & 1 ? h : -h), y[i] + (k & 2 ? h : -h), z[i] + (k & 4 ? h : -h))));
       }
     }
     EXPECT_LE(worst, tol) << method;
@@ -190,8 +197,10 @@ TEST(GridField, IntervalsEncloseEverySampledValueForBothInterpolations) {
     int tight = 0;
     for (int b = 0; b < 400; ++b) {
       const double cx = c(rng), cy = c(rng), cz = c(rng), hx = h(rng), hy = h(rng), hz = h(rng);
-      const Interval iv = f->evalInterval({cx - hx, cx + hx}, {cy - hy, cy + hy}, {cz - hz, cz + hz});
-      std::uniform_real_distribution<double> ux(cx - hx, cx + hx), uy(cy - hy, cy + hy), uz(cz - hz, cz + hz);
+      const Interval iv =
+          f->evalInterval({cx - hx, cx + hx}, {cy - hy, cy + hy}, {cz - hz, cz + hz});
+      std::uniform_real_distribution<double> ux(cx - hx, cx + hx), uy(cy - hy, cy + hy),
+          uz(cz - hz, cz + hz);
       for (int s = 0; s < 60; ++s) {
         const double x = s < 8 ? cx + (s & 1 ? hx : -hx) : ux(rng);
         const double y = s < 8 ? cy + (s & 2 ? hy : -hy) : uy(rng);
@@ -226,8 +235,12 @@ TEST(GridField, IntervalsEncloseEverySampledValueForBothInterpolations) {
 class CountingField final : public Field {
  public:
   explicit CountingField(const Field& f) : f_(f) {}
-  double eval(double x, double y, double z) const override { ++points; return f_.eval(x, y, z); }
-  void evalBatch(const double* x, const double* y, const double* z, std::size_t n, double* out) const override {
+  double eval(double x, double y, double z) const override {
+    ++points;
+    return f_.eval(x, y, z);
+  }
+  void evalBatch(const double* x, const double* y, const double* z, std::size_t n,
+                 double* out) const override {
     points += n;
     f_.evalBatch(x, y, z, n, out);
   }
@@ -332,7 +345,8 @@ typename GridT::Ptr filledGrid(const std::string& name, typename GridT::ValueTyp
   g->setTransform(openvdb::math::Transform::createLinearTransform(0.25));
   auto acc = g->getAccessor();
   for (int i = -20; i < 20; i += 3)
-    for (int j = -5; j < 30; j += 2) acc.setValue(openvdb::Coord(i, j, i * j % 7), (i + j) % 2 ? a : b);
+    for (int j = -5; j < 30; j += 2)
+      acc.setValue(openvdb::Coord(i, j, i * j % 7), (i + j) % 2 ? a : b);
   acc.setValueOff(openvdb::Coord(100, 100, 100), b);  // an inactive voxel with its own value
   g->insertMeta("author", openvdb::StringMetadata("frep test"));
   g->insertMeta("weight", openvdb::FloatMetadata(2.5f));
@@ -360,7 +374,8 @@ TEST(VdbFiles, ARoundTripKeepsEveryGridBitIdentical) {
   grids.push_back(filledGrid<openvdb::DoubleGrid>("temperature", 1e-300, 3.14159265358979));
   grids.push_back(filledGrid<openvdb::Int32Grid>("label", 7, -123456));
   grids.push_back(filledGrid<openvdb::BoolGrid>("mask", false, true));
-  grids.push_back(filledGrid<openvdb::Vec3SGrid>("velocity", openvdb::Vec3s(1, 2, 3), openvdb::Vec3s(-0.5f, 0, 1e-7f)));
+  grids.push_back(filledGrid<openvdb::Vec3SGrid>("velocity", openvdb::Vec3s(1, 2, 3),
+                                                 openvdb::Vec3s(-0.5f, 0, 1e-7f)));
   grids.push_back(sampledSphere(0.1).impl->grids[0]);
   const GridSet set = gridSetOf(grids);
   const std::string path = sampleFolder() + "/round.vdb";
@@ -432,6 +447,23 @@ TEST(VdbFiles, MalformedFilesGetClearErrorsAndHugeDeclaredGridsAreRefused) {
     const std::string e = errorOf(folder + "/" + name);
     EXPECT_NE(e.find(name), std::string::npos) << name << ": " << e;
   }
+  // Cut inside the header, or the magic number and noise: what is wrong, never "0 grids".
+  for (std::size_t n : {4, 20, 40}) {
+    const std::string name = "head" + std::to_string(n) + ".vdb";
+    std::ofstream(folder + "/" + name, std::ios::binary) << bytes.substr(0, n);
+    const std::string e = errorOf(folder + "/" + name);
+    EXPECT_NE(e.find(n < 8 ? "no OpenVDB magic number" : "ends inside its header"),
+              std::string::npos)
+        << e;
+  }
+  std::string noise = bytes.substr(0, 8);
+  for (int i = 0; i < 64; ++i) noise += char(37 * i + 11);
+  std::ofstream(folder + "/noise.vdb", std::ios::binary) << noise;
+  EXPECT_NE(errorOf(folder + "/noise.vdb").find("noise.vdb: "), std::string::npos);
+  // A well-formed file of no grids holds nothing to read.
+  writeVdb(GridSet(), folder + "/none.vdb");
+  EXPECT_NE(errorOf(folder + "/none.vdb").find("holds no grids"), std::string::npos);
+
   // Corrupted compressed data: an error or (if OpenVDB cannot tell) some grid, never a crash.
   (void)errorOf(folder + "/corrupt.vdb");
 
@@ -458,7 +490,8 @@ TEST(VdbGrid, AModelNodeReadsAGridByNameAndMeshesPrintable) {
   two.impl->grids.push_back(small.impl->grids[0]);
   writeVdb(two, path);
   registerVolumeSources();
-  const NodePtr n = makeNode("vdb_grid", {{"path", textValue(path)}, {"grid", textValue("small")}}, {});
+  const NodePtr n =
+      makeNode("vdb_grid", {{"path", textValue(path)}, {"grid", textValue("small")}}, {});
   const Program p = compile(n);
   EXPECT_NEAR(p.eval(0, 0, 0.4), 0.1, 0.01);
   EXPECT_LT(p.eval(0, 0, 0.7), 0);
@@ -499,8 +532,8 @@ bool sameActiveVoxels(const openvdb::GridBase& x, const openvdb::GridBase& y) {
 
 // A grid of one value type holding `value` over a box of voxels (all active).
 template <class GridT>
-typename GridT::Ptr blockGrid(const std::string& name, typename GridT::ValueType value, double voxel,
-                              const openvdb::CoordBBox& box) {
+typename GridT::Ptr blockGrid(const std::string& name, typename GridT::ValueType value,
+                              double voxel, const openvdb::CoordBBox& box) {
   auto g = GridT::create(typename GridT::ValueType());
   g->setName(name);
   g->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
@@ -527,7 +560,8 @@ TEST(GridFfd, TheUndeformedLatticeGivesEveryGridBackBitForBit) {
   grids.push_back(filledGrid<openvdb::DoubleGrid>("temperature", 1e-300, 3.14159265358979));
   grids.push_back(filledGrid<openvdb::Int32Grid>("label", 7, -123456));
   grids.push_back(filledGrid<openvdb::BoolGrid>("mask", false, true));
-  grids.push_back(filledGrid<openvdb::Vec3SGrid>("velocity", openvdb::Vec3s(1, 2, 3), openvdb::Vec3s(-0.5f, 0, 1e-7f)));
+  grids.push_back(filledGrid<openvdb::Vec3SGrid>("velocity", openvdb::Vec3s(1, 2, 3),
+                                                 openvdb::Vec3s(-0.5f, 0, 1e-7f)));
   const GridSet set = gridSetOf(grids);
   // A rest box holding part of each grid: inside it the map is the identity, outside it
   // nothing moves.
@@ -632,7 +666,9 @@ TEST(GridFfd, VectorsTransformByTheJacobianAsTheirVectorTypeSays) {
   GridFfdOptions keep;
   keep.keepVectors = true;
   const GridSet kept = deformGrids(gridSetOf(grids), lattice, keep);
-  EXPECT_EQ(openvdb::gridPtrCast<openvdb::Vec3SGrid>(kept.impl->grids[0])->tree().getValue(openvdb::Coord(2, 0, 2)),
+  EXPECT_EQ(openvdb::gridPtrCast<openvdb::Vec3SGrid>(kept.impl->grids[0])
+                ->tree()
+                .getValue(openvdb::Coord(2, 0, 2)),
             openvdb::Vec3s(0, 0, 1));
 }
 
@@ -643,11 +679,13 @@ TEST(GridFfd, AVdbWithThreeGridsOfDifferentTypesRoundTripsDeformed) {
   auto density = blockGrid<openvdb::FloatGrid>("density", 0.5f, 0.1, block);
   density->setGridClass(openvdb::GRID_FOG_VOLUME);
   auto acc = density->getAccessor();
-  for (auto it = density->beginValueOn(); it; ++it) it.setValue(0.01f * float(it.getCoord().x() + 10));
+  for (auto it = density->beginValueOn(); it; ++it)
+    it.setValue(0.01f * float(it.getCoord().x() + 10));
   grids.push_back(density);
   grids.push_back(blockGrid<openvdb::Int32Grid>("label", 42, 0.1, block));
   grids.push_back(blockGrid<openvdb::Vec3SGrid>("velocity", openvdb::Vec3s(1, 0, 0), 0.1, block));
-  const FfdLattice lattice = testing::twistedLattice(2, 2, 2, 0.8, 0.1, 3, Box3{{-1, -0.6, -0.6}, {1, 0.6, 0.6}});
+  const FfdLattice lattice =
+      testing::twistedLattice(2, 2, 2, 0.8, 0.1, 3, Box3{{-1, -0.6, -0.6}, {1, 0.6, 0.6}});
   const GridSet out = deformGrids(gridSetOf(grids), lattice);
   const std::string path = sampleFolder() + "/deformed.vdb";
   writeVdb(out, path);
@@ -664,7 +702,8 @@ TEST(GridFfd, AVdbWithThreeGridsOfDifferentTypesRoundTripsDeformed) {
   }
   // Every deformed density voxel holds the source's value where the lattice came from.
   const auto& d = static_cast<const openvdb::FloatGrid&>(*out.impl->grids[0]);
-  openvdb::tools::GridSampler<openvdb::FloatTree, openvdb::tools::BoxSampler> sampler(density->tree(), density->transform());
+  openvdb::tools::GridSampler<openvdb::FloatTree, openvdb::tools::BoxSampler> sampler(
+      density->tree(), density->transform());
   std::size_t checked = 0;
   for (auto it = d.tree().cbeginValueOn(); it; ++it) {
     const openvdb::Vec3d p = d.transform().indexToWorld(it.getCoord());
@@ -688,21 +727,26 @@ TEST(GridFfd, BadInputsAreRefusedWithTheReasonAndCancelStops) {
     deformGrids(gridSetOf({wide}), stretchedAlongX({{-1, -1, -1}, {1, 1, 1}}, 2));
     FAIL();
   } catch (const ModelError& e) {
-    EXPECT_NE(std::string(e.what()).find("grid 'ids' holds int64 values; allowed: float"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("grid 'ids' holds int64 values; allowed: float"),
+              std::string::npos)
+        << e.what();
   }
-  auto f = blockGrid<openvdb::FloatGrid>("density", 1.0f, 0.01, openvdb::CoordBBox(openvdb::Coord(-40), openvdb::Coord(40)));
+  auto f = blockGrid<openvdb::FloatGrid>(
+      "density", 1.0f, 0.01, openvdb::CoordBBox(openvdb::Coord(-40), openvdb::Coord(40)));
   GridFfdOptions small;
   small.maxVoxels = 100000;
   try {
     deformGrids(gridSetOf({f}), stretchedAlongX({{-1, -1, -1}, {1, 1, 1}}, 30), small);
     FAIL();
   } catch (const ModelError& e) {
-    EXPECT_NE(std::string(e.what()).find("would need more than 100000 voxels"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("would need more than 100000 voxels"), std::string::npos)
+        << e.what();
   }
   GridFfdOptions cancel;
   int calls = 0;
   cancel.progress = [&](double) { return ++calls < 1; };
-  EXPECT_THROW(deformGrids(gridSetOf({f}), stretchedAlongX({{-1, -1, -1}, {1, 1, 1}}, 1.5), cancel), Cancelled);
+  EXPECT_THROW(deformGrids(gridSetOf({f}), stretchedAlongX({{-1, -1, -1}, {1, 1, 1}}, 1.5), cancel),
+               Cancelled);
   EXPECT_EQ(calls, 1);
 }
 

@@ -2,6 +2,7 @@
 
 #include <sys/stat.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -16,7 +17,11 @@ namespace {
 // Length of the valid UTF-8 sequence starting at s[i], or 0.
 std::size_t utf8Length(const std::string& s, std::size_t i) {
   const auto c = static_cast<unsigned char>(s[i]);
-  std::size_t n = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+  std::size_t n = c < 0x80           ? 1
+                  : (c >> 5) == 0x6  ? 2
+                  : (c >> 4) == 0xE  ? 3
+                  : (c >> 3) == 0x1E ? 4
+                                     : 0;
   if (n == 0 || i + n > s.size()) return 0;
   for (std::size_t k = 1; k < n; ++k)
     if ((static_cast<unsigned char>(s[i + k]) >> 6) != 0x2) return 0;
@@ -52,7 +57,8 @@ void requireRegularFile(const std::string& path, const std::string& what) {
                     what);
 }
 
-std::string readSmallFile(const std::string& path, const std::string& kind, std::uint64_t maxBytes) {
+std::string readSmallFile(const std::string& path, const std::string& kind,
+                          std::uint64_t maxBytes) {
   // A folder, a FIFO (which would block) or a device is refused before it is opened, and so
   // is a file too large to be what it should be.
   requireRegularFile(path, "the " + kind);
@@ -69,8 +75,19 @@ std::string readSmallFile(const std::string& path, const std::string& kind, std:
   return ss.str();
 }
 
+std::string fileExtension(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+  const auto dot = name.find_last_of('.');
+  // a leading dot names a hidden file, not an extension
+  if (dot == std::string::npos || dot == 0) return "";
+  std::string ext = name.substr(dot + 1);
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
 bool isVdbPath(const std::string& path) {
-  return path.size() > 4 && path.compare(path.size() - 4, 4, ".vdb") == 0;
+  return fileExtension(path) == "vdb";
 }
 
 }  // namespace frep

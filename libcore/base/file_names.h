@@ -9,7 +9,11 @@ namespace frep {
 
 std::string displayName(const std::string& path);
 
-// Whether `path` names an OpenVDB file (ends in .vdb).
+// The extension of the file name (the last part of the path), lower case and without the dot;
+// "" when the name has none. "a.b/c" has none: a folder's dot is not the file's.
+std::string fileExtension(const std::string& path);
+
+// Whether `path` names an OpenVDB file (.vdb, in any case).
 bool isVdbPath(const std::string& path);
 
 // Whether `path` names something that can be read as a file: a regular file, not a folder,

@@ -23,7 +23,11 @@ std::string reportToText(const CheckReport& r, const std::string& name) {
      << r.selfIntersections << " triangle pairs\n";
   os << "  degenerate triangles " << r.degenerateFaces << "\n";
   os << "  components           " << r.components << "\n";
-  os << "  volume               " << r.volume << "\n";
+  // an open surface encloses nothing: its signed "volume" depends on where the hole is
+  if (r.closed)
+    os << "  volume               " << r.volume << "\n";
+  else
+    os << "  volume               none (the surface is open)\n";
   os << "  area                 " << r.area << "\n";
   os << "  bounding box         [" << r.bbox.lo[0] << ", " << r.bbox.lo[1] << ", " << r.bbox.lo[2]
      << "] - [" << r.bbox.hi[0] << ", " << r.bbox.hi[1] << ", " << r.bbox.hi[2] << "]\n";
@@ -57,7 +61,7 @@ nlohmann::json checkJson(const CheckReport& r, const std::string& name) {
   j["degenerate_triangles"] = r.degenerateFaces;
   j["non_finite_vertices"] = r.nonFiniteVertices;
   j["components"] = r.components;
-  j["volume"] = r.volume;
+  j["volume"] = r.closed ? nlohmann::json(r.volume) : nlohmann::json(nullptr);
   j["area"] = r.area;
   j["bbox"] = {r.bbox.lo[0], r.bbox.lo[1], r.bbox.lo[2], r.bbox.hi[0], r.bbox.hi[1], r.bbox.hi[2]};
   return j;

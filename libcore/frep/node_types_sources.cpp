@@ -68,7 +68,7 @@ void registerFieldSources(Registry& r) {
            "F = +distance to the mesh inside, -distance outside",
            0,
            0,
-           {fileParam("path", "The mesh file (.stl, .obj, .ply, .3mf)."),
+           {fileParam("path", "The mesh file (.stl, .obj, .ply, .off, .3mf)."),
             choiceParam("method", {"exact", "grid"},
                         "'exact': distance to the triangles; 'grid': an OpenVDB level set."),
             voxel},

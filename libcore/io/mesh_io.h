@@ -1,4 +1,4 @@
-// Mesh files: binary and ASCII STL, OBJ, binary PLY, 3MF (one object; io/mesh_3mf.h for
+// Mesh files: binary and ASCII STL, OBJ, binary PLY, OFF (read only), 3MF (one object; io/mesh_3mf.h for
 // several), and FreeCAD's own binary mesh (.bms:
 // points, facets and facet neighbours, which FreeCAD reads without rebuilding topology). Writers go
 // through AtomicFile (no partial file on failure or cancel). Readers return the triangles exactly
@@ -36,8 +36,10 @@ std::unique_ptr<AtomicFile> writeMeshUncommitted(const TriangleMesh& mesh, const
                                                  const WriteProgress& progress = {});
 
 // Reads STL (binary or ASCII, detected from content), OBJ, PLY (ASCII or binary little
-// endian) or 3MF (every build item, merged: io/mesh_3mf.h reads them one by one). Polygons are
-// fan-triangulated. Throws FileError with the file name and the problem.
+// endian), OFF (text) or 3MF (every build item, merged: io/mesh_3mf.h reads them one by one),
+// chosen by the file name's extension. Polygons are fan-triangulated. Numbers are read
+// strictly (a word that is not wholly a number is an error, not a 0 or a truncated index).
+// Throws FileError with the file name and the problem, also for a file without faces.
 TriangleMesh readMesh(const std::string& path);
 
 }  // namespace frep

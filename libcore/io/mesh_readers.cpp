@@ -1,11 +1,14 @@
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
 
 #include "base/errors.h"
 #include "base/file_names.h"
-#include "io/mesh_io.h"
 #include "io/mesh_3mf.h"
+#include "io/mesh_io.h"
 
 namespace frep {
 
@@ -19,6 +22,50 @@ std::string slurp(const std::string& path) {
   ss << in.rdbuf();
   if (in.bad()) throw FileError(displayName(path) + ": read error");
   return ss.str();
+}
+
+// Whitespace-separated words of a line, up to a '#' comment when `comments`.
+std::vector<std::string> wordsOf(const std::string& line, bool comments) {
+  std::istringstream ls(comments ? line.substr(0, line.find('#')) : line);
+  std::vector<std::string> words;
+  for (std::string w; ls >> w;) words.push_back(w);
+  return words;
+}
+
+// A word that is one number and nothing else: "1abc", "one" and "" are refused, and so are
+// infinities and NaN (a vertex there has no place).
+double strictReal(const std::string& word, const std::string& where) {
+  const char* begin = word.c_str();
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(begin, &end);
+  if (end == begin || *end != '\0' || !std::isfinite(v) || errno == ERANGE)
+    throw FileError(where + ": '" + word.substr(0, 40) + "' is not a finite number");
+  return v;
+}
+
+// A word that is one whole number: "1.9" and "1abc" are refused rather than read as 1.
+long long strictInteger(const std::string& word, const std::string& where) {
+  const char* begin = word.c_str();
+  char* end = nullptr;
+  errno = 0;
+  const long long v = std::strtoll(begin, &end, 10);
+  if (end == begin || *end != '\0' || errno == ERANGE)
+    throw FileError(where + ": '" + word.substr(0, 40) + "' is not a whole number");
+  return v;
+}
+
+Vec3f strictPoint(const std::vector<std::string>& words, std::size_t first,
+                  const std::string& where) {
+  Vec3f p;
+  for (int c = 0; c < 3; ++c) {
+    const double v = strictReal(words[first + c], where);
+    if (std::fabs(v) > 3.0e38)
+      throw FileError(where + ": coordinate " + words[first + c].substr(0, 40) +
+                      " is beyond the range of a 32-bit float");
+    p[c] = static_cast<float>(v);
+  }
+  return p;
 }
 
 // Adds a polygon as a fan of triangles after checking its indices.
@@ -54,8 +101,9 @@ TriangleMesh readStl(const std::string& path, const std::string& data) {
     }
   }
   if (data.compare(0, 5, "solid") != 0)
-    throw FileError(displayName(path) + ": not an STL file (binary size does not match its triangle count, "
-                           "and it does not start with 'solid')");
+    throw FileError(displayName(path) +
+                    ": not an STL file (binary size does not match its triangle count, "
+                    "and it does not start with 'solid')");
   // ASCII STL, read strictly: a garbage file is bad input (exit 2), not an empty mesh that
   // the check would call "not printable".
   std::istringstream in(data);
@@ -103,10 +151,14 @@ TriangleMesh readStl(const std::string& path, const std::string& data) {
                       "endsolid)");
     }
   }
-  if (!ended) throw FileError(displayName(path) + ": ASCII STL ends without 'endsolid' (a truncated file?)");
+  if (!ended)
+    throw FileError(displayName(path) + ": ASCII STL ends without 'endsolid' (a truncated file?)");
   return m;
 }
 
+// OBJ: 'v' and 'f' lines (texture and normal references after '/' are ignored; negative
+// indices count back from the last vertex); other statements (vt, vn, g, o, usemtl, ...) are
+// not geometry and are skipped.
 TriangleMesh readObj(const std::string& path, const std::string& data) {
   TriangleMesh m;
   std::istringstream in(data);
@@ -114,29 +166,91 @@ TriangleMesh readObj(const std::string& path, const std::string& data) {
   std::size_t lineNo = 0;
   while (std::getline(in, line)) {
     ++lineNo;
-    std::istringstream ls(line);
-    std::string tag;
-    ls >> tag;
+    const std::vector<std::string> words = wordsOf(line, true);
+    if (words.empty()) continue;
     const std::string where = displayName(path) + ":" + std::to_string(lineNo);
-    if (tag == "v") {
-      Vec3f p;
-      if (!(ls >> p[0] >> p[1] >> p[2])) throw FileError(where + ": 'v' needs three numbers");
-      m.positions.push_back(p);
-    } else if (tag == "f") {
+    if (words[0] == "v") {
+      // x y z, then an optional w or an r g b colour
+      if (words.size() < 4) throw FileError(where + ": 'v' needs three numbers");
+      m.positions.push_back(strictPoint(words, 1, where));
+    } else if (words[0] == "f") {
       std::vector<long long> ids;
-      std::string tok;
-      while (ls >> tok) {
-        long long id = 0;
-        try {
-          id = std::stoll(tok.substr(0, tok.find('/')));
-        } catch (...) {
-          throw FileError(where + ": bad face index '" + tok + "'");
-        }
+      for (std::size_t i = 1; i < words.size(); ++i) {
+        const long long id = strictInteger(words[i].substr(0, words[i].find('/')), where);
+        if (id == 0)
+          throw FileError(where +
+                          ": face index 0; OBJ counts vertices from 1 (and back from "
+                          "the last with -1)");
         ids.push_back(id < 0 ? static_cast<long long>(m.positions.size()) + id : id - 1);
       }
       addPolygon(m, ids, where);
     }
   }
+  return m;
+}
+
+// OFF (Object File Format): "OFF", the vertex, face and edge counts, one vertex a line (x y
+// z, then optional colour or normal values), one face a line (n, n indices counted from 0,
+// then an optional colour). The counts are checked against the file's size before anything
+// is reserved: a header may claim what the file does not hold.
+TriangleMesh readOff(const std::string& path, const std::string& data) {
+  std::istringstream in(data);
+  std::string line;
+  std::size_t lineNo = 0;
+  std::vector<std::string> words;
+  auto next = [&]() {
+    while (std::getline(in, line)) {
+      ++lineNo;
+      words = wordsOf(line, true);
+      if (!words.empty()) return true;
+    }
+    return false;
+  };
+  auto where = [&]() { return displayName(path) + ":" + std::to_string(lineNo); };
+  if (!next()) throw FileError(displayName(path) + ": empty file; an OFF file starts with 'OFF'");
+  const std::string keyword = words[0];
+  const bool offKeyword = keyword.size() >= 3 &&
+                          keyword.compare(keyword.size() - 3, 3, "OFF") == 0 &&
+                          keyword.find_first_not_of("STCNOF") == std::string::npos;
+  if (!offKeyword)
+    throw FileError(where() + ": not an OFF file (it starts with '" + keyword.substr(0, 40) +
+                    "'; supported headers: OFF, COFF, NOFF, CNOFF, STOFF)");
+  if (words.size() > 1 && words[1] == "BINARY")
+    throw FileError(where() + ": binary OFF is not supported; write it as text OFF");
+  words.erase(words.begin());  // the counts may follow the keyword on its line
+  if (words.empty() && !next()) throw FileError(where() + ": OFF header without counts");
+  if (words.size() < 2) throw FileError(where() + ": OFF counts need vertices and faces");
+  const long long nv = strictInteger(words[0], where()), nf = strictInteger(words[1], where());
+  // every vertex takes at least 6 bytes ("0 0 0\n"), every face 8 ("3 0 1 2\n")
+  if (nv < 0 || nf < 0 || static_cast<unsigned long long>(nv) > data.size() / 6 ||
+      static_cast<unsigned long long>(nf) > data.size() / 8)
+    throw FileError(where() + ": OFF header claims " + std::to_string(nv) + " vertices and " +
+                    std::to_string(nf) + " faces, more than " + std::to_string(data.size()) +
+                    " bytes can hold");
+  TriangleMesh m;
+  m.positions.reserve(static_cast<std::size_t>(nv));
+  for (long long i = 0; i < nv; ++i) {
+    if (!next())
+      throw FileError(displayName(path) + ": OFF ends after " + std::to_string(i) + " of " +
+                      std::to_string(nv) + " vertices");
+    if (words.size() < 3) throw FileError(where() + ": an OFF vertex needs three numbers");
+    m.positions.push_back(strictPoint(words, 0, where()));
+  }
+  for (long long i = 0; i < nf; ++i) {
+    if (!next())
+      throw FileError(displayName(path) + ": OFF ends after " + std::to_string(i) + " of " +
+                      std::to_string(nf) + " faces");
+    const long long n = strictInteger(words[0], where());
+    if (n < 0 || static_cast<unsigned long long>(n) + 1 > words.size())
+      throw FileError(where() + ": OFF face says " + std::to_string(n) + " vertices but lists " +
+                      std::to_string(words.size() - 1) + " numbers");
+    std::vector<long long> ids;
+    for (long long k = 1; k <= n; ++k) ids.push_back(strictInteger(words[k], where()));
+    addPolygon(m, ids, where());
+  }
+  if (next())
+    throw FileError(where() + ": text after the last of the " + std::to_string(nf) +
+                    " faces the OFF header counts");
   return m;
 }
 
@@ -146,7 +260,8 @@ TriangleMesh readPly(const std::string& path, const std::string& data) {
   if (data.compare(0, 3, "ply") != 0 || headerEnd == std::string::npos)
     throw FileError(displayName(path) + ": not a PLY file (no 'ply' ... 'end_header')");
   std::size_t bodyStart = data.find('\n', headerEnd);
-  if (bodyStart == std::string::npos) throw FileError(displayName(path) + ": PLY header not terminated");
+  if (bodyStart == std::string::npos)
+    throw FileError(displayName(path) + ": PLY header not terminated");
   ++bodyStart;
   std::istringstream header(data.substr(0, headerEnd));
   std::string line, format;
@@ -160,31 +275,6 @@ TriangleMesh readPly(const std::string& path, const std::string& data) {
     std::vector<Prop> props;
   };
   std::vector<Element> elements;
-  while (std::getline(header, line)) {
-    std::istringstream ls(line);
-    std::string w;
-    ls >> w;
-    if (w == "format") ls >> format;
-    else if (w == "element") {
-      Element e;
-      ls >> e.name >> e.count;
-      elements.push_back(e);
-    } else if (w == "property") {
-      if (elements.empty()) throw FileError(displayName(path) + ": PLY property before any element");
-      Prop p;
-      ls >> p.type;
-      if (p.type == "list") {
-        p.list = true;
-        ls >> p.countType >> p.type;
-      }
-      ls >> p.name;
-      elements.back().props.push_back(p);
-    }
-  }
-  const bool ascii = format == "ascii";
-  if (!ascii && format != "binary_little_endian")
-    throw FileError(displayName(path) + ": PLY format '" + format +
-                    "' not supported; supported: ascii, binary_little_endian");
   auto size = [&](const std::string& t) -> std::size_t {
     if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
     if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
@@ -192,28 +282,84 @@ TriangleMesh readPly(const std::string& path, const std::string& data) {
         t == "float32")
       return 4;
     if (t == "double" || t == "float64") return 8;
-    throw FileError(displayName(path) + ": PLY property type '" + t + "' not supported");
+    throw FileError(displayName(path) + ": PLY property type '" + t.substr(0, 40) +
+                    "' is not one of char, uchar, short, ushort, int, uint, float, double "
+                    "(or int8 ... float64)");
   };
+  std::size_t headerLine = 0;
+  while (std::getline(header, line)) {
+    ++headerLine;
+    const std::vector<std::string> w = wordsOf(line, false);
+    if (w.empty()) continue;
+    const std::string where = displayName(path) + ":" + std::to_string(headerLine);
+    if (w[0] == "format") {
+      if (w.size() < 2) throw FileError(where + ": PLY 'format' needs a format name");
+      format = w[1];
+    } else if (w[0] == "element") {
+      if (w.size() != 3) throw FileError(where + ": PLY 'element' needs a name and a count");
+      const long long count = strictInteger(w[2], where);
+      if (count < 0) throw FileError(where + ": PLY element count " + w[2] + " is negative");
+      Element e;
+      e.name = w[1];
+      e.count = static_cast<std::size_t>(count);
+      elements.push_back(e);
+    } else if (w[0] == "property") {
+      if (elements.empty()) throw FileError(where + ": PLY property before any element");
+      Prop p;
+      if (w.size() == 5 && w[1] == "list") {
+        p.list = true;
+        p.countType = w[2];
+        p.type = w[3];
+        p.name = w[4];
+        size(p.countType);
+      } else if (w.size() == 3) {
+        p.type = w[1];
+        p.name = w[2];
+      } else {
+        throw FileError(where +
+                        ": PLY 'property' needs a type and a name (or 'list', two "
+                        "types and a name)");
+      }
+      size(p.type);
+      elements.back().props.push_back(p);
+    }
+  }
+  const bool ascii = format == "ascii";
+  if (!ascii && format != "binary_little_endian")
+    throw FileError(displayName(path) + ": PLY format '" + format +
+                    "' not supported; supported: ascii, binary_little_endian");
   std::size_t pos = bodyStart;
   std::istringstream text(ascii ? data.substr(bodyStart) : std::string());
   auto readValue = [&](const std::string& t) -> double {
     if (ascii) {
-      double v;
-      if (!(text >> v)) throw FileError(displayName(path) + ": PLY data ends early");
-      return v;
+      std::string word;
+      if (!(text >> word)) throw FileError(displayName(path) + ": PLY data ends early");
+      const std::string where = displayName(path) + ": PLY data";
+      const bool real = t == "float" || t == "float32" || t == "double" || t == "float64";
+      return real ? strictReal(word, where) : double(strictInteger(word, where));
     }
     const std::size_t n = size(t);
     if (pos + n > data.size()) throw FileError(displayName(path) + ": PLY data ends early");
     const char* p = data.data() + pos;
     pos += n;
-    if (t == "float" || t == "float32") { float v; std::memcpy(&v, p, 4); return v; }
-    if (t == "double" || t == "float64") { double v; std::memcpy(&v, p, 8); return v; }
+    if (t == "float" || t == "float32") {
+      float v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    if (t == "double" || t == "float64") {
+      double v;
+      std::memcpy(&v, p, 8);
+      return v;
+    }
     if (n == 1) return t[0] == 'u' ? double(std::uint8_t(*p)) : double(std::int8_t(*p));
     if (n == 2) {
-      std::uint16_t v; std::memcpy(&v, p, 2);
+      std::uint16_t v;
+      std::memcpy(&v, p, 2);
       return t[0] == 'u' ? double(v) : double(std::int16_t(v));
     }
-    std::uint32_t v; std::memcpy(&v, p, 4);
+    std::uint32_t v;
+    std::memcpy(&v, p, 4);
     return t[0] == 'u' ? double(v) : double(std::int32_t(v));
   };
   TriangleMesh m;
@@ -227,19 +373,29 @@ TriangleMesh readPly(const std::string& path, const std::string& data) {
       std::vector<long long> ids;
       for (const Prop& pr : e.props) {
         if (pr.list) {
-          const std::size_t n = static_cast<std::size_t>(readValue(pr.countType));
+          const double count = readValue(pr.countType);
+          if (count < 0)
+            throw FileError(displayName(path) + ": PLY " + e.name + " " + std::to_string(i) +
+                            " has a list of " + std::to_string(count) + " values");
+          const std::size_t n = static_cast<std::size_t>(count);
           std::vector<long long> vals;
-          for (std::size_t k = 0; k < n; ++k) vals.push_back(static_cast<long long>(readValue(pr.type)));
+          for (std::size_t k = 0; k < n; ++k)
+            vals.push_back(static_cast<long long>(readValue(pr.type)));
           if (pr.name == "vertex_indices" || pr.name == "vertex_index") ids = vals;
         } else {
           const double v = readValue(pr.type);
-          if (pr.name == "x") p[0] = float(v);
-          else if (pr.name == "y") p[1] = float(v);
-          else if (pr.name == "z") p[2] = float(v);
+          if (pr.name == "x")
+            p[0] = float(v);
+          else if (pr.name == "y")
+            p[1] = float(v);
+          else if (pr.name == "z")
+            p[2] = float(v);
         }
       }
-      if (e.name == "vertex") m.positions.push_back(p);
-      else if (e.name == "face") addPolygon(m, ids, displayName(path) + ": face " + std::to_string(i));
+      if (e.name == "vertex")
+        m.positions.push_back(p);
+      else if (e.name == "face")
+        addPolygon(m, ids, displayName(path) + ": face " + std::to_string(i));
     }
   }
   return m;
@@ -257,8 +413,8 @@ TriangleMesh readFreecadBms(const std::string& path, const std::string& data) {
     throw FileError(displayName(path) + ": not a FreeCAD binary mesh (no magic number)");
   const std::size_t points = counts[0], facets = counts[1];
   if (data.size() != header + 12 * points + 24 * facets + 24)
-    throw FileError(displayName(path) + ": FreeCAD binary mesh of " + std::to_string(points) + " points and " +
-                    std::to_string(facets) + " facets has the wrong size");
+    throw FileError(displayName(path) + ": FreeCAD binary mesh of " + std::to_string(points) +
+                    " points and " + std::to_string(facets) + " facets has the wrong size");
   TriangleMesh m;
   m.positions.resize(points);
   std::memcpy(m.positions.data(), data.data() + header, 12 * points);
@@ -277,7 +433,16 @@ TriangleMesh readFreecadBms(const std::string& path, const std::string& data) {
 
 }  // namespace
 
-TriangleMesh readMesh(const std::string& path) {
+namespace {
+
+TriangleMesh readByExtension(const std::string& path) {
+  const std::string ext = fileExtension(path);
+  if (ext == "off") return readOff(path, slurp(path));
+  if (ext != "stl" && ext != "obj" && ext != "ply" && ext != "bms" && ext != "3mf")
+    throw FileError(displayName(path) +
+                    (ext.empty() ? std::string(": the file name has no extension")
+                                 : ": unknown mesh file type '." + ext.substr(0, 40) + "'") +
+                    "; read: .stl, .obj, .ply, .off, .bms, .3mf");
   const MeshFormat f = formatFromPath(path);
   if (f == MeshFormat::ThreeMf) {
     TriangleMesh all;
@@ -287,13 +452,30 @@ TriangleMesh readMesh(const std::string& path) {
   const std::string data = slurp(path);
   switch (f) {
     case MeshFormat::StlBinary:
-    case MeshFormat::StlAscii: return readStl(path, data);
-    case MeshFormat::Obj: return readObj(path, data);
-    case MeshFormat::Ply: return readPly(path, data);
-    case MeshFormat::FreecadBms: return readFreecadBms(path, data);
-    case MeshFormat::ThreeMf: break;
+    case MeshFormat::StlAscii:
+      return readStl(path, data);
+    case MeshFormat::Obj:
+      return readObj(path, data);
+    case MeshFormat::Ply:
+      return readPly(path, data);
+    case MeshFormat::FreecadBms:
+      return readFreecadBms(path, data);
+    case MeshFormat::ThreeMf:
+      break;
   }
   return {};
+}
+
+}  // namespace
+
+TriangleMesh readMesh(const std::string& path) {
+  TriangleMesh m = readByExtension(path);
+  // Points alone are not a surface: a point cloud or an emptied file is bad input, not a
+  // mesh that the check would call "not printable".
+  if (m.triangles.empty())
+    throw FileError(displayName(path) + ": no faces (" + std::to_string(m.positions.size()) +
+                    " vertices); a mesh file needs triangles or polygons");
+  return m;
 }
 
 }  // namespace frep

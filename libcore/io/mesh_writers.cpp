@@ -1,49 +1,56 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 #include <stdexcept>
-#include <filesystem>
 
-#include "base/errors.h"
 #include "base/atomic_file.h"
-#include "io/mesh_io.h"
-#include "io/mesh_3mf.h"
+#include "base/errors.h"
+#include "base/file_names.h"
 #include "base/triangle_adjacency.h"
 #include "base/triangle_geometry.h"
+#include "io/mesh_3mf.h"
+#include "io/mesh_io.h"
 
 namespace frep {
 
 const char* formatName(MeshFormat f) {
   switch (f) {
-    case MeshFormat::StlBinary: return "stl";
-    case MeshFormat::StlAscii: return "stl-ascii";
-    case MeshFormat::Obj: return "obj";
-    case MeshFormat::Ply: return "ply";
-    case MeshFormat::FreecadBms: return "bms";
-    case MeshFormat::ThreeMf: return "3mf";
+    case MeshFormat::StlBinary:
+      return "stl";
+    case MeshFormat::StlAscii:
+      return "stl-ascii";
+    case MeshFormat::Obj:
+      return "obj";
+    case MeshFormat::Ply:
+      return "ply";
+    case MeshFormat::FreecadBms:
+      return "bms";
+    case MeshFormat::ThreeMf:
+      return "3mf";
   }
   return "?";
 }
 
 MeshFormat parseFormat(const std::string& name) {
-  for (MeshFormat f : {MeshFormat::StlBinary, MeshFormat::StlAscii, MeshFormat::Obj, MeshFormat::Ply,
-                       MeshFormat::FreecadBms, MeshFormat::ThreeMf})
+  for (MeshFormat f : {MeshFormat::StlBinary, MeshFormat::StlAscii, MeshFormat::Obj,
+                       MeshFormat::Ply, MeshFormat::FreecadBms, MeshFormat::ThreeMf})
     if (name == formatName(f)) return f;
   throw ModelError("unknown format '" + name + "'; allowed: stl, stl-ascii, obj, ply, bms, 3mf");
 }
 
 MeshFormat formatFromPath(const std::string& path) {
-  const auto dot = path.find_last_of('.');
-  std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
-  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string ext = fileExtension(path);
   if (ext == "stl") return MeshFormat::StlBinary;
   if (ext == "obj") return MeshFormat::Obj;
   if (ext == "ply") return MeshFormat::Ply;
   if (ext == "bms") return MeshFormat::FreecadBms;
   if (ext == "3mf") return MeshFormat::ThreeMf;
-  throw FileError(path + ": unknown mesh file type '." + ext +
-                  "'; supported: .stl, .obj, .ply, .bms, .3mf");
+  throw FileError(displayName(path) +
+                  (ext.empty() ? std::string(": the file name has no extension")
+                               : ": unknown mesh file type '." + ext + "'") +
+                  "; written: .stl, .obj, .ply, .bms, .3mf");
 }
 
 namespace {
@@ -205,18 +212,29 @@ std::unique_ptr<AtomicFile> writeMeshUncommitted(const TriangleMesh& mesh, const
     // One object named after the file, written as it is (the caller's check judges it).
     ThreeMfOptions options;
     options.validate = false;
-    return write3mfUncommitted({{std::filesystem::path(path).stem().string(), mesh}}, path,
-                               options, progress);
+    return write3mfUncommitted({{std::filesystem::path(path).stem().string(), mesh}}, path, options,
+                               progress);
   }
   auto file = std::make_unique<AtomicFile>(path);
   Ticker tick(progress, mesh.triangles.size());
   switch (format) {
-    case MeshFormat::StlBinary: writeStlBinary(mesh, *file, tick); break;
-    case MeshFormat::StlAscii: writeStlAscii(mesh, *file, tick); break;
-    case MeshFormat::Obj: writeObj(mesh, *file, tick); break;
-    case MeshFormat::Ply: writePly(mesh, *file, tick); break;
-    case MeshFormat::FreecadBms: writeFreecadBms(mesh, *file, tick); break;
-    case MeshFormat::ThreeMf: break;
+    case MeshFormat::StlBinary:
+      writeStlBinary(mesh, *file, tick);
+      break;
+    case MeshFormat::StlAscii:
+      writeStlAscii(mesh, *file, tick);
+      break;
+    case MeshFormat::Obj:
+      writeObj(mesh, *file, tick);
+      break;
+    case MeshFormat::Ply:
+      writePly(mesh, *file, tick);
+      break;
+    case MeshFormat::FreecadBms:
+      writeFreecadBms(mesh, *file, tick);
+      break;
+    case MeshFormat::ThreeMf:
+      break;
   }
   return file;
 }

@@ -2,6 +2,9 @@
 // atomic file), with every OpenVDB error turned into a FileError that names the file.
 #include <openvdb/io/File.h>
 
+#include <cstdint>
+#include <cstring>
+#include <fstream>
 #include <mutex>
 #include <sstream>
 
@@ -25,16 +28,22 @@ GridSet gridSetOf(openvdb::GridPtrVec grids) {
   return s;
 }
 
-std::size_t GridSet::size() const { return impl->grids.size(); }
+std::size_t GridSet::size() const {
+  return impl->grids.size();
+}
 
 namespace {
 
 std::string className(openvdb::GridClass c) {
   switch (c) {
-    case openvdb::GRID_LEVEL_SET: return "level set";
-    case openvdb::GRID_FOG_VOLUME: return "fog volume";
-    case openvdb::GRID_STAGGERED: return "staggered";
-    default: return "unknown";
+    case openvdb::GRID_LEVEL_SET:
+      return "level set";
+    case openvdb::GRID_FOG_VOLUME:
+      return "fog volume";
+    case openvdb::GRID_STAGGERED:
+      return "staggered";
+    default:
+      return "unknown";
   }
 }
 
@@ -44,7 +53,8 @@ bool isScalar(const openvdb::GridBase& g) {
 
 std::string withThousands(std::uint64_t n) {
   std::string s = std::to_string(n);
-  for (int i = static_cast<int>(s.size()) - 3; i > 0; i -= 3) s.insert(static_cast<std::size_t>(i), ",");
+  for (int i = static_cast<int>(s.size()) - 3; i > 0; i -= 3)
+    s.insert(static_cast<std::size_t>(i), ",");
   return s;
 }
 
@@ -66,7 +76,8 @@ GridInfo GridSet::info(std::size_t i) const {
     // The box of the active voxels' centres' cells, through the grid's transform.
     const openvdb::BBoxd wb = g.transform().indexToWorld(
         openvdb::BBoxd(ib.min().asVec3d() - 0.5, ib.max().asVec3d() + 0.5));
-    out.worldBox = Box3{{wb.min()[0], wb.min()[1], wb.min()[2]}, {wb.max()[0], wb.max()[1], wb.max()[2]}};
+    out.worldBox =
+        Box3{{wb.min()[0], wb.min()[1], wb.min()[2]}, {wb.max()[0], wb.max()[1], wb.max()[2]}};
   }
   for (auto it = g.beginMeta(); it != g.endMeta(); ++it)
     out.metadata[it->first] = it->second ? it->second->str() : "";
@@ -99,10 +110,44 @@ std::string describeGrid(const GridInfo& g) {
   return s.str();
 }
 
+namespace {
+
+// The fixed part of an OpenVDB file's header, checked before OpenVDB reads it: a file cut
+// short there is refused with what is wrong, where OpenVDB would log a warning and report a
+// file of no grids. Layout: the magic number (int64), the file format version (uint32), the
+// library's major and minor versions (uint32 each), a grid-offsets flag (1 byte) and a
+// 36-character UUID, then the metadata and the grids.
+void checkVdbHeader(const std::string& path, const std::string& name) {
+  constexpr std::size_t kFixedHeader = 8 + 4 + 4 + 4 + 1 + 36;
+  constexpr std::int64_t kMagic = 0x56444220;  // " BDV"
+  std::ifstream in(path, std::ios::binary);
+  char head[kFixedHeader];
+  in.read(head, kFixedHeader);
+  const auto got = static_cast<std::size_t>(in.gcount());
+  std::int64_t magic = 0;
+  if (got >= 8) std::memcpy(&magic, head, 8);
+  if (got < 8 || magic != kMagic)
+    throw FileError(name + ": not an OpenVDB file (no OpenVDB magic number at its start)");
+  if (got < kFixedHeader)
+    throw FileError(name + ": the OpenVDB file ends inside its header (" + std::to_string(got) +
+                    " of at least " + std::to_string(kFixedHeader) + " bytes): a truncated file");
+  std::uint32_t version = 0;
+  std::memcpy(&version, head + 8, 4);
+  if (version < openvdb::OPENVDB_FILE_VERSION_ROOTNODE_MAP ||
+      version > openvdb::OPENVDB_FILE_VERSION)
+    throw FileError(name + ": OpenVDB file format version " + std::to_string(version) +
+                    " is not one this build reads (" +
+                    std::to_string(openvdb::OPENVDB_FILE_VERSION_ROOTNODE_MAP) + " to " +
+                    std::to_string(openvdb::OPENVDB_FILE_VERSION) + ")");
+}
+
+}  // namespace
+
 GridSet readVdb(const std::string& path) {
   initializeOpenVdb();
   requireRegularFile(path, "the OpenVDB file");
   const std::string name = displayName(path);
+  checkVdbHeader(path, name);
   GridSet set;
   try {
     openvdb::io::File file(path);
@@ -117,11 +162,12 @@ GridSet readVdb(const std::string& path) {
     }
     if (declared > kMaxVdbGridBytes)
       throw FileError(name + ": its grids declare " + withThousands(declared) +
-                      " bytes in memory; at most " + withThousands(kMaxVdbGridBytes) +
-                      " are read");
+                      " bytes in memory; at most " + withThousands(kMaxVdbGridBytes) + " are read");
     openvdb::GridPtrVecPtr grids = file.getGrids();
     if (openvdb::MetaMap::Ptr meta = file.getMetadata()) set.impl->fileMetadata = *meta;
     file.close();
+    if (grids->empty())
+      throw FileError(name + ": the OpenVDB file holds no grids (a truncated or unfinished file?)");
     set.impl->grids = std::move(*grids);
   } catch (const FileError&) {
     throw;
