@@ -47,6 +47,12 @@ int checkCommand(const Args& args) {
   std::string path;
   bool json = false, print = false, printOption = false;
   PrintabilityOptions po;
+  std::string densityFrom;  // the option that gave the density: a second one contradicts it
+  auto densityOnce = [&](const std::string& given) {
+    if (!densityFrom.empty())
+      throw UsageError(densityFrom + " and " + given + " both give the density; give one");
+    densityFrom = given;
+  };
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto value = [&]() -> const std::string& {
@@ -67,13 +73,17 @@ int checkCommand(const Args& args) {
       if (!(*po.minWall > 0) || !std::isfinite(*po.minWall))
         throw UsageError("--min-wall must be a thickness > 0 (mm), got '" + args[i] + "'");
     } else if (a == "--material") {
+      const std::string& name = value();
+      densityOnce(a + " " + name);
       try {
-        po.density = materialDensity(value());
+        po.density = materialDensity(name);
       } catch (const ModelError& e) {
         throw UsageError(std::string("--material: ") + e.what());
       }
     } else if (a == "--density") {
-      po.density = parseNumber(value(), a);
+      const std::string& density = value();
+      densityOnce(a + " " + density);
+      po.density = parseNumber(density, a);
       if (!(po.density > 0) || !std::isfinite(po.density))
         throw UsageError("--density must be > 0 (g/cm3), got '" + args[i] + "'");
     } else if (a == "--up")

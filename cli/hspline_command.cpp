@@ -3,9 +3,11 @@
 // checked mesh or as an (optimised) .hs file. Every write is atomic.
 #include <unistd.h>
 
+#include <algorithm>
 #include <iostream>
 #include <map>
 #include <set>
+#include <sstream>
 
 #include "base/errors.h"
 #include "check/mesh_check.h"
@@ -67,8 +69,11 @@ std::vector<double> numbers(const Args& args, std::size_t& i, std::size_t n,
 }
 
 int whole(double x, const std::string& what) {
-  if (x != static_cast<int>(x))
-    throw UsageError(what + " must be a whole number, got " + std::to_string(x));
+  if (x != static_cast<int>(x)) {
+    std::ostringstream got;  // 2.5, not to_string's 2.500000
+    got << x;
+    throw UsageError(what + " must be a whole number, got " + got.str());
+  }
   return static_cast<int>(x);
 }
 
@@ -83,9 +88,30 @@ Options parse(const Args& args) {
   if (!verbs.count(o.verb))
     throw UsageError("unknown hspline verb '" + o.verb +
                      "'; verbs: new, info, refine, move, zero, unrefine, export");
+  // The options each verb uses: another verb's option is refused, not silently ignored
+  // (`unrefine --level 2` would otherwise unrefine every level).
+  static const std::map<std::string, std::string> verbOptions{
+      {"new",
+       "-o --output --cvs --size --radius --height --tube --optimised --optimized --force --quiet"},
+      {"info", "--json"},
+      {"refine", "-o --output --level --cv --all --region --optimised --optimized --force --quiet"},
+      {"move", "-o --output --cv --to --by --optimised --optimized --force --quiet"},
+      {"zero", "-o --output --cv --level --optimised --optimized --force --quiet"},
+      {"unrefine", "-o --output --optimised --optimized --force --quiet"},
+      {"export", "-o --output --tolerance --optimised --optimized --force --quiet"}};
+  const std::string& mine = verbOptions.at(o.verb);
+  auto takes = [&](const std::string& opt) {
+    return (" " + mine + " ").find(" " + opt + " ") != std::string::npos;
+  };
   for (std::size_t i = 1; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto one = [&]() { return numbers(args, i, 1, a)[0]; };
+    const bool someVerbTakes =
+        std::any_of(verbOptions.begin(), verbOptions.end(), [&](const auto& v) {
+          return (" " + v.second + " ").find(" " + a + " ") != std::string::npos;
+        });
+    if (someVerbTakes && !takes(a))
+      throw UsageError("hspline " + o.verb + " does not take " + a + "; its options: " + mine);
     if (a == "-h" || a == "--help") {
       o.verb = "--help";
       return o;

@@ -227,6 +227,7 @@ awk '$1 == "v" {v[++nv] = $2 " " $3 " " $4} $1 == "f" {split($2, a, "/"); split(
      END {print "OFF"; print nv, nf, 0; for (i = 1; i <= nv; i++) print v[i]; for (i = 1; i <= nf; i++) print f[i]}' \
   "$work/ball.obj" > "$work/ball.off"
 expect 0 "verdict: printable" -- "$frepcad" check "$work/ball.off"
+expect 2 "--material pla and --density 2 both give the density; give one" -- "$frepcad" check "$work/ball.off" --print --material pla --density 2
 expect 0 "nothing to repair: the mesh is printable" -- "$frepcad" repair "$work/ball.off" -o "$work/ball-repaired.stl"
 sed 's/ball.stl/ball.off/' "$work/vol.json" > "$work/off.json"
 expect 0 "verdict: printable" -- "$frepcad" export "$work/off.json" -o "$work/off.stl" --cells 64
@@ -324,6 +325,10 @@ expect 0 "wrote .*t.hs \(1 levels, 80 CVs\)" -- "$frepcad" hspline new torus -o 
 expect 0 "level 1: grid 20 x 16, 63 CVs, 3 movable" -- sh -c "\"$frepcad\" hspline refine \"$work/t.hs\" -o \"$work/t1.hs\" --level 0 --cv 2 2 --cv 3 2 && \"$frepcad\" hspline info \"$work/t1.hs\""
 expect 0 "wrote .*t2.hs" -- "$frepcad" hspline move "$work/t1.hs" -o "$work/t2.hs" --cv 1 7 6 --by 0 0 2
 expect 2 "CV \(level 1, i 4, j 4\) is fixed" -- "$frepcad" hspline move "$work/t1.hs" -o "$work/x.hs" --cv 1 4 4 --by 0 0 2
+# another verb's option is refused, not ignored; numbers in messages as given
+expect 2 "hspline unrefine does not take --level; its options: -o --output" -- "$frepcad" hspline unrefine "$work/t1.hs" -o "$work/x.hs" --level 1
+expect 2 "a tolerance of 1e-09 needs [0-9]+ triangles" -- "$frepcad" hspline export "$work/t.hs" -o "$work/x.stl" --tolerance 1e-9
+expect 2 "--level must be a whole number, got 0.5$" -- "$frepcad" hspline refine "$work/t.hs" -o "$work/x.hs" --level 0.5 --all
 [ ! -e "$work/x.hs" ] || { echo "FAIL: a refused move wrote a file"; failures=$((failures + 1)); }
 expect 0 "wrote .*t.step: a solid" -- "$frepcad" hspline export "$work/t2.hs" -o "$work/t.step"
 expect 0 "verdict: printable" -- "$frepcad" hspline export "$work/t2.hs" -o "$work/t.stl" --tolerance 0.02

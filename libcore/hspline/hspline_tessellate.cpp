@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <string>
 
 #include "base/errors.h"
@@ -75,11 +76,13 @@ HsTessellation tessellate(const FlatBSpline& f, double tolerance, std::size_t ma
   const std::size_t nu = us.size(), nv = vs.size();
   const std::size_t cellsU = f.u.isPeriodic() ? nu : nu - 1,
                     cellsV = f.v.isPeriodic() ? nv : nv - 1;
-  if (2 * cellsU * cellsV > maxTriangles)
-    throw ModelError("hspline tessellation: a tolerance of " + std::to_string(tolerance) +
-                     " needs " + std::to_string(2 * cellsU * cellsV) +
-                     " triangles, more than the " + std::to_string(maxTriangles) +
-                     " allowed; give a larger tolerance");
+  if (2 * cellsU * cellsV > maxTriangles) {
+    std::ostringstream message;  // (to_string would print a tolerance of 1e-9 as 0.000000)
+    message << "hspline tessellation: a tolerance of " << tolerance << " needs "
+            << 2 * cellsU * cellsV << " triangles, more than the " << maxTriangles
+            << " allowed; give a larger tolerance";
+    throw ModelError(message.str());
+  }
   HsTessellation out;
   out.samplesU = static_cast<int>(nu), out.samplesV = static_cast<int>(nv);
   out.closed = f.u.isPeriodic() && f.v.isPeriodic();

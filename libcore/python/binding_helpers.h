@@ -146,4 +146,39 @@ py::dict thinPartsDict(const MeshingStats& s);
 // was no check; 'written', 'triangles', 'thin_parts', 'box', 'resolution', 'seconds' per stage.
 py::dict exportResultDict(const ExportResult& result, const std::string& path);
 
+// A file path from Python: a str or any os.PathLike (pathlib.Path), as open() takes it. A NUL
+// inside is refused (ValueError) rather than cut off by the C library, which would read or
+// write a file of the shorter name.
+struct FilePath {
+  std::string value;
+  operator const std::string&() const { return value; }
+};
+
 }  // namespace frep
+
+namespace pybind11::detail {
+
+template <>
+struct type_caster<frep::FilePath> {
+  PYBIND11_TYPE_CASTER(frep::FilePath, const_name("str | os.PathLike"));
+  bool load(handle source, bool) {
+    if (!source || source.is_none()) return false;
+    object path;
+    try {
+      path = module_::import("os").attr("fspath")(source);
+    } catch (error_already_set&) {
+      return false;  // not a path: pybind11's TypeError lists what is accepted
+    }
+    if (!isinstance<str>(path)) return false;  // bytes paths: not taken
+    value.value = path.cast<std::string>();
+    if (value.value.find('\0') != std::string::npos)
+      throw value_error("path " + repr(path).cast<std::string>().substr(0, 200) +
+                        ": a file name cannot hold a NUL character");
+    return true;
+  }
+  static handle cast(const frep::FilePath& p, return_value_policy, handle) {
+    return str(p.value).release();
+  }
+};
+
+}  // namespace pybind11::detail

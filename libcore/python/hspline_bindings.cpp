@@ -14,6 +14,7 @@
 #include "hspline/hspline_shapes.h"
 #include "hspline/hspline_tessellate.h"
 #include "hspline/occt/occ_hspline.h"
+#include "python/binding_helpers.h"
 #include "python/bindings.h"
 
 namespace py = pybind11;
@@ -364,12 +365,15 @@ void bindHSpline(py::module_& m) {
           "tessellation attached as its triangulation, for Part.Shape.importBinary: FreeCAD's "
           "view then draws it without meshing the face again.")
       .def("to_text", &hsText, py::arg("optimised") = false, "The .hs file's text.")
-      .def("write_hs", &writeHsFile, py::arg("path"), py::arg("optimised") = false)
+      .def(
+          "write_hs",
+          [](const HSpline& h, const FilePath& path, bool optimised) {
+            writeHsFile(h, path, optimised);
+          },
+          py::arg("path"), py::arg("optimised") = false)
       .def(
           "write_step",
-          [](const HSpline& h, const std::string& path) {
-            return summaryDict(writeHsStep(h, path));
-          },
+          [](const HSpline& h, const FilePath& path) { return summaryDict(writeHsStep(h, path)); },
           py::arg("path"),
           "STEP through OpenCASCADE: a solid when closed, else a face; returns a summary dict.");
   m.def(
@@ -394,10 +398,11 @@ void bindHSpline(py::module_& m) {
       "+i, +j, -i, -j from (i0, j0)); the joined net as a Catmull-Clark surface subdivided "
       "`subdivisions` times. dict(mesh, extraordinary, boundary_loops, control_faces).");
   m.def("parse_hs", &parseHs, py::arg("text"), py::arg("source") = "<text>");
-  m.def("read_hs", &readHsFile, py::arg("path"));
   m.def(
-      "read_step_summary",
-      [](const std::string& path) { return summaryDict(readStepSummary(path)); }, py::arg("path"),
+      "read_hs", [](const FilePath& path) { return readHsFile(path); }, py::arg("path"));
+  m.def(
+      "read_step_summary", [](const FilePath& path) { return summaryDict(readStepSummary(path)); },
+      py::arg("path"),
       "What OpenCASCADE reads from a STEP file: solids, shells, faces, valid, volume, area.");
 }
 

@@ -93,8 +93,11 @@ void bindLattice(py::module_& m) {
           },
           "None, or where the lattice folds over itself (its cell), as text.")
       .def("to_json", &latticeToJson, "The lattice file's text (docs/file-formats.md).")
-      .def("write", &writeLatticeFile, py::arg("path"), "Writes a lattice file atomically.");
-  m.def("read_lattice", &readLatticeFile, py::arg("path"));
+      .def(
+          "write", [](const FfdLattice& l, const FilePath& path) { writeLatticeFile(l, path); },
+          py::arg("path"), "Writes a lattice file atomically.");
+  m.def(
+      "read_lattice", [](const FilePath& path) { return readLatticeFile(path); }, py::arg("path"));
   m.def("parse_lattice", &parseLattice, py::arg("text"), py::arg("source") = "lattice");
   m.def(
       "deform_mesh",

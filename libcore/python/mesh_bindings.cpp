@@ -85,7 +85,7 @@ void bindMesh(py::module_& m) {
           "CGAL printability check: the dict of `frepcad check --json` plus 'text', the report.")
       .def(
           "write",
-          [](const TriangleMesh& t, const std::string& path, const std::string& format,
+          [](const TriangleMesh& t, const FilePath& path, const std::string& format,
              py::object progress) {
             MeshFormat f = format.empty() ? formatFromPath(path) : parseFormat(format);
             runWithProgress<bool>(
@@ -187,7 +187,7 @@ void bindMesh(py::module_& m) {
       "The printing materials the printability report knows: name -> density in g/cm3.");
   m.def(
       "read_3mf",
-      [](const std::string& path) {
+      [](const FilePath& path) {
         ThreeMfContents c;
         {
           py::gil_scoped_release release;
@@ -208,7 +208,7 @@ void bindMesh(py::module_& m) {
       "(zip bombs, deep components) are refused with OSError before they are read.");
   m.def(
       "write_3mf",
-      [](const std::vector<std::pair<std::string, TriangleMesh>>& objects, const std::string& path,
+      [](const std::vector<std::pair<std::string, TriangleMesh>>& objects, const FilePath& path,
          const std::string& unit, const std::map<std::string, std::string>& metadata, bool force,
          py::object progress) {
         std::vector<NamedMesh> named;
@@ -227,7 +227,7 @@ void bindMesh(py::module_& m) {
         py::list reports;
         std::string text;
         for (std::size_t i = 0; i < r.reports.size(); ++i) {
-          const std::string name = path + ": " + named[i].name;
+          const std::string name = path.value + ": " + named[i].name;
           py::dict one = fromJson(reportToJson(r.reports[i], name)).cast<py::dict>();
           one["name"] = named[i].name;
           reports.append(one);
@@ -246,7 +246,7 @@ void bindMesh(py::module_& m) {
 
   m.def(
       "read_mesh",
-      [](const std::string& path) {
+      [](const FilePath& path) {
         py::gil_scoped_release release;
         return readMesh(path);
       },

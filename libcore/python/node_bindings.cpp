@@ -139,7 +139,7 @@ void bindNode(py::module_& m) {
           "The export pipeline's box policy: ((lo, hi), cell size).")
       .def(
           "export",
-          [](PyNode& n, const std::string& path, py::object bbox, py::object resolution,
+          [](PyNode& n, const FilePath& path, py::object bbox, py::object resolution,
              py::object cells, const std::string& format, bool check, bool force,
              py::object progress, const MeshSettings& settings) {
             ExportRequest r;
@@ -198,7 +198,7 @@ void bindNode(py::module_& m) {
       .def(
           "brick_job",
           [](PyNode& n, py::object bbox, double resolution, std::uint32_t jobs, std::uint32_t job,
-             const std::string& path, const MeshSettings& settings) {
+             const FilePath& path, const MeshSettings& settings) {
             const BrickJobPlan plan = brickPlanOf(n, bbox, resolution, jobs, settings);
             const auto start = std::chrono::steady_clock::now();
             MeshPiece piece;
@@ -209,7 +209,7 @@ void bindNode(py::module_& m) {
               // the job judges its own piece for the check too: the merge then reads only
               // the summary (a few per cent of the piece) instead of checking the piece
               const std::vector<char> summary = judgeBrickPiece(plan, piece);
-              AtomicFile out(path + ".check");
+              AtomicFile out(path.value + ".check");
               out.write(summary.data(), summary.size());
               out.commit();
             }
@@ -228,7 +228,7 @@ void bindNode(py::module_& m) {
       .def(
           "merge_bricks",
           [](PyNode& n, py::object bbox, double resolution, std::uint32_t jobs,
-             const std::vector<std::string>& pieces, const std::string& path,
+             const std::vector<std::string>& pieces, const FilePath& path,
              const std::string& format, bool check, bool force, py::object progress,
              const std::string& unit,
              const std::vector<std::pair<std::string, std::string>>& metadata,
@@ -308,7 +308,7 @@ void bindNode(py::module_& m) {
           "cell / 2^refined_levels}.")
       .def(
           "to_vdb",
-          [](PyNode& n, const std::string& path, py::object bbox, double voxel, double halfWidth,
+          [](PyNode& n, const FilePath& path, py::object bbox, double voxel, double halfWidth,
              py::object progress, bool fog) {
             LevelSetOptions o;
             o.voxel = voxel;
@@ -349,7 +349,7 @@ void bindNode(py::module_& m) {
 
   m.def(
       "parse_model",
-      [](const std::string& text, const std::string& source, const std::string& folder) {
+      [](const std::string& text, const std::string& source, const FilePath& folder) {
         Model model = parseModel(text, source, folder);
         py::dict d;
         d["root"] = PyNode{model.root, nullptr};
@@ -384,7 +384,7 @@ void bindNode(py::module_& m) {
       "Raises OSError naming `name` for an open, non-manifold or (exact) self-intersecting mesh.");
   m.def(
       "vdb_grids",
-      [](const std::string& path) {
+      [](const FilePath& path) {
         GridSet grids;
         {
           py::gil_scoped_release release;
@@ -399,7 +399,7 @@ void bindNode(py::module_& m) {
       "active_voxels, box (world, of the active voxels), metadata, text.");
   m.def(
       "vdb_to_mesh",
-      [](const std::string& path, const std::string& grid, double iso, double adaptivity) {
+      [](const FilePath& path, const std::string& grid, double iso, double adaptivity) {
         py::gil_scoped_release release;
         const GridSet grids = readVdb(path);
         return levelSetToMesh(grids, grids.scalarGrid(grid, path), iso, adaptivity);

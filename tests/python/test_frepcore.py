@@ -4,6 +4,7 @@ checked export."""
 import inspect
 import math
 import os
+import pathlib
 
 import pytest
 
@@ -515,3 +516,36 @@ def test_a_cylinder_attaches_to_a_plane_through_a_catmull_clark_seam():
     assert len(a["mesh"].triangles) > 4000
     with pytest.raises(ValueError, match="the ring around the rectangle has 14"):
         fc.attach_cylinder(plane, 3, 7, 3, 6, cylinder, 3)
+
+
+def test_file_paths_are_str_or_path_like_and_never_cut_at_a_nul(tmp_path):
+    ball = fc.sphere(1)
+    target = tmp_path / "ball.stl"  # a pathlib.Path, as open() takes it
+    assert ball.export(target, cells=16)["written"]
+    assert fc.read_mesh(target).triangle_count > 0
+    shape, settings = fc.load(pathlib.Path(SOURCE, "examples") / "sphere.json")
+    assert settings["resolution"] > 0
+    lattice = fc.read_lattice(pathlib.Path(SOURCE, "examples") / "lattices" / "bend.json")
+    lattice.write(tmp_path / "bend.json")
+    assert fc.read_lattice(str(tmp_path / "bend.json")).to_json() == lattice.to_json()
+    # the C library would stop at the NUL and write "cut"
+    with pytest.raises(ValueError, match="a file name cannot hold a NUL character"):
+        ball.export(str(tmp_path / "cut\0.stl"), cells=16)
+    with pytest.raises(ValueError, match="NUL"):
+        fc.read_mesh(str(target) + "\0.obj")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["ball.stl", "bend.json"]
+    with pytest.raises(TypeError, match=r"str \| os.PathLike"):
+        fc.read_mesh(3)
+
+
+def test_searches_and_boxes_that_mean_nothing_are_refused():
+    ball = fc.sphere(1)
+    for search in (math.nan, 0, -1, math.inf):
+        with pytest.raises(ValueError, match="bounds: search = .* must be a finite half-width"):
+            ball.bounds(search=search)
+    with pytest.raises(ValueError, match="tolerance"):
+        ball.bounds(tolerance=math.nan)
+    with pytest.raises(ValueError, match="interval: lo y = 1 is not <= hi y = -1"):
+        ball.interval((0, 1, 0), (1, -1, 1))
+    lo, hi = ball.interval((-2, -2, -2), (2, 2, 2))
+    assert lo <= ball(0, 0, 0) <= hi

@@ -17,6 +17,7 @@ callback returns False; a cancelled export writes no file.
 """
 
 import inspect
+import math
 import os
 import textwrap
 
@@ -176,10 +177,19 @@ class Shape:
         return self.node.gradient(x, y, z)
 
     def interval(self, lo, hi):
+        """Bounds of F over the box [lo, hi]: lo <= hi on each axis, finite or infinite."""
+        for axis, a, b in zip("xyz", lo, hi):
+            if not a <= b:  # (also NaN)
+                raise ValueError("interval: lo %s = %r is not <= hi %s = %r" % (axis, a, axis, b))
         return self.node.interval(lo, hi)
 
     def bounds(self, search=1e6, tolerance=1e-4):
-        """dict(empty, bounded, unbounded_sides, box) from interval branch and bound."""
+        """dict(empty, bounded, unbounded_sides, box) from interval branch and bound, within
+        [-search, search] on each axis, to within tolerance."""
+        if not (0 < search < math.inf):
+            raise ValueError("bounds: search = %r must be a finite half-width > 0" % (search,))
+        if not (0 < tolerance < math.inf):
+            raise ValueError("bounds: tolerance = %r must be a finite length > 0" % (tolerance,))
         return self.node.bounds(search, tolerance)
 
     # -- meshing and export ---------------------------------------------------------------
@@ -317,7 +327,9 @@ def _box_pair(bbox):
 
 
 def load(path):
-    """Reads a .json model: (Shape, export settings dict with bbox and resolution)."""
+    """Reads a .json model: (Shape, export settings dict with bbox and resolution). path: a
+    str or os.PathLike."""
+    path = os.fspath(path)
     with open(path, encoding="utf-8") as f:
         model = parse_model(f.read(), path, os.path.dirname(os.path.abspath(path)))
     return Shape(model["root"]), {"bbox": model["bbox"], "resolution": model["resolution"]}
