@@ -1,9 +1,8 @@
-// Mesh files: binary and ASCII STL, OBJ, binary PLY, OFF (read only), 3MF (one object; io/mesh_3mf.h for
-// several), and FreeCAD's own binary mesh (.bms:
-// points, facets and facet neighbours, which FreeCAD reads without rebuilding topology). Writers go
-// through AtomicFile (no partial file on failure or cancel). Readers return the triangles exactly
-// as stored; STL has no indices, so its vertices come unwelded (the checker welds identical
-// coordinates).
+// Mesh files: binary and ASCII STL, OBJ, binary PLY, OFF (read only), 3MF (one object;
+// io/mesh_3mf.h for several), and FreeCAD's own binary mesh (.bms: points, facets and facet
+// neighbours, which FreeCAD reads without rebuilding topology). Writers go through AtomicFile (no
+// partial file on failure or cancel). Readers return the triangles exactly as stored; STL has no
+// indices, so its vertices come unwelded (the checker welds identical coordinates).
 #pragma once
 
 #include <functional>
@@ -20,8 +19,10 @@ enum class MeshFormat { StlBinary, StlAscii, Obj, Ply, FreecadBms, ThreeMf };
 const char* formatName(MeshFormat f);
 // "stl", "stl-ascii", "obj", "ply", "bms", "3mf"; throws ModelError naming the allowed values.
 MeshFormat parseFormat(const std::string& name);
-// From the file extension (.stl -> binary STL); throws FileError for an unknown extension.
-MeshFormat formatFromPath(const std::string& path);
+// From the file name's extension (.stl -> binary STL); throws FileError for an unknown one,
+// naming the types `allowed` lists.
+MeshFormat formatFromPath(const std::string& path,
+                          const char* allowed = "written: .stl, .obj, .ply, .bms, .3mf");
 
 // Called with the fraction written; return false to cancel (throws Cancelled, no file).
 using WriteProgress = std::function<bool(double)>;

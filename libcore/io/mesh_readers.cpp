@@ -233,20 +233,22 @@ TriangleMesh readOff(const std::string& path, const std::string& data) {
     if (!next())
       throw FileError(displayName(path) + ": OFF ends after " + std::to_string(i) + " of " +
                       std::to_string(nv) + " vertices");
-    if (words.size() < 3) throw FileError(where() + ": an OFF vertex needs three numbers");
-    m.positions.push_back(strictPoint(words, 0, where()));
+    const std::string at = where();
+    if (words.size() < 3) throw FileError(at + ": an OFF vertex needs three numbers");
+    m.positions.push_back(strictPoint(words, 0, at));
   }
   for (long long i = 0; i < nf; ++i) {
     if (!next())
       throw FileError(displayName(path) + ": OFF ends after " + std::to_string(i) + " of " +
                       std::to_string(nf) + " faces");
-    const long long n = strictInteger(words[0], where());
+    const std::string at = where();  // (once a face, not once an index)
+    const long long n = strictInteger(words[0], at);
     if (n < 0 || static_cast<unsigned long long>(n) + 1 > words.size())
-      throw FileError(where() + ": OFF face says " + std::to_string(n) + " vertices but lists " +
+      throw FileError(at + ": OFF face says " + std::to_string(n) + " vertices but lists " +
                       std::to_string(words.size() - 1) + " numbers");
     std::vector<long long> ids;
-    for (long long k = 1; k <= n; ++k) ids.push_back(strictInteger(words[k], where()));
-    addPolygon(m, ids, where());
+    for (long long k = 1; k <= n; ++k) ids.push_back(strictInteger(words[k], at));
+    addPolygon(m, ids, at);
   }
   if (next())
     throw FileError(where() + ": text after the last of the " + std::to_string(nf) +
@@ -330,13 +332,13 @@ TriangleMesh readPly(const std::string& path, const std::string& data) {
                     "' not supported; supported: ascii, binary_little_endian");
   std::size_t pos = bodyStart;
   std::istringstream text(ascii ? data.substr(bodyStart) : std::string());
+  const std::string dataWhere = displayName(path) + ": PLY data";  // (once, not per value)
   auto readValue = [&](const std::string& t) -> double {
     if (ascii) {
       std::string word;
       if (!(text >> word)) throw FileError(displayName(path) + ": PLY data ends early");
-      const std::string where = displayName(path) + ": PLY data";
       const bool real = t == "float" || t == "float32" || t == "double" || t == "float64";
-      return real ? strictReal(word, where) : double(strictInteger(word, where));
+      return real ? strictReal(word, dataWhere) : double(strictInteger(word, dataWhere));
     }
     const std::size_t n = size(t);
     if (pos + n > data.size()) throw FileError(displayName(path) + ": PLY data ends early");
@@ -436,14 +438,9 @@ TriangleMesh readFreecadBms(const std::string& path, const std::string& data) {
 namespace {
 
 TriangleMesh readByExtension(const std::string& path) {
-  const std::string ext = fileExtension(path);
-  if (ext == "off") return readOff(path, slurp(path));
-  if (ext != "stl" && ext != "obj" && ext != "ply" && ext != "bms" && ext != "3mf")
-    throw FileError(displayName(path) +
-                    (ext.empty() ? std::string(": the file name has no extension")
-                                 : ": unknown mesh file type '." + ext.substr(0, 40) + "'") +
-                    "; read: .stl, .obj, .ply, .off, .bms, .3mf");
-  const MeshFormat f = formatFromPath(path);
+  // OFF is read, never written: it is not a MeshFormat
+  if (fileExtension(path) == "off") return readOff(path, slurp(path));
+  const MeshFormat f = formatFromPath(path, "read: .stl, .obj, .ply, .off, .bms, .3mf");
   if (f == MeshFormat::ThreeMf) {
     TriangleMesh all;
     for (const NamedMesh& o : read3mf(path).objects) appendMesh(all, o.mesh);

@@ -40,7 +40,7 @@ MeshFormat parseFormat(const std::string& name) {
   throw ModelError("unknown format '" + name + "'; allowed: stl, stl-ascii, obj, ply, bms, 3mf");
 }
 
-MeshFormat formatFromPath(const std::string& path) {
+MeshFormat formatFromPath(const std::string& path, const char* allowed) {
   const std::string ext = fileExtension(path);
   if (ext == "stl") return MeshFormat::StlBinary;
   if (ext == "obj") return MeshFormat::Obj;
@@ -49,8 +49,8 @@ MeshFormat formatFromPath(const std::string& path) {
   if (ext == "3mf") return MeshFormat::ThreeMf;
   throw FileError(displayName(path) +
                   (ext.empty() ? std::string(": the file name has no extension")
-                               : ": unknown mesh file type '." + ext + "'") +
-                  "; written: .stl, .obj, .ply, .bms, .3mf");
+                               : ": unknown mesh file type '." + ext.substr(0, 40) + "'") +
+                  "; " + allowed);
 }
 
 namespace {
