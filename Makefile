@@ -74,10 +74,12 @@ demo: build
 bench: build
 	@bash scripts/bench.sh $(BUILD_DIR)
 
-# frepcad repair beside admesh on 60 meshes broken on purpose (docs/manufacturing.md); the
-# table goes to build/repair-comparison.md.
+# frepcad repair beside admesh on 60 meshes broken on purpose, and on the cases a repair must
+# not destroy (docs/manufacturing.md); the tables go to build/repair-comparison.md and
+# build/repair-judgement.md.
 repair-comparison: build
 	$(PYTHON) bench/repair_comparison.py $(BUILD_DIR)/bin/frepcad $(BUILD_DIR)/repair-comparison --markdown $(BUILD_DIR)/repair-comparison.md
+	$(PYTHON) bench/repair_judgement.py $(BUILD_DIR)/bin/frepcad $(BUILD_DIR)/repair-judgement --markdown $(BUILD_DIR)/repair-judgement.md
 
 # The example FreeCAD documents (examples/*.FCStd), rebuilt with the workbench.
 examples: build

@@ -22,13 +22,17 @@ namespace {
 
 const char* const kRepairHelp =
     "usage: frepcad repair IN -o OUT [--rebuild auto|never|always] [--voxel V] [--weld D]\n"
-    "                      [--no-fill] [--format F] [--units U] [--force] [--json] [--quiet]\n\n"
+    "                      [--no-fill] [--max-deviation D] [--allow-pieces] [--format F]\n"
+    "                      [--units U] [--force] [--json] [--quiet]\n\n"
     "Makes a mesh (STL, OBJ, PLY, 3MF) printable: welds near-duplicate vertices, removes\n"
     "degenerate and duplicate triangles, stitches coincident borders, fills holes, splits\n"
     "non-manifold vertices, removes self-intersections and orients every shell outward\n"
     "(CGAL). When that is not enough (intersecting shells, crossings CGAL cannot undo\n"
     "locally) it rebuilds the solid through an OpenVDB level set meshed by FRepCAD's own\n"
-    "mesher, printable by construction. The result is checked; IN is never changed.\n"
+    "mesher, printable by construction. The result is checked and judged against IN: no\n"
+    "more pieces than IN has, no surface farther than the bound from IN's, no part of IN\n"
+    "lost farther than it (an open sheet closed by a far cap fails this). IN is never\n"
+    "changed.\n"
     "  -o, --output OUT   the repaired mesh (.stl, .obj, .ply, .3mf, .bms)\n"
     "  --rebuild P        auto: only when the local repairs are not enough (default);\n"
     "                     never: local repairs only; always: rebuild whatever the result\n"
@@ -37,12 +41,16 @@ const char* const kRepairHelp =
     "                     edge length, widened to a tenth while that closes cracks; 0:\n"
     "                     identical coordinates only)\n"
     "  --no-fill          leave holes open (the result then stays unprintable)\n"
+    "  --max-deviation D  the bound on how far the result and IN may lie apart (default:\n"
+    "                     2 % of IN's diagonal); raise it to accept a cap the report names\n"
+    "  --allow-pieces     accept a result of more pieces than IN has\n"
     "  --format F         stl, stl-ascii, obj, ply, bms or 3mf (default: from OUT)\n"
     "  --units U          a 3MF's unit: micron, mm, cm, inch, ft, m (default mm)\n"
     "  --force            write the result even when it is still not printable\n"
     "  --json             the report as JSON on standard output\n"
-    "exit status: 0 repaired and written, 1 still not printable (the remaining reasons are\n"
-    "printed; nothing written without --force), 2 bad input, 130 cancelled\n";
+    "exit status: 0 repaired and written, 1 still not printable or not faithful to IN (the\n"
+    "reasons and figures are printed; nothing written without --force), 2 bad input (a\n"
+    "rebuild too large for the memory there is names the voxel that fits), 130 cancelled\n";
 
 std::string dumped(const nlohmann::json& j) {
   // file names are bytes: invalid UTF-8 is replaced rather than failing the report
@@ -76,7 +84,13 @@ int repairCommand(const Args& args) {
       options.weldDistance = parseNumber(value(), a);
       if (!(options.weldDistance >= 0) || !std::isfinite(options.weldDistance))
         throw UsageError("--weld must be a distance >= 0, got '" + args[i] + "'");
-    } else if (a == "--no-fill")
+    } else if (a == "--max-deviation") {
+      options.maxDeviation = parseNumber(value(), a);
+      if (!(options.maxDeviation > 0) || !std::isfinite(options.maxDeviation))
+        throw UsageError("--max-deviation must be a distance > 0, got '" + args[i] + "'");
+    } else if (a == "--allow-pieces")
+      options.allowMorePieces = true;
+    else if (a == "--no-fill")
       options.fillHoles = false;
     else if (a == "--format")
       format = value();
@@ -95,7 +109,8 @@ int repairCommand(const Args& args) {
     else
       throw UsageError("repair takes one input mesh, got a second: '" + a + "'");
   }
-  if (input.empty()) throw UsageError("repair needs an input mesh (.stl, .obj, .ply, .off or .3mf)");
+  if (input.empty())
+    throw UsageError("repair needs an input mesh (.stl, .obj, .ply, .off or .3mf)");
   if (output.empty()) throw UsageError("repair needs -o OUT");
   const MeshFormat outFormat = format.empty() ? formatFromPath(output) : parseFormat(format);
   ThreeMfOptions threeMf;
@@ -115,7 +130,7 @@ int repairCommand(const Args& args) {
   // its package is checked as read back, like every 3MF export (pipeline's export3mf).
   CheckReport verdict = r.after;
   bool written = false;
-  if ((r.printable() || force) && !r.mesh.triangles.empty()) {
+  if ((r.accepted() || force) && !r.mesh.triangles.empty()) {
     if (outFormat == MeshFormat::ThreeMf) {
       threeMf.metadata = {{"Application", "FRepCAD frepcad repair"}};
       const ThreeMfExportResult e =
@@ -135,6 +150,7 @@ int repairCommand(const Args& args) {
     j["output"] = displayName(output);
     j["printable_before"] = r.before.printable();
     j["printable"] = verdict.printable();
+    j["accepted"] = verdict.printable() && r.departures.empty();
     j["written"] = written;
     j["rebuilt"] = r.rebuilt;
     j["voxel"] = r.voxel;
@@ -142,11 +158,15 @@ int repairCommand(const Args& args) {
     j["triangles"] = r.mesh.triangles.size();
     j["deviation"] = r.deviation.hausdorff();
     // (deviation is the input's a, the result b) the result's surface to the input's, and
-    // the input's to the result's: large only where parts of the input are gone (the inner
-    // surfaces of overlapping shells)
+    // the input's to the result's where it lies outside the result's solid (the inner walls
+    // of overlapping shells are absorbed, not lost)
     j["result_to_input"] = r.deviation.bToA;
     j["result_to_input_mean"] = r.deviation.meanBToA;
-    j["input_to_result"] = r.deviation.aToB;
+    j["input_to_result"] = r.lostDistance;
+    j["deviation_bound"] = r.deviationBound;
+    j["pieces_before"] = r.piecesBefore;
+    j["pieces"] = r.after.components;
+    j["departures"] = r.departures;
     j["actions"] = r.actions;
     j["reasons_before"] = r.before.reasons;
     j["reasons"] = verdict.reasons;
@@ -160,6 +180,15 @@ int repairCommand(const Args& args) {
                 << (written ? ": written although still not printable (--force)\n"
                             : ": could not be made printable (reasons above); nothing written "
                               "(--force writes it anyway)\n");
+    return 1;
+  }
+  if (!r.departures.empty()) {
+    if (!json)
+      std::cerr << "frepcad: " << displayName(input)
+                << (written ? ": written although not faithful to the input (--force)\n"
+                            : ": the repair is not faithful to the input (reasons above); "
+                              "nothing written (--max-deviation or --allow-pieces accept "
+                              "it)\n");
     return 1;
   }
   if (!quiet && !json) std::cout << "wrote " << displayName(output) << "\n";

@@ -310,6 +310,27 @@ expect 1 "written although still not printable" -- "$frepcad" repair "$work/hole
 expect 2 "unknown rebuild policy 'sometimes'" -- "$frepcad" repair "$work/holes.obj" -o "$work/x.stl" --rebuild sometimes
 expect 2 "repair needs -o OUT" -- "$frepcad" repair "$work/holes.obj"
 expect 2 "--voxel must be a size > 0" -- "$frepcad" repair "$work/holes.obj" -o "$work/x.stl" --voxel 0
+expect 2 "--max-deviation must be a distance > 0, got 'nan'" -- "$frepcad" repair "$work/holes.obj" -o "$work/x.stl" --max-deviation nan
+# an open bowl (the ball's lower half): its cap would be invented surface a radius from the
+# input, so the repair is refused with the figures and writes nothing, unless the bound
+# given covers the cap
+python3 - "$work/ball.obj" "$work/bowl.obj" <<'PY'
+import sys
+lines = open(sys.argv[1]).read().splitlines()
+v = [tuple(map(float, l.split()[1:4])) for l in lines if l.startswith("v ")]
+faces = [l for l in lines if l.startswith("f ")]
+low = [f for f in faces if sum(v[int(w.split("/")[0]) - 1][2] for w in f.split()[1:]) < 0]
+open(sys.argv[2], "w").write("\n".join([l for l in lines if not l.startswith("f ")] + low) + "\n")
+PY
+expect 1 "surface invented there" -- "$frepcad" repair "$work/bowl.obj" -o "$work/bowl.stl"
+expect 1 "not faithful to the input .* nothing written \(--max-deviation or --allow-pieces accept it\)" -- "$frepcad" repair "$work/bowl.obj" -o "$work/bowl.stl"
+[ ! -e "$work/bowl.stl" ] || { echo "FAIL: an unfaithful repair wrote a file"; failures=$((failures + 1)); }
+expect 1 '"accepted": false' -- "$frepcad" repair "$work/bowl.obj" -o "$work/bowl.stl" --json
+expect 0 "wrote .*bowl.stl" -- "$frepcad" repair "$work/bowl.obj" -o "$work/bowl.stl" --max-deviation 1.5
+# a rebuild far beyond the memory is refused at once, naming a voxel that fits
+start=$(date +%s)
+expect 2 "the rebuild at voxel size 1e-05 covers about [0-9]+ million voxels of surface, needing about [0-9]+ GB.*: use a voxel size of at least" -- "$frepcad" repair "$work/ball.obj" -o "$work/x.stl" --voxel 1e-5 --rebuild always
+[ $(($(date +%s) - start)) -lt 10 ] || { echo "FAIL: the too-large rebuild took $(($(date +%s) - start)) s to refuse"; failures=$((failures + 1)); }
 expect 0 "Hausdorff distance   (0|[0-9.]+e-1[0-9])$" -- "$frepcad" compare "$work/ball.obj" "$work/ball.obj"
 
 # the printability report

@@ -11,6 +11,7 @@ usage: fuzz_cli.py FREPCAD SOURCE_DIR CASES [SEED]     (make test: 2,000 cases; 
 """
 import concurrent.futures
 import json
+import math
 import os
 import random
 import shutil
@@ -135,6 +136,30 @@ def off_of_obj(obj):
     return ("\n".join(lines) + "\n").encode()
 
 
+def judge_repair(frepcad, inp, out):
+    """What repair wrote, it promised printable and faithful to its input: the check must
+    agree, with no more pieces than the input's and the result's surface within 2 % of the
+    input's diagonal of the input's (measured by compare, independently of the repair)."""
+    def run_json(*cmd):
+        c = subprocess.run([frepcad] + list(cmd) + ["--json"], capture_output=True, timeout=60)
+        return c.returncode, json.loads(c.stdout.decode("utf-8")) if c.stdout else None
+    rc, result = run_json("check", out)
+    if rc != 0:
+        return ["repair wrote a mesh the check refuses"]
+    _, before = run_json("check", inp)
+    problems = []
+    if result["components"] > before["components"]:
+        problems.append("repair wrote %d pieces from %d" % (result["components"],
+                                                           before["components"]))
+    lo, hi = before["bbox"][:3], before["bbox"][3:]
+    diagonal = math.sqrt(sum((b - a) ** 2 for a, b in zip(lo, hi)))
+    _, apart = run_json("compare", inp, out)
+    if apart["b_to_a"] > 0.02 * diagonal * (1 + 1e-6):
+        problems.append("repair wrote surface %g from the input's (bound %g)"
+                        % (apart["b_to_a"], 0.02 * diagonal))
+    return problems
+
+
 def run_case(frepcad, work, index, kind, payload, ext, keep):
     case = os.path.join(work, "case%d" % index)
     os.makedirs(os.path.join(case, "out"))
@@ -176,10 +201,7 @@ def run_case(frepcad, work, index, kind, payload, ext, keep):
             if f.read() != before:
                 problems.append("an existing output was changed by a failed export")
     if kind == "repair" and p.returncode == 0:
-        # what repair wrote, it promised printable: the check must agree
-        c = subprocess.run([frepcad, "check", out], capture_output=True, timeout=60)
-        if c.returncode != 0:
-            problems.append("repair wrote a mesh the check refuses")
+        problems += judge_repair(frepcad, inp, out)
     if kind == "repair" and p.returncode != 0 and os.path.exists(out):
         problems.append("a failed repair wrote a file")
     if kind == "check" and p.returncode in (0, 1):

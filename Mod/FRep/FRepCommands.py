@@ -525,8 +525,12 @@ class RepairCommand:
                 continue
             FreeCAD.Console.PrintMessage(result["text"])
             if out is None:
-                failed.append("%s could not be made printable:\n%s"
-                              % (obj.Label, "\n".join(" - " + r for r in result["reasons"])))
+                why = result["reasons"] + result["departures"]
+                failed.append("%s could not be %s:\n%s"
+                              % (obj.Label,
+                                 "made printable" if not result["printable"]
+                                 else "repaired without changing the part",
+                                 "\n".join(" - " + r for r in why)))
             else:
                 made.append(out)
         if failed:

@@ -31,15 +31,19 @@ def frepcore_mesh(obj):
     return frepcore.Mesh([(p.x, p.y, p.z) for p in points], [tuple(f) for f in facets])
 
 
-def repair(obj, rebuild="auto", voxel=0.0, progress=None):
+def repair(obj, rebuild="auto", voxel=0.0, progress=None, max_deviation=-1.0,
+           allow_more_pieces=False):
     """Repairs the mesh of `obj` into a new Mesh feature '<label> repaired'; returns (the new
-    object or None when the result is still not printable, the report dict). The input is
-    hidden only when the repair succeeds."""
+    object, or None when the result is still not printable or not faithful to the input: more
+    pieces, or farther than max_deviation from it; the report dict). The input is hidden only
+    when the repair succeeds."""
     mesh = frepcore_mesh(obj)
 
     def work(tick):
         try:
-            return mesh.repair(rebuild=rebuild, voxel=voxel, name=obj.Label, progress=tick)
+            return mesh.repair(rebuild=rebuild, voxel=voxel, max_deviation=max_deviation,
+                               allow_more_pieces=allow_more_pieces, name=obj.Label,
+                               progress=tick)
         except frepcore.Cancelled:
             raise RuntimeError("repair of %s cancelled; nothing changed" % obj.Label)
 
@@ -47,7 +51,7 @@ def repair(obj, rebuild="auto", voxel=0.0, progress=None):
         fixed, report = work(progress)
     else:
         fixed, report = FRepMeshing.run_with_progress("Repairing %s" % obj.Label, work)
-    if not report["printable"]:
+    if not report["accepted"]:
         return None, report
     doc = obj.Document
     out = doc.addObject("Mesh::Feature", "Repaired")

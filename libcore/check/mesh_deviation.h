@@ -24,4 +24,12 @@ struct DeviationReport {
 DeviationReport meshDeviation(const TriangleMesh& a, const TriangleMesh& b,
                               std::size_t samplesPerMesh = 60000);
 
+// The largest distance from a sample of `a` to the surface of `solid` (closed and oriented)
+// among the samples outside the solid: a repair that takes the union of overlapping shells
+// absorbs their inner walls into the solid (not lost), while a sheet it drops or shreds lies
+// outside. Inside by ray parity (the majority of three rays), for the samples farther than
+// the answer only.
+double largestDistanceOutside(const TriangleMesh& a, const TriangleMesh& solid,
+                              std::size_t samplesPerMesh = 60000);
+
 }  // namespace frep

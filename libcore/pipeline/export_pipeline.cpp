@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <future>
 #include <memory>
 #include <optional>
@@ -12,6 +11,7 @@
 
 #include "base/errors.h"
 #include "base/phase_times.h"
+#include "base/process_memory.h"
 #include "base/progress.h"
 
 namespace frep {
@@ -77,20 +77,6 @@ MeshingBox chooseBox(const Field& field, const Box3& known, const BoxRequest& r)
   BoundsOptions o;
   o.known = known;
   return chooseBox(findBounds(field, o), r);
-}
-
-std::size_t availableMemory() {
-  std::ifstream in("/proc/meminfo");
-  std::string key;
-  std::size_t kib = 0;
-  while (in >> key) {
-    if (key == "MemAvailable:") {
-      in >> kib;
-      return kib * 1024;
-    }
-    in.ignore(1 << 12, '\n');
-  }
-  return 0;
 }
 
 const char* stageName(ExportStage s) {

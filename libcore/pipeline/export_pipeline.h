@@ -59,10 +59,6 @@ MeshingBox chooseBox(const Field& field, const Box3& known, const BoxRequest& re
 enum class ExportStage { Bounds, Mesh, Check, Write };
 const char* stageName(ExportStage s);
 
-// The memory a mesh may take now: MemAvailable from /proc/meminfo (bytes), 0 when unknown (no
-// limit then). Exports and previews alike refuse a grid estimated to need more.
-std::size_t availableMemory();
-
 struct ExportRequest {
   BoxRequest box;
   Box3 known = BoundsOptions().known;  // structural bounds of the solid, when known

@@ -100,8 +100,11 @@ void bindMesh(py::module_& m) {
       .def(
           "repair",
           [](const TriangleMesh& t, const std::string& rebuild, double voxel, double weld,
-             bool fillHoles, const std::string& name, py::object progress) {
+             bool fillHoles, double maxDeviation, bool allowMorePieces, const std::string& name,
+             py::object progress) {
             RepairOptions o;
+            o.maxDeviation = maxDeviation;
+            o.allowMorePieces = allowMorePieces;
             o.rebuild = parseRebuildPolicy(rebuild);
             o.voxel = voxel;
             o.weldDistance = weld;
@@ -114,6 +117,9 @@ void bindMesh(py::module_& m) {
                 progress);
             py::dict d;
             d["printable"] = r.printable();
+            d["accepted"] = r.accepted();
+            d["departures"] = r.departures;
+            d["deviation_bound"] = r.deviationBound;
             d["printable_before"] = r.before.printable();
             d["actions"] = r.actions;
             d["reasons_before"] = r.before.reasons;
@@ -122,16 +128,20 @@ void bindMesh(py::module_& m) {
             d["voxel"] = r.voxel;
             d["deviation"] = r.deviation.hausdorff();
             d["result_to_input"] = r.deviation.bToA;
-            d["input_to_result"] = r.deviation.aToB;
+            d["input_to_result"] = r.lostDistance;
             d["check"] = fromJson(reportToJson(r.after, name));
             d["text"] = repairToText(r, r.after, name);
             return py::make_tuple(std::move(r.mesh), d);
           },
           py::arg("rebuild") = "auto", py::arg("voxel") = 0.0, py::arg("weld") = -1.0,
-          py::arg("fill_holes") = true, py::arg("name") = "mesh", py::arg("progress") = py::none(),
+          py::arg("fill_holes") = true, py::arg("max_deviation") = -1.0,
+          py::arg("allow_more_pieces") = false, py::arg("name") = "mesh",
+          py::arg("progress") = py::none(),
           "Makes the mesh printable (docs/manufacturing.md): (repaired Mesh, report dict with "
-          "printable, actions, reasons, rebuilt, deviation, check, text). The mesh itself is "
-          "not changed; a result that is still not printable says why in 'reasons'.")
+          "accepted, printable, actions, reasons, departures, rebuilt, deviation, check, text). "
+          "The mesh itself is not changed; 'accepted' is printable and faithful to the input "
+          "(no more pieces, within max_deviation: < 0 is 2 % of the diagonal); 'reasons' and "
+          "'departures' say why not.")
       .def(
           "printability",
           [](const TriangleMesh& t, const Vec3& up, double overhang, py::object minWall,

@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "base/atomic_file.h"
+#include "base/process_memory.h"
 #include "base/errors.h"
 #include "base/exit_status.h"
 #include "base/process_memory.h"

@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "base/errors.h"
+#include "base/process_memory.h"
 #include "base/progress.h"
 #include "mesh/mesher.h"
 #include "repair/cgal_repair.h"
@@ -147,6 +148,79 @@ TriangleMesh rebuildThroughLevelSet(const TriangleMesh& closed, double voxel,
   return simplifyMesh(fine, *field, so);
 }
 
+// Three significant digits (0.0213, 1.2e+03 as 1200).
+std::string figure(double v) {
+  std::ostringstream os;
+  os.precision(3);
+  if (std::abs(v) >= 1000.0 && std::abs(v) < 1e15)
+    os << std::llround(v);
+  else
+    os << v;
+  return os.str();
+}
+
+std::string percentOf(double v, double whole) {
+  return whole > 0 ? figure(100.0 * v / whole) + " % of the diagonal" : "the box is a point";
+}
+
+struct Judgement {
+  DeviationReport deviation;  // a: the input, b: the result
+  double lost = 0.0;          // the input's largest distance outside the result's solid
+  std::vector<std::string> departures;
+};
+
+// The result against the input, by the rules of repair.h: pieces, invented surface, lost
+// surface. `check` is the result's check (the inside test needs a closed, oriented result;
+// an unprintable one is measured plainly).
+Judgement judge(const TriangleMesh& input, std::size_t piecesBefore, const TriangleMesh& result,
+                const CheckReport& check, double bound, double diagonal, bool allowMorePieces) {
+  Judgement j;
+  if (result.triangles.empty()) return j;
+  j.deviation = meshDeviation(input, result);
+  j.lost = check.printable() ? largestDistanceOutside(input, result) : j.deviation.aToB;
+  if (!allowMorePieces && check.components > piecesBefore)
+    j.departures.push_back("the result has " + plural(check.components, "piece", "pieces") +
+                           " where the input has " + std::to_string(piecesBefore) +
+                           ": the repair split the part");
+  if (j.deviation.bToA > bound)
+    j.departures.push_back("the result's surface lies up to " + figure(j.deviation.bToA) +
+                           " from the input's (" + percentOf(j.deviation.bToA, diagonal) +
+                           "), beyond the bound " + figure(bound) +
+                           ": surface invented there (a cap over an open sheet or a wide "
+                           "hole, or a rebuild too coarse)");
+  if (j.lost > bound)
+    j.departures.push_back("parts of the input lie up to " + figure(j.lost) +
+                           " from the result, outside its solid (" + percentOf(j.lost, diagonal) +
+                           "), beyond the bound " + figure(bound) +
+                           ": the repair dropped them (thin walls, sheets or small pieces "
+                           "finer than the rebuild's voxel)");
+  return j;
+}
+
+// The rebuild's level set and mesher need memory for every voxel along the surface: refused
+// before any of it is allocated when the budget (or the mesher's grid) cannot hold it, naming
+// the smallest voxel that fits both.
+void refuseRebuildOverBudget(double area, double longest, double voxel, std::size_t budget,
+                             const std::string& name) {
+  const double cellsAlong = longest / voxel;
+  const double surfaceVoxels = area / (voxel * voxel);
+  const double bytes = surfaceVoxels * kRebuildBytesPerSurfaceVoxel;
+  const bool tooManyAlong = cellsAlong > double(kMaxCellsPerAxis);
+  const bool tooLarge = budget > 0 && bytes > double(budget);
+  if (!tooManyAlong && !tooLarge) return;
+  double fits = 1.01 * longest / double(kMaxCellsPerAxis);
+  if (budget > 0)
+    fits = std::max(fits, 1.1 * std::sqrt(area * kRebuildBytesPerSurfaceVoxel / double(budget)));
+  throw TooLargeError(
+      name + ": the rebuild at voxel size " + figure(voxel) +
+      (tooLarge ? " covers about " + figure(surfaceVoxels / 1e6) +
+                      " million voxels of surface, needing about " + figure(bytes / 1e9) +
+                      " GB, and " + figure(double(budget) / 1e9) + " GB is available"
+                : " needs " + figure(cellsAlong) + " voxels along the longest side, and at most " +
+                      std::to_string(kMaxCellsPerAxis) + " are allowed") +
+      ": use a voxel size of at least " + figure(fits));
+}
+
 }  // namespace
 
 const char* rebuildPolicyName(RebuildPolicy p) {
@@ -232,10 +306,14 @@ std::string repairToText(const RepairResult& r, const CheckReport& verdict,
   for (const auto& reason : r.before.reasons) os << "  - " << reason << "\n";
   for (const auto& action : r.actions) os << "  * " << action << "\n";
   os << "result: " << r.mesh.triangles.size() << " triangles, "
-     << (verdict.printable() ? "printable" : "NOT printable") << "; its surface within "
-     << r.deviation.bToA << " of the input's (mean " << r.deviation.meanBToA
-     << "), the input's within " << r.deviation.aToB << " of it\n";
+     << (!verdict.printable()    ? "NOT printable"
+         : !r.departures.empty() ? "printable but NOT faithful to the input"
+                                 : "printable")
+     << "; its surface within " << r.deviation.bToA << " of the input's (mean "
+     << r.deviation.meanBToA << "), the input's within " << r.lostDistance << " of it (bound "
+     << r.deviationBound << ")\n";
   for (const auto& reason : verdict.reasons) os << "  - " << reason << "\n";
+  for (const auto& departure : r.departures) os << "  - " << departure << "\n";
   return os.str();
 }
 
@@ -245,14 +323,28 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
     throw ModelError(name +
                      ": the rebuild's voxel size must be a number > 0 (or 0 for the "
                      "default), got " +
-                     std::to_string(options.voxel));
+                     figure(options.voxel));
   if (std::isnan(options.weldDistance) || std::isinf(options.weldDistance))
     throw ModelError(name + ": the weld distance must be a finite number >= 0");
+  if (std::isnan(options.maxDeviation) || std::isinf(options.maxDeviation))
+    throw ModelError(name +
+                     ": the deviation bound must be a finite distance > 0 (or < 0 for the "
+                     "default, 2 % of the diagonal)");
   // The bar: the CGAL repair to 35 %, its check to 40 %, the local self-intersection
   // removal to 55 %, the rebuild to 90 %, the deviation the rest.
   const Progress bar(options.progress);
   RepairResult r;
   r.before = checkMesh(input);
+  r.piecesBefore = r.before.components;
+  const Box3 box = boxOf(input);
+  double diagonal = 0, longest = 0;
+  for (int a = 0; a < 3; ++a) {
+    diagonal += (box.hi[a] - box.lo[a]) * (box.hi[a] - box.lo[a]);
+    longest = std::max(longest, box.hi[a] - box.lo[a]);
+  }
+  diagonal = std::sqrt(diagonal);
+  r.deviationBound =
+      options.maxDeviation > 0 ? options.maxDeviation : kDefaultDeviationFraction * diagonal;
   if (r.before.faces == 0) {
     r.after = r.before;
     r.mesh = input;
@@ -266,7 +358,6 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
     return r;
   }
   bar.step(0.02);
-  const Box3 box = boxOf(input);
 
   TriangleMesh mesh = input;
   const double median = medianEdgeLength(input);
@@ -294,13 +385,11 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
   }
   if (welded)
     r.actions.push_back("welded " + plural(welded, "vertex", "vertices") + " within " +
-                        std::to_string(weld) + " of another");
+                        figure(weld) + " of another");
   if (collapsed)
     r.actions.push_back("removed " + plural(collapsed, "triangle", "triangles") +
                         " that welding collapsed");
 
-  double longest = 0;
-  for (int a = 0; a < 3; ++a) longest = std::max(longest, box.hi[a] - box.lo[a]);
   const double voxel = options.voxel > 0 ? options.voxel : longest / kDefaultRebuildVoxels;
 
   // Local repairs first, crossings left alone; then, where crossings remain, CGAL's local
@@ -364,16 +453,28 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
           plural(openEdges, "border edge", "border edges") +
           " (holes that could not be filled), so its inside is not known");
     } else {
+      refuseRebuildOverBudget(r.after.area, longest, voxel,
+                              options.memoryBudget ? options.memoryBudget : availableMemory(),
+                              name);
       r.voxel = voxel;
       TriangleMesh rebuilt = rebuildThroughLevelSet(mesh, r.voxel, name, bar.sub(0.55, 0.35));
       CheckReport judged = checkMesh(rebuilt);
-      r.actions.push_back("rebuilt through a level set at voxel size " + std::to_string(r.voxel) +
-                          " (" + plural(rebuilt.triangles.size(), "triangle", "triangles") +
+      r.actions.push_back("rebuilt through a level set at voxel size " + figure(r.voxel) + " (" +
+                          plural(rebuilt.triangles.size(), "triangle", "triangles") +
                           "; the inside from a flood fill, so overlapping shells become one)");
-      // Keep the rebuild when it passes, or when nothing passes and it is the closer miss
-      // (a sheet's flood fill finds no inside and rebuilds to nothing: that is no closer).
-      if (judged.printable() ||
-          (!rebuilt.triangles.empty() && judged.reasons.size() < r.after.reasons.size())) {
+      Judgement j = judge(input, r.piecesBefore, rebuilt, judged, r.deviationBound, diagonal,
+                          options.allowMorePieces);
+      // Keep the rebuild when it passes and is faithful, or when nothing passes and it is the
+      // closer miss (a sheet's flood fill finds no inside and rebuilds to nothing: that is
+      // no closer). A printable rebuild that shreds or moves the part is not kept: its
+      // departures are the reasons the repair gives.
+      if (judged.printable() && !j.departures.empty()) {
+        r.actions.push_back(
+            "the rebuild was not kept: it is printable but not faithful to "
+            "the input");
+        r.departures = std::move(j.departures);
+      } else if (judged.printable() ||
+                 (!rebuilt.triangles.empty() && judged.reasons.size() < r.after.reasons.size())) {
         mesh = std::move(rebuilt);
         r.after = std::move(judged);
         r.rebuilt = true;
@@ -381,7 +482,14 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
     }
   }
   bar.step(0.9);
-  if (!mesh.triangles.empty()) r.deviation = meshDeviation(input, mesh);
+  if (!mesh.triangles.empty()) {
+    Judgement j = judge(input, r.piecesBefore, mesh, r.after, r.deviationBound, diagonal,
+                        options.allowMorePieces);
+    r.deviation = j.deviation;
+    r.lostDistance = j.lost;
+    // a rebuild not kept has said why; the mesh kept instead is judged on its own
+    if (r.after.printable() || r.departures.empty()) r.departures = std::move(j.departures);
+  }
   r.mesh = std::move(mesh);
   bar.step(1.0);
   return r;

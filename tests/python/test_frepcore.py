@@ -366,6 +366,17 @@ def test_repair_printability_and_deviation_of_a_mesh():
     assert abs(p["print"]["mass_g"] - 1.24 * fixed.volume() / 1000) < 1e-6
     with pytest.raises(ValueError, match="rebuild policy"):
         holed.repair(rebuild="sometimes")
+    assert report["accepted"] and report["departures"] == []
+    # an open bowl: its cap would be invented surface, so the repair is printable but not
+    # accepted, with the figure, until the bound covers the cap
+    bowl = fc.Mesh(ball.points, [t for t in ball.triangles
+                                 if sum(ball.points[v][2] for v in t) < 0])
+    _, refused = bowl.repair()
+    assert not refused["accepted"], refused["text"]
+    assert "surface invented" in refused["departures"][0]
+    assert refused["result_to_input"] > 0.5 > refused["deviation_bound"]
+    _, capped = bowl.repair(max_deviation=1.5)
+    assert capped["accepted"] and capped["deviation_bound"] == 1.5
 
 
 def test_the_cube_mesher_makes_a_third_of_the_tetrahedra_triangles():
