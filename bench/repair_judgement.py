@@ -91,7 +91,7 @@ def corpus(frepcad, work):
 
     ball10 = ball(10, 48)
     points, faces = ball10
-    yield ("scan with holes", "a 10 mm ball, 12 triangles missing",
+    yield ("scan with holes", "a ball of radius 10 mm, 12 triangles missing",
            (points, [t for i, t in enumerate(faces) if i % 211 != 7]), [])
     bowl = (points, [t for t in faces if sum(points[v][2] for v in t) < 0])
     yield ("open bowl", "the ball's lower half", bowl, [])
@@ -130,8 +130,8 @@ def corpus(frepcad, work):
     bed = joined(*[moved((small[0], [t for k, t in enumerate(small[1]) if k != 5 * i]),
                          (i % 4, i // 4, 0)) for i in range(12)])
     yield ("12 balls with holes", "a print bed of 12 pieces, one hole each", bed, [])
-    yield ("crossing balls", "two 10 mm balls 10 mm apart", joined(ball10, moved(ball10, (10, 2, 0))),
-           [])
+    yield ("crossing balls", "two balls of radius 10 mm, 10 mm apart",
+           joined(ball10, moved(ball10, (10, 2, 0))), [])
 
 
 def main():

@@ -35,6 +35,28 @@ std::string envOr(const char* name, const std::string& fallback) {
   return v && *v ? std::string(v) : fallback;
 }
 
+// The options travel to Python as JSON text, which holds Unicode only: bytes that are not
+// UTF-8 (a Latin-1 value typed into --set) are refused here, naming the option.
+void requireUtf8(const std::string& text, const std::string& what) {
+  try {
+    (void)nlohmann::json(text).dump();
+  } catch (const nlohmann::json::type_error&) {
+    const std::string quoted = nlohmann::json(text.substr(0, 80))
+                                   .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    throw ModelError(what + " " + quoted +
+                     " is not UTF-8 text; FreeCAD documents take Unicode values and paths");
+  }
+}
+
+// The private FreeCAD home, removed however the export ends.
+struct TemporaryHome {
+  fs::path path;
+  ~TemporaryHome() {
+    std::error_code ignored;
+    if (!path.empty()) fs::remove_all(path, ignored);
+  }
+};
+
 }  // namespace
 
 int waitPassingOnInterrupts(pid_t pid) {
@@ -86,9 +108,15 @@ int exportDocument(const ExportOptions& o) {
                     " (set FREPCAD_WORKBENCH_DIR)");
   const std::string freecadcmd = envOr("FREPCAD_FREECADCMD", "freecadcmd");
 
+  requireUtf8(o.input, "the document");
+  requireUtf8(o.output, "the output");
+  for (const std::string& s : o.sets) requireUtf8(s, "--set");
+  for (const std::string& s : o.objects) requireUtf8(s, "--object");
+
   std::string pattern = (fs::temp_directory_path() / "frepcad-home-XXXXXX").string();
   if (!mkdtemp(pattern.data())) throw FileError("frepcad: cannot create a temporary folder");
-  const fs::path home = pattern;
+  const TemporaryHome temporary{pattern};
+  const fs::path& home = temporary.path;
   fs::create_directories(home / "Mod");
   fs::create_directory_symlink(fs::absolute(workbench), home / "Mod" / "FRep");
 
@@ -131,8 +159,6 @@ int exportDocument(const ExportOptions& o) {
   posix_spawn_file_actions_destroy(&files);
   // (FreeCAD's export script cancels on a SIGTERM and removes its temporary file)
   if (err == 0) status = waitPassingOnInterrupts(pid);
-  std::error_code ignored;
-  fs::remove_all(home, ignored);
   if (err != 0)
     throw FileError("frepcad: cannot run " + freecadcmd +
                     " (install FreeCAD: apt-get install "

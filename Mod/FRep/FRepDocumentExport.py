@@ -9,6 +9,7 @@ written, 1 not printable (nothing written), 2 bad input, 3 internal error, 130 c
 
 import argparse
 import json
+import math
 import os
 import signal
 import sys
@@ -83,44 +84,125 @@ def validate_document(path):
     return declared
 
 
-def apply_override(doc, text):
+def shortened(text, limit=80):
+    """`text` whole when short, else its start and its length: a message echoes no 100,000
+    characters."""
+    return text if len(text) <= limit else "%s... (%d characters)" % (text[:limit], len(text))
+
+
+TRUE_WORDS, FALSE_WORDS = ("1", "true", "yes", "on"), ("0", "false", "no", "off")
+
+
+def finite(word, what):
+    """`word` as a finite float, or a UsageError saying what `what` takes."""
+    try:
+        x = float(word)
+    except ValueError:
+        raise UsageError("%s: '%s' is not a number" % (what, shortened(word.strip())))
+    if not math.isfinite(x):
+        raise UsageError("%s: %s is not a finite number" % (what, shortened(word.strip())))
+    return x
+
+
+def parsed_value(obj, prop, value, what):
+    """The value to give obj.prop for the text `value`, checked against the property's type:
+    a quantity of the property's unit, a whole number, a finite number, a boolean word, three
+    numbers for a vector, one of an enumeration's values, or text."""
     import FreeCAD
+    current = getattr(obj, prop)
+    value = value.strip()
+    if not value:
+        raise UsageError("%s: a value is needed after '='" % what)
+    if isinstance(current, FreeCAD.Units.Quantity):
+        unit = current.getUserPreferred()[2]
+        try:
+            q = FreeCAD.Units.Quantity(value)
+        except Exception:  # FreeCAD's parser raises its own error types
+            raise UsageError("%s: '%s' is not a quantity (a number, with a unit or without: "
+                             "%s is taken then)" % (what, shortened(value), unit))
+        if q.Unit == FreeCAD.Units.Unit():
+            # a plain number: Python's reading (FreeCAD's parser reads 300 nines as 0)
+            return FreeCAD.Units.Quantity(finite(value, what), current.Unit)
+        if not math.isfinite(q.Value):
+            raise UsageError("%s: %s is not a finite quantity" % (what, shortened(value)))
+        if q.Unit != current.Unit:
+            raise UsageError("%s: the property is in %s; '%s' is another kind of quantity"
+                             % (what, unit, shortened(value)))
+        return q
+    if isinstance(current, bool):
+        if value.lower() in TRUE_WORDS or value.lower() in FALSE_WORDS:
+            return value.lower() in TRUE_WORDS
+        raise UsageError("%s: '%s' is not a yes or no; allowed: %s" % (
+            what, shortened(value), ", ".join(TRUE_WORDS + FALSE_WORDS)))
+    if isinstance(current, int):
+        try:
+            return int(value)
+        except ValueError:
+            raise UsageError("%s: '%s' is not a whole number" % (what, shortened(value)))
+    if isinstance(current, float):
+        return finite(value, what)
+    if isinstance(current, FreeCAD.Vector):
+        words = value.split(",")
+        if len(words) != 3:
+            raise UsageError("%s: a vector takes three numbers x,y,z; got %d" % (what,
+                                                                                 len(words)))
+        return FreeCAD.Vector(*[finite(w, what) for w in words])
+    if obj.getTypeIdOfProperty(prop) == "App::PropertyEnumeration":
+        allowed = obj.getEnumerationsOfProperty(prop)
+        if value not in allowed:
+            raise UsageError("%s: '%s' is not one of its values; allowed: %s"
+                             % (what, shortened(value), ", ".join(allowed)))
+        return value
+    if isinstance(current, str):
+        return value
+    raise UsageError("%s: a %s cannot be set from the command line; allowed: numbers, "
+                     "quantities, yes/no, vectors, enumerations and text"
+                     % (what, obj.getTypeIdOfProperty(prop)))
+
+
+def stored_as_asked(current, asked):
+    """Whether FreeCAD kept the value it was given: a length property clamps -1 to 0 and an
+    overflow to 0 without a word."""
+    import FreeCAD
+    if isinstance(asked, FreeCAD.Units.Quantity):
+        current, asked = current.Value, asked.Value
+    if isinstance(asked, float) and not isinstance(asked, bool):
+        return abs(current - asked) <= 1e-9 * max(1.0, abs(asked))
+    return True
+
+
+def apply_override(doc, text):
     if "=" not in text or "." not in text.split("=", 1)[0]:
-        raise UsageError("--set %s: expected Object.Property=value" % text)
+        raise UsageError("--set %s: expected Object.Property=value" % shortened(text))
     target, value = text.split("=", 1)
     name, prop = target.split(".", 1)
+    what = "--set %s" % shortened(target)
     obj = doc.getObject(name) or next(iter(doc.getObjectsByLabel(name)), None)
     if obj is None:
-        raise UsageError("--set %s: no object '%s' in %s" % (text, name, doc.Label))
+        raise UsageError("%s: no object '%s' in %s" % (what, shortened(name), doc.Label))
     if obj.TypeId == "Spreadsheet::Sheet":
+        if not value.strip():
+            raise UsageError("%s: a value is needed after '='" % what)
         cell = obj.getCellFromAlias(prop) or prop
         obj.set(cell, value)
         return
     if prop not in obj.PropertiesList:
-        raise UsageError("--set %s: %s has no property '%s'; properties: %s"
-                         % (text, obj.Label, prop, ", ".join(sorted(obj.PropertiesList))))
+        raise UsageError("%s: %s has no property '%s'; properties: %s"
+                         % (what, obj.Label, shortened(prop),
+                            ", ".join(sorted(obj.PropertiesList))))
     driven = [e for p_, e in obj.ExpressionEngine if p_ == prop or p_.startswith(prop + ".")]
     if driven:
-        raise UsageError("--set %s: %s.%s is driven by the expression '%s'; set what it reads "
-                         "instead (e.g. the spreadsheet cell)" % (text, obj.Label, prop,
+        raise UsageError("%s: %s.%s is driven by the expression '%s'; set what it reads "
+                         "instead (e.g. the spreadsheet cell)" % (what, obj.Label, prop,
                                                                   driven[0]))
-    current = getattr(obj, prop)
+    asked = parsed_value(obj, prop, value, what)
     try:
-        if isinstance(current, FreeCAD.Units.Quantity):
-            q = FreeCAD.Units.Quantity(value)
-            setattr(obj, prop, q if str(q.Unit) != "Unit: ()" else float(value))
-        elif isinstance(current, bool):
-            setattr(obj, prop, value.lower() in ("1", "true", "yes", "on"))
-        elif isinstance(current, int):
-            setattr(obj, prop, int(value))
-        elif isinstance(current, float):
-            setattr(obj, prop, float(value))
-        elif isinstance(current, FreeCAD.Vector):
-            setattr(obj, prop, FreeCAD.Vector(*[float(v) for v in value.split(",")]))
-        else:
-            setattr(obj, prop, value)
-    except Exception as e:  # ValueError, TypeError, FreeCAD's range errors
-        raise UsageError("--set %s: %s" % (text, e))
+        setattr(obj, prop, asked)
+    except Exception as e:  # FreeCAD's range and type errors
+        raise UsageError("%s: FreeCAD refuses '%s': %s" % (what, shortened(value.strip()), e))
+    if not stored_as_asked(getattr(obj, prop), asked):
+        raise UsageError("%s: %s is out of the property's range (FreeCAD would store %s)"
+                         % (what, shortened(value.strip()), getattr(obj, prop)))
 
 
 def choose_object(doc, name):
@@ -143,6 +225,15 @@ def choose_object(doc, name):
                      "with --object NAME" % (doc.Label, len(meshes), len(tops)))
 
 
+def quiet_console_errors(quiet):
+    """FreeCAD's console prints errors on stderr: off while the document recomputes."""
+    import FreeCAD
+    try:
+        FreeCAD.Console.SetStatus("Console", "Err", not quiet)
+    except Exception:  # (no such observer in this FreeCAD: its lines stay)
+        pass
+
+
 def report_stream():
     """fd 3 is frepcad's stdout (FreeCAD's own stdout chatter goes to /dev/null)."""
     try:
@@ -157,10 +248,13 @@ def main(out):
     import FRepExport
     from FRepPaths import frepcore
     declared = validate_document(args.document)
+    quiet_console_errors(True)  # (a damaged value is named below, by its object)
     try:
         doc = FreeCAD.openDocument(os.path.abspath(args.document))
     except Exception as e:  # FreeCAD's own errors (Base.FreeCADError) are not ValueErrors
         raise UsageError("%s: FreeCAD cannot open it: %s" % (args.document, e))
+    finally:
+        quiet_console_errors(False)
     # Objects FreeCAD could not make (an unknown class or module, a damaged entry) are
     # dropped silently by openDocument: an export of what survived would be wrong.
     missing = [(n, t) for n, t in declared if doc.getObject(n) is None]
@@ -173,10 +267,15 @@ def main(out):
     chosen = [choose_object(doc, name) for name in args.objects] or [choose_object(doc, "")]
     for o in doc.Objects:  # recompute everything: the saved results may be stale
         o.touch()
+    # FreeCAD reports each failed feature on its console ("Error: ...", then "Recompute
+    # failed! Please check report view."): the failures are gathered below into one line.
+    quiet_console_errors(True)
     try:
         doc.recompute()
     except Exception as e:
         raise UsageError("%s: recompute failed: %s" % (args.document, e))
+    finally:
+        quiet_console_errors(False)
     failed = [o for o in doc.Objects if not o.isValid()]
     if failed:
         raise UsageError("; ".join(o.getStatusString() for o in failed))

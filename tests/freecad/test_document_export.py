@@ -57,12 +57,41 @@ def test_bad_overrides_are_clear_errors_and_write_nothing(sheet_document, tmp_pa
         (["--set", "Parameters.Ball=-1"], "Ball: property 'Radius' = -1 mm is out of range"),
         (["--set", "Cube.Colour=1"], "has no property 'Colour'"),
         (["--object", "Missing"], "--object Missing: no such object"),
+        (["--set", "Ball.Center=1,2"], "a vector takes three numbers x,y,z; got 2"),
+        (["--set", "Ball.Center=1,2,nan"], "nan is not a finite number"),
+        (["--set", "Ball.Center=1 deg,2,3"], "'1 deg' is not a number"),
+        (["--set", "Parameters.Ball="], "a value is needed after '='"),
+        (["--set", "Part.Bypass=maybe"], "'maybe' is not a yes or no; allowed: 1, true"),
+        (["--set", "Part.Placement=1"], "App::PropertyPlacement cannot be set from the "
+                                        "command line"),
+        (["--set", "Ball.Center=1,2," + "9" * 100000], "(100000 characters)"),
     ]
     for extra, message in cases:
         r = frepcad(sheet_document, "-o", out, *extra)
         assert r.returncode == 2, (extra, r.stdout, r.stderr)
         assert message in r.stderr, (extra, r.stderr)
+        # one line, however FreeCAD reported it on its console, and no value echoed whole
+        assert len(r.stderr.strip().splitlines()) == 1, r.stderr
+        assert len(r.stderr) < 400, len(r.stderr)
         assert not os.path.exists(out)
+
+
+def test_a_value_that_is_not_utf8_is_one_line_and_leaves_no_temporary_home(sheet_document,
+                                                                           tmp_path):
+    private = tmp_path / "tmp"
+    private.mkdir()
+    r = subprocess.run([os.environ["FREPCAD_BIN"], "export", sheet_document, "-o",
+                        str(tmp_path / "x.stl"), "--set", b"Ball.Center=\xff,1,1"],
+                       capture_output=True, timeout=300, env=dict(os.environ, TMPDIR=str(private)))
+    err = r.stderr.decode("utf-8", "replace")
+    assert r.returncode == 2, err
+    assert "is not UTF-8 text" in err and len(err.strip().splitlines()) == 1, err
+    assert list(private.iterdir()) == []
+    # a failed export through FreeCAD removes its temporary home too
+    r = subprocess.run([os.environ["FREPCAD_BIN"], "export", sheet_document, "-o",
+                        str(tmp_path / "x.stl"), "--set", "Nope.X=1"],
+                       capture_output=True, timeout=300, env=dict(os.environ, TMPDIR=str(private)))
+    assert r.returncode == 2 and list(private.iterdir()) == []
 
 
 def test_same_options_as_json_models(sheet_document, tmp_path):
