@@ -108,6 +108,7 @@ int checkCommand(const Args& args) {
     std::cout << (json ? reportToJson(report, path) : reportToText(report, path));
     return report.printable() ? 0 : 1;
   }
+  po.thickness = report.printable();
   const PrintabilityReport p = measurePrintability(mesh, po);
   addPrintabilityReasons(report, p, po);
   if (json)

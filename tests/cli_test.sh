@@ -333,6 +333,44 @@ expect 2 "the rebuild at voxel size 1e-05 covers about [0-9]+ million voxels of 
 [ $(($(date +%s) - start)) -lt 10 ] || { echo "FAIL: the too-large rebuild took $(($(date +%s) - start)) s to refuse"; failures=$((failures + 1)); }
 expect 0 "Hausdorff distance   (0|[0-9.]+e-1[0-9])$" -- "$frepcad" compare "$work/ball.obj" "$work/ball.obj"
 
+# bounded work on small hostile inputs: each refused or finished within 10 s with one clear line
+python3 - "$work" <<'PY'
+import math, struct, sys
+def stl(path, tris):
+    with open(path, "wb") as f:
+        f.write(b" " * 80 + struct.pack("<I", len(tris)))
+        for t in tris:
+            f.write(struct.pack("<12fH", 0, 0, 0, *t[0], *t[1], *t[2], 0))
+c = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
+quads = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+cube = [t for q in quads for t in ((c[q[0]], c[q[1]], c[q[2]]), (c[q[0]], c[q[2]], c[q[3]]))]
+stl(sys.argv[1] + "/cubes.stl", cube * 20000)              # one cube 20,000 times over
+stl(sys.argv[1] + "/point.stl", [((0.5, 0.5, 0.5),) * 3] * 300000)  # triangles on one point
+n = 30000                                                   # a closed bicone of 60,000 slivers
+ring = [(math.cos(2 * math.pi * i / n), math.sin(2 * math.pi * i / n), 0) for i in range(n)]
+stl(sys.argv[1] + "/bicone.stl", [t for i in range(n) for t in (
+    ((0, 0, 1), ring[i], ring[(i + 1) % n]), ((0, 0, -1), ring[(i + 1) % n], ring[i]))])
+import random
+r = random.Random(1)                                        # 30,000 random crossing triangles
+stl(sys.argv[1] + "/random.stl", [tuple(tuple(r.random() for _ in range(3)) for _ in range(3))
+                                  for _ in range(30000)])
+with open(sys.argv[1] + "/bigface.obj", "w") as f:          # one polygon of 200,000 corners
+    f.writelines("v %f %f 0\n" % (math.cos(i * 3e-5), math.sin(i * 3e-5)) for i in range(200000))
+    f.write("f " + " ".join(str(i + 1) for i in range(200000)) + "\n")
+PY
+within10() {  # within10 CODE PATTERN -- command...: expect, and in under 10 s
+  local start=$(date +%s.%N)
+  expect "$@"
+  local took=$(echo "$(date +%s.%N) - $start" | bc)
+  awk -v t="$took" 'BEGIN { exit !(t < 10) }' || { echo "FAIL: took ${took} s: ${*:4}"; failures=$((failures + 1)); }
+}
+within10 0 "wrote .*cubes-repaired.stl" -- "$frepcad" repair "$work/cubes.stl" -o "$work/cubes-repaired.stl"
+within10 0 "^  triangles            12$" -- "$frepcad" check "$work/cubes-repaired.stl"
+within10 0 "Hausdorff distance" -- "$frepcad" compare "$work/point.stl" "$work/cubes.stl"
+within10 2 "too crowded to test for self-intersections" -- "$frepcad" check "$work/bicone.stl"
+within10 2 "a face of 200000 corners; at most 10000 are read" -- "$frepcad" check "$work/bigface.obj"
+within10 1 "thinnest wall        not measured \(the mesh is not printable" -- "$frepcad" check "$work/random.stl" --print
+
 # the printability report
 expect 0 "thinnest wall        1\.9" -- "$frepcad" check "$work/s.stl" --print --material pla
 expect 0 "mass                 [0-9.]+ g" -- "$frepcad" check "$work/s.stl" --print --material pla

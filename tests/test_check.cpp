@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <optional>
 #include <random>
@@ -16,10 +16,10 @@
 #include "check/partitioned_check.h"
 #include "check/self_intersections.h"
 #include "check/volume_nesting.h"
-#include "frep/tree.h"
-#include "mesh/mesher.h"
 #include "frep/model_json.h"
 #include "frep/program.h"
+#include "frep/tree.h"
+#include "mesh/mesher.h"
 
 namespace frep {
 namespace {
@@ -142,7 +142,7 @@ TEST(Check, DistinctPointsAreNumberedAsASerialPassNumbersThem) {
         if (twinsEvery && i > 0 && pick(g) % twinsEvery == 0)
           points[i] = points[static_cast<std::size_t>(pick(g)) % i];  // a twin, near or far
         if (i % 997 == 5) points[i][0] = (i % 2 ? -0.0f : 0.0f);      // -0 and +0
-        if (i % 1999 == 7) points[i][1] = nan;                          // never equal
+        if (i % 1999 == 7) points[i][1] = nan;                        // never equal
       }
       // the reference: a serial pass with a map
       std::map<std::array<float, 3>, std::uint32_t> seen;
@@ -386,6 +386,30 @@ TEST(Check, SlabsOfTheGridCountAsCgal) {
         << "slabs of " << slab << " entries";
 }
 
+// Faces crowding one place (a fan of hundreds of slivers round one vertex, a pile of
+// copies) make the grid pay too many pairs a face: CGAL's box tree finds the pairs then, and
+// the count is still CGAL's, folded fans (crossings) and piles alike.
+TEST(Check, CrowdedFacesAreCountedThroughTheBoxTreeAsCgal) {
+  std::mt19937 g(11);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int i = 0; i < 6; ++i) {
+    const int n = 300 + 50 * i;
+    std::vector<Vec3f> points = {{0, 0, 0}};
+    for (int k = 0; k < n; ++k) {
+      float a = 6.2831853f * (static_cast<float>(k) + 0.5f * unit(g)) / n;
+      if (i % 2 == 1 && k % 37 == 0) a += 0.3f;  // folded over its neighbours: crossings
+      points.push_back({std::cos(a), std::sin(a), 0.2f * (unit(g) - 0.5f)});
+    }
+    std::vector<FaceIndices> faces;
+    for (int k = 0; k < n; ++k)
+      faces.push_back(
+          {0, static_cast<std::uint32_t>(1 + k), static_cast<std::uint32_t>(1 + (k + 1) % n)});
+    const std::size_t cgal = countSelfIntersectionsWithCgal(points, faces);
+    EXPECT_EQ(countSelfIntersections(points, faces), cgal) << "fan " << i;
+    if (i % 2 == 1) EXPECT_GT(cgal, 0u) << "fan " << i;
+  }
+}
+
 // A fan proved embedded (face_pair_test.h) has no intersecting pair of faces by CGAL's own
 // count, on random fans round a vertex: neighbours in order or shuffled, winding once or
 // twice, flat, bent, folded over, and on integer lattice points (exact coplanar overlaps).
@@ -582,10 +606,11 @@ TEST(Check, OrientationOfOneAndOfNestedComponents) {
   const CheckReport fh = checkMesh(fineHollow);
   EXPECT_EQ(fh.components, 3u);
   EXPECT_TRUE(fh.printable()) << (fh.reasons.empty() ? "" : fh.reasons[0]);
-  EXPECT_FALSE(checkMesh(merged(merged(fine, scaled(fine, 0.5f, 0)), scaled(fine, 1.0f, 3))).outward);
   EXPECT_FALSE(
-      checkMesh(merged(merged(fine, flipped(scaled(fine, 0.5f, 0))), flipped(scaled(fine, 1.0f, 3))))
-          .outward);
+      checkMesh(merged(merged(fine, scaled(fine, 0.5f, 0)), scaled(fine, 1.0f, 3))).outward);
+  EXPECT_FALSE(checkMesh(merged(merged(fine, flipped(scaled(fine, 0.5f, 0))),
+                                flipped(scaled(fine, 1.0f, 3))))
+                   .outward);
   // the rays decide it (CGAL's fallback would hide facts gathered wrongly)
   const std::size_t n = fine.triangles.size();
   std::vector<std::uint32_t> component(3 * n);
@@ -670,13 +695,17 @@ std::optional<CheckReport> checkInParts(const TriangleMesh& m, int splits, int m
   for (const Triangle& t : m.triangles) {
     std::size_t cell = 0;
     for (int a = 2; a >= 0; --a) {
-      const double c = (double(m.positions[t[0]][a]) + m.positions[t[1]][a] + m.positions[t[2]][a]) / 3;
-      const int i = std::clamp(static_cast<int>((c - all.lo[a]) / (all.hi[a] - all.lo[a] + 1e-30) * splits), 0, splits - 1);
+      const double c =
+          (double(m.positions[t[0]][a]) + m.positions[t[1]][a] + m.positions[t[2]][a]) / 3;
+      const int i =
+          std::clamp(static_cast<int>((c - all.lo[a]) / (all.hi[a] - all.lo[a] + 1e-30) * splits),
+                     0, splits - 1);
       cell = cell * static_cast<std::size_t>(splits) + static_cast<std::size_t>(i);
     }
     Triangle local;
     for (int k = 0; k < 3; ++k) {
-      const auto [at, fresh] = index[cell].try_emplace(t[k], static_cast<std::uint32_t>(parts[cell].positions.size()));
+      const auto [at, fresh] =
+          index[cell].try_emplace(t[k], static_cast<std::uint32_t>(parts[cell].positions.size()));
       if (fresh) parts[cell].positions.push_back(m.positions[t[k]]);
       local[k] = at->second;
     }
@@ -720,8 +749,9 @@ std::optional<CheckReport> checkInParts(const TriangleMesh& m, int splits, int m
       parts[i].triangles = keep;
     }
   for (std::size_t i = 0; i < n; ++i) {
-    const bool inside = mode == 0 ? check.addPart(i, parts[i])
-                                  : check.addSummary(i, PartitionedCheck::judgePart(boxes, i, parts[i]));
+    const bool inside = mode == 0
+                            ? check.addPart(i, parts[i])
+                            : check.addSummary(i, PartitionedCheck::judgePart(boxes, i, parts[i]));
     if (!inside) return std::nullopt;
     if (!late[i].triangles.empty()) check.addZoneFaces(late[i]);
   }
@@ -769,8 +799,9 @@ TEST(Check, CheckInPartsAgreesWithTheWholeCheck) {
       if (!parts) continue;
       ++decided;
       broken += !whole.printable();
-      expectSameReport(*parts, whole, what + " in " + std::to_string(splits * splits * splits) +
-                                          " parts, mode " + std::to_string(mode));
+      expectSameReport(*parts, whole,
+                       what + " in " + std::to_string(splits * splits * splits) + " parts, mode " +
+                           std::to_string(mode));
     }
   };
   for (int i = 0; i < 150; ++i) {

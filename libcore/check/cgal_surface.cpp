@@ -6,10 +6,15 @@
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
+#include <CGAL/box_intersection_d.h>
 
 #include <algorithm>
 #include <atomic>
 #include <boost/iterator/function_output_iterator.hpp>
+#include <string>
+
+#include "base/errors.h"
+#include "check/face_pair_test.h"
 
 namespace frep {
 
@@ -50,8 +55,8 @@ SurfaceMesh surfaceMesh(const std::vector<Vec3f>& points, const std::vector<Face
 }  // namespace
 
 std::size_t countSelfIntersectionsWithCgal(const std::vector<Vec3f>& points,
-                                           const std::vector<FaceIndices>& faces,
-                                           bool polygonMesh, std::size_t limit) {
+                                           const std::vector<FaceIndices>& faces, bool polygonMesh,
+                                           std::size_t limit) {
   const SurfaceMesh sm = surfaceMesh(points, faces, polygonMesh);
   std::atomic<std::size_t> pairs{0};
   auto counter = boost::make_function_output_iterator([&](const auto&) {
@@ -73,6 +78,43 @@ std::size_t countSelfIntersectionsWithCgal(const std::vector<Vec3f>& points,
 
 bool boundsAVolume(const std::vector<Vec3f>& points, const std::vector<FaceIndices>& faces) {
   return PMP::does_bound_a_volume(surfaceMesh(points, faces, true));
+}
+
+std::size_t countSelfIntersectionsByBoxTree(const std::vector<Vec3f>& points,
+                                            const std::vector<FaceIndices>& faces,
+                                            const std::vector<char>& dead, std::size_t limit) {
+  using BoxD = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
+  std::vector<BoxD> boxes;
+  boxes.reserve(faces.size());
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    if (dead[i]) continue;
+    const FaceIndices& f = faces[i];
+    double lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min({points[f[0]][k], points[f[1]][k], points[f[2]][k]});
+      hi[k] = std::max({points[f[0]][k], points[f[1]][k], points[f[2]][k]});
+    }
+    boxes.emplace_back(lo, hi, static_cast<std::uint32_t>(i));
+  }
+  std::atomic<std::size_t> tested{0}, found{0};
+  auto test = [&](const BoxD& a, const BoxD& b) {
+    if (tested.fetch_add(1, std::memory_order_relaxed) >= kMaxBoxPairsTested)
+      throw ModelError(
+          "check: over " + std::to_string(kMaxBoxPairsTested / 1000000) +
+          " million pairs of triangles lie on top of each other's boxes (slivers fanning "
+          "from one vertex, or triangles piled in one place): too crowded to test for "
+          "self-intersections in reasonable time; the mesh is refused");
+    if (facesIntersect(points, faces[a.info()], faces[b.info()]) &&
+        found.fetch_add(1, std::memory_order_relaxed) + 1 >= limit)
+      throw Enough();
+  };
+  try {
+    CGAL::box_self_intersection_d<CGAL::Parallel_if_available_tag>(boxes.begin(), boxes.end(),
+                                                                   test);
+  } catch (const Enough&) {
+    return limit;
+  }
+  return std::min<std::size_t>(found, limit);
 }
 
 }  // namespace frep

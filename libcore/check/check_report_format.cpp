@@ -95,7 +95,10 @@ std::string printabilityToText(const PrintabilityReport& r, const PrintabilityOp
     os << "  thinnest wall        " << r.minWall << " at [" << r.minWallAt[0] << ", "
        << r.minWallAt[1] << ", " << r.minWallAt[2] << "]\n";
   else
-    os << "  thinnest wall        not measured (no ray met the surface again: an open mesh?)\n";
+    os << "  thinnest wall        not measured ("
+       << (o.thickness ? "no ray met the surface again: an open mesh?"
+                       : "the mesh is not printable, so it has no walls to measure")
+       << ")\n";
   if (o.minWall)
     os << "  thinner than " << *o.minWall << "    " << r.thinTriangles << " triangles, area "
        << r.thinArea << "\n";

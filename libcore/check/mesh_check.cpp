@@ -306,6 +306,10 @@ void vertexFaces(std::size_t vertices, const std::vector<FaceIndices>& faces,
                       for (std::size_t v = r.begin(); v != r.end(); ++v) {
                         std::uint32_t* b = incident.data() + start[v];
                         std::uint32_t* e = incident.data() + start[v + 1];
+                        if (e - b > 32) {  // (a pile of copies: 100,000 faces on a vertex)
+                          std::sort(b, e);
+                          continue;
+                        }
                         for (std::uint32_t* i = b + 1; i < e; ++i)  // (insertion: a few each)
                           for (std::uint32_t* j = i; j > b && j[-1] > j[0]; --j)
                             std::swap(j[-1], j[0]);

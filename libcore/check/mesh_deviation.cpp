@@ -7,6 +7,7 @@
 #include <CGAL/Simple_cartesian.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -24,24 +25,46 @@ using Tri = Kernel::Triangle_3;
 using Primitive = CGAL::AABB_triangle_primitive<Kernel, std::vector<Tri>::const_iterator>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
 
+// The mesh's distinct finite triangles: copies (a cube repeated 100,000 times, a million
+// triangles on one point) add nothing to a distance and would make every query visit them.
 std::vector<Tri> triangles(const TriangleMesh& m) {
-  std::vector<Tri> t;
-  t.reserve(m.triangles.size());
-  auto p = [&](std::uint32_t v) {
-    const Vec3f& q = m.positions[v];
-    return Point(q[0], q[1], q[2]);
-  };
+  std::vector<std::array<float, 9>> keys;
+  keys.reserve(m.triangles.size());
   for (const Triangle& f : m.triangles) {
     if (f[0] >= m.positions.size() || f[1] >= m.positions.size() || f[2] >= m.positions.size())
       continue;
-    Tri tri(p(f[0]), p(f[1]), p(f[2]));
+    std::array<Vec3f, 3> c = {m.positions[f[0]], m.positions[f[1]], m.positions[f[2]]};
     bool finite = true;
-    for (int i = 0; i < 3; ++i)
-      finite = finite && std::isfinite(tri[i].x()) && std::isfinite(tri[i].y()) &&
-               std::isfinite(tri[i].z());
-    if (finite) t.push_back(tri);
+    for (const Vec3f& q : c)
+      finite = finite && std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2]);
+    if (!finite) continue;
+    std::sort(c.begin(), c.end());  // the same triangle however its corners are listed
+    keys.push_back(
+        {c[0][0], c[0][1], c[0][2], c[1][0], c[1][1], c[1][2], c[2][0], c[2][1], c[2][2]});
   }
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  std::vector<Tri> t;
+  t.reserve(keys.size());
+  for (const auto& k : keys)
+    t.emplace_back(Point(k[0], k[1], k[2]), Point(k[3], k[4], k[5]), Point(k[6], k[7], k[8]));
   return t;
+}
+
+// The distance queries' starting hints: the triangles' distinct corners, each with a
+// triangle it belongs to. CGAL's default (one corner per triangle, repeats kept) builds its
+// k-d tree one level per repeat when thousands of triangles share a corner (a fan's apex).
+void accelerate(Tree& tree, const std::vector<Tri>& tris) {
+  std::vector<std::pair<Point, std::vector<Tri>::const_iterator>> hints;
+  hints.reserve(3 * tris.size());
+  for (auto it = tris.begin(); it != tris.end(); ++it)
+    for (int i = 0; i < 3; ++i) hints.emplace_back((*it)[i], it);
+  auto less = [](const auto& a, const auto& b) { return a.first < b.first; };
+  std::sort(hints.begin(), hints.end(), less);
+  hints.erase(std::unique(hints.begin(), hints.end(),
+                          [](const auto& a, const auto& b) { return a.first == b.first; }),
+              hints.end());
+  tree.accelerate_distance_queries(hints.begin(), hints.end());
 }
 
 // Vertices and face centres (every triangle's when they fit in n, else an even stride
@@ -82,6 +105,30 @@ bool insideByRays(const Tree& tree, const Point& p) {
   return odd >= 2;
 }
 
+// How many samples the distance queries can afford: a query visits every triangle whose box
+// could hold a nearer point, and in a soup of large crossing triangles (each box a good part
+// of the whole) that is most of them. The boxes' summed volume over the whole box's says how
+// deep they pile; a surface's boxes pile a fraction of one deep, 30,000 random triangles in a
+// cube thousands. Past kDeepestPile the samples shrink in proportion (at least 1,000), so the
+// measure of a soup stays seconds and is the same every time.
+constexpr double kDeepestPile = 64.0;
+std::size_t affordableSamples(const std::vector<Tri>& tris, std::size_t wanted) {
+  CGAL::Bbox_3 all;
+  for (const Tri& t : tris) all += t.bbox();
+  const double pad = 1e-3 * std::sqrt(CGAL::square(all.xmax() - all.xmin()) +
+                                      CGAL::square(all.ymax() - all.ymin()) +
+                                      CGAL::square(all.zmax() - all.zmin()));
+  auto volume = [pad](const CGAL::Bbox_3& b) {
+    return (b.xmax() - b.xmin() + pad) * (b.ymax() - b.ymin() + pad) * (b.zmax() - b.zmin() + pad);
+  };
+  double piled = 0;
+  for (const Tri& t : tris) piled += volume(t.bbox());
+  const double depth = piled / volume(all);
+  if (!(depth > kDeepestPile)) return wanted;
+  return std::max<std::size_t>(std::min<std::size_t>(wanted, 1000),
+                               static_cast<std::size_t>(double(wanted) * kDeepestPile / depth));
+}
+
 void measure(const std::vector<Point>& from, const Tree& to, double& largest, double& mean) {
   double sum = 0;
   for (const Point& p : from) {
@@ -100,9 +147,11 @@ DeviationReport meshDeviation(const TriangleMesh& a, const TriangleMesh& b,
   if (ta.empty() || tb.empty())
     throw FileError("a mesh without triangles has no distance to another");
   Tree treeA(ta.begin(), ta.end()), treeB(tb.begin(), tb.end());
-  treeA.accelerate_distance_queries();
-  treeB.accelerate_distance_queries();
-  const std::vector<Point> sa = samples(ta, samplesPerMesh), sb = samples(tb, samplesPerMesh);
+  accelerate(treeA, ta);
+  accelerate(treeB, tb);
+  // (each mesh's samples are queried in the other's tree)
+  const std::vector<Point> sa = samples(ta, affordableSamples(tb, samplesPerMesh)),
+                           sb = samples(tb, affordableSamples(ta, samplesPerMesh));
   DeviationReport r;
   measure(sa, treeB, r.aToB, r.meanAToB);
   measure(sb, treeA, r.bToA, r.meanBToA);
@@ -116,8 +165,8 @@ double largestDistanceOutside(const TriangleMesh& a, const TriangleMesh& solid,
   if (ta.empty() || tb.empty())
     throw FileError("a mesh without triangles has no distance to another");
   Tree tree(tb.begin(), tb.end());
-  tree.accelerate_distance_queries();
-  const std::vector<Point> points = samples(ta, samplesPerMesh);
+  accelerate(tree, tb);
+  const std::vector<Point> points = samples(ta, affordableSamples(tb, samplesPerMesh));
   std::vector<std::pair<double, std::size_t>> byDistance(points.size());
   for (std::size_t i = 0; i < points.size(); ++i)
     byDistance[i] = {tree.squared_distance(points[i]), i};

@@ -119,9 +119,10 @@ PrintabilityReport measurePrintability(const TriangleMesh& mesh, const Printabil
   if (o.density > 0) r.mass = std::abs(r.volume) * o.density / 1000.0;  // mm^3 * g/cm^3 -> g
 
   // Thickness: rays from each triangle's centre, against its normal, in a cone.
+  r.thickness.assign(n, -1.0f);
+  if (!o.thickness) return r;
   Tree tree(tris.begin(), tris.end());
   tree.build();
-  r.thickness.assign(n, -1.0f);
   const double cone = o.coneDeg * M_PI / 180.0;
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
     const Tri& t = tris[i];

@@ -33,6 +33,9 @@ struct PrintabilityOptions {
   double density = 0.0;           // g/cm^3 (model units taken as mm); 0: no mass
   double coneDeg = 20.0;          // half-angle of the cone of rays
   int rays = 9;                   // rays per triangle
+  // Measure the walls. Off for a mesh the check refuses: an open or crossing surface has no
+  // walls, and rays through a soup of large crossing triangles meet every one of them.
+  bool thickness = true;
 };
 
 struct PrintabilityReport {

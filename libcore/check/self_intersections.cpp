@@ -10,6 +10,7 @@
 #include <atomic>
 #include <cmath>
 #include <optional>
+#include <string>
 
 #include "base/phase_times.h"
 #include "check/cgal_surface.h"
@@ -210,7 +211,12 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
       hi[k] = index(b.hi[k], k);
     }
   };
-  if (!grid) return countSelfIntersectionsWithCgal(points, faces, true, limit);
+  auto byBoxTree = [&] {
+    return count >= limit
+               ? limit
+               : count + countSelfIntersectionsByBoxTree(points, faces, dead, limit - count);
+  };
+  if (!grid) return byBoxTree();
   const std::uint64_t dx = static_cast<std::uint64_t>(dims[0]);
   const std::uint64_t dxy = dx * static_cast<std::uint64_t>(dims[1]);
   const std::uint64_t layers = static_cast<std::uint64_t>(dims[2]);
@@ -283,8 +289,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
     for (std::size_t k = 0; k < counts.size(); ++k) layerEntries[k] += counts[k];
   double totalEntries = 0.0;
   for (double e : layerEntries) totalEntries += e;
-  if (giant || totalEntries > kMaxEntriesPerFace * n)
-    return countSelfIntersectionsWithCgal(points, faces, true, limit);
+  if (giant || totalEntries > kMaxEntriesPerFace * n) return byBoxTree();
   std::vector<std::uint64_t> slabStart{0};
   const double perSlab = slabEntries > 0
                              ? static_cast<double>(slabEntries)
@@ -383,8 +388,7 @@ std::size_t countSelfIntersections(const std::vector<Vec3f>& points,
       pairs += b;
       b = 0.0;
     }
-    if (pairs > kMaxPairsPerFace * n)
-      return countSelfIntersectionsWithCgal(points, faces, true, limit);
+    if (pairs > kMaxPairsPerFace * n) return byBoxTree();
     // A range of entries [begin, end) stands for the cells that start in it.
     auto startsCell = [&](std::size_t e) { return e == 0 || cellOf(e) != cellOf(e - 1); };
 

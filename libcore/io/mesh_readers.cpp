@@ -68,9 +68,18 @@ Vec3f strictPoint(const std::vector<std::string>& words, std::size_t first,
   return p;
 }
 
+// The most corners a polygon may have: it becomes a fan of slivers from its first corner,
+// whose pairs the check must test (a million-corner face is half a trillion pairs); real
+// polygons, a cylinder's cap included, have a few hundred to a few thousand.
+constexpr std::size_t kMaxPolygonCorners = 10000;
+
 // Adds a polygon as a fan of triangles after checking its indices.
 void addPolygon(TriangleMesh& m, const std::vector<long long>& ids, const std::string& where) {
   if (ids.size() < 3) throw FileError(where + ": a face needs at least 3 vertices");
+  if (ids.size() > kMaxPolygonCorners)
+    throw FileError(where + ": a face of " + std::to_string(ids.size()) + " corners; at most " +
+                    std::to_string(kMaxPolygonCorners) +
+                    " are read (a polygon becomes a fan of slivers from its first corner)");
   for (long long id : ids)
     if (id < 0 || static_cast<std::size_t>(id) >= m.positions.size())
       throw FileError(where + ": vertex index " + std::to_string(id) + " out of range (" +

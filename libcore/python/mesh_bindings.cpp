@@ -155,8 +155,9 @@ void bindMesh(py::module_& m) {
             CheckReport c;
             {
               py::gil_scoped_release release;
-              p = measurePrintability(t, o);
               c = checkMesh(t);
+              o.thickness = c.printable();
+              p = measurePrintability(t, o);
               addPrintabilityReasons(c, p, o);
             }
             py::dict d = fromJson(printabilityToJson(c, p, o, name)).cast<py::dict>();

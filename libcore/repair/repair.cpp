@@ -413,7 +413,16 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
   const bool closed = r.after.closed;
   const std::size_t openEdges = r.after.borderEdges;
   const bool rebuildPossible = options.rebuild != RebuildPolicy::Never && closed;
-  if (!r.after.printable() && r.after.selfIntersections &&
+  // CGAL's local removal grows with the crossings (100,000 random triangles: minutes); a
+  // mesh crossed that often is no job for a local repair.
+  const bool fewCrossings = r.after.selfIntersections <= kMaxLocallyRemovedCrossings;
+  if (!r.after.printable() && r.after.selfIntersections && !fewCrossings)
+    r.actions.push_back("CGAL's local removal of self-intersections was not tried: " +
+                        plural(r.after.selfIntersections, "pair", "pairs") +
+                        (r.after.selfIntersectionsAtLeast ? " (at least)" : "") +
+                        " of crossing triangles, more than the " +
+                        std::to_string(kMaxLocallyRemovedCrossings) + " it removes locally");
+  if (!r.after.printable() && r.after.selfIntersections && fewCrossings &&
       options.rebuild != RebuildPolicy::Always) {
     CgalRepairOptions local = co;
     local.removeSelfIntersections = true;

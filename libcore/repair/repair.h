@@ -44,6 +44,10 @@ constexpr int kDefaultRebuildVoxels = 192;
 // hole filled in a scan, within it unless the hole is wider than a few percent of the part.
 constexpr double kDefaultDeviationFraction = 0.02;
 
+// The most crossing pairs CGAL's local removal of self-intersections is given; a mesh
+// crossed more often goes to the rebuild (when closed) or is refused.
+constexpr std::size_t kMaxLocallyRemovedCrossings = 20000;
+
 // What the rebuild's level set and mesher take per voxel of surface (bytes, and seconds on
 // one core of the machines FRepCAD is tested on): measured on rebuilds of a cube at 8e-3 to
 // 2e-3 (350-530 bytes, 10 microseconds), rounded up.
