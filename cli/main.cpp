@@ -85,7 +85,7 @@ int main(int argc, char** argv) {
     throw UsageError("unknown command '" + command +
                      "'; commands: export, deform, check, repair, compare, info, hspline");
   } catch (const UsageError& e) {
-    std::cerr << "frepcad: " << e.what() << "\n" << kUsage;
+    std::cerr << "frepcad: " << frep::shortenedLongWords(e.what()) << "\n" << kUsage;
     return frep::exitStatus(frep::Outcome::BadInput);
   } catch (...) {
     std::string line;

@@ -371,6 +371,11 @@ within10 2 "too crowded to test for self-intersections" -- "$frepcad" check "$wo
 within10 2 "a face of 200000 corners; at most 10000 are read" -- "$frepcad" check "$work/bigface.obj"
 within10 1 "thinnest wall        not measured \(the mesh is not printable" -- "$frepcad" check "$work/random.stl" --print
 
+# a value of 100,000 characters is quoted shortened, its length said
+python3 -c "import json; json.dump({'root': {'type': 'sphere'}, 'k' * 100000: 1}, open('$work/longkey.json', 'w'))"
+expect 2 "unknown key \"kkkkkkkkkk+\.\.\. \(100003 characters\) \.\.\.k\"; a model file has" -- "$frepcad" export "$work/longkey.json" -o "$work/x.stl"
+[ "$("$frepcad" export "$work/longkey.json" -o "$work/x.stl" 2>&1 | wc -c)" -lt 400 ] || { echo "FAIL: a long key was echoed whole"; failures=$((failures + 1)); }
+
 # the printability report
 expect 0 "thinnest wall        1\.9" -- "$frepcad" check "$work/s.stl" --print --material pla
 expect 0 "mass                 [0-9.]+ g" -- "$frepcad" check "$work/s.stl" --print --material pla

@@ -190,6 +190,8 @@ def run_case(frepcad, work, index, kind, payload, ext, keep):
         problems.append("exit status %d" % p.returncode)
     if len(err.strip().splitlines()) > 4:
         problems.append("more than 4 lines on stderr")
+    if len(err) > 4000:
+        problems.append("%d characters on stderr (a value echoed whole?)" % len(err))
     for text in LIBRARY_TEXT:
         if text in err:
             problems.append("library text %r on stderr" % text)

@@ -20,9 +20,14 @@ inline int exitStatus(Outcome outcome) {
   return static_cast<int>(outcome);
 }
 
-// The outcome of the exception `error` and the one line that says it (without the program's
-// name): ModelError and FileError are bad input, as is running out of memory (the line says
-// to ask for less); Cancelled is a cancel; any other exception is an internal error.
+// `text` with every word (a run without spaces) over 200 characters cut to its first 80, its
+// length and its last 3: a message that quotes a value of 100,000 characters stays one readable
+// line.
+std::string shortenedLongWords(const std::string& text);
+
+// The outcome of the exception `error` and the one line that says it, long words shortened
+// (without the program's name): ModelError and FileError are bad input, as is running out of memory
+// (the line says to ask for less); Cancelled is a cancel; any other exception is an internal error.
 Outcome outcomeOf(const std::exception_ptr& error, std::string* line);
 
 }  // namespace frep
