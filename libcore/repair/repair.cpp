@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <sstream>
 #include <unordered_map>
 
@@ -448,6 +449,7 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
     }
   }
 
+  std::optional<Judgement> keptRebuild;  // the rebuild's judgement, when it is kept
   const bool rebuild = options.rebuild == RebuildPolicy::Always ||
                        (options.rebuild == RebuildPolicy::Auto && !r.after.printable());
   if (rebuild) {
@@ -487,13 +489,16 @@ RepairResult repairMesh(const TriangleMesh& input, const RepairOptions& options,
         mesh = std::move(rebuilt);
         r.after = std::move(judged);
         r.rebuilt = true;
+        keptRebuild = std::move(j);
       }
     }
   }
   bar.step(0.9);
   if (!mesh.triangles.empty()) {
-    Judgement j = judge(input, r.piecesBefore, mesh, r.after, r.deviationBound, diagonal,
-                        options.allowMorePieces);
+    // (a kept rebuild was judged as it is: not measured again)
+    Judgement j = keptRebuild ? std::move(*keptRebuild)
+                              : judge(input, r.piecesBefore, mesh, r.after, r.deviationBound,
+                                      diagonal, options.allowMorePieces);
     r.deviation = j.deviation;
     r.lostDistance = j.lost;
     // a rebuild not kept has said why; the mesh kept instead is judged on its own
