@@ -357,6 +357,38 @@ stl(sys.argv[1] + "/random.stl", [tuple(tuple(r.random() for _ in range(3)) for 
 with open(sys.argv[1] + "/bigface.obj", "w") as f:          # one polygon of 200,000 corners
     f.writelines("v %f %f 0\n" % (math.cos(i * 3e-5), math.sin(i * 3e-5)) for i in range(200000))
     f.write("f " + " ".join(str(i + 1) for i in range(200000)) + "\n")
+import json
+spread = lambda n: [[r.uniform(-10, 10) for _ in range(3)] for _ in range(n)]
+for name, kind, param in (("conv", "convolution", "centers"), ("sweep", "sweep", "points")):
+    json.dump({"root": {"type": kind, "params": {param: spread(100000)}}},
+              open(sys.argv[1] + "/%s100k.json" % name, "w"))
+d = 64                                                      # the largest lattice, gently bent
+json.dump({"format": "frepcad-lattice", "version": 1, "rest_min": [-1.2] * 3,
+           "rest_max": [1.2] * 3, "divisions": [d] * 3,
+           "points": [[-1.2 + 2.4 * i / d, -1.2 + 2.4 * j / d + 0.01 * math.sin(i), -1.2 + 2.4 * k / d]
+                      for i in range(d + 1) for j in range(d + 1) for k in range(d + 1)]},
+          open(sys.argv[1] + "/lattice64.json", "w"))
+stl(sys.argv[1] + "/cube.stl", cube)
+import zipfile                                              # components: 10 levels of 10
+objects = ['<object id="1" type="model"><mesh><vertices><vertex x="0" y="0" z="0"/>'
+           '<vertex x="1" y="0" z="0"/><vertex x="0" y="1" z="0"/></vertices><triangles>'
+           '<triangle v1="0" v2="1" v3="2"/></triangles></mesh></object>']
+for level in range(2, 12):
+    objects.append('<object id="%d" type="model"><components>%s</components></object>' % (
+        level, '<component objectid="%d"/>' % (level - 1) * 10))
+with zipfile.ZipFile(sys.argv[1] + "/fan.3mf", "w") as z:
+    z.writestr("[Content_Types].xml", '<?xml version="1.0" encoding="UTF-8"?><Types xmlns='
+               '"http://schemas.openxmlformats.org/package/2006/content-types"><Default '
+               'Extension="rels" ContentType="application/vnd.openxmlformats-package.'
+               'relationships+xml"/><Default Extension="model" ContentType="application/'
+               'vnd.ms-package.3dmanufacturing-3dmodel+xml"/></Types>')
+    z.writestr("_rels/.rels", '<?xml version="1.0" encoding="UTF-8"?><Relationships xmlns='
+               '"http://schemas.openxmlformats.org/package/2006/relationships"><Relationship '
+               'Target="/3D/3dmodel.model" Id="rel0" Type="http://schemas.microsoft.com/3dmanu'
+               'facturing/2013/01/3dmodel"/></Relationships>')
+    z.writestr("3D/3dmodel.model", '<?xml version="1.0" encoding="UTF-8"?><model unit="millimeter"'
+               ' xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02"><resources>%s'
+               '</resources><build><item objectid="11"/></build></model>' % "".join(objects))
 PY
 within10() {  # within10 CODE PATTERN -- command...: expect, and in under 10 s
   local start=$(date +%s.%N)
@@ -370,6 +402,13 @@ within10 0 "Hausdorff distance" -- "$frepcad" compare "$work/point.stl" "$work/c
 within10 2 "too crowded to test for self-intersections" -- "$frepcad" check "$work/bicone.stl"
 within10 2 "a face of 200000 corners; at most 10000 are read" -- "$frepcad" check "$work/bigface.obj"
 within10 1 "thinnest wall        not measured \(the mesh is not printable" -- "$frepcad" check "$work/random.stl" --print
+within10 2 "fan.3mf: the build holds 10000000000 triangles once its components are expanded" -- "$frepcad" check "$work/fan.3mf"
+within10 2 "parameter 'centers' gives 100000 centres; at most 10000 are allowed" -- "$frepcad" export "$work/conv100k.json" -o "$work/x.stl"
+within10 2 "parameter 'points' has 100000 points; at most 10001 are allowed" -- "$frepcad" export "$work/sweep100k.json" -o "$work/x.stl"
+within10 2 "mesher: at cell size .* the mesh would have about [0-9]+ million triangles" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/x.stl" --cells 65000
+within10 0 "wrote .*cube-bent.stl" -- "$frepcad" deform "$work/cube.stl" --lattice "$work/lattice64.json" -o "$work/cube-bent.stl"
+within10 2 "deform: 720000 vertices inside the lattice, each summing its 274625 control points" -- "$frepcad" deform "$work/cubes.stl" --lattice "$work/lattice64.json" -o "$work/x.stl"
+[ ! -e "$work/x.stl" ] || { echo "FAIL: a refused command wrote a file"; failures=$((failures + 1)); }
 
 # a value of 100,000 characters is quoted shortened, its length said
 python3 -c "import json; json.dump({'root': {'type': 'sphere'}, 'k' * 100000: 1}, open('$work/longkey.json', 'w'))"

@@ -160,6 +160,20 @@ def judge_repair(frepcad, inp, out):
     return problems
 
 
+SIZED_NODES = (("blobby", "centers"), ("soft_objects", "centers"), ("metaballs", "centers"),
+               ("convolution", "centers"), ("convolution_segments", "points"),
+               ("sweep", "points"))
+
+
+def sized_model(rng):
+    """A model whose work grows with a list's length: 10 to 300,000 points, spread or piled."""
+    kind, param = rng.choice(SIZED_NODES)
+    count = int(10 ** rng.uniform(1, 5.5))
+    spread = rng.choice((0.0, 1.0, 10.0, 1000.0))
+    points = [[round(rng.uniform(-spread, spread), 4) for _ in range(3)] for _ in range(count)]
+    return json.dumps({"root": {"type": kind, "params": {param: points}}}).encode()
+
+
 def run_case(frepcad, work, index, kind, payload, ext, keep):
     case = os.path.join(work, "case%d" % index)
     os.makedirs(os.path.join(case, "out"))
@@ -236,7 +250,9 @@ def main(argv):
         models, meshes = seeds(frepcad, src, work)
         jobs = []
         for i in range(cases):
-            if rng.random() < 0.7:
+            if rng.random() < 0.01:
+                jobs.append((i, "export", sized_model(rng), ".json", False))
+            elif rng.random() < 0.7:
                 jobs.append((i, "export", mutate_text(rng, rng.choice(models)), ".json",
                              rng.random() < 0.5))
             else:

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "frep/interval.h"
+#include "frep/program.h"
 
 namespace frep {
 
@@ -22,6 +23,12 @@ constexpr double kAspect = 8.0;
 constexpr int kBisectionSteps = 6;
 constexpr double kCoarseCellsPerSpan = 4.0;
 constexpr std::size_t kMaxCoarseCells = 4096;
+// Instructions interval-evaluated per side (and for the coarse cells) at most: a program of
+// a million instructions (100,000 swept segments) gets fewer evaluations, so its box is
+// looser rather than minutes away. Ordinary programs (up to 5,000 instructions) keep
+// every evaluation asked for.
+constexpr double kInstructionsPerSide = 2e7;
+constexpr std::size_t kFewestEvaluations = 16;
 // A cell thinner than the tolerance across the searched direction is split sideways down to
 // this fraction of the cells' span before its far side is taken as the extent.
 constexpr double kFinestCellsPerSpan = 16.0;
@@ -177,6 +184,7 @@ bool extremeAlong(const Field& p, const BoundsOptions& o, const std::vector<Box3
 std::vector<Box3> coarseCells(const Field& p, const BoundsOptions& o) {
   std::vector<Box3> cells;
   if (mayBeInside(p, o.search)) cells.push_back(o.search);
+  std::size_t evaluations = 1;
   for (int level = 0; level < 64 && !cells.empty(); ++level) {
     Box3 span = cells[0];
     for (const Box3& c : cells)
@@ -190,7 +198,7 @@ std::vector<Box3> coarseCells(const Field& p, const BoundsOptions& o) {
       spanSize = std::max(spanSize, span.hi[a] - span.lo[a]);
     }
     if (cellSize * kCoarseCellsPerSpan <= spanSize || cells.size() * 8 > kMaxCoarseCells ||
-        cellSize <= o.tolerance)
+        evaluations + cells.size() * 8 > o.maxEvaluations || cellSize <= o.tolerance)
       break;
     std::vector<Box3> next;
     for (const Box3& c : cells) {
@@ -203,6 +211,7 @@ std::vector<Box3> coarseCells(const Field& p, const BoundsOptions& o) {
           child.lo[a] = high ? mid[a] : c.lo[a];
           child.hi[a] = high ? c.hi[a] : mid[a];
         }
+        ++evaluations;
         if (mayBeInside(p, child)) next.push_back(child);
       }
     }
@@ -229,6 +238,12 @@ SolidBounds findBounds(const Field& program, const BoundsOptions& given) {
       options.search.hi[a] = hi + pad;
       knownSide[a][1] = true;
     }
+  }
+  if (const auto* compiled = dynamic_cast<const Program*>(&program)) {
+    const double affordable =
+        kInstructionsPerSide / static_cast<double>(std::max<std::size_t>(1, compiled->instructionCount()));
+    if (affordable < static_cast<double>(options.maxEvaluations))
+      options.maxEvaluations = std::max(kFewestEvaluations, static_cast<std::size_t>(affordable));
   }
   SolidBounds result;
   if (!options.search.valid()) {  // the structure says: nothing (an empty intersection)

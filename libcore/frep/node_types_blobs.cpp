@@ -14,7 +14,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <functional>
+#include <sstream>
+#include <unordered_map>
+#include <string>
 
 #include "frep/instances.h"
 #include "frep/node_helpers.h"
@@ -48,6 +52,61 @@ constexpr double kTailTolerance = 1e-9;
 // shorten.
 constexpr std::size_t kIndexedCentres = 16;
 
+// The Cauchy kernel has no support radius and region specialisation cannot drop a term, so
+// every point of the mesh sums every centre or segment: 100,000 of them took minutes before
+// the first brick was done. The kernels with a reach take any number.
+constexpr std::size_t kMostSummedTerms = 10000;
+
+// With a reach, a point sums only the centres within it, but a pile sums them all: 85,000
+// centres on one point made each evaluation cost 85,000 kernels. The most centres in the 27
+// cells of the reach's size around any cell (an upper bound on those within reach of a point
+// there) may be this many.
+constexpr std::size_t kMostCentresNearby = 50000;
+
+// "" or why the centres pile up more than a point may sum.
+std::string tooCrowded(const std::vector<Vec3>& centres, double reach) {
+  if (centres.size() <= kMostCentresNearby || !(reach > 0)) return "";
+  std::unordered_map<std::uint64_t, std::size_t> cells;
+  auto key = [](std::int64_t i, std::int64_t j, std::int64_t k) {
+    return (std::uint64_t(i) & 0x1FFFFF) << 42 | (std::uint64_t(j) & 0x1FFFFF) << 21 |
+           (std::uint64_t(k) & 0x1FFFFF);
+  };
+  auto cellOf = [reach](double v) { return static_cast<std::int64_t>(std::floor(v / reach)); };
+  for (const Vec3& c : centres) ++cells[key(cellOf(c[0]), cellOf(c[1]), cellOf(c[2]))];
+  std::size_t most = 0;
+  for (const auto& entry : cells) {
+    const std::int64_t i = std::int64_t(entry.first >> 42), j = std::int64_t(entry.first >> 21 & 0x1FFFFF),
+                       k = std::int64_t(entry.first & 0x1FFFFF);
+    std::size_t near = 0;
+    for (int di = -1; di <= 1; ++di)
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int dk = -1; dk <= 1; ++dk) {
+          auto it = cells.find(key(i + di, j + dj, k + dk));
+          if (it != cells.end()) near += it->second;
+        }
+    most = std::max(most, near);
+  }
+  if (most <= kMostCentresNearby) return "";
+  std::ostringstream os;
+  os.precision(3);
+  os << "parameter 'centers': up to " << most << " of its " << centres.size()
+     << " centres lie near one point (within " << 2 * reach
+     << ", the kernel's reach being " << reach << "); at most " << kMostCentresNearby
+     << " may (each point of the mesh sums the centres within reach): spread them out or use "
+        "fewer";
+  return os.str();
+}
+
+// "" or why the node sums more terms than it may.
+std::string tooManyTerms(const char* param, std::size_t terms, const char* what) {
+  if (terms <= kMostSummedTerms) return "";
+  return "parameter '" + std::string(param) + "' gives " + std::to_string(terms) + " " + what +
+         "; at most " + std::to_string(kMostSummedTerms) +
+         " are allowed (every point of the mesh sums the Cauchy kernel over all of them); "
+         "soft_objects, metaballs and blobby sum only the centres within reach and take any "
+         "number";
+}
+
 // The sum of the kernels over the centres through an InstanceSet: the kernel, compiled once
 // at the origin, is each copy. Its r^2 is the same (x - c)^2 sum the written-out form
 // computes, and the centres it leaves out add exactly 0 there (soft objects, metaballs), so
@@ -68,7 +127,8 @@ Slot indexedSum(CompileContext& c, const std::vector<Vec3>& centres, const Kerne
 
 void addBlob(Registry& r, const char* id, const char* doc, const char* formula,
              std::vector<ParamTemplate> own, Kernel kernel, Reach reach,
-             Support support = nullptr) {
+             Support support = nullptr,
+             std::function<std::string(const Node&)> check = nullptr) {
   std::vector<ParamTemplate> params = {
       pointsParam("centers", {{-0.4, 0, 0}, {0.4, 0, 0}}, 1, "length", "The blobs' centres.")};
   params.insert(params.end(), own.begin(), own.end());
@@ -97,6 +157,15 @@ void addBlob(Registry& r, const char* id, const char* doc, const char* formula,
          [reach](const Node& n, const std::vector<Box3>&) {
            const std::vector<Vec3> pts = pointsOf(n.param("centers"));
            return pointsBounds(pts, reach(n, pts.size()));
+         },
+         [support, check](const Node& n) -> std::string {
+           if (check) {
+             std::string problem = check(n);
+             if (!problem.empty()) return problem;
+           }
+           if (!support) return "";
+           const std::vector<Vec3> centres = pointsOf(n.param("centers"));
+           return tooCrowded(centres, support(n, centres.size()));
          }});
 }
 
@@ -186,7 +255,8 @@ void registerBlobs(Registry& r) {
   addBlob(
       r, "convolution",
       "A convolution surface of points with the Cauchy kernel (HyperFun hfConvPoint): "
-      "smooth blobs whose size follows the sharpness.",
+      "smooth blobs whose size follows the sharpness. At most 10,000 centres: every point "
+      "sums the kernel over all of them (soft_objects, metaballs and blobby take any number).",
       "F = sum_i strength / (1 + sharpness^2 |p - c_i|^2)^2 - threshold",
       {positiveReal("strength", 1.0, "Weight of each point."),
        positiveReal("sharpness", 3.0, "Kernel width parameter s (per length).")},
@@ -199,6 +269,10 @@ void registerBlobs(Registry& r) {
         const double q = double(count) * n.real("strength") / n.real("threshold");
         const double s = n.real("sharpness");
         return q > 1 ? std::sqrt((std::sqrt(q) - 1) / (s * s)) : 0.0;
+      },
+      nullptr,
+      [](const Node& n) {
+        return tooManyTerms("centers", n.param("centers").numbers.size() / 3, "centres");
       });
 
   addBlob(
@@ -232,7 +306,7 @@ void registerBlobs(Registry& r) {
            "A convolution surface of line segments with the Cauchy kernel (HyperFun "
            "hfConvLine): the kernel integrated along the skeleton in closed form, so a "
            "polyline skeleton gives a smooth tube that swells where segments meet, with no "
-           "bulge at the joints.",
+           "bulge at the joints. At most 10,000 segments: every point sums them all.",
            "F = strength sum over the segments of the integral of 1 / (1 + sharpness^2 r^2)^2 "
            "along the segment (closed form with atan) - threshold",
            0,
@@ -270,7 +344,7 @@ void registerBlobs(Registry& r) {
              if (n.param("skeleton").text == "pairs" && count % 2)
                return "parameter 'points' has " + std::to_string(count) +
                       " points; with skeleton \"pairs\" it needs an even number";
-             return "";
+             return tooManyTerms("points", skeletonSegments(n).size(), "segments");
            }});
   }
 }

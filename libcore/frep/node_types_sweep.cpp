@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <string>
 
 #include "frep/node_helpers.h"
 #include "frep/registry.h"
@@ -14,6 +15,10 @@
 namespace frep {
 
 namespace {
+
+// A path of 100,000 points compiled to two million instructions, and the octree's region
+// specialisation over them took minutes before the first brick (10,000 take about 10 s).
+constexpr std::size_t kMostPathPoints = 10001;
 
 // r(t) - |p - (a + t (b - a))| with t the clamped projection of p on the segment [a, b].
 Slot capsule(ProgramBuilder& b, const Point3Slots& p, const Vec3& a, const Vec3& e, double ra,
@@ -208,7 +213,8 @@ void registerSweeps(Registry& r) {
   range(r2, 0.0, kInf);
   ParamTemplate path = pointsParam("points", {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}}, 2, "length",
                                    "The path, in order: the polyline's points, or with segments "
-                                   "\"arcs\" the start, middle and end of each arc.");
+                                   "\"arcs\" the start, middle and end of each arc (at most "
+                                   "10,001 points).");
   path.path = true;
   r.add({"sweep",
          "primitive",
@@ -262,6 +268,13 @@ void registerSweeps(Registry& r) {
            return box;
          },
          [](const Node& n) -> std::string {
+           const std::size_t count = n.param("points").numbers.size() / 3;
+           if (count > kMostPathPoints)
+             return "parameter 'points' has " + std::to_string(count) + " points; at most " +
+                    std::to_string(kMostPathPoints) +
+                    " are allowed (each point of the mesh takes the nearest of the path's pieces "
+                    "from those near its brick, and finding them costs the whole path at the "
+                    "top of the octree); sample the path more coarsely";
            if (n.param("segments").text != "arcs") return "";
            return arcProblem(pointsOf(n.param("points")));
          }});

@@ -17,6 +17,7 @@
 #include "base/errors.h"
 #include "base/file_names.h"
 #include "base/progress.h"
+#include "io/three_mf_scan.h"
 #include "io/three_mf_stream.h"
 
 namespace frep {
@@ -380,6 +381,16 @@ ThreeMfContents read3mf(const std::string& file) {
     throw FileError(path + ": the package unpacks to " + std::to_string(unpacked >> 20) +
                     " MiB, over the " + std::to_string(kMax3mfUnpackedBytes >> 20) +
                     " MiB a 3MF may take here; refused before reading (a zip bomb?)");
+  const ThreeMfExpansion expansion = scan3mfExpansion(file, path, kMax3mfComponentDepth);
+  if (expansion.triangles > double(kMax3mfTriangles))
+    throw FileError(path + ": the build holds " + std::to_string(std::llround(expansion.triangles)) +
+                    " triangles once its components are expanded, more than " +
+                    std::to_string(kMax3mfTriangles) + "; refused before reading");
+  if (expansion.placements > double(kMax3mfPlacements))
+    throw FileError(path + ": the build places objects " +
+                    std::to_string(std::llround(expansion.placements)) +
+                    " times once its components are expanded, more than " +
+                    std::to_string(kMax3mfPlacements) + "; refused before reading");
   Handle model, reader;
   require(lib3mf_createmodel(model.out()), nullptr, path + ": cannot start a 3MF model");
   require(lib3mf_model_queryreader(model.get(), "3mf", reader.out()), model.get(), path);

@@ -69,6 +69,9 @@ constexpr unsigned long long kMax3mfUnpackedBytes = 4ull << 30;
 constexpr int kMax3mfComponentDepth = 16;
 // Triangles all build items may add up to (components instancing one mesh many times).
 constexpr std::size_t kMax3mfTriangles = std::size_t(1) << 26;
+// Objects all build items may place, counting every component reference expanded (a fan of
+// empty objects adds no triangles but costs lib3mf a visit each).
+constexpr std::size_t kMax3mfPlacements = 1000000;
 
 // Reads every build item of a 3MF (mesh objects, and components objects flattened with their
 // transforms). Throws FileError naming the file and the problem.

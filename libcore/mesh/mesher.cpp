@@ -50,9 +50,22 @@ struct ActiveBrick {
 
 // Octree descent over bricks: ranges proven uniform are dropped, and each level specialises
 // the field to its box (region specialisation), so deep bricks evaluate short programs.
+// The descent stops once `cap` bricks are found (more cannot fit the memory budget, and a
+// part far too fine would otherwise be searched for minutes before the refusal) and polls
+// the caller's cancel as it goes.
+struct BrickSearch {
+  std::vector<ActiveBrick>& out;
+  std::size_t cap = std::numeric_limits<std::size_t>::max();
+  Progress cancel;
+  std::size_t visited = 0;
+  bool full = false;
+};
+
 void collectBricks(const Field& field, const std::shared_ptr<const Field>& holder, const Grid& g,
                    const CellRange& cells, int bc, const std::int64_t b0[3],
-                   const std::int64_t b1[3], std::vector<ActiveBrick>& out) {
+                   const std::int64_t b1[3], BrickSearch& search) {
+  if (search.full) return;
+  if (++search.visited % 4096 == 0) search.cancel.step(0.0);
   CellRange r;
   for (int a = 0; a < 3; ++a) {
     r.lo[a] = b0[a] * bc;
@@ -60,7 +73,11 @@ void collectBricks(const Field& field, const std::shared_ptr<const Field>& holde
   }
   if (provenUniform(field, g, r)) return;
   if (b1[0] - b0[0] == 1 && b1[1] - b0[1] == 1 && b1[2] - b0[2] == 1) {
-    out.push_back({r, holder});
+    if (search.out.size() >= search.cap) {
+      search.full = true;
+      return;
+    }
+    search.out.push_back({r, holder});
     return;
   }
   std::shared_ptr<const Field> own = field.specialise(rangeBox(g, r));
@@ -77,8 +94,51 @@ void collectBricks(const Field& field, const std::shared_ptr<const Field>& holde
       c1[a] = upper ? b1[a] : mid[a];
       empty = empty || c0[a] >= c1[a];
     }
-    if (!empty) collectBricks(f, here, g, cells, bc, c0, c1, out);
+    if (!empty) collectBricks(f, here, g, cells, bc, c0, c1, search);
   }
+}
+
+double trianglesPerBrick(const MeshingOptions& opt) {
+  return static_cast<double>(opt.brickCells) * opt.brickCells *
+         (opt.settings.mesher == Extraction::Cubes ? kCubeTrianglesPerFaceCell
+                                                   : kTrianglesPerFaceCell);
+}
+
+// The most active bricks whose mesh fits the memory budget (none: no limit).
+std::size_t bricksThatFit(const MeshingOptions& opt) {
+  if (opt.memoryBudget == 0) return std::numeric_limits<std::size_t>::max();
+  return static_cast<std::size_t>(static_cast<double>(opt.memoryBudget) /
+                                  (trianglesPerBrick(opt) * opt.bytesPerTriangle)) +
+         1;
+}
+
+// The active bricks in [b0, b1), counted, or where more than fit the budget, estimated
+// from a coarse descent (at most 64 coarse bricks an axis, each of F x F x F bricks): a
+// surface crosses about F^2 of the bricks of each coarse brick it crosses.
+std::size_t collectOrEstimate(const Field& field, const Grid& g, const CellRange& cells,
+                              const MeshingOptions& opt, const std::int64_t b0[3],
+                              const std::int64_t b1[3], std::vector<ActiveBrick>& bricks) {
+  BrickSearch search{bricks, bricksThatFit(opt), Progress(opt.progress)};
+  collectBricks(field, nullptr, g, cells, opt.brickCells, b0, b1, search);
+  if (!search.full) return bricks.size();
+  bricks.clear();
+  bricks.shrink_to_fit();
+  std::int64_t factor = 1;
+  for (int a = 0; a < 3; ++a)
+    while ((b1[a] - b0[a] + factor - 1) / factor > 64) factor *= 2;
+  std::int64_t c0[3], c1[3];
+  for (int a = 0; a < 3; ++a) {
+    c0[a] = b0[a] / factor;
+    c1[a] = (b1[a] + factor - 1) / factor;
+  }
+  std::vector<ActiveBrick> coarse;
+  BrickSearch coarseSearch{coarse, std::numeric_limits<std::size_t>::max(),
+                           Progress(opt.progress)};
+  collectBricks(field, nullptr, g, cells, opt.brickCells * static_cast<int>(factor), c0, c1,
+                coarseSearch);
+  const double estimate = static_cast<double>(coarse.size()) * static_cast<double>(factor) *
+                          static_cast<double>(factor);
+  return std::max(search.cap + 1, static_cast<std::size_t>(std::min(estimate, 1e18)));
 }
 
 // Every brick's vertices numbered in one row (brick by brick: `first` of each brick) and
@@ -343,10 +403,7 @@ Grid makeGrid(const MeshingOptions& opt, CellRange* cells, std::int64_t bricks[3
 // make more, so the estimate never refuses a mesh that would fit).
 void refuseOverBudget(const MeshingOptions& opt, const Grid& g, std::size_t activeBricks) {
   if (opt.memoryBudget == 0) return;
-  const int bc = opt.brickCells;
-  const double triangles = static_cast<double>(activeBricks) * bc * bc *
-                           (opt.settings.mesher == Extraction::Cubes ? kCubeTrianglesPerFaceCell
-                                                                     : kTrianglesPerFaceCell);
+  const double triangles = static_cast<double>(activeBricks) * trianglesPerBrick(opt);
   const double bytes = triangles * opt.bytesPerTriangle;
   if (bytes <= static_cast<double>(opt.memoryBudget)) return;
   double h = g.h[0];
@@ -455,9 +512,8 @@ TriangleMesh polygonize(const Field& field, const MeshingOptions& opt, MeshingSt
   std::vector<ActiveBrick> bricks;
   {
     const Phase phase("mesh: the octree of bricks", PhaseKind::Serial);
-    collectBricks(field, nullptr, g, cells, bc, b0, b1, bricks);
+    refuseOverBudget(opt, g, collectOrEstimate(field, g, cells, opt, b0, b1, bricks));
   }
-  refuseOverBudget(opt, g, bricks.size());
 
   // The bar: the bricks up to 0.95, or, where the thin parts are refined (several times the
   // meshing's time, ten times and more with deeper levels), up to `bricksEnd` and the
@@ -544,8 +600,7 @@ MeshPiece polygonizePiece(const Field& field, const MeshingOptions& opt,
     }
   const int bc = opt.brickCells;
   std::vector<ActiveBrick> bricks;
-  collectBricks(field, nullptr, g, cells, bc, brickLo, brickHi, bricks);
-  refuseOverBudget(opt, g, bricks.size());
+  refuseOverBudget(opt, g, collectOrEstimate(field, g, cells, opt, brickLo, brickHi, bricks));
 
   MeshingOptions withoutNormals = opt;
   withoutNormals.normals = false;  // a piece carries positions only (STL and 3MF need no more)
