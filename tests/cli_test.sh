@@ -376,7 +376,8 @@ objects = ['<object id="1" type="model"><mesh><vertices><vertex x="0" y="0" z="0
 for level in range(2, 12):
     objects.append('<object id="%d" type="model"><components>%s</components></object>' % (
         level, '<component objectid="%d"/>' % (level - 1) * 10))
-with zipfile.ZipFile(sys.argv[1] + "/fan.3mf", "w") as z:
+def package(name, resources, item):
+  with zipfile.ZipFile(sys.argv[1] + "/" + name, "w") as z:
     z.writestr("[Content_Types].xml", '<?xml version="1.0" encoding="UTF-8"?><Types xmlns='
                '"http://schemas.openxmlformats.org/package/2006/content-types"><Default '
                'Extension="rels" ContentType="application/vnd.openxmlformats-package.'
@@ -388,7 +389,15 @@ with zipfile.ZipFile(sys.argv[1] + "/fan.3mf", "w") as z:
                'facturing/2013/01/3dmodel"/></Relationships>')
     z.writestr("3D/3dmodel.model", '<?xml version="1.0" encoding="UTF-8"?><model unit="millimeter"'
                ' xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02"><resources>%s'
-               '</resources><build><item objectid="11"/></build></model>' % "".join(objects))
+               '</resources><build><item objectid="%d"/></build></model>' % (resources, item))
+package("fan.3mf", "".join(objects), 11)
+tetra = ('<object id="1" type="model"><mesh><vertices><vertex x="0" y="0" z="0"/><vertex x="%s" '
+         'y="0" z="0"/><vertex x="0" y="1" z="0"/><vertex x="0" y="0" z="1"/></vertices><triangles>'
+         '<triangle v1="0" v2="2" v3="1"/><triangle v1="0" v2="1" v3="3"/><triangle v1="0" v2="3" '
+         'v3="2"/><triangle v1="1" v2="2" v3="%s"/></triangles></mesh></object>')
+package("tetra.3mf", tetra % ("1.0E0", "3"), 1)            # numbers read strictly
+package("word.3mf", tetra % ("one", "3"), 1)
+package("fraction.3mf", tetra % ("1", "3.9"), 1)
 PY
 within10() {  # within10 CODE PATTERN -- command...: expect, and in under 10 s
   local start=$(date +%s.%N)
@@ -403,6 +412,9 @@ within10 2 "too crowded to test for self-intersections" -- "$frepcad" check "$wo
 within10 2 "a face of 200000 corners; at most 10000 are read" -- "$frepcad" check "$work/bigface.obj"
 within10 1 "thinnest wall        not measured \(the mesh is not printable" -- "$frepcad" check "$work/random.stl" --print
 within10 2 "fan.3mf: the build holds 10000000000 triangles once its components are expanded" -- "$frepcad" check "$work/fan.3mf"
+expect 0 "verdict: printable" -- "$frepcad" check "$work/tetra.3mf"
+expect 2 "word.3mf: vertex 1 of object 1 has x=\"one\"; a 3MF coordinate is a number" -- "$frepcad" repair "$work/word.3mf" -o "$work/x.stl"
+expect 2 "fraction.3mf: triangle 3 of object 1 has v3=\"3.9\"; a 3MF vertex index is a whole number" -- "$frepcad" check "$work/fraction.3mf"
 within10 2 "parameter 'centers' gives 100000 centres; at most 10000 are allowed" -- "$frepcad" export "$work/conv100k.json" -o "$work/x.stl"
 within10 2 "parameter 'points' has 100000 points; at most 10001 are allowed" -- "$frepcad" export "$work/sweep100k.json" -o "$work/x.stl"
 within10 2 "mesher: at cell size .* the mesh would have about [0-9]+ million triangles" -- "$frepcad" export "$src/examples/sphere.json" -o "$work/x.stl" --cells 65000

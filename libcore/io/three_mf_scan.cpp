@@ -55,8 +55,46 @@ std::string localName(const std::string& tag, bool* closing) {
   return colon == std::string::npos ? name : name.substr(colon + 1);
 }
 
+// The 3MF schema's ST_Number: [+-]?(digits(.digits)?|.digits)([eE][+-]?digits)?. lib3mf 1.8
+// reads "one" as 0 and "1abc" as 1, so a file that lies about its coordinates would be
+// repaired and written as if it were true.
+bool isNumber(const std::string& v) {
+  std::size_t i = 0;
+  auto digits = [&] {
+    const std::size_t from = i;
+    while (i < v.size() && std::isdigit(static_cast<unsigned char>(v[i]))) ++i;
+    return i > from;
+  };
+  if (i < v.size() && (v[i] == '+' || v[i] == '-')) ++i;
+  const bool whole = digits();
+  if (i < v.size() && v[i] == '.') {
+    ++i;
+    if (!digits()) return false;
+  } else if (!whole) {
+    return false;
+  }
+  if (i < v.size() && (v[i] == 'e' || v[i] == 'E')) {
+    ++i;
+    if (i < v.size() && (v[i] == '+' || v[i] == '-')) ++i;
+    if (!digits()) return false;
+  }
+  return i == v.size();
+}
+
+bool isIndex(const std::string& v) {
+  return !v.empty() && std::all_of(v.begin(), v.end(),
+                                   [](unsigned char c) { return std::isdigit(c) != 0; });
+}
+
+// A value for a message: at most 40 characters of it.
+std::string quoted(const std::string& v) {
+  return "\"" + (v.size() > 40 ? v.substr(0, 40) + "..." : v) + "\"";
+}
+
 class Scanner {
  public:
+  explicit Scanner(const std::string& shown) : shown_(shown) {}
+
   void tag(const std::string& text) {
     bool closing = false;
     const std::string name = localName(text, &closing);
@@ -64,12 +102,31 @@ class Scanner {
       if (closing) {
         current_ = nullptr;
       } else {
-        current_ = &objects_[attribute(text, "id")];
+        currentId_ = attribute(text, "id");
+        current_ = &objects_[currentId_];
+        vertices_ = 0;
         if (!text.empty() && text.back() == '/') current_ = nullptr;
       }
     } else if (closing) {
       return;
+    } else if (name == "vertex" && current_) {
+      for (const char* axis : {"x", "y", "z"}) {
+        const std::string v = attribute(text, axis);
+        if (!isNumber(v))
+          throw FileError(shown_ + ": vertex " + std::to_string(vertices_) + " of object " +
+                          currentId_ + " has " + axis + "=" + quoted(v) +
+                          "; a 3MF coordinate is a number (as 1.5, -2, 3e-4)");
+      }
+      ++vertices_;
     } else if (name == "triangle" && current_) {
+      for (const char* corner : {"v1", "v2", "v3"}) {
+        const std::string v = attribute(text, corner);
+        if (!isIndex(v))
+          throw FileError(shown_ + ": triangle " +
+                          std::to_string(static_cast<long long>(current_->triangles)) +
+                          " of object " + currentId_ + " has " + corner + "=" + quoted(v) +
+                          "; a 3MF vertex index is a whole number from 0");
+      }
       current_->triangles += 1;
     } else if (name == "component" && current_) {
       current_->components.push_back(attribute(text, "objectid"));
@@ -78,7 +135,8 @@ class Scanner {
     }
   }
 
-  ThreeMfExpansion total(const std::string& shown, int maxDepth) {
+  ThreeMfExpansion total(int maxDepth) {
+    const std::string& shown = shown_;
     ThreeMfExpansion sum;
     for (const std::string& id : items_) {
       const ThreeMfExpansion e = expand(id, 0, shown, maxDepth);
@@ -114,6 +172,9 @@ class Scanner {
   std::unordered_map<std::string, ThreeMfExpansion> expanded_;
   std::vector<std::string> items_;
   ObjectCount* current_ = nullptr;
+  std::string currentId_;
+  std::size_t vertices_ = 0;  // of the current object so far
+  const std::string& shown_;
 };
 
 bool endsWithModel(const std::string& name) {
@@ -167,7 +228,7 @@ ThreeMfExpansion scan3mfExpansion(const std::string& file, const std::string& sh
                                   int maxDepth) {
   std::unique_ptr<void, int (*)(unzFile)> zip(unzOpen64(file.c_str()), unzClose);
   if (!zip) throw FileError(shown + ": not a 3MF package (not a zip archive)");
-  Scanner scanner;
+  Scanner scanner(shown);
   for (int more = unzGoToFirstFile(zip.get()); more == UNZ_OK; more = unzGoToNextFile(zip.get())) {
     char name[1024];
     unz_file_info64 info;
@@ -178,7 +239,7 @@ ThreeMfExpansion scan3mfExpansion(const std::string& file, const std::string& sh
     scanEntry(zip.get(), scanner);
     unzCloseCurrentFile(zip.get());
   }
-  return scanner.total(shown, maxDepth);
+  return scanner.total(maxDepth);
 }
 
 }  // namespace frep

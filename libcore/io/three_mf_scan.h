@@ -14,8 +14,10 @@ struct ThreeMfExpansion {
 };
 
 // Reads the package's .model parts as text (zip entries streamed, never whole in memory).
-// Throws FileError naming `shown` for a component cycle, nesting deeper than `maxDepth`,
-// or a package that cannot be opened as a zip.
+// Throws FileError naming `shown` for a component cycle, nesting deeper than `maxDepth`, a
+// vertex coordinate that is not a number or a triangle corner that is not a whole number
+// (strictly, as the schema says: lib3mf reads "one" as 0), or a package that cannot be
+// opened as a zip.
 ThreeMfExpansion scan3mfExpansion(const std::string& file, const std::string& shown,
                                   int maxDepth);
 
