@@ -422,6 +422,11 @@ within10 0 "wrote .*cube-bent.stl" -- "$frepcad" deform "$work/cube.stl" --latti
 within10 2 "deform: 720000 vertices inside the lattice, each summing its 274625 control points" -- "$frepcad" deform "$work/cubes.stl" --lattice "$work/lattice64.json" -o "$work/x.stl"
 [ ! -e "$work/x.stl" ] || { echo "FAIL: a refused command wrote a file"; failures=$((failures + 1)); }
 
+# copies of an unbounded solid: every copy everywhere, clipped by the export box
+printf '{"root": {"type": "instancer", "params": {"positions": [[0, 0, 0], [0.5, 0, 0]], "rotations": [[0, 0, 0], [0, 0, 45]]}, "inputs": [{"type": "gyroid"}]}}' >"$work/copies.json"
+within10 0 "wrote .*copies.stl" -- "$frepcad" export "$work/copies.json" -o "$work/copies.stl" --bbox -2 -2 -2 2 2 2
+expect 2 "the solid is unbounded towards -x, \+x, -y, \+y, -z, \+z; give a bounding box" -- "$frepcad" export "$work/copies.json" -o "$work/x.stl"
+
 # a value of 100,000 characters is quoted shortened, its length said
 python3 -c "import json; json.dump({'root': {'type': 'sphere'}, 'k' * 100000: 1}, open('$work/longkey.json', 'w'))"
 expect 2 "unknown key \"kkkkkkkkkk+\.\.\. \(100003 characters\) \.\.\.k\"; a model file has" -- "$frepcad" export "$work/longkey.json" -o "$work/x.stl"

@@ -89,7 +89,7 @@ ParamValue randomValue(const ParamTemplate& p, RandomTrees& r, bool wide = false
 }
 
 // A random valid instance. Whole-node checks may refuse a draw (an even point count for
-// arcs, an odd one for pairs, a half-space as the instancer's copy): such draws are redrawn,
+// arcs, an odd one for pairs, an empty solid as the instancer's copy): such draws are redrawn,
 // with bounded inputs on the second half of the attempts.
 NodePtr randomInstance(const NodeType& type, RandomTrees& r, bool wide = false,
                        const std::function<NodePtr()>& input = nullptr) {
@@ -334,7 +334,7 @@ TEST(IntervalSoundness, RandomTreesMixingEveryType) {
       try {
         return randomInstance(t, r, true, [&] { return tree(depth - 1); });
       } catch (const ModelError&) {
-        // a type that refuses every draw of inputs (e.g. the instancer of a half-space)
+        // a type that refuses every draw of inputs (e.g. the instancer of an empty solid)
       }
     }
   };

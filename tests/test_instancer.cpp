@@ -427,13 +427,34 @@ TEST(Instancer, CopiesFarApartStillEvaluate) {
   }
 }
 
-TEST(Instancer, RefusesAnUnboundedCopy) {
+TEST(Instancer, UnboundedCopiesAreEveryCopyEverywhereAndMeshWithinABox) {
+  // Copies of a gyroid reach every point: the union is the max over all of them, far from
+  // every position too, and the mesher clips it to the box it is given.
+  const NodePtr gyroid = makeNode("gyroid", {}, {});
+  const std::vector<Vec3> at = {{0, 0, 0}, {0.3, 0.1, 0}, {-0.2, 0.4, 0.7}};
+  const Program p = compile(instancer(gyroid, at));
+  const Program one = compile(gyroid);
+  std::mt19937 g(9);
+  std::uniform_real_distribution<double> u(-50, 50);
+  for (int i = 0; i < 500; ++i) {
+    const double x = u(g), y = u(g), z = u(g);
+    double expected = -std::numeric_limits<double>::infinity();
+    for (const Vec3& c : at) expected = std::max(expected, one.eval(x - c[0], y - c[1], z - c[2]));
+    EXPECT_NEAR(p.eval(x, y, z), expected, 1e-12) << x << " " << y << " " << z;
+  }
+  MeshingOptions o;
+  o.bbox = Box3{{-1, -1, -1}, {1, 1, 1}};
+  o.resolution = 0.05;
+  const TriangleMesh mesh = polygonize(p, o);
+  EXPECT_TRUE(checkMesh(mesh).printable());
+  // More copies than every point can afford to evaluate: refused, naming the figure.
+  std::vector<Vec3> many;
+  for (int i = 0; i <= 1000; ++i) many.push_back({0.01 * i, 0, 0});
   try {
-    instancer(makeNode("halfspace", {}, {}), {{0, 0, 0}});
-    FAIL() << "an unbounded copy was accepted";
+    compile(instancer(gyroid, many));
+    FAIL() << "1001 unbounded copies compiled";
   } catch (const ModelError& e) {
-    EXPECT_NE(std::string(e.what()).find("copies (instancer): the copied solid (input 0) is "
-                                         "unbounded"),
+    EXPECT_NE(std::string(e.what()).find("at most 1000 copies of it are allowed, got 1001"),
               std::string::npos)
         << e.what();
   }

@@ -5,6 +5,7 @@
 // its neighbours' cells; a copy reaching further is cut there.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "frep/bounds.h"
 #include "base/errors.h"
@@ -37,24 +38,37 @@ Slot copyIndex(ProgramBuilder& b, Slot t, double shift, int count, bool wrap) {
   return b.min(b.max(b.affine(k, t, t, 1.0, 0, 0, shift), zero), last);
 }
 
-// Where the copied solid is: its structural box, else the box interval arithmetic finds.
-// Returns "" or what is wrong with it as the instancer's input.
-std::string copiedSolidBox(const NodePtr& input, Box3* box) {
+// An unbounded copy reaches every point, so each point evaluates every copy: at most this
+// many (a bounded copy is found through the index and takes any number).
+constexpr std::size_t kMostUnboundedCopies = 1000;
+
+// Where the copied solid is: its structural box, else the box interval arithmetic finds;
+// unknownBounds() for an unbounded solid (every copy then reaches everywhere, and the
+// export's box clips the result). Returns "" or what is wrong with it as the input of
+// `copies` copies.
+std::string copiedSolidBox(const NodePtr& input, std::size_t copies, Box3* box) {
   *box = structuralBounds(input);
   if (isFinite(*box)) return "";
   BoundsOptions o;
   o.known = *box;
   const SolidBounds b = findBounds(compile(input), o);
   if (b.empty) return "the copied solid (input 0) is empty";
-  if (!b.bounded())
-    return "the copied solid (input 0) is unbounded; copies need a bounded solid (intersect it "
-           "with a box)";
-  *box = b.box;
+  if (b.bounded()) {
+    *box = b.box;
+    return "";
+  }
+  *box = unknownBounds();
+  if (copies > kMostUnboundedCopies)
+    return "the copied solid (input 0) is unbounded, so every point evaluates every copy; "
+           "at most " + std::to_string(kMostUnboundedCopies) + " copies of it are allowed, got " +
+           std::to_string(copies) + " (intersect it with a box to copy it more often)";
   return "";
 }
 
-// The radius round the origin beyond which the copied solid's field is negative.
+// The radius round the origin beyond which the copied solid's field is negative (infinite
+// for an unbounded solid).
 double reachOf(const Box3& b) {
+  if (!isFinite(b)) return std::numeric_limits<double>::infinity();
   double r2 = 0;
   for (int a = 0; a < 3; ++a) r2 += sqr(std::max(std::abs(b.lo[a]), std::abs(b.hi[a])));
   return std::sqrt(r2);
@@ -147,7 +161,8 @@ void registerArrays(Registry& r) {
            withCombine({positions, rotations}),
            [](CompileContext& c) {
              Box3 box;
-             const std::string problem = copiedSolidBox(c.node().inputs.at(0), &box);
+             const std::string problem = copiedSolidBox(
+                 c.node().inputs.at(0), c.node().param("positions").numbers.size() / 3, &box);
              if (!problem.empty()) throw ModelError("instancer: " + problem);
              auto copy = std::make_shared<const Program>(compile(c.node().inputs.at(0)));
              const bool blend = c.param("combine").text == "blend";
@@ -181,7 +196,7 @@ void registerArrays(Registry& r) {
                       " rotations for " + std::to_string(at) + " positions; give one per " +
                       "position or none";
              Box3 box;
-             return copiedSolidBox(n.inputs.at(0), &box);
+             return copiedSolidBox(n.inputs.at(0), at, &box);
            }});
   }
 
