@@ -6,6 +6,7 @@
 #include "check/mesh_check.h"
 #include "check/printability.h"
 #include "cli/commands.h"
+#include "cli/terminal_progress.h"
 #include "io/mesh_io.h"
 
 namespace frep::cli {
@@ -102,14 +103,19 @@ int checkCommand(const Args& args) {
   if (path.empty()) throw UsageError("check needs a mesh file (.stl, .obj, .ply, .off or .3mf)");
   if (printOption && !print)
     throw UsageError("--min-wall, --material, --density, --up and --overhang apply with --print");
-  const TriangleMesh mesh = readMesh(path);
-  CheckReport report = checkMesh(mesh);
+  // Ctrl-C is looked at while the file is read and between the check's passes.
+  installInterruptHandlers();
+  const TriangleMesh mesh = readMesh(path, ProgressCallback([](double) { return !interrupted(); }));
+  CheckReport report = checkMesh(mesh, [](double) {
+    if (interrupted()) throw Cancelled();
+  });
   if (!print) {
     std::cout << (json ? reportToJson(report, path) : reportToText(report, path));
     return report.printable() ? 0 : 1;
   }
   po.thickness = report.printable();
   const PrintabilityReport p = measurePrintability(mesh, po);
+  if (interrupted()) throw Cancelled();
   addPrintabilityReasons(report, p, po);
   if (json)
     std::cout << printabilityToJson(report, p, po, path);

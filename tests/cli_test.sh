@@ -369,6 +369,8 @@ json.dump({"format": "frepcad-lattice", "version": 1, "rest_min": [-1.2] * 3,
                       for i in range(d + 1) for j in range(d + 1) for k in range(d + 1)]},
           open(sys.argv[1] + "/lattice64.json", "w"))
 stl(sys.argv[1] + "/cube.stl", cube)
+inner = [tuple((1 + x, 1 + y, 1 + z) for x, y, z in reversed(t)) for t in cube]  # turned in
+stl(sys.argv[1] + "/hollow.stl", [tuple((3 * x, 3 * y, 3 * z) for x, y, z in t) for t in cube] + inner)
 import zipfile                                              # components: 10 levels of 10
 objects = ['<object id="1" type="model"><mesh><vertices><vertex x="0" y="0" z="0"/>'
            '<vertex x="1" y="0" z="0"/><vertex x="0" y="1" z="0"/></vertices><triangles>'
@@ -433,6 +435,9 @@ expect 2 "unknown key \"kkkkkkkkkk+\.\.\. \(100003 characters\) \.\.\.k\"; a mod
 [ "$("$frepcad" export "$work/longkey.json" -o "$work/x.stl" 2>&1 | wc -c)" -lt 400 ] || { echo "FAIL: a long key was echoed whole"; failures=$((failures + 1)); }
 
 # the printability report
+expect 0 "cavities             1 enclosed, volume 1 \(resin and powder printers cannot empty them" -- "$frepcad" check "$work/hollow.stl" --print
+expect 0 '"cavity_volume": (0\.99999|1\.0)' -- "$frepcad" check "$work/hollow.stl" --print --json
+expect 0 "cavities             none" -- "$frepcad" check "$work/cube.stl" --print
 expect 0 "thinnest wall        1\.9" -- "$frepcad" check "$work/s.stl" --print --material pla
 expect 0 "mass                 [0-9.]+ g" -- "$frepcad" check "$work/s.stl" --print --material pla
 expect 1 "triangles where the wall is thinner than 5" -- "$frepcad" check "$work/s.stl" --print --min-wall 5

@@ -406,7 +406,9 @@ TEST(Check, CrowdedFacesAreCountedThroughTheBoxTreeAsCgal) {
           {0, static_cast<std::uint32_t>(1 + k), static_cast<std::uint32_t>(1 + (k + 1) % n)});
     const std::size_t cgal = countSelfIntersectionsWithCgal(points, faces);
     EXPECT_EQ(countSelfIntersections(points, faces), cgal) << "fan " << i;
-    if (i % 2 == 1) EXPECT_GT(cgal, 0u) << "fan " << i;
+    if (i % 2 == 1) {
+      EXPECT_GT(cgal, 0u) << "fan " << i;
+    }
   }
 }
 

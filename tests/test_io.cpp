@@ -165,6 +165,29 @@ TEST_F(MeshIo, CancelledWriteLeavesNoFileAndKeepsTheOldOne) {
   EXPECT_EQ(filesInDir(), 1u);
 }
 
+TEST_F(MeshIo, ReadingStopsWhenCancelled) {
+  // Half a million triangles: more than one block of the file and of the triangles, so the
+  // reader looks at the cancel after it has started, and reads everything when not asked.
+  TriangleMesh big;
+  for (std::uint32_t t = 0; t < 500000; ++t) {
+    const float x = static_cast<float>(t);
+    big.positions.push_back({x, 0, 0});
+    big.positions.push_back({x, 1, 0});
+    big.positions.push_back({x, 0, 1});
+    big.triangles.push_back({3 * t, 3 * t + 1, 3 * t + 2});
+  }
+  for (MeshFormat f : {MeshFormat::StlBinary, MeshFormat::Obj}) {
+    const std::string p = path(f == MeshFormat::Obj ? "big.obj" : "big.stl");
+    writeMesh(big, p, f);
+    int calls = 0;
+    EXPECT_THROW(readMesh(p, ProgressCallback([&calls](double) { return ++calls < 2; })),
+                 Cancelled);
+    EXPECT_EQ(calls, 2);
+    EXPECT_EQ(readMesh(p, ProgressCallback([](double) { return true; })).triangles.size(),
+              500000u);
+  }
+}
+
 TEST_F(MeshIo, UnwritableFolderIsAClearError) {
   try {
     writeMesh(mesh_, path("missing/part.stl"), MeshFormat::StlBinary);

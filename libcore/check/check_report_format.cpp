@@ -105,6 +105,11 @@ std::string printabilityToText(const PrintabilityReport& r, const PrintabilityOp
   os << "  overhang             area " << r.overhangArea << " (" << r.overhangTriangles
      << " triangles facing down more than " << o.overhangDeg << " degrees from vertical)\n";
   os << "  height               " << r.height << "\n";
+  if (r.cavities > 0)
+    os << "  cavities             " << r.cavities << " enclosed, volume " << r.cavityVolume
+       << " (resin and powder printers cannot empty them: add drain holes)\n";
+  else if (r.cavities == 0)
+    os << "  cavities             none\n";
   if (o.density > 0)
     os << "  mass                 " << r.mass << " g (density " << o.density
        << " g/cm3, units taken as mm)\n";
@@ -127,6 +132,8 @@ std::string printabilityToJson(const CheckReport& check, const PrintabilityRepor
   p["overhang_area"] = r.overhangArea;
   p["overhang_triangles"] = r.overhangTriangles;
   p["height"] = r.height;
+  p["cavities"] = r.cavities >= 0 ? nlohmann::json(r.cavities) : nlohmann::json(nullptr);
+  p["cavity_volume"] = r.cavities >= 0 ? nlohmann::json(r.cavityVolume) : nlohmann::json(nullptr);
   if (o.density > 0) {
     p["density"] = o.density;
     p["mass_g"] = r.mass;

@@ -121,7 +121,8 @@ std::size_t tableSlots(std::size_t points) {  // twice as many slots as points, 
 }  // namespace
 
 std::vector<std::uint32_t> distinctPoints(const std::vector<Vec3f>& pos,
-                                          std::vector<std::uint32_t>* first) {
+                                          std::vector<std::uint32_t>* first,
+                                          const Progress& cancel) {
   // In parallel, and the same on any number of threads: an open-addressing table of the
   // distinct points (twice as many slots as points) whose slot keeps the least index with
   // its coordinates, brought down to it by compare-and-swap (a slot, once it holds a point,
@@ -158,6 +159,7 @@ std::vector<std::uint32_t> distinctPoints(const std::vector<Vec3f>& pos,
   };
   // Of two twins, the one inserted second meets the first: where no insertion met a twin,
   // all points are distinct (every mesh the mesher makes) and the map is the identity.
+  cancel.step(0.0);
   std::atomic<bool> twins{false};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
                     [&](const tbb::blocked_range<std::size_t>& r) {
@@ -167,6 +169,7 @@ std::vector<std::uint32_t> distinctPoints(const std::vector<Vec3f>& pos,
                       if (found) twins = true;
                     });
   std::vector<std::uint32_t> map(n);
+  cancel.step(0.0);
   if (!twins) {
     table.reset();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16),
@@ -186,6 +189,7 @@ std::vector<std::uint32_t> distinctPoints(const std::vector<Vec3f>& pos,
               slotOf(static_cast<std::uint32_t>(i), false, &unused).load(std::memory_order_relaxed);
       });
   table.reset();
+  cancel.step(0.0);
   // The first of each set of twins, numbered in order: by fixed blocks, counted, then
   // written from each block's offset.
   constexpr std::size_t kBlock = 1 << 16;
@@ -502,7 +506,7 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
   {
     phase.emplace("check: distinct points", PhaseKind::Parallel);
     std::vector<std::uint32_t> first;
-    const std::vector<std::uint32_t> map = distinctPoints(mesh.positions, &first);
+    const std::vector<std::uint32_t> map = distinctPoints(mesh.positions, &first, bar.sub(0.0, 0.0));
     phase.emplace("check: repeated vertices, welded copies", PhaseKind::Serial);
     r.vertices = first.size();
     auto repeats = [](std::uint32_t a, std::uint32_t b, std::uint32_t c) {

@@ -8,8 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "base/vec.h"
+#include "base/progress.h"
 #include "base/triangle_mesh.h"
+#include "base/vec.h"
 
 namespace frep {
 
@@ -48,8 +49,11 @@ constexpr std::size_t kSelfIntersectionLimit = 1000000;
 // Each of `positions`' index among the distinct coordinates, numbered in the order they
 // first come, and (in `first`) where each distinct one first comes. All are distinct
 // exactly when `first` is as long as `positions` (the map is then the identity).
+// `cancel` is looked at between its parallel steps (each a fraction of a second at 50
+// million points).
 std::vector<std::uint32_t> distinctPoints(const std::vector<Vec3f>& positions,
-                                          std::vector<std::uint32_t>* first);
+                                          std::vector<std::uint32_t>* first,
+                                          const Progress& cancel = {});
 std::vector<std::uint32_t> weldIdenticalVertices(const std::vector<Vec3f>& positions,
                                                  std::vector<Vec3f>& welded);
 

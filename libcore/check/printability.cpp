@@ -12,9 +12,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include "base/errors.h"
 #include "base/library_compat.h"
+#include "check/mesh_check.h"
 
 namespace frep {
 
@@ -61,6 +63,44 @@ double materialDensity(const std::string& name) {
   throw ModelError("unknown material '" + name + "'; known: " + known +
                    " (or give --density in g/cm3)");
 }
+
+namespace {
+
+// The components of a printable mesh (faces joined through shared coordinates), each with its
+// signed volume: an outward shell adds volume, the wall of a void inside it takes volume away
+// (its normals point into the void, away from the material).
+void countCavities(const TriangleMesh& mesh, PrintabilityReport& r) {
+  std::vector<std::uint32_t> first;
+  const std::vector<std::uint32_t> id = distinctPoints(mesh.positions, &first);
+  std::vector<std::uint32_t> parent(first.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto root = [&parent](std::uint32_t v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  for (const Triangle& t : mesh.triangles)
+    for (int i = 1; i < 3; ++i) {
+      const std::uint32_t a = root(id[t[0]]), b = root(id[t[i]]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  std::vector<double> volume(first.size(), 0.0);
+  for (const Triangle& t : mesh.triangles) {
+    const Vec3f &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+    volume[root(id[t[0]])] += (double(a[0]) * (double(b[1]) * c[2] - double(b[2]) * c[1]) -
+                               double(a[1]) * (double(b[0]) * c[2] - double(b[2]) * c[0]) +
+                               double(a[2]) * (double(b[0]) * c[1] - double(b[1]) * c[0])) /
+                              6.0;
+  }
+  r.cavities = 0;
+  r.cavityVolume = 0.0;
+  for (double v : volume)
+    if (v < 0) {
+      ++r.cavities;
+      r.cavityVolume -= v;
+    }
+}
+
+}  // namespace
 
 PrintabilityReport measurePrintability(const TriangleMesh& mesh, const PrintabilityOptions& o) {
   const double upLength = std::sqrt(o.up[0] * o.up[0] + o.up[1] * o.up[1] + o.up[2] * o.up[2]);
@@ -117,6 +157,7 @@ PrintabilityReport measurePrintability(const TriangleMesh& mesh, const Printabil
     }
   }
   if (o.density > 0) r.mass = std::abs(r.volume) * o.density / 1000.0;  // mm^3 * g/cm^3 -> g
+  if (o.thickness) countCavities(mesh, r);
 
   // Thickness: rays from each triangle's centre, against its normal, in a cone.
   r.thickness.assign(n, -1.0f);

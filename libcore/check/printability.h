@@ -51,6 +51,11 @@ struct PrintabilityReport {
   double volume = 0.0;  // signed, for the mass (the check's report gives it, with the area)
   double height = 0.0;  // along the build direction
   double mass = 0.0;    // grams, when a density was given
+  // Closed voids inside the solid (components of a printable mesh whose normals point in):
+  // resin and powder printers cannot empty them. Counted on printable meshes only
+  // (PrintabilityOptions::thickness); -1: not counted.
+  long long cavities = -1;
+  double cavityVolume = 0.0;
 };
 
 // Throws ModelError for bad options (a zero build direction, angles out of range, rays < 1).

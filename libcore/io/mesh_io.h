@@ -10,6 +10,7 @@
 #include <string>
 
 #include "base/atomic_file.h"
+#include "base/progress.h"
 #include "base/triangle_mesh.h"
 
 namespace frep {
@@ -40,7 +41,8 @@ std::unique_ptr<AtomicFile> writeMeshUncommitted(const TriangleMesh& mesh, const
 // endian), OFF (text) or 3MF (every build item, merged: io/mesh_3mf.h reads them one by one),
 // chosen by the file name's extension. Polygons are fan-triangulated. Numbers are read
 // strictly (a word that is not wholly a number is an error, not a 0 or a truncated index).
-// Throws FileError with the file name and the problem, also for a file without faces.
-TriangleMesh readMesh(const std::string& path);
+// Throws FileError with the file name and the problem, also for a file without faces, and
+// Cancelled when `cancel` asks (polled every million triangles or lines).
+TriangleMesh readMesh(const std::string& path, const Progress& cancel = {});
 
 }  // namespace frep

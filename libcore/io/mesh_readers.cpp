@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -14,14 +15,27 @@ namespace frep {
 
 namespace {
 
-std::string slurp(const std::string& path) {
+// Triangles, lines or elements read between two looks at the caller's cancel (a few
+// milliseconds of reading).
+constexpr std::size_t kItemsBetweenPolls = 1 << 18;
+
+// The whole file, read in blocks with the caller's cancel looked at between them (an 800 MB
+// STL takes seconds).
+std::string slurp(const std::string& path, const Progress& cancel) {
   requireRegularFile(path, "a mesh file");  // a FIFO would block, a folder reads as empty
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw FileError(displayName(path) + ": cannot open the file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw FileError(displayName(path) + ": read error");
-  return ss.str();
+  const std::streamoff size = in.tellg();
+  in.seekg(0);
+  std::string data(static_cast<std::size_t>(std::max<std::streamoff>(size, 0)), '\0');
+  constexpr std::size_t kBlock = std::size_t(1) << 24;
+  for (std::size_t at = 0; at < data.size(); at += kBlock) {
+    cancel.step(double(at) / double(data.size()));
+    const std::size_t n = std::min(kBlock, data.size() - at);
+    if (!in.read(&data[at], static_cast<std::streamsize>(n)))
+      throw FileError(displayName(path) + ": read error");
+  }
+  return data;
 }
 
 // Whitespace-separated words of a line, up to a '#' comment when `comments`.
@@ -89,7 +103,7 @@ void addPolygon(TriangleMesh& m, const std::vector<long long>& ids, const std::s
                            static_cast<std::uint32_t>(ids[i + 1])});
 }
 
-TriangleMesh readStl(const std::string& path, const std::string& data) {
+TriangleMesh readStl(const std::string& path, const std::string& data, const Progress& cancel) {
   TriangleMesh m;
   if (data.size() >= 84) {
     std::uint32_t n = 0;
@@ -97,6 +111,7 @@ TriangleMesh readStl(const std::string& path, const std::string& data) {
     if (data.size() == 84 + 50ull * n) {
       m.positions.reserve(3ull * n);
       for (std::uint32_t i = 0; i < n; ++i) {
+        if (i % kItemsBetweenPolls == 0) cancel.step(double(i) / n);
         const char* rec = data.data() + 84 + 50ull * i + 12;
         for (int c = 0; c < 3; ++c) {
           Vec3f p;
@@ -120,7 +135,7 @@ TriangleMesh readStl(const std::string& path, const std::string& data) {
   std::size_t lineNo = 0, inLoop = 0;
   bool ended = false, loop = false;
   while (std::getline(in, line)) {
-    ++lineNo;
+    if (++lineNo % kItemsBetweenPolls == 0) cancel.step(0.0);
     std::istringstream ls(line);
     std::string word;
     if (!(ls >> word)) continue;
@@ -168,13 +183,13 @@ TriangleMesh readStl(const std::string& path, const std::string& data) {
 // OBJ: 'v' and 'f' lines (texture and normal references after '/' are ignored; negative
 // indices count back from the last vertex); other statements (vt, vn, g, o, usemtl, ...) are
 // not geometry and are skipped.
-TriangleMesh readObj(const std::string& path, const std::string& data) {
+TriangleMesh readObj(const std::string& path, const std::string& data, const Progress& cancel) {
   TriangleMesh m;
   std::istringstream in(data);
   std::string line;
   std::size_t lineNo = 0;
   while (std::getline(in, line)) {
-    ++lineNo;
+    if (++lineNo % kItemsBetweenPolls == 0) cancel.step(0.0);
     const std::vector<std::string> words = wordsOf(line, true);
     if (words.empty()) continue;
     const std::string where = displayName(path) + ":" + std::to_string(lineNo);
@@ -202,14 +217,14 @@ TriangleMesh readObj(const std::string& path, const std::string& data) {
 // z, then optional colour or normal values), one face a line (n, n indices counted from 0,
 // then an optional colour). The counts are checked against the file's size before anything
 // is reserved: a header may claim what the file does not hold.
-TriangleMesh readOff(const std::string& path, const std::string& data) {
+TriangleMesh readOff(const std::string& path, const std::string& data, const Progress& cancel) {
   std::istringstream in(data);
   std::string line;
   std::size_t lineNo = 0;
   std::vector<std::string> words;
   auto next = [&]() {
     while (std::getline(in, line)) {
-      ++lineNo;
+      if (++lineNo % kItemsBetweenPolls == 0) cancel.step(0.0);
       words = wordsOf(line, true);
       if (!words.empty()) return true;
     }
@@ -266,7 +281,7 @@ TriangleMesh readOff(const std::string& path, const std::string& data) {
 }
 
 // PLY: ASCII or binary little endian; vertex x y z (float/double), face vertex_indices list.
-TriangleMesh readPly(const std::string& path, const std::string& data) {
+TriangleMesh readPly(const std::string& path, const std::string& data, const Progress& cancel) {
   std::size_t headerEnd = data.find("end_header");
   if (data.compare(0, 3, "ply") != 0 || headerEnd == std::string::npos)
     throw FileError(displayName(path) + ": not a PLY file (no 'ply' ... 'end_header')");
@@ -380,6 +395,7 @@ TriangleMesh readPly(const std::string& path, const std::string& data) {
     if (e.props.empty() && e.count > 0)
       throw FileError(displayName(path) + ": PLY element '" + e.name + "' has no properties");
     for (std::size_t i = 0; i < e.count; ++i) {
+      if (i % kItemsBetweenPolls == 0) cancel.step(0.0);
       Vec3f p{0, 0, 0};
       std::vector<long long> ids;
       for (const Prop& pr : e.props) {
@@ -446,24 +462,24 @@ TriangleMesh readFreecadBms(const std::string& path, const std::string& data) {
 
 namespace {
 
-TriangleMesh readByExtension(const std::string& path) {
+TriangleMesh readByExtension(const std::string& path, const Progress& cancel) {
   // OFF is read, never written: it is not a MeshFormat
-  if (fileExtension(path) == "off") return readOff(path, slurp(path));
+  if (fileExtension(path) == "off") return readOff(path, slurp(path, cancel), cancel);
   const MeshFormat f = formatFromPath(path, "read: .stl, .obj, .ply, .off, .bms, .3mf");
   if (f == MeshFormat::ThreeMf) {
     TriangleMesh all;
     for (const NamedMesh& o : read3mf(path).objects) appendMesh(all, o.mesh);
     return all;
   }
-  const std::string data = slurp(path);
+  const std::string data = slurp(path, cancel);
   switch (f) {
     case MeshFormat::StlBinary:
     case MeshFormat::StlAscii:
-      return readStl(path, data);
+      return readStl(path, data, cancel);
     case MeshFormat::Obj:
-      return readObj(path, data);
+      return readObj(path, data, cancel);
     case MeshFormat::Ply:
-      return readPly(path, data);
+      return readPly(path, data, cancel);
     case MeshFormat::FreecadBms:
       return readFreecadBms(path, data);
     case MeshFormat::ThreeMf:
@@ -474,8 +490,8 @@ TriangleMesh readByExtension(const std::string& path) {
 
 }  // namespace
 
-TriangleMesh readMesh(const std::string& path) {
-  TriangleMesh m = readByExtension(path);
+TriangleMesh readMesh(const std::string& path, const Progress& cancel) {
+  TriangleMesh m = readByExtension(path, cancel);
   // Points alone are not a surface: a point cloud or an emptied file is bad input, not a
   // mesh that the check would call "not printable".
   if (m.triangles.empty())
