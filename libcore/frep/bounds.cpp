@@ -24,9 +24,9 @@ constexpr int kBisectionSteps = 6;
 constexpr double kCoarseCellsPerSpan = 4.0;
 constexpr std::size_t kMaxCoarseCells = 4096;
 // Instructions interval-evaluated per side (and for the coarse cells) at most: a program of
-// a million instructions (100,000 swept segments) gets fewer evaluations, so its box is
-// looser rather than minutes away. Ordinary programs (up to 5,000 instructions) keep
-// every evaluation asked for.
+// two million instructions (100,000 swept segments) gets 16 evaluations a side, so its box
+// is looser rather than minutes away. Programs of up to 1,000 instructions keep every
+// evaluation asked for; a search rarely needs them all.
 constexpr double kInstructionsPerSide = 2e7;
 constexpr std::size_t kFewestEvaluations = 16;
 // A cell thinner than the tolerance across the searched direction is split sideways down to

@@ -71,7 +71,9 @@ std::string tooCrowded(const std::vector<Vec3>& centres, double reach) {
     return (std::uint64_t(i) & 0x1FFFFF) << 42 | (std::uint64_t(j) & 0x1FFFFF) << 21 |
            (std::uint64_t(k) & 0x1FFFFF);
   };
-  auto cellOf = [reach](double v) { return static_cast<std::int64_t>(std::floor(v / reach)); };
+  auto cellOf = [reach](double v) {  // (clamped: a centre at 1e300 has no int64 cell)
+    return static_cast<std::int64_t>(std::clamp(std::floor(v / reach), -1e18, 1e18));
+  };
   for (const Vec3& c : centres) ++cells[key(cellOf(c[0]), cellOf(c[1]), cellOf(c[2]))];
   std::size_t most = 0;
   for (const auto& entry : cells) {
@@ -104,7 +106,7 @@ std::string tooManyTerms(const char* param, std::size_t terms, const char* what)
          "; at most " + std::to_string(kMostSummedTerms) +
          " are allowed (every point of the mesh sums the Cauchy kernel over all of them); "
          "soft_objects, metaballs and blobby sum only the centres within reach and take any "
-         "number";
+         "number that is spread out";
 }
 
 // The sum of the kernels over the centres through an InstanceSet: the kernel, compiled once
