@@ -58,7 +58,15 @@ std::string localName(const std::string& tag, bool* closing) {
 // The 3MF schema's ST_Number: [+-]?(digits(.digits)?|.digits)([eE][+-]?digits)?. lib3mf 1.8
 // reads "one" as 0 and "1abc" as 1, so a file that lies about its coordinates would be
 // repaired and written as if it were true.
-bool isNumber(const std::string& v) {
+// (XML Schema collapses white space round a number before its pattern applies)
+std::string trimmed(const std::string& v) {
+  const std::size_t from = v.find_first_not_of(" \t\r\n");
+  if (from == std::string::npos) return "";
+  return v.substr(from, v.find_last_not_of(" \t\r\n") - from + 1);
+}
+
+bool isNumber(const std::string& given) {
+  const std::string v = trimmed(given);
   std::size_t i = 0;
   auto digits = [&] {
     const std::size_t from = i;
@@ -81,7 +89,8 @@ bool isNumber(const std::string& v) {
   return i == v.size();
 }
 
-bool isIndex(const std::string& v) {
+bool isIndex(const std::string& given) {
+  const std::string v = trimmed(given);
   return !v.empty() && std::all_of(v.begin(), v.end(),
                                    [](unsigned char c) { return std::isdigit(c) != 0; });
 }
