@@ -12,11 +12,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 
 #include "base/errors.h"
 #include "base/library_compat.h"
-#include "check/mesh_check.h"
+#include "base/triangle_geometry.h"
+#include "check/mesh_check_passes.h"
 
 namespace frep {
 
@@ -72,25 +72,13 @@ namespace {
 void countCavities(const TriangleMesh& mesh, PrintabilityReport& r) {
   std::vector<std::uint32_t> first;
   const std::vector<std::uint32_t> id = distinctPoints(mesh.positions, &first);
-  std::vector<std::uint32_t> parent(first.size());
-  std::iota(parent.begin(), parent.end(), 0u);
-  auto root = [&parent](std::uint32_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
+  UnionFind pieces(first.size());
   for (const Triangle& t : mesh.triangles)
-    for (int i = 1; i < 3; ++i) {
-      const std::uint32_t a = root(id[t[0]]), b = root(id[t[i]]);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
+    for (int i = 1; i < 3; ++i) pieces.join(id[t[0]], id[t[i]]);
   std::vector<double> volume(first.size(), 0.0);
-  for (const Triangle& t : mesh.triangles) {
-    const Vec3f &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
-    volume[root(id[t[0]])] += (double(a[0]) * (double(b[1]) * c[2] - double(b[2]) * c[1]) -
-                               double(a[1]) * (double(b[0]) * c[2] - double(b[2]) * c[0]) +
-                               double(a[2]) * (double(b[0]) * c[1] - double(b[1]) * c[0])) /
-                              6.0;
-  }
+  for (const Triangle& t : mesh.triangles)
+    volume[pieces.find(id[t[0]])] +=
+        signedTetraVolume(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
   r.cavities = 0;
   r.cavityVolume = 0.0;
   for (double v : volume)

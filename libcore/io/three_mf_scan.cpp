@@ -55,15 +55,17 @@ std::string localName(const std::string& tag, bool* closing) {
   return colon == std::string::npos ? name : name.substr(colon + 1);
 }
 
-// The 3MF schema's ST_Number: [+-]?(digits(.digits)?|.digits)([eE][+-]?digits)?. lib3mf 1.8
-// reads "one" as 0 and "1abc" as 1, so a file that lies about its coordinates would be
-// repaired and written as if it were true.
-// (XML Schema collapses white space round a number before its pattern applies)
+// A value without the white space round it (XML Schema collapses it before a number's
+// pattern applies).
 std::string trimmed(const std::string& v) {
   const std::size_t from = v.find_first_not_of(" \t\r\n");
   if (from == std::string::npos) return "";
   return v.substr(from, v.find_last_not_of(" \t\r\n") - from + 1);
 }
+
+// The 3MF schema's ST_Number: [+-]?(digits(.digits)?|.digits)([eE][+-]?digits)?. lib3mf 1.8
+// reads "one" as 0 and "1abc" as 1, so a file that lies about its coordinates would be
+// repaired and written as if it were true.
 
 bool isNumber(const std::string& given) {
   const std::string v = trimmed(given);
