@@ -438,6 +438,19 @@ expect 2 "unknown key \"kkkkkkkkkk+\.\.\. \(100003 characters\) \.\.\.k\"; a mod
 expect 0 "cavities             1 enclosed, volume 1 \(resin and powder printers cannot empty them" -- "$frepcad" check "$work/hollow.stl" --print
 expect 0 '"cavity_volume": (0\.99999|1\.0)' -- "$frepcad" check "$work/hollow.stl" --print --json
 expect 0 "cavities             none" -- "$frepcad" check "$work/cube.stl" --print
+# an infill's sealed chambers: each listed with where it drains; holes there drain them all
+printf '{"root": {"type": "infill", "params": {"wall": 1, "cell": 6, "thickness": 0.8}, "inputs": [{"type": "box", "params": {"corner": [0, 0, 0], "size": [30, 20, 12]}}]}}' >"$work/infill.json"
+"$frepcad" export "$work/infill.json" -o "$work/infill.stl" --cells 150 >/dev/null 2>&1
+expect 0 "cavity 1           volume [0-9.]+, drain at \[[0-9.]+, [0-9.]+, 1\]" -- "$frepcad" check "$work/infill.stl" --print
+python3 -c "
+import json, subprocess, sys
+report = json.loads(subprocess.run(sys.argv[1:4] + ['--print', '--json'], capture_output=True).stdout)
+model = json.load(open(sys.argv[4]))
+model['root']['params']['drain_holes'] = [c['drain_at'] for c in report['print']['cavity_list']]
+json.dump(model, open(sys.argv[4].replace('.json', '_drained.json'), 'w'))
+" "$frepcad" check "$work/infill.stl" "$work/infill.json"
+expect 0 "verdict: printable" -- "$frepcad" export "$work/infill_drained.json" -o "$work/drained.stl" --cells 150
+expect 0 "cavities             none" -- "$frepcad" check "$work/drained.stl" --print
 expect 0 "thinnest wall        1\.9" -- "$frepcad" check "$work/s.stl" --print --material pla
 expect 0 "mass                 [0-9.]+ g" -- "$frepcad" check "$work/s.stl" --print --material pla
 expect 1 "triangles where the wall is thinner than 5" -- "$frepcad" check "$work/s.stl" --print --min-wall 5

@@ -276,6 +276,43 @@ TEST(Printability, TheWallOfAHollowCubeIsMeasuredWithinTenPercent) {
   EXPECT_NEAR(measurePrintability(m, o).overhangArea, 9.6 * 9.6, 1e-3);
 }
 
+TEST(Printability, CavitiesAreListedLargestFirstEachWithAPointInTheMiddleOfItsFloor) {
+  // A 20 x 10 x 10 block with two hollows: 8 x 8 x 8 and 4 x 4 x 4.
+  const TriangleMesh small = gridBox({11, 1, 1}, {15, 5, 5}, 4, true);
+  const TriangleMesh m = merged(merged(gridBox({0, 0, 0}, {20, 10, 10}, 10),
+                                       gridBox({1, 1, 1}, {9, 9, 9}, 8, true)),
+                                small);
+  ASSERT_TRUE(checkMesh(m).printable()) << reasons(checkMesh(m));
+  PrintabilityOptions o;
+  PrintabilityReport p = measurePrintability(m, o);
+  ASSERT_EQ(p.cavities, 2);
+  ASSERT_EQ(p.cavityList.size(), 2u);
+  EXPECT_NEAR(p.cavityList[0].volume, 512, 1e-3);
+  EXPECT_NEAR(p.cavityList[1].volume, 64, 1e-3);
+  EXPECT_NEAR(p.cavityVolume, 576, 1e-3);
+  // Each drains from the middle of its floor, not from the floor's edge beside a wall.
+  EXPECT_NEAR(p.cavityList[0].drainAt[2], 1, 1e-6);
+  EXPECT_NEAR(p.cavityList[0].drainAt[0], 5, 1.01);
+  EXPECT_NEAR(p.cavityList[0].drainAt[1], 5, 1.01);
+  EXPECT_NEAR(p.cavityList[1].drainAt[0], 13, 1.01);
+  EXPECT_NEAR(p.cavityList[1].drainAt[2], 1, 1e-6);
+  // Every triangle of a hollow's wall names its cavity; the outside names none.
+  ASSERT_EQ(p.cavityOf.size(), m.triangles.size());
+  const std::size_t outer = gridBox({0, 0, 0}, {20, 10, 10}, 10).triangles.size();
+  const std::size_t inner = m.triangles.size() - outer - small.triangles.size();
+  for (std::size_t i = 0; i < m.triangles.size(); ++i)
+    EXPECT_EQ(p.cavityOf[i], i < outer ? -1 : i < outer + inner ? 0 : 1) << i;
+  // Built along -x, the large hollow drains through its face at x = 9.
+  o.up = {-1, 0, 0};
+  p = measurePrintability(m, o);
+  EXPECT_NEAR(p.cavityList[0].drainAt[0], 9, 1e-6);
+  EXPECT_NEAR(p.cavityList[0].drainAt[1], 5, 1.01);
+  // A solid has none.
+  p = measurePrintability(gridBox({0, 0, 0}, {1, 1, 1}, 2), o);
+  EXPECT_EQ(p.cavities, 0);
+  EXPECT_TRUE(p.cavityList.empty());
+}
+
 TEST(Printability, BadOptionsAreRefused) {
   PrintabilityOptions o;
   o.up = {0, 0, 0};

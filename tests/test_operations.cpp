@@ -809,6 +809,58 @@ TEST(InfillAcceptance, SkinOutsideLatticeInsidePrintable) {
   EXPECT_LT(r.volume, 0.7 * full);
 }
 
+TEST(Infill, DrainHolesOpenTheSkinWithinTheirCylindersOnly) {
+  // A 10 mm cube with a 1 mm skin; holes of 2 mm on its bottom and on a side (drilled along
+  // x), the lattice untouched.
+  auto infill = [](std::vector<Vec3> holes, Vec3 axis) {
+    return compile(makeNode("infill",
+                            {{"lattice", choiceValue("gyroid")},
+                             {"wall", realValue(1.0)},
+                             {"cell", realValue(4.0)},
+                             {"level", realValue(0.3)},
+                             {"drain_holes", pointsValue(holes)},
+                             {"drain_diameter", realValue(2.0)},
+                             {"drain_axis", vec3Value(axis)}},
+                            {makeNode("box", {{"corner", vec3Value({0, 0, 0})},
+                                              {"size", vec3Value({10, 10, 10})}},
+                                      {})}));
+  };
+  const Program plain = infill({}, {0, 0, 1});
+  const Program bottom = infill({{5, 5, 0}}, {0, 0, 1});
+  const Program side = infill({{10, 3, 7}}, {1, 0, 0});
+  const Program lattice = compile(tpms("gyroid", 4.0));
+  // In the bottom skin: solid without the hole; in the hole the lattice alone decides.
+  for (const Vec3& q : std::vector<Vec3>{{5, 5, 0.5}, {5.9, 5, 0.1}, {5, 4.2, 0.9}}) {
+    EXPECT_GT(eval(plain, q), 0.0);
+    EXPECT_EQ(eval(bottom, q) > 0, eval(lattice, q) > 0) << q[0] << " " << q[1] << " " << q[2];
+  }
+  EXPECT_EQ(eval(side, {9.5, 3, 7}) > 0, eval(lattice, {9.5, 3, 7}) > 0);
+  EXPECT_GT(eval(side, {9.5, 3, 8.5}), 0.0);  // the side's skin beside its hole
+  // Outside the cylinders (beside them, or beyond their reach of wall + diameter = 3 along
+  // the axis: the top skin) the solid is as without holes.
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(-0.5, 10.5);
+  int compared = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 q = {u(rng), u(rng), u(rng)};
+    if (std::hypot(q[0] - 5, q[1] - 5) < 1.0 && std::abs(q[2]) < 3.0) continue;
+    EXPECT_EQ(eval(bottom, q) > 0, eval(plain, q) > 0) << q[0] << " " << q[1] << " " << q[2];
+    ++compared;
+  }
+  EXPECT_GT(compared, 1500);
+  EXPECT_GT(eval(bottom, {5, 5, 9.5}), 0.0);  // the top skin above the hole: beyond its reach
+  EXPECT_GT(eval(bottom, {6.2, 5, 0.5}), 0.0);  // beside the hole
+  // More than 100 holes are refused, naming the parameter.
+  try {
+    infill(std::vector<Vec3>(101, Vec3{1, 1, 0}), {0, 0, 1});
+    FAIL() << "101 drain holes were accepted";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("parameter 'drain_holes' has 101 points; at most 100"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Infill, ThicknessIsTheSheetsWidthInModelUnits) {
   // The sheets' width, measured across them along the surface's normal at points of the
   // surface g = 0 deep inside the part, is the thickness asked for (to the accuracy of one

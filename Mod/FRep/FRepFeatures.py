@@ -284,6 +284,8 @@ SIZED_FROM_INPUTS = {
 # than a sixth of its cell fills the cell: the gyroid's |g| is below 1.5 everywhere.)
 INFILL_CELL_PREVIEW_CELLS = 10
 INFILL_SHEET_OF_CELL = 0.15
+# An infill's drain holes are this fraction of a cell across.
+INFILL_DRAIN_OF_CELL = 0.5
 
 
 def inputs_extent(inputs):
@@ -329,6 +331,10 @@ def size_from_inputs(obj, type_id, inputs, given=()):
         if "thickness" not in given and "level" not in given:
             cell = values.get("cell", props.get_value(obj, by_name["cell"]))
             values["thickness"] = INFILL_SHEET_OF_CELL * cell
+        if "drain_diameter" not in given:
+            # wide enough to meet both of a sheet lattice's labyrinths
+            cell = values.get("cell", props.get_value(obj, by_name["cell"]))
+            values["drain_diameter"] = INFILL_DRAIN_OF_CELL * cell
     for name, value in values.items():
         props.set_value(obj, by_name[name], float("%.3g" % value))
 

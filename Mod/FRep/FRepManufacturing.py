@@ -12,7 +12,10 @@ import FRepMeshing
 from FRepPaths import frepcore
 
 THIN_COLOR = (0.9, 0.1, 0.1)
+CAVITY_COLOR = (0.15, 0.45, 0.95)
 SOUND_COLOR = (0.75, 0.75, 0.75)
+# The infill node's limit on drain holes (its parameter 'drain_holes').
+MOST_DRAIN_HOLES = 100
 
 
 def is_mesh_object(obj):
@@ -64,7 +67,8 @@ def repair(obj, rebuild="auto", voxel=0.0, progress=None, max_deviation=-1.0,
 
 def printability(obj, min_wall=None, material=None, density=0.0, up=(0, 0, 1), overhang=45.0):
     """The check plus the printability report of the object's mesh (a dict, with 'thickness'
-    per triangle and 'thin': the indices of the triangles thinner than min_wall)."""
+    per triangle, 'thin': the indices of the triangles thinner than min_wall, and
+    'cavity_triangles': those of the walls of enclosed cavities)."""
     if material:
         known = frepcore.materials()
         if material not in known:
@@ -74,21 +78,65 @@ def printability(obj, min_wall=None, material=None, density=0.0, up=(0, 0, 1), o
                                              min_wall=min_wall, density=density, name=obj.Label)
     report["thin"] = ([i for i, w in enumerate(report["thickness"]) if 0 <= w < min_wall]
                       if min_wall else [])
+    report["cavity_triangles"] = [i for i, k in enumerate(report["cavity_of"]) if k >= 0]
     return report
 
 
-def show_thin_regions(obj, thin):
-    """Colours the given triangles of a Mesh feature's view red and the rest grey (its
-    segments: FreeCAD draws a mesh's segments in the colours given); no-op without a GUI."""
+def show_regions(obj, thin, cavity_walls=()):
+    """Colours the given triangles of a Mesh feature's view: thin ones red, the walls of
+    cavities blue, the rest grey (its segments: FreeCAD draws a mesh's segments in the colours
+    given); no-op without a GUI. A triangle both thin and a cavity's wall shows as thin."""
     if not FreeCAD.GuiUp or getattr(obj, "ViewObject", None) is None:
         return False
     mesh = obj.Mesh.copy()
+    if mesh.countSegments():
+        # segments only add up: a mesh built from the same topology starts without them,
+        # so a second check replaces the first one's colours
+        import Mesh
+        placement = mesh.Placement
+        mesh.Placement = FreeCAD.Placement()
+        mesh = Mesh.Mesh(mesh.Topology)
+        mesh.Placement = placement
     thin = sorted(set(thin))
-    rest = sorted(set(range(mesh.CountFacets)) - set(thin))
-    for segment in (thin, rest):
+    walls = sorted(set(cavity_walls) - set(thin))
+    rest = sorted(set(range(mesh.CountFacets)) - set(thin) - set(walls))
+    colors = []
+    for segment, color in ((thin, THIN_COLOR), (walls, CAVITY_COLOR), (rest, SOUND_COLOR)):
         if segment:
             mesh.addSegment(segment)
+            colors.append(color)
     obj.Mesh = mesh
-    colors = ([THIN_COLOR] if thin else []) + ([SOUND_COLOR] if rest else [])
     obj.ViewObject.highlightSegments(colors)
     return True
+
+
+def infill_of(obj):
+    """The infill feature whose solid a mesh object shows: the object itself (an FRep
+    feature's preview) or a Polygonize feature's Source; None for any other mesh."""
+    for candidate in (obj, getattr(obj, "Source", None)):
+        proxy = getattr(candidate, "Proxy", None)
+        if getattr(proxy, "FREP_TYPE", None) == "infill":
+            return candidate
+    return None
+
+
+def drain_cavities(infill, report, up=(0, 0, 1)):
+    """Adds a drain hole where the printability report says each cavity drains (a point of
+    its floor; largest cavity first, up to the infill's limit) to the infill's DrainHoles,
+    along the build direction;
+    returns how many were added. The points are the mesh's (world) coordinates, turned into
+    the infill's own before its placement."""
+    if getattr(infill, "DrainHolesSource", None) is not None:
+        raise ValueError("%s: its drain holes come from %s (property 'DrainHolesSource'); add "
+                         "the points there, or clear the link" % (
+                             infill.Label, infill.DrainHolesSource.Label))
+    into_infill = infill.getGlobalPlacement().inverse()
+    holes = list(infill.DrainHoles)
+    room = max(0, MOST_DRAIN_HOLES - len(holes))
+    added = [into_infill.multVec(FreeCAD.Vector(*c["drain_at"]))
+             for c in report["print"]["cavity_list"][:room]]
+    if not added:
+        return 0
+    infill.DrainHoles = holes + added
+    infill.DrainAxis = into_infill.Rotation.multVec(FreeCAD.Vector(*up))
+    return len(added)

@@ -264,12 +264,21 @@ def verdict_lines(report, wall):
     if wall:
         lines.append("Triangles where the wall is thinner than %g mm: %d (in red)"
                      % (wall, report["print"]["thin_triangles"]))
+    cavities = report["print"].get("cavities")
+    if cavities:
+        lines.append("Enclosed cavities, which trap resin or powder: %d, volume %.4g mm\u00b3 "
+                     "(in blue)" % (cavities, report["print"]["cavity_volume"]))
     return "\n".join(lines)
 
 
 class PrintabilityPanel:
     """The printability report of a mesh: minimum wall, material, build direction and
-    overhang angle in, the report out, the triangles thinner than the wall in red."""
+    overhang angle in, the report out, the triangles thinner than the wall in red and the
+    walls of enclosed cavities in blue (the mesh drawn see-through while the panel is open);
+    for an infill's mesh, a button that drains the cavities."""
+
+    # The mesh's transparency while its cavities are shown.
+    SEE_THROUGH = 60
 
     DIRECTIONS = (("z", (0, 0, 1)), ("y", (0, 1, 0)), ("x", (1, 0, 0)),
                   ("-z", (0, 0, -1)), ("-y", (0, -1, 0)), ("-x", (-1, 0, 0)))
@@ -318,6 +327,12 @@ class PrintabilityPanel:
         run.setObjectName("RunPrintability")
         run.clicked.connect(self.run)
         layout.addRow(run)
+        self.drain = QtGui.QPushButton(translate("FRep", "Drain the cavities"))
+        self.drain.setObjectName("DrainCavities")
+        self.drain.setEnabled(False)
+        self.drain.clicked.connect(self.drain_cavities)
+        layout.addRow(self.drain)
+        self.transparency = None  # the mesh's own, while it is drawn see-through
         self.text = QtGui.QPlainTextEdit()
         self.text.setObjectName("PrintabilityReport")
         self.text.setReadOnly(True)
@@ -336,14 +351,61 @@ class PrintabilityPanel:
             return None
         self.text.setPlainText("%s\n\n%s" % (verdict_lines(self.report, wall),
                                                self.report["text"]))
-        FRepManufacturing.show_thin_regions(self.obj, self.report["thin"])
+        walls = self.report["cavity_triangles"]
+        FRepManufacturing.show_regions(self.obj, self.report["thin"], walls)
+        self.see_through(bool(walls))
+        infill = FRepManufacturing.infill_of(self.obj)
+        self.drain.setEnabled(bool(walls) and infill is not None)
+        self.drain.setToolTip(
+            translate("FRep", "Adds a drain hole on each cavity's floor to %s's Drain holes "
+                              "(one undo step), then checks again") % infill.Label
+            if infill is not None else
+            translate("FRep", "Drain holes are made by an Infill; this mesh is not one's"))
         return self.report
 
+    def see_through(self, on):
+        """Draws the mesh see-through while cavities are shown, so that their walls show."""
+        view = getattr(self.obj, "ViewObject", None)
+        if view is None or not hasattr(view, "Transparency"):
+            return
+        if on and self.transparency is None:
+            self.transparency = view.Transparency
+            view.Transparency = max(view.Transparency, self.SEE_THROUGH)
+        elif not on and self.transparency is not None:
+            view.Transparency = self.transparency
+            self.transparency = None
+
+    def drain_cavities(self):
+        """Adds drain holes on the cavities' floors to the infill, recomputes and checks
+        again."""
+        import FRepManufacturing
+        infill = FRepManufacturing.infill_of(self.obj)
+        if infill is None or not self.report:
+            return 0
+        doc = infill.Document
+        doc.openTransaction(translate("FRep", "Drain the cavities"))
+        try:
+            added = FRepManufacturing.drain_cavities(
+                infill, self.report, dict(self.DIRECTIONS)[self.up.currentText()])
+        except ValueError as e:
+            doc.abortTransaction()
+            self.text.setPlainText(str(e))
+            return 0
+        doc.commitTransaction()
+        doc.recompute()
+        self.run()
+        if added:
+            self.text.setPlainText(translate("FRep", "Added %d drain holes to %s.") % (
+                added, infill.Label) + "\n" + self.text.toPlainText())
+        return added
+
     def accept(self):
+        self.see_through(False)
         FreeCADGui.Control.closeDialog()
         return True
 
     def reject(self):
+        self.see_through(False)
         FreeCADGui.Control.closeDialog()
         return True
 

@@ -42,6 +42,10 @@ std::string reportToText(const CheckReport& r, const std::string& name) {
 
 namespace {
 
+// The largest cavities the text lists and the JSON lists (a foam may hold millions).
+constexpr std::size_t kCavitiesListed = 5;
+constexpr std::size_t kCavitiesInJson = 1000;
+
 nlohmann::json checkJson(const CheckReport& r, const std::string& name) {
   nlohmann::json j;
   j["file"] = displayName(name);  // valid UTF-8 whatever the file name's bytes
@@ -105,10 +109,22 @@ std::string printabilityToText(const PrintabilityReport& r, const PrintabilityOp
   os << "  overhang             area " << r.overhangArea << " (" << r.overhangTriangles
      << " triangles facing down more than " << o.overhangDeg << " degrees from vertical)\n";
   os << "  height               " << r.height << "\n";
-  if (r.cavities > 0)
+  if (r.cavities > 0) {
     os << "  cavities             " << r.cavities << " enclosed, volume " << r.cavityVolume
        << " (resin and powder printers cannot empty them: add drain holes)\n";
-  else if (r.cavities == 0)
+    // The largest few, with where a drain hole would empty each.
+    const std::size_t shown = std::min<std::size_t>(r.cavityList.size(), kCavitiesListed);
+    for (std::size_t k = 0; k < shown; ++k) {
+      const PrintabilityReport::Cavity& c = r.cavityList[k];
+      const std::string label = "    cavity " + std::to_string(k + 1);
+      os << label << std::string(label.size() < 23 ? 23 - label.size() : 1, ' ') << "volume "
+         << c.volume << ", drain at ["
+         << c.drainAt[0] << ", " << c.drainAt[1] << ", " << c.drainAt[2] << "]\n";
+    }
+    if (shown < r.cavityList.size())
+      os << "    ... and " << r.cavityList.size() - shown << " smaller (--json lists the largest "
+         << kCavitiesInJson << ")\n";
+  } else if (r.cavities == 0)
     os << "  cavities             none\n";
   if (o.density > 0)
     os << "  mass                 " << r.mass << " g (density " << o.density
@@ -134,6 +150,12 @@ std::string printabilityToJson(const CheckReport& check, const PrintabilityRepor
   p["height"] = r.height;
   p["cavities"] = r.cavities >= 0 ? nlohmann::json(r.cavities) : nlohmann::json(nullptr);
   p["cavity_volume"] = r.cavities >= 0 ? nlohmann::json(r.cavityVolume) : nlohmann::json(nullptr);
+  nlohmann::json list = nlohmann::json::array();
+  for (std::size_t k = 0; k < r.cavityList.size() && k < kCavitiesInJson; ++k) {
+    const PrintabilityReport::Cavity& c = r.cavityList[k];
+    list.push_back({{"volume", c.volume}, {"drain_at", {c.drainAt[0], c.drainAt[1], c.drainAt[2]}}});
+  }
+  p["cavity_list"] = list;
   if (o.density > 0) {
     p["density"] = o.density;
     p["mass_g"] = r.mass;

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <queue>
 
 #include "base/errors.h"
 #include "base/library_compat.h"
@@ -66,10 +67,88 @@ double materialDensity(const std::string& name) {
 
 namespace {
 
+// Where a drain hole empties each cavity: on its floor (the wall within 2 % of the cavity's
+// height of its lowest point), the floor's point farthest, along the mesh, from the floor's
+// edge: a hole there opens onto the cavity, not onto the wall that rises beside the floor
+// (a flat floor has many lowest points, most of them at its edge).
+void placeDrains(const TriangleMesh& mesh, const std::vector<std::uint32_t>& id,
+                 const std::vector<std::uint32_t>& first, const Vec3& up, PrintabilityReport& r) {
+  const std::size_t points = first.size(), cavities = r.cavityList.size();
+  auto height = [&](std::uint32_t v) {
+    const Vec3f& q = mesh.positions[first[v]];
+    return q[0] * up[0] + q[1] * up[1] + q[2] * up[2];
+  };
+  constexpr double kNone = std::numeric_limits<double>::max();
+  std::vector<double> low(cavities, kNone), high(cavities, -kNone);
+  std::vector<std::int32_t> cavityOfPoint(points, -1);
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const std::int32_t k = r.cavityOf[i];
+    if (k < 0) continue;
+    for (int c = 0; c < 3; ++c) {
+      const std::uint32_t v = id[mesh.triangles[i][c]];
+      cavityOfPoint[v] = k;
+      low[k] = std::min(low[k], height(v));
+      high[k] = std::max(high[k], height(v));
+    }
+  }
+  auto onFloor = [&](std::uint32_t v) {
+    const std::int32_t k = cavityOfPoint[v];
+    return k >= 0 && height(v) <= low[k] + 0.02 * (high[k] - low[k]);
+  };
+  // The floors' edges (as a graph over the welded points) and their rims: floor points with an
+  // edge to a point off the floor.
+  std::vector<std::vector<std::uint32_t>> next(points);
+  std::vector<double> distance(points, kNone);
+  using Reached = std::pair<double, std::uint32_t>;
+  std::priority_queue<Reached, std::vector<Reached>, std::greater<Reached>> queue;
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    if (r.cavityOf[i] < 0) continue;
+    for (int c = 0; c < 3; ++c) {
+      const std::uint32_t a = id[mesh.triangles[i][c]], b = id[mesh.triangles[i][(c + 1) % 3]];
+      const bool aFloor = onFloor(a), bFloor = onFloor(b);
+      if (aFloor && bFloor) {
+        next[a].push_back(b);
+        next[b].push_back(a);
+      } else if (aFloor != bFloor) {
+        const std::uint32_t rim = aFloor ? a : b;
+        if (distance[rim] != 0.0) queue.push({distance[rim] = 0.0, rim});
+      }
+    }
+  }
+  // Distances from the rims across each floor (Dijkstra along the mesh's edges).
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > distance[v]) continue;
+    const Vec3f& p = mesh.positions[first[v]];
+    for (std::uint32_t w : next[v]) {
+      const Vec3f& q = mesh.positions[first[w]];
+      const double step = std::sqrt(double(p[0] - q[0]) * (p[0] - q[0]) +
+                                    double(p[1] - q[1]) * (p[1] - q[1]) +
+                                    double(p[2] - q[2]) * (p[2] - q[2]));
+      if (d + step < distance[w]) queue.push({distance[w] = d + step, w});
+    }
+  }
+  // Per cavity the floor point deepest inside its floor (a floor without a rim, such as a
+  // ball's cap that is all floor, keeps its lowest point).
+  std::vector<double> deepest(cavities, -1.0), lowest(cavities, kNone);
+  for (std::uint32_t v = 0; v < points; ++v) {
+    const std::int32_t k = cavityOfPoint[v];
+    if (k < 0 || !onFloor(v)) continue;
+    const Vec3f& q = mesh.positions[first[v]];
+    const double depth = distance[v] == kNone ? 0.0 : distance[v];
+    if (depth > deepest[k] || (depth == deepest[k] && height(v) < lowest[k])) {
+      deepest[k] = depth;
+      lowest[k] = height(v);
+      r.cavityList[k].drainAt = {q[0], q[1], q[2]};
+    }
+  }
+}
+
 // The components of a printable mesh (faces joined through shared coordinates), each with its
 // signed volume: an outward shell adds volume, the wall of a void inside it takes volume away
 // (its normals point into the void, away from the material).
-void countCavities(const TriangleMesh& mesh, PrintabilityReport& r) {
+void countCavities(const TriangleMesh& mesh, const Vec3& up, PrintabilityReport& r) {
   std::vector<std::uint32_t> first;
   const std::vector<std::uint32_t> id = distinctPoints(mesh.positions, &first);
   UnionFind pieces(first.size());
@@ -79,13 +158,25 @@ void countCavities(const TriangleMesh& mesh, PrintabilityReport& r) {
   for (const Triangle& t : mesh.triangles)
     volume[pieces.find(id[t[0]])] +=
         signedTetraVolume(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
-  r.cavities = 0;
+  // The cavities by their piece, largest first.
+  std::vector<std::uint32_t> walls;
+  for (std::uint32_t piece = 0; piece < volume.size(); ++piece)
+    if (volume[piece] < 0) walls.push_back(piece);
+  std::sort(walls.begin(), walls.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return volume[a] < volume[b]; });
+  std::vector<std::int32_t> cavityOfPiece(volume.size(), -1);
+  r.cavities = static_cast<long long>(walls.size());
   r.cavityVolume = 0.0;
-  for (double v : volume)
-    if (v < 0) {
-      ++r.cavities;
-      r.cavityVolume -= v;
-    }
+  r.cavityList.assign(walls.size(), {});
+  for (std::size_t k = 0; k < walls.size(); ++k) {
+    cavityOfPiece[walls[k]] = static_cast<std::int32_t>(k);
+    r.cavityList[k].volume = -volume[walls[k]];
+    r.cavityVolume -= volume[walls[k]];
+  }
+  r.cavityOf.assign(mesh.triangles.size(), -1);
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+    r.cavityOf[i] = cavityOfPiece[pieces.find(id[mesh.triangles[i][0]])];
+  placeDrains(mesh, id, first, up, r);
 }
 
 }  // namespace
@@ -145,7 +236,7 @@ PrintabilityReport measurePrintability(const TriangleMesh& mesh, const Printabil
     }
   }
   if (o.density > 0) r.mass = std::abs(r.volume) * o.density / 1000.0;  // mm^3 * g/cm^3 -> g
-  if (o.thickness) countCavities(mesh, r);
+  if (o.thickness) countCavities(mesh, {up.x(), up.y(), up.z()}, r);
 
   // Thickness: rays from each triangle's centre, against its normal, in a cone.
   r.thickness.assign(n, -1.0f);

@@ -7,6 +7,7 @@
 // and mass for a material (volume, area and bounding box are the check's).
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -56,6 +57,17 @@ struct PrintabilityReport {
   // (PrintabilityOptions::thickness); -1: not counted.
   long long cavities = -1;
   double cavityVolume = 0.0;
+  // Each cavity, largest first: its volume and where a drain hole along the build direction
+  // empties it: a point of its floor (its wall near its lowest point), well inside the floor
+  // (infill's drain_holes takes such points).
+  struct Cavity {
+    double volume = 0.0;
+    Vec3 drainAt{0, 0, 0};
+  };
+  std::vector<Cavity> cavityList;
+  // Per triangle of the mesh: the index in cavityList of the cavity whose wall it is, or -1
+  // (empty when cavities were not counted).
+  std::vector<std::int32_t> cavityOf;
 };
 
 // Throws ModelError for bad options (a zero build direction, angles out of range, rays < 1).

@@ -90,6 +90,30 @@ std::vector<std::string> surfaceIds() {
   return ids;
 }
 
+// A part needs a few drain holes; the limit keeps the field's program small.
+constexpr std::size_t kMostDrainHoles = 100;
+
+// The union of the drain holes' cylinders (> 0 inside one): each along drain_axis through its
+// point, of radius drain_diameter / 2, reaching wall + drain_diameter / 2 to either side: a
+// hole placed on the skin's outer or inner surface pierces it, also where it meets the skin at
+// a slant, and reaches little of the skin beside it (a hole by a corner cuts the side walls
+// only that far).
+Slot drainHoles(CompileContext& c, const std::vector<Vec3>& holes) {
+  auto& b = c.b;
+  const double radius = 0.5 * c.real("drain_diameter");
+  const double reach = c.real("wall") + radius;
+  const Frame frame = frameAlong(c.vec3("drain_axis"));
+  Slot all = 0;
+  for (std::size_t i = 0; i < holes.size(); ++i) {
+    const Point3Slots q = localCoordinates(b, c.p, holes[i], frame);
+    const Slot across = b.sqrt(b.add(b.sqr(q.x), b.sqr(q.y)));
+    const Slot hole = b.min(b.sub(b.constant(radius), across),
+                            b.sub(b.constant(reach), b.abs(q.z)));
+    all = i == 0 ? hole : b.max(all, hole);
+  }
+  return all;
+}
+
 void addInfill(Registry& r) {
   std::vector<ParamTemplate> params = {
       choiceParam("lattice", surfaceIds(), "The lattice filling the inside."),
@@ -101,10 +125,24 @@ void addInfill(Registry& r) {
       "(network), in model units; it sets `level` from the surface's typical gradient. 0: "
       "`level` as given.");
   params.push_back(range(thickness, 0.0, kInf));
+  params.push_back(pointsParam(
+      "drain_holes", {}, 0, "length",
+      "Where holes pierce the skin so that resin or powder can leave the lattice: each a "
+      "cylinder through the point along drain_axis, reaching wall + drain_diameter / 2 to "
+      "either side (place it on the skin, e.g. where the printability report says a cavity drains). "
+      "Empty: no holes. At most " +
+          std::to_string(kMostDrainHoles) + "."));
+  params.push_back(positiveLength("drain_diameter", 0.5, "Diameter of every drain hole."));
+  ParamTemplate drainAxis = axisParam("Direction of the drain holes' cylinders.");
+  drainAxis.name = "drain_axis";
+  params.push_back(drainAxis);
   r.add({"infill", "microstructure",
          "Hollows a solid to a skin of the given wall thickness and fills its inside with a "
-         "lattice: light, printable infill that follows the part's shape.",
-         "F = max(min(f, wall - f), min(f, lattice));  lattice as its surface's node with level = "
+         "lattice: light, printable infill that follows the part's shape; drain holes open "
+         "the skin where a resin or powder printer must empty it.",
+         "F = max(min(f, wall - f, -H), min(f, lattice));  H = max over drain holes of "
+         "min(drain_diameter/2 - distance to its axis, wall + drain_diameter/2 - |distance "
+         "along it|) (no holes: no -H);  lattice as its surface's node with level = "
          "pi thickness |grad g| / cell (sheet) or 2 pi thickness |grad g| / cell (network) when "
          "thickness > 0",
          1, 1, params,
@@ -122,9 +160,18 @@ void addInfill(Registry& r) {
            const bool sheet = c.param("kind").text == "sheet";
            const double level = t > 0.0 ? t / (sheet ? 2.0 : 1.0) / perLevel : c.real("level");
            const Slot lattice = latticeField(c, found->g, b.constant(level));
-           return b.max(skin, b.min(f, lattice));
+           const std::vector<Vec3> holes = pointsOf(c.param("drain_holes"));
+           const Slot opened = holes.empty() ? skin : b.min(skin, b.neg(drainHoles(c, holes)));
+           return b.max(opened, b.min(f, lattice));
          },
-         [](const Node&, const std::vector<Box3>& in) { return in[0]; }});
+         [](const Node&, const std::vector<Box3>& in) { return in[0]; },
+         [](const Node& n) -> std::string {
+           const std::size_t count = pointsOf(n.param("drain_holes")).size();
+           if (count <= kMostDrainHoles) return "";
+           return "parameter 'drain_holes' has " + std::to_string(count) +
+                  " points; at most " + std::to_string(kMostDrainHoles) +
+                  " drain holes are allowed";
+         }});
 }
 
 const std::vector<TpmsSurface>& surfaces() {

@@ -162,6 +162,7 @@ void bindMesh(py::module_& m) {
             }
             py::dict d = fromJson(printabilityToJson(c, p, o, name)).cast<py::dict>();
             d["thickness"] = p.thickness;
+            d["cavity_of"] = p.cavityOf;
             d["text"] = reportToText(c, name) + printabilityToText(p, o);
             return d;
           },
@@ -169,7 +170,9 @@ void bindMesh(py::module_& m) {
           py::arg("min_wall") = py::none(), py::arg("density") = 0.0, py::arg("name") = "mesh",
           "The check plus what a printer makes of the mesh: dict of `frepcad check --print "
           "--json` ('print': min_wall, thin_triangles, overhang_area, height, mass_g, ...), "
-          "'thickness' per triangle (-1 where not measured) and 'text'.")
+          "'thickness' per triangle (-1 where not measured), 'cavity_of' per triangle (the index "
+          "in print['cavity_list'] of the cavity it walls, or -1; empty when not counted) and "
+          "'text'.")
       .def(
           "deviation",
           [](const TriangleMesh& a, const TriangleMesh& b) {

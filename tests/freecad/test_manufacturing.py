@@ -113,3 +113,55 @@ def test_an_inside_out_mesh_that_freecads_own_check_passes_is_caught(doc):
     assert any("not outward" in r for r in report["reasons"])
     fixed, result = FRepManufacturing.repair(obj, progress=lambda f: True)
     assert fixed is not None and result["check"]["outward"]
+
+
+def test_an_infills_cavities_are_reported_and_drained_through_its_skin(doc):
+    # a 30 x 20 x 12 mm block hollowed to a 1 mm skin around a gyroid sheet, moved and turned
+    # so that the holes must be placed in the infill's own coordinates
+    block = F.make("box", doc, corner=(0, 0, 0), size=(30, 20, 12))
+    infill = F.make("infill", doc, inputs=[block], wall=1.0, cell=6.0, thickness=0.8)
+    infill.Placement = FreeCAD.Placement(FreeCAD.Vector(50, -5, 3),
+                                         FreeCAD.Rotation(FreeCAD.Vector(0, 0, 1), 30))
+    p = FRepPolygonize.make(infill, doc, Cells=150)
+    doc.recompute()
+    assert p.isValid(), p.getStatusString()
+    assert FRepManufacturing.infill_of(p) == infill
+    assert FRepManufacturing.infill_of(infill) == infill
+    assert FRepManufacturing.infill_of(block) is None
+    report = FRepManufacturing.printability(p)
+    cavities = report["print"]["cavity_list"]
+    assert report["print"]["cavities"] == len(cavities) >= 2
+    volumes = [c["volume"] for c in cavities]
+    assert volumes == sorted(volumes, reverse=True)
+    assert sum(volumes) == pytest.approx(report["print"]["cavity_volume"])
+    # the walls: a triangle is a cavity's wall exactly where the report says so
+    walls = set(report["cavity_triangles"])
+    assert 0 < len(walls) < p.Mesh.CountFacets
+    assert {report["cavity_of"][i] for i in walls} == set(range(len(cavities)))
+    # each drain point lies on the inside of the bottom skin (1 mm above the plate, z = 3)
+    for c in cavities:
+        assert c["drain_at"][2] == pytest.approx(4.0, abs=0.2)
+
+    added = FRepManufacturing.drain_cavities(infill, report)
+    assert added == len(cavities) and len(infill.DrainHoles) == added
+    # in the infill's own coordinates: on the inside of its bottom skin, within the block
+    for hole in infill.DrainHoles:
+        assert hole.z == pytest.approx(1.0, abs=0.2)
+        assert 0 < hole.x < 30 and 0 < hole.y < 20
+    doc.recompute()
+    assert p.isValid(), p.getStatusString()
+    after = FRepManufacturing.printability(p)
+    assert after["printable"]
+    assert after["print"]["cavities"] == 0 and not after["cavity_triangles"]
+    assert after["volume"] < report["volume"]  # the skin lost the holes' material
+
+
+def test_drain_holes_from_a_linked_source_are_not_overwritten(doc):
+    block = F.make("box", doc, corner=(0, 0, 0), size=(30, 20, 12))
+    infill = F.make("infill", doc, inputs=[block], wall=1.0, cell=6.0, thickness=0.8)
+    points = doc.addObject("Part::Vertex", "Where")
+    infill.DrainHolesSource = points
+    report = {"print": {"cavity_list": [{"volume": 1.0, "drain_at": [1.0, 1.0, 1.0]}]}}
+    with pytest.raises(ValueError, match="property 'DrainHolesSource'"):
+        FRepManufacturing.drain_cavities(infill, report)
+    assert len(infill.DrainHoles) == 0
