@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Fuzz test of frepcad: random mutations of the example models and of small meshes, each run
-through `frepcad export`, `frepcad check` or `frepcad repair`.
+"""Fuzz test of frepcad: random mutations of the example models, of small meshes (STL, OBJ,
+PLY, OFF, 3MF) and of an OpenVDB file, each run through `frepcad export`, `check`,
+`check --print`, `repair`, `compare`, `deform` or `info`.
 
 Asserts for every case: no signal (no crash), exit status 0, 1 or 2 only, at most a few lines
 on stderr and none of a library's own exception text, no file or temporary file left in the
@@ -25,7 +26,7 @@ TOKENS = ["NaN", "Infinity", "-Infinity", "1e999", "-1e999", "-1", "0", "1e-320"
           "9" * 400, "[[[[[[[[[[", "-0", "0.0000000000000000000000001"]
 STATUS = {}  # exit status -> cases, to show the cases reach past the parser
 LIBRARY_TEXT = ("json.exception", "terminate called", "Traceback", "what():", "basic_string",
-                "std::", "Segmentation", "Aborted")
+                "std::", "Segmentation", "Aborted", "\x1b[")
 
 
 def mutate_text(rng, text):
@@ -119,6 +120,17 @@ def seeds(frepcad, src, work):
             meshes.append((ext, f.read()))
         os.remove(path)
     meshes.append((".off", off_of_obj(dict(meshes)[".obj"])))
+    for fmt, ext, cells in (("3mf", ".3mf", "4"), ("vdb", ".vdb", "6")):
+        path = os.path.join(work, "seed" + ext)
+        cmd = [frepcad, "export", os.path.join(src, "examples", "sphere.json"), "-o", path,
+               "--cells", cells, "--quiet"]
+        subprocess.run(cmd + (["--format", fmt] if fmt != "vdb" else []), check=True)
+        with open(path, "rb") as f:
+            meshes.append((ext, f.read()))
+    # compare takes the unchanged seed as its other mesh
+    for ext, data in meshes:
+        with open(os.path.join(work, "seed" + ext), "wb") as f:
+            f.write(data)
     return models, meshes
 
 
@@ -174,13 +186,21 @@ def sized_model(rng):
     return json.dumps({"root": {"type": kind, "params": {param: points}}}).encode()
 
 
-def run_case(frepcad, work, index, kind, payload, ext, keep):
+def keep_case(case, index):
+    """A failed case's folder copied where it outlives the run; returns where."""
+    keepdir = os.path.join(tempfile.gettempdir(), "frep-fuzz-failure-%d" % index)
+    shutil.rmtree(keepdir, ignore_errors=True)
+    shutil.copytree(case, keepdir)
+    return keepdir
+
+
+def run_case(frepcad, src, work, index, kind, payload, ext, keep):
     case = os.path.join(work, "case%d" % index)
     os.makedirs(os.path.join(case, "out"))
     inp = os.path.join(case, "in" + ext)
     with open(inp, "wb") as f:
         f.write(payload)
-    out = os.path.join(case, "out", "part.stl")
+    out = os.path.join(case, "out", "part.vdb" if ext == ".vdb" else "part.stl")
     before = None
     if keep:
         before = b"solid keep\nendsolid keep\n"
@@ -190,12 +210,22 @@ def run_case(frepcad, work, index, kind, payload, ext, keep):
         cmd = [frepcad, "export", inp, "-o", out, "--cells", "12", "--quiet"]
     elif kind == "repair":
         cmd = [frepcad, "repair", inp, "-o", out, "--quiet", "--voxel", "0.1"]
+    elif kind == "print":
+        cmd = [frepcad, "check", inp, "--json", "--print", "--min-wall", "0.1", "--material",
+               "resin"]
+    elif kind == "compare":
+        cmd = [frepcad, "compare", inp, os.path.join(work, "seed" + ext), "--json"]
+    elif kind == "deform":
+        cmd = [frepcad, "deform", inp, "--lattice",
+               os.path.join(src, "examples", "lattices", "bend.json"), "-o", out, "--quiet"]
+    elif kind == "info":
+        cmd = [frepcad, "info", inp]
     else:
         cmd = [frepcad, "check", inp, "--json"]
     try:
         p = subprocess.run(cmd, capture_output=True, timeout=60)
     except subprocess.TimeoutExpired:
-        return "hung (60 s): %s" % " ".join(cmd)
+        return "hung (60 s), kept in %s: %s" % (keep_case(case, index), " ".join(cmd))
     problems = []
     err = p.stderr.decode("utf-8", "replace")
     if p.returncode < 0:
@@ -218,9 +248,9 @@ def run_case(frepcad, work, index, kind, payload, ext, keep):
                 problems.append("an existing output was changed by a failed export")
     if kind == "repair" and p.returncode == 0:
         problems += judge_repair(frepcad, inp, out)
-    if kind == "repair" and p.returncode != 0 and os.path.exists(out):
-        problems.append("a failed repair wrote a file")
-    if kind == "check" and p.returncode in (0, 1):
+    if kind in ("repair", "deform") and p.returncode != 0 and os.path.exists(out):
+        problems.append("a failed %s wrote a file" % kind)
+    if kind in ("check", "print") and p.returncode in (0, 1):
         try:
             report = json.loads(p.stdout.decode("utf-8"))
             if not report["closed"] and report["volume"] is not None:
@@ -229,10 +259,8 @@ def run_case(frepcad, work, index, kind, payload, ext, keep):
             problems.append("check --json printed invalid JSON")
     STATUS[p.returncode] = STATUS.get(p.returncode, 0) + 1
     if problems:
-        keepdir = os.path.join(tempfile.gettempdir(), "frep-fuzz-failure-%d" % index)
-        shutil.rmtree(keepdir, ignore_errors=True)
-        shutil.copytree(case, keepdir)
-        return "case %d (%s, kept in %s): %s\n  %s" % (index, " ".join(cmd), keepdir,
+        return "case %d (%s, kept in %s): %s\n  %s" % (index, " ".join(cmd),
+                                                       keep_case(case, index),
                                                        "; ".join(problems), err[-500:])
     shutil.rmtree(case)
     return None
@@ -257,11 +285,15 @@ def main(argv):
                              rng.random() < 0.5))
             else:
                 ext, data = rng.choice(meshes)
-                kind = "repair" if rng.random() < 0.2 else "check"
+                if ext == ".vdb":
+                    kind = rng.choice(("info", "info", "deform"))
+                else:
+                    kind = rng.choices(("check", "print", "repair", "compare", "deform"),
+                                       (45, 20, 15, 10, 10))[0]
                 jobs.append((i, kind, mutate_mesh(rng, data), ext, False))
         failures = []
         with concurrent.futures.ThreadPoolExecutor(max_workers=os.cpu_count() or 2) as pool:
-            for result in pool.map(lambda j: run_case(frepcad, work, *j), jobs):
+            for result in pool.map(lambda j: run_case(frepcad, src, work, *j), jobs):
                 if result:
                     failures.append(result)
                     print("FAIL", result, flush=True)

@@ -482,6 +482,37 @@ TEST(VdbFiles, MalformedFilesGetClearErrorsAndHugeDeclaredGridsAreRefused) {
   EXPECT_NE(e.find("bytes in memory"), std::string::npos) << e;
 }
 
+// A tree's topology starts with its buffer count (1), its background value and the root's
+// tile and child counts: a count damaged to billions must end in an error at the file's end,
+// not billions of reads past it.
+TEST(VdbFiles, ADamagedTileCountEndsAtTheFileEndInsteadOfSpinning) {
+  const std::string folder = sampleFolder();
+  const float background = 1234.5f;
+  openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(background);
+  grid->tree().setValue(openvdb::Coord(1, 2, 3), 1.0f);
+  const std::string good = folder + "/tiles.vdb";
+  writeVdb(gridSetOf({grid}), good);
+  std::ifstream in(good, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  char head[8];
+  const std::int32_t one = 1;
+  std::memcpy(head, &one, 4);
+  std::memcpy(head + 4, &background, 4);
+  const std::size_t at = bytes.find(std::string(head, 8));
+  ASSERT_NE(at, std::string::npos);
+  const std::uint32_t tiles = 0xFFFFFF00u;
+  std::memcpy(&bytes[at + 8], &tiles, 4);
+  std::ofstream(folder + "/spinning.vdb", std::ios::binary) << bytes;
+  try {
+    readVdb(folder + "/spinning.vdb");
+    ADD_FAILURE() << "a file declaring 4 billion tiles was read";
+  } catch (const FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("spinning.vdb: the OpenVDB file ends inside its grids"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(VdbGrid, AModelNodeReadsAGridByNameAndMeshesPrintable) {
   const std::string path = sampleFolder() + "/named.vdb";
   GridSet two = sampledSphere(0.05, 1.0);

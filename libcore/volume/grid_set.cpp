@@ -1,6 +1,8 @@
-// .vdb files through openvdb::io::File (read) and io::Stream (write into memory, then an
-// atomic file), with every OpenVDB error turned into a FileError that names the file.
+// .vdb files through openvdb::io::File (the header and the grids' metadata), io::Stream (the
+// grids, from a stream that throws at its end) and io::File again to write (into a temporary
+// file made atomic), with every OpenVDB error turned into a FileError that names the file.
 #include <openvdb/io/File.h>
+#include <openvdb/io/Stream.h>
 
 #include <cstdint>
 #include <cstring>
@@ -163,14 +165,23 @@ GridSet readVdb(const std::string& path) {
     if (declared > kMaxVdbGridBytes)
       throw FileError(name + ": its grids declare " + withThousands(declared) +
                       " bytes in memory; at most " + withThousands(kMaxVdbGridBytes) + " are read");
-    openvdb::GridPtrVecPtr grids = file.getGrids();
-    if (openvdb::MetaMap::Ptr meta = file.getMetadata()) set.impl->fileMetadata = *meta;
     file.close();
+    // The grids themselves from a stream that throws once the file ends: OpenVDB's readers
+    // loop over the counts a file declares, and on a plain stream a damaged count past the
+    // end spins through billions of failed reads instead of stopping.
+    std::ifstream in(path, std::ios::binary);
+    in.exceptions(std::ios::failbit | std::ios::badbit);
+    openvdb::io::Stream stream(in, /*delayLoad=*/false);
+    openvdb::GridPtrVecPtr grids = stream.getGrids();
+    if (openvdb::MetaMap::Ptr meta = stream.getMetadata()) set.impl->fileMetadata = *meta;
     if (grids->empty())
       throw FileError(name + ": the OpenVDB file holds no grids (a truncated or unfinished file?)");
     set.impl->grids = std::move(*grids);
   } catch (const FileError&) {
     throw;
+  } catch (const std::ios_base::failure&) {
+    throw FileError(name + ": the OpenVDB file ends inside its grids (a truncated or damaged "
+                           "file)");
   } catch (const openvdb::Exception& e) {
     throw FileError(name + ": not a readable OpenVDB file (" + e.what() + ")");
   } catch (const std::bad_alloc&) {
