@@ -14,8 +14,6 @@ from FRepPaths import frepcore
 THIN_COLOR = (0.9, 0.1, 0.1)
 CAVITY_COLOR = (0.15, 0.45, 0.95)
 SOUND_COLOR = (0.75, 0.75, 0.75)
-# The infill node's limit on drain holes (its parameter 'drain_holes').
-MOST_DRAIN_HOLES = 100
 
 
 def is_mesh_object(obj):
@@ -120,6 +118,12 @@ def infill_of(obj):
     return None
 
 
+def most_drain_holes():
+    """The infill node's limit on its parameter 'drain_holes' (the registry's)."""
+    infill = next(t for t in frepcore.node_types() if t["type"] == "infill")
+    return next(p["max_points"] for p in infill["params"] if p["name"] == "drain_holes")
+
+
 def drain_cavities(infill, report, up=(0, 0, 1)):
     """Adds a drain hole where the printability report says each cavity drains (a point of
     its floor; largest cavity first, up to the infill's limit) to the infill's DrainHoles,
@@ -132,7 +136,7 @@ def drain_cavities(infill, report, up=(0, 0, 1)):
                              infill.Label, infill.DrainHolesSource.Label))
     into_infill = infill.getGlobalPlacement().inverse()
     holes = list(infill.DrainHoles)
-    room = max(0, MOST_DRAIN_HOLES - len(holes))
+    room = max(0, most_drain_holes() - len(holes))
     added = [into_infill.multVec(FreeCAD.Vector(*c["drain_at"]))
              for c in report["print"]["cavity_list"][:room]]
     if not added:

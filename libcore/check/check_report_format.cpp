@@ -118,8 +118,8 @@ std::string printabilityToText(const PrintabilityReport& r, const PrintabilityOp
       const PrintabilityReport::Cavity& c = r.cavityList[k];
       const std::string label = "    cavity " + std::to_string(k + 1);
       os << label << std::string(label.size() < 23 ? 23 - label.size() : 1, ' ') << "volume "
-         << c.volume << ", drain at ["
-         << c.drainAt[0] << ", " << c.drainAt[1] << ", " << c.drainAt[2] << "]\n";
+         << c.volume << ", drain at [" << c.drainAt[0] << ", " << c.drainAt[1] << ", "
+         << c.drainAt[2] << "]\n";
     }
     if (shown < r.cavityList.size())
       os << "    ... and " << r.cavityList.size() - shown << " smaller (--json lists the largest "
@@ -153,7 +153,8 @@ std::string printabilityToJson(const CheckReport& check, const PrintabilityRepor
   nlohmann::json list = nlohmann::json::array();
   for (std::size_t k = 0; k < r.cavityList.size() && k < kCavitiesInJson; ++k) {
     const PrintabilityReport::Cavity& c = r.cavityList[k];
-    list.push_back({{"volume", c.volume}, {"drain_at", {c.drainAt[0], c.drainAt[1], c.drainAt[2]}}});
+    list.push_back(
+        {{"volume", c.volume}, {"drain_at", {c.drainAt[0], c.drainAt[1], c.drainAt[2]}}});
   }
   p["cavity_list"] = list;
   if (o.density > 0) {

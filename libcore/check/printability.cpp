@@ -123,9 +123,9 @@ void placeDrains(const TriangleMesh& mesh, const std::vector<std::uint32_t>& id,
     const Vec3f& p = mesh.positions[first[v]];
     for (std::uint32_t w : next[v]) {
       const Vec3f& q = mesh.positions[first[w]];
-      const double step = std::sqrt(double(p[0] - q[0]) * (p[0] - q[0]) +
-                                    double(p[1] - q[1]) * (p[1] - q[1]) +
-                                    double(p[2] - q[2]) * (p[2] - q[2]));
+      const double step =
+          std::sqrt(double(p[0] - q[0]) * (p[0] - q[0]) + double(p[1] - q[1]) * (p[1] - q[1]) +
+                    double(p[2] - q[2]) * (p[2] - q[2]));
       if (d + step < distance[w]) queue.push({distance[w] = d + step, w});
     }
   }

@@ -107,8 +107,8 @@ Slot drainHoles(CompileContext& c, const std::vector<Vec3>& holes) {
   for (std::size_t i = 0; i < holes.size(); ++i) {
     const Point3Slots q = localCoordinates(b, c.p, holes[i], frame);
     const Slot across = b.sqrt(b.add(b.sqr(q.x), b.sqr(q.y)));
-    const Slot hole = b.min(b.sub(b.constant(radius), across),
-                            b.sub(b.constant(reach), b.abs(q.z)));
+    const Slot hole =
+        b.min(b.sub(b.constant(radius), across), b.sub(b.constant(reach), b.abs(q.z)));
     all = i == 0 ? hole : b.max(all, hole);
   }
   return all;
@@ -125,13 +125,14 @@ void addInfill(Registry& r) {
       "(network), in model units; it sets `level` from the surface's typical gradient. 0: "
       "`level` as given.");
   params.push_back(range(thickness, 0.0, kInf));
-  params.push_back(pointsParam(
+  ParamTemplate holes = pointsParam(
       "drain_holes", {}, 0, "length",
       "Where holes pierce the skin so that resin or powder can leave the lattice: each a "
       "cylinder through the point along drain_axis, reaching wall + drain_diameter / 2 to "
-      "either side (place it on the skin, e.g. where the printability report says a cavity drains). "
-      "Empty: no holes. At most " +
-          std::to_string(kMostDrainHoles) + "."));
+      "either side (place it on the skin, e.g. where the printability report says a cavity "
+      "drains). Empty: no holes.");
+  holes.maxPoints = kMostDrainHoles;
+  params.push_back(holes);
   params.push_back(positiveLength("drain_diameter", 0.5, "Diameter of every drain hole."));
   ParamTemplate drainAxis = axisParam("Direction of the drain holes' cylinders.");
   drainAxis.name = "drain_axis";
@@ -164,14 +165,7 @@ void addInfill(Registry& r) {
            const Slot opened = holes.empty() ? skin : b.min(skin, b.neg(drainHoles(c, holes)));
            return b.max(opened, b.min(f, lattice));
          },
-         [](const Node&, const std::vector<Box3>& in) { return in[0]; },
-         [](const Node& n) -> std::string {
-           const std::size_t count = pointsOf(n.param("drain_holes")).size();
-           if (count <= kMostDrainHoles) return "";
-           return "parameter 'drain_holes' has " + std::to_string(count) +
-                  " points; at most " + std::to_string(kMostDrainHoles) +
-                  " drain holes are allowed";
-         }});
+         [](const Node&, const std::vector<Box3>& in) { return in[0]; }});
 }
 
 const std::vector<TpmsSurface>& surfaces() {

@@ -155,7 +155,9 @@ std::string ParamTemplate::rangeText() const {
     case ParamType::Matrix3x4:
       return "12 finite numbers (rows of a 3x4 affine matrix, invertible)";
     case ParamType::Points:
-      return "a list of at least " + std::to_string(minPoints) +
+      return (maxPoints == std::numeric_limits<std::size_t>::max()
+                  ? "a list of at least " + std::to_string(minPoints)
+                  : "a list of " + std::to_string(minPoints) + " to " + std::to_string(maxPoints)) +
              " points [x, y, z] of finite numbers";
     default:
       break;
@@ -192,7 +194,8 @@ std::string ParamTemplate::check(const ParamValue& v) const {
     return "";
   }
   if (type == ParamType::Points) {
-    if (v.numbers.size() % 3 != 0 || v.numbers.size() / 3 < minPoints)
+    if (v.numbers.size() % 3 != 0 || v.numbers.size() / 3 < minPoints ||
+        v.numbers.size() / 3 > maxPoints)
       return "expects " + rangeText() + ", got " +
              (v.numbers.size() % 3 ? std::to_string(v.numbers.size()) + " numbers"
                                    : std::to_string(v.numbers.size() / 3) + " points");

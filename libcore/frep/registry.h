@@ -40,7 +40,9 @@ struct ParamTemplate {
   bool maxExclusive = false;
   bool nonZeroVector = false;  // Vector3 that must not be (0, 0, 0), e.g. an axis
   std::size_t minPoints = 0;   // Points: at least this many
-  bool path = false;           // Points: an ordered path (a sweep's), else a set of positions
+  // Points: at most this many (a limit that keeps the field's program small)
+  std::size_t maxPoints = std::numeric_limits<std::size_t>::max();
+  bool path = false;  // Points: an ordered path (a sweep's), else a set of positions
   // Points taken from the same object as the named parameter in FreeCAD (the instancer's
   // rotations follow its positions' source); "" for a list of its own.
   std::string follows;

@@ -61,6 +61,10 @@ nlohmann::json toJson(const NodeType& t) {
     if (p.type == ParamType::Text) pj["file"] = p.filePath;
     if (p.type == ParamType::Points) {
       pj["path"] = p.path;
+      pj["min_points"] = p.minPoints;
+      pj["max_points"] = p.maxPoints == std::numeric_limits<std::size_t>::max()
+                             ? nlohmann::json(nullptr)
+                             : nlohmann::json(p.maxPoints);
       pj["follows"] = p.follows;
     }
     j["params"].push_back(pj);

@@ -180,8 +180,9 @@ GridSet readVdb(const std::string& path) {
   } catch (const FileError&) {
     throw;
   } catch (const std::ios_base::failure&) {
-    throw FileError(name + ": the OpenVDB file ends inside its grids (a truncated or damaged "
-                           "file)");
+    throw FileError(name +
+                    ": the OpenVDB file ends inside its grids (a truncated or damaged "
+                    "file)");
   } catch (const openvdb::Exception& e) {
     throw FileError(name + ": not a readable OpenVDB file (" + e.what() + ")");
   } catch (const std::bad_alloc&) {
