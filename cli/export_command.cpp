@@ -237,6 +237,8 @@ int exportModel(const ExportOptions& opt) {
     chosen = chooseBox(program, request.known, box);
     request.box.bbox = chosen.box;
     request.box.resolution = chosen.resolution;
+  } catch (const EmptySolidError& e) {
+    throw EmptySolidError(opt.input + ": " + e.what());
   } catch (const ModelError& e) {
     std::string text = e.what();
     if (text.find("unbounded") != std::string::npos)

@@ -143,6 +143,13 @@ expect 2 "not an STL file" -- "$frepcad" check "$work/junk.stl"
 echo '{"root": {"type": "sphere", "params": {"center": [9, 9, 9]}}, "export": {"bbox": [-1,-1,-1,1,1,1], "resolution": 0.1}}' >"$work/empty.json"
 expect 1 "refusing to write" -- "$frepcad" export "$work/empty.json" -o "$work/empty.stl"
 [ ! -e "$work/empty.stl" ] || { echo "FAIL: refused export left a file"; failures=$((failures + 1)); }
+# an empty solid without a box (no point inside: the bounds search finds nothing) is the same
+# verdict, and so is an instancer of one
+echo '{"frepcad": 1, "root": {"type": "intersection", "inputs": [{"type": "sphere"}, {"type": "sphere", "params": {"center": [9, 0, 0]}}]}}' >"$work/none_inside.json"
+expect 1 "none_inside.json: the solid is empty: no point is inside, nothing to print" -- "$frepcad" export "$work/none_inside.json" -o "$work/empty.stl"
+echo '{"frepcad": 1, "root": {"type": "instancer", "inputs": [{"type": "intersection", "inputs": [{"type": "sphere"}, {"type": "sphere", "params": {"center": [9, 0, 0]}}]}]}}' >"$work/empty_copies.json"
+expect 1 "the solid is empty" -- "$frepcad" export "$work/empty_copies.json" -o "$work/empty.stl"
+[ ! -e "$work/empty.stl" ] || { echo "FAIL: an empty solid's export left a file"; failures=$((failures + 1)); }
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n' >"$work/open.obj"
 expect 1 "3 border edges" -- "$frepcad" check "$work/open.obj"
 ls -a "$work" | grep -q 'frep-tmp-' && { echo "FAIL: temporary file left"; failures=$((failures + 1)); }

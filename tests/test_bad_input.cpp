@@ -59,6 +59,9 @@ TEST(ExitStatus, EachErrorKindHasItsStatusAndOneLine) {
   EXPECT_EQ(line, "sphere: parameter 'radius' = -1");
   EXPECT_EQ(outcome(FileError("x.stl: no such file"), &line), Outcome::BadInput);
   EXPECT_EQ(outcome(TooLargeError("too large"), &line), Outcome::BadInput);
+  // a solid with no point inside is a verdict on the result, as a failed check is
+  EXPECT_EQ(outcome(EmptySolidError("the solid is empty"), &line), Outcome::NotPrintable);
+  EXPECT_EQ(exitStatus(Outcome::NotPrintable), 1);
   EXPECT_EQ(outcome(Cancelled(), &line), Outcome::Cancelled);
   EXPECT_EQ(exitStatus(Outcome::Cancelled), 130);
   EXPECT_EQ(outcome(std::bad_alloc(), &line), Outcome::BadInput);

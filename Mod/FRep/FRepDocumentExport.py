@@ -242,6 +242,18 @@ def report_stream():
         return sys.stdout
 
 
+def is_empty_solid(obj):
+    """Whether obj is an FRep input whose solid has no point inside (its feature fails with
+    "the result is empty")."""
+    import FRepTree
+    if not FRepTree.is_frep_input(obj):
+        return False
+    try:
+        return FRepTree.shape_of(obj).bounds()["empty"]
+    except ValueError:
+        return False
+
+
 def main(out):
     args = parse_args(json.loads(os.environ["FREPCAD_EXPORT_ARGS"]))
     import FreeCAD
@@ -278,7 +290,10 @@ def main(out):
         quiet_console_errors(False)
     failed = [o for o in doc.Objects if not o.isValid()]
     if failed:
-        raise UsageError("; ".join(o.getStatusString() for o in failed))
+        message = "; ".join(o.getStatusString() for o in failed)
+        if all(is_empty_solid(o) for o in failed):  # nothing to print: the verdict, as frepcad's
+            raise frepcore.EmptySolid(message)
+        raise UsageError(message)
     # SIGTERM (frepcad passes Ctrl-C on as one) cancels at the next progress report, so
     # the temporary file is removed and nothing is written.
     stop = []

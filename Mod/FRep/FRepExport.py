@@ -61,6 +61,8 @@ def solid_and_box(objects, cells=None, resolution=None, bbox=None):
     try:
         return solid, frepcore.automatic_box(solid, cells=cells, resolution=resolution,
                                              bbox=bbox)
+    except frepcore.EmptySolid as e:  # (not printable, which the exit status tells apart)
+        raise frepcore.EmptySolid("%s: %s" % (label, e))
     except ValueError as e:
         raise ValueError("%s: %s" % (label, e))
 

@@ -18,6 +18,12 @@ struct TooLargeError : ModelError {
   using ModelError::ModelError;
 };
 
+// A valid model whose solid has no point inside: there is nothing to print. A verdict on the
+// result, as a mesh that fails the check is, not a mistake in the input.
+struct EmptySolidError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 // A file that cannot be read, parsed or written.
 struct FileError : std::runtime_error {
   using std::runtime_error::runtime_error;

@@ -34,6 +34,9 @@ Outcome outcomeOf(const std::exception_ptr& error, std::string* line) {
   } catch (const Cancelled&) {
     text = "cancelled; nothing written";
     outcome = Outcome::Cancelled;
+  } catch (const EmptySolidError& e) {
+    text = e.what();
+    outcome = Outcome::NotPrintable;
   } catch (const ModelError& e) {
     text = e.what();
     outcome = Outcome::BadInput;

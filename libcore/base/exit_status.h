@@ -27,7 +27,8 @@ std::string shortenedLongWords(const std::string& text);
 
 // The outcome of the exception `error` and the one line that says it, long words shortened
 // (without the program's name): ModelError and FileError are bad input, as is running out of memory
-// (the line says to ask for less); Cancelled is a cancel; any other exception is an internal error.
+// (the line says to ask for less); an EmptySolidError is not printable; Cancelled is a cancel; any
+// other exception is an internal error.
 Outcome outcomeOf(const std::exception_ptr& error, std::string* line);
 
 }  // namespace frep

@@ -57,7 +57,7 @@ double cellSize(const BoxRequest& r, double longest) {
 MeshingBox chooseBox(const SolidBounds& b, const BoxRequest& r) {
   checkRequest(r);
   if (r.bbox) return {*r.bbox, cellSize(r, longestSide(*r.bbox))};
-  if (b.empty) throw ModelError("the solid is empty: no point is inside");
+  if (b.empty) throw EmptySolidError("the solid is empty: no point is inside, nothing to print");
   if (!b.bounded())
     throw ModelError("the solid is unbounded towards " + sideNames(b) +
                      "; give a bounding box or intersect it with a bounded solid");
@@ -116,6 +116,8 @@ ExportResult exportField(const Field& field, const ExportRequest& request, const
   report(ExportStage::Bounds, 0.0);
   try {
     result.box = chooseBox(field, request.known, request.box);
+  } catch (const EmptySolidError& e) {
+    throw EmptySolidError(name + ": " + e.what());
   } catch (const ModelError& e) {
     throw ModelError(name + ": " + e.what());
   }

@@ -69,12 +69,17 @@ PYBIND11_MODULE(_frepcore, m) {
   registerVolumeSources();
 
   static py::exception<Cancelled> cancelled(m, "Cancelled");
+  // A ValueError to callers that only know that; frepcore.exit_status_of reads it as "not
+  // printable", as frepcad does.
+  static py::exception<EmptySolidError> emptySolid(m, "EmptySolid", PyExc_ValueError);
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const Cancelled& e) {
       // (PyErr_SetString: pybind11 2.12 deprecates calling the exception object)
       PyErr_SetString(cancelled.ptr(), e.what());
+    } catch (const EmptySolidError& e) {
+      PyErr_SetString(emptySolid.ptr(), e.what());
     } catch (const ModelError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
     } catch (const FileError& e) {

@@ -180,3 +180,22 @@ def test_several_objects_of_a_document_into_one_3mf(tmp_path):
     # a unit is refused for other formats, naming the file
     r = frepcad(path, "-o", str(tmp_path / "x.stl"), "--object", "Ball", "--units", "cm")
     assert r.returncode == 2 and "3MF output only" in r.stderr
+
+
+def test_an_empty_solid_is_not_printable(tmp_path):
+    """Two balls that do not meet: nothing to print, the verdict a failed check gives (exit
+    1, one line, nothing written), not bad input."""
+    import FRepFeatures
+    doc = FreeCAD.newDocument("EmptyDoc")
+    a = FRepFeatures.make("sphere", doc, name="A", radius=1.0)
+    b = FRepFeatures.make("sphere", doc, name="B", radius=1.0, center=FreeCAD.Vector(9, 0, 0))
+    FRepFeatures.make("intersection", doc, inputs=[a, b], name="Nothing")
+    doc.recompute()
+    path = str(tmp_path / "empty.FCStd")
+    doc.saveAs(path)
+    FreeCAD.closeDocument(doc.Name)
+    out = tmp_path / "empty.stl"
+    r = frepcad(path, "--object", "Nothing", "-o", str(out))
+    assert r.returncode == frepcore.EXIT_STATUS["not_printable"], (r.stdout, r.stderr)
+    assert "Nothing: the result is empty" in r.stderr and len(r.stderr.splitlines()) == 1
+    assert not out.exists()

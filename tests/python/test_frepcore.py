@@ -461,6 +461,11 @@ def test_one_version_and_one_exit_status_table():
     assert fc.exit_status_of(KeyboardInterrupt()) == 130
     assert fc.exit_status_of(ValueError("x")) == fc.exit_status_of(OSError()) == 2
     assert fc.exit_status_of(KeyError("x")) == status["internal_error"] == 3
+    # two balls that do not meet: nothing to print, which is a verdict (a ValueError too)
+    with pytest.raises(fc.EmptySolid, match="the solid is empty") as empty:
+        fc.automatic_box(fc.sphere(1) & fc.sphere(1, (9, 0, 0)))
+    assert isinstance(empty.value, ValueError)
+    assert fc.exit_status_of(empty.value) == status["not_printable"]
 
 
 def test_older_keyword_spellings_still_mean_the_same_settings():

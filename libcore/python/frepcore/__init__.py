@@ -21,7 +21,7 @@ import math
 import os
 import textwrap
 
-from ._frepcore import Cancelled, Mesh, Node, node_types, parse_model, read_mesh
+from ._frepcore import Cancelled, EmptySolid, Mesh, Node, node_types, parse_model, read_mesh
 from ._frepcore import check_param, node_reference_markdown
 from ._frepcore import mesh_field, vdb_grids, vdb_to_mesh
 from ._frepcore import Lattice, deform_mesh, deform_vdb, read_lattice, parse_lattice
@@ -32,7 +32,7 @@ from ._frepcore import MeshSettings, mesh_settings_table
 from ._frepcore import EXIT_STATUS, __version__
 from ._frepcore import DEFAULT_CELLS  # cells along the longest side when no resolution is given
 
-__all__ = ["Cancelled", "Mesh", "MeshSettings", "mesh_settings_table", "Node", "Shape", "node_types", "parse_model", "read_mesh",
+__all__ = ["Cancelled", "EmptySolid", "Mesh", "MeshSettings", "mesh_settings_table", "Node", "Shape", "node_types", "parse_model", "read_mesh",
            "load", "automatic_box", "NotPrintable", "from_mesh", "from_vdb", "vdb_grids",
            "vdb_to_mesh", "Lattice", "deform_mesh", "deform_vdb", "read_lattice",
            "parse_lattice", "read_3mf", "write_3mf", "materials", "HSpline", "parse_hs",
@@ -113,9 +113,9 @@ class NotPrintable(ValueError):
 
 def exit_status_of(error):
     """frepcad's exit status (EXIT_STATUS) for the exception that ended a command: a mesh
-    not printable, a cancel, bad input (ValueError, OSError, running out of memory), else an
-    internal error (a bug)."""
-    if isinstance(error, NotPrintable):
+    not printable or a solid with no point inside (EmptySolid), a cancel, bad input
+    (ValueError, OSError, running out of memory), else an internal error (a bug)."""
+    if isinstance(error, (NotPrintable, EmptySolid)):
         return EXIT_STATUS["not_printable"]
     if isinstance(error, (Cancelled, KeyboardInterrupt)):
         return EXIT_STATUS["cancelled"]
