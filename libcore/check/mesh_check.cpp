@@ -134,7 +134,7 @@ std::vector<std::uint32_t> distinctPoints(const std::vector<Vec3f>& pos,
   const std::size_t slots = tableSlots(n);
   const std::uint64_t mask = slots - 1;
   std::unique_ptr<std::atomic<std::uint32_t>[]> table(new std::atomic<std::uint32_t>[slots]);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, slots, 1 << 16),
+  slicedParallelFor(slots, 1 << 16, cancel.sub(0.0, 0.0),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i != r.end(); ++i)
                         table[i].store(UINT32_MAX, std::memory_order_relaxed);
@@ -159,15 +159,13 @@ std::vector<std::uint32_t> distinctPoints(const std::vector<Vec3f>& pos,
   };
   // Of two twins, the one inserted second meets the first: where no insertion met a twin,
   // all points are distinct (every mesh the mesher makes) and the map is the identity.
-  cancel.step(0.0);
   std::atomic<bool> twins{false};
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      bool found = false;
-                      for (std::size_t i = r.begin(); i != r.end(); ++i)
-                        slotOf(static_cast<std::uint32_t>(i), true, &found);
-                      if (found) twins = true;
-                    });
+  slicedParallelFor(n, 4096, cancel, [&](const tbb::blocked_range<std::size_t>& r) {
+    bool found = false;
+    for (std::size_t i = r.begin(); i != r.end(); ++i)
+      slotOf(static_cast<std::uint32_t>(i), true, &found);
+    if (found) twins = true;
+  });
   std::vector<std::uint32_t> map(n);
   cancel.step(0.0);
   if (!twins) {
@@ -181,13 +179,12 @@ std::vector<std::uint32_t> distinctPoints(const std::vector<Vec3f>& pos,
     return map;
   }
   // each point's least twin
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, n, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
-        bool unused = false;
-        for (std::size_t i = r.begin(); i != r.end(); ++i)
-          map[i] =
-              slotOf(static_cast<std::uint32_t>(i), false, &unused).load(std::memory_order_relaxed);
-      });
+  slicedParallelFor(n, 4096, cancel, [&](const tbb::blocked_range<std::size_t>& r) {
+    bool unused = false;
+    for (std::size_t i = r.begin(); i != r.end(); ++i)
+      map[i] =
+          slotOf(static_cast<std::uint32_t>(i), false, &unused).load(std::memory_order_relaxed);
+  });
   table.reset();
   cancel.step(0.0);
   // The first of each set of twins, numbered in order: by fixed blocks, counted, then
@@ -211,7 +208,9 @@ std::vector<std::uint32_t> distinctPoints(const std::vector<Vec3f>& pos,
         number[i] = next++;
       }
   });
-  tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) { map[i] = number[map[i]]; });
+  slicedParallelFor(n, 4096, cancel, [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) map[i] = number[map[i]];
+  });
   return map;
 }
 
@@ -228,19 +227,24 @@ std::vector<std::uint32_t> weldIdenticalVertices(const std::vector<Vec3f>& pos,
 }
 
 void sumAreaAndVolume(const std::vector<Vec3f>& pos, const std::vector<FaceIndices>& faces,
-                      double* area, double* volume) {
+                      double* area, double* volume, const Progress& progress) {
   // Summed by fixed blocks of faces in parallel and the blocks in order: the same sums on
   // any number of threads.
   constexpr std::size_t kBlock = 16384;
   const std::size_t blocks = (faces.size() + kBlock - 1) / kBlock;
   std::vector<std::array<double, 2>> partial(blocks, {0.0, 0.0});
-  tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t block) {
-    for (std::size_t i = block * kBlock; i < std::min(faces.size(), (block + 1) * kBlock); ++i) {
-      const FaceIndices& f = faces[i];
-      partial[block][0] += triangleArea(pos[f[0]], pos[f[1]], pos[f[2]]);
-      partial[block][1] += signedTetraVolume(pos[f[0]], pos[f[1]], pos[f[2]]);
-    }
-  });
+  slicedParallelFor(
+      blocks, 1, progress,
+      [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t block = r.begin(); block != r.end(); ++block)
+          for (std::size_t i = block * kBlock; i < std::min(faces.size(), (block + 1) * kBlock);
+               ++i) {
+            const FaceIndices& f = faces[i];
+            partial[block][0] += triangleArea(pos[f[0]], pos[f[1]], pos[f[2]]);
+            partial[block][1] += signedTetraVolume(pos[f[0]], pos[f[1]], pos[f[2]]);
+          }
+      },
+      kPassSlice / kBlock);
   for (const auto& [a, v] : partial) {
     *area += a;
     *volume += v;
@@ -248,11 +252,11 @@ void sumAreaAndVolume(const std::vector<Vec3f>& pos, const std::vector<FaceIndic
 }
 
 std::size_t collinearFaces(const std::vector<Vec3f>& pos, const std::vector<FaceIndices>& faces,
-                           std::vector<char>* collinearFace) {
+                           std::vector<char>* collinearFace, const Progress& progress) {
   // CGAL's exact test, in parallel.
   collinearFace->assign(faces.size(), 0);
-  return tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, faces.size(), 4096), std::size_t(0),
+  return slicedParallelReduce(
+      faces.size(), 4096, progress, std::size_t(0),
       [&](const tbb::blocked_range<std::size_t>& range, std::size_t n) {
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
           const FaceIndices& f = faces[i];
@@ -268,7 +272,8 @@ std::size_t collinearFaces(const std::vector<Vec3f>& pos, const std::vector<Face
 constexpr std::uint32_t kQuickFan = 24;
 
 void vertexFaces(std::size_t vertices, const std::vector<FaceIndices>& faces,
-                 std::vector<std::uint32_t>* startOut, std::vector<std::uint32_t>* incidentOut) {
+                 std::vector<std::uint32_t>* startOut, std::vector<std::uint32_t>* incidentOut,
+                 const Progress& progress) {
   // In parallel: each vertex's faces counted and then placed through atomic cursors (in any
   // order), then each vertex's few faces sorted, so the table is the same on any number of
   // threads. (Filled serially, the table was 4 % of the gyroid's whole export on one thread,
@@ -277,54 +282,46 @@ void vertexFaces(std::size_t vertices, const std::vector<FaceIndices>& faces,
   std::vector<std::uint32_t>& incident = *incidentOut;
   std::unique_ptr<std::atomic<std::uint32_t>[]> cursor(new std::atomic<std::uint32_t>[vertices]);
   constexpr std::size_t kGrain = 1 << 14;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertices, kGrain),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t v = r.begin(); v != r.end(); ++v)
-                        cursor[v].store(0, std::memory_order_relaxed);
-                    });
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces.size(), kGrain),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t f = r.begin(); f != r.end(); ++f)
-                        for (std::uint32_t v : faces[f])
-                          cursor[v].fetch_add(1, std::memory_order_relaxed);
-                    });
+  slicedParallelFor(vertices, kGrain, progress, [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t v = r.begin(); v != r.end(); ++v)
+      cursor[v].store(0, std::memory_order_relaxed);
+  });
+  slicedParallelFor(faces.size(), kGrain, progress, [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t f = r.begin(); f != r.end(); ++f)
+      for (std::uint32_t v : faces[f]) cursor[v].fetch_add(1, std::memory_order_relaxed);
+  });
   start.resize(vertices + 1);
   start[0] = 0;
   for (std::size_t v = 0; v < vertices; ++v)
     start[v + 1] = start[v] + cursor[v].load(std::memory_order_relaxed);
   incident.resize(faces.size() * 3);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertices, kGrain),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t v = r.begin(); v != r.end(); ++v)
-                        cursor[v].store(start[v], std::memory_order_relaxed);
-                    });
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces.size(), kGrain),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t f = r.begin(); f != r.end(); ++f)
-                        for (std::uint32_t v : faces[f])
-                          incident[cursor[v].fetch_add(1, std::memory_order_relaxed)] =
-                              static_cast<std::uint32_t>(f);
-                    });
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertices, kGrain),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t v = r.begin(); v != r.end(); ++v) {
-                        std::uint32_t* b = incident.data() + start[v];
-                        std::uint32_t* e = incident.data() + start[v + 1];
-                        if (e - b > 32) {  // (a pile of copies: 100,000 faces on a vertex)
-                          std::sort(b, e);
-                          continue;
-                        }
-                        for (std::uint32_t* i = b + 1; i < e; ++i)  // (insertion: a few each)
-                          for (std::uint32_t* j = i; j > b && j[-1] > j[0]; --j)
-                            std::swap(j[-1], j[0]);
-                      }
-                    });
+  slicedParallelFor(vertices, kGrain, progress, [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t v = r.begin(); v != r.end(); ++v)
+      cursor[v].store(start[v], std::memory_order_relaxed);
+  });
+  slicedParallelFor(faces.size(), kGrain, progress, [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t f = r.begin(); f != r.end(); ++f)
+      for (std::uint32_t v : faces[f])
+        incident[cursor[v].fetch_add(1, std::memory_order_relaxed)] = static_cast<std::uint32_t>(f);
+  });
+  slicedParallelFor(vertices, kGrain, progress, [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t v = r.begin(); v != r.end(); ++v) {
+      std::uint32_t* b = incident.data() + start[v];
+      std::uint32_t* e = incident.data() + start[v + 1];
+      if (e - b > 32) {  // (a pile of copies: 100,000 faces on a vertex)
+        std::sort(b, e);
+        continue;
+      }
+      for (std::uint32_t* i = b + 1; i < e; ++i)  // (insertion: a few each)
+        for (std::uint32_t* j = i; j > b && j[-1] > j[0]; --j) std::swap(j[-1], j[0]);
+    }
+  });
 }
 
 void judgeVertices(const std::vector<Vec3f>& pos, const std::vector<FaceIndices>& faces,
                    const std::vector<char>* judged, bool edgesToOthers, CheckReport* r,
                    std::vector<char>* fans, const std::vector<std::uint32_t>& start,
-                   const std::vector<std::uint32_t>& incident) {
+                   const std::vector<std::uint32_t>& incident, const Progress& progress) {
   std::vector<char>& embeddedFan = *fans;
   // Edges and vertices, in one pass over every vertex's incident faces (no table of all 3F
   // edges to sort): an edge {v, w}, w > v, lies in exactly the faces round v that hold w, so
@@ -337,8 +334,8 @@ void judgeVertices(const std::vector<Vec3f>& pos, const std::vector<FaceIndices>
   struct Counts {
     std::size_t border = 0, nonManifoldEdges = 0, misoriented = 0, nonManifoldVertices = 0;
   };
-  const Counts counts = tbb::parallel_reduce(
-      tbb::blocked_range<std::size_t>(0, pos.size(), 4096), Counts(),
+  const Counts counts = slicedParallelReduce(
+      pos.size(), 4096, progress, Counts(),
       [&](const tbb::blocked_range<std::size_t>& range, Counts c) {
         // (other vertex, local face, 1 when the face runs v -> other)
         std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint8_t>> neighbours;
@@ -468,7 +465,9 @@ void addReasons(CheckReport& r) {
 
 CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)>& progress,
                       std::size_t selfIntersectionLimit) {
-  // (the check cannot be cancelled but by its caller's throwing from `progress`)
+  // (the check cannot be cancelled but by its caller's throwing from `progress`, which is
+  // called between every two passes: each pass is the longest a cancel waits, 0.6 s at
+  // 12 million triangles on 2 cores)
   const Progress bar(progress ? ProgressCallback([&progress](double f) {
     progress(f);
     return true;
@@ -506,7 +505,9 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
   {
     phase.emplace("check: distinct points", PhaseKind::Parallel);
     std::vector<std::uint32_t> first;
-    const std::vector<std::uint32_t> map = distinctPoints(mesh.positions, &first, bar.sub(0.0, 0.0));
+    const std::vector<std::uint32_t> map =
+        distinctPoints(mesh.positions, &first, bar.sub(0.0, 0.02));
+    tick(0.02);
     phase.emplace("check: repeated vertices, welded copies", PhaseKind::Serial);
     r.vertices = first.size();
     auto repeats = [](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
@@ -538,10 +539,12 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
   const std::vector<Vec3f>& pos = *posOf;
   const std::vector<FaceIndices>& faces = *facesOf;
   // Volume, area, bounding box.
+  tick(0.04);
   phase.emplace("check: area, volume, degenerate faces", PhaseKind::Parallel);
-  sumAreaAndVolume(pos, faces, &r.area, &r.volume);
+  sumAreaAndVolume(pos, faces, &r.area, &r.volume, bar.sub(0.04, 0.015));
   std::vector<char> collinearFace;
-  r.degenerateFaces += collinearFaces(pos, faces, &collinearFace);
+  r.degenerateFaces += collinearFaces(pos, faces, &collinearFace, bar.sub(0.055, 0.015));
+  tick(0.07);
   phase.emplace("check: bounding box", PhaseKind::Serial);
   if (!pos.empty()) {
     r.bbox.lo = {pos[0][0], pos[0][1], pos[0][2]};
@@ -557,9 +560,10 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
   std::vector<char> embeddedFan;
   phase.emplace("check: the vertex -> faces table", PhaseKind::Parallel);
   std::vector<std::uint32_t> start, incident;
-  vertexFaces(pos.size(), faces, &start, &incident);
+  vertexFaces(pos.size(), faces, &start, &incident, bar.sub(0.1, 0.1));
+  tick(0.2);
   phase.emplace("check: edges and fans", PhaseKind::Parallel);
-  judgeVertices(pos, faces, nullptr, true, &r, &embeddedFan, start, incident);
+  judgeVertices(pos, faces, nullptr, true, &r, &embeddedFan, start, incident, bar.sub(0.2, 0.1));
   r.closed = r.borderEdges == 0 && !faces.empty();
 
   tick(0.3);
@@ -569,15 +573,21 @@ CheckReport checkMesh(const TriangleMesh& mesh, const std::function<void(double)
   UnionFind parts(pos.size());
   {
     ConcurrentUnionFind joined(pos.size());
-    tbb::parallel_for(std::size_t(0), faces.size(), [&](std::size_t i) {
-      const FaceIndices& f = faces[i];
-      joined.join(f[0], f[1]);
-      joined.join(f[0], f[2]);
-    });
-    tbb::parallel_for(std::size_t(0), pos.size(), [&](std::size_t v) {
-      parts.parent[v] = joined.find(static_cast<std::uint32_t>(v));
-    });
+    slicedParallelFor(faces.size(), 4096, bar.sub(0.3, 0.02),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                          const FaceIndices& f = faces[i];
+                          joined.join(f[0], f[1]);
+                          joined.join(f[0], f[2]);
+                        }
+                      });
+    slicedParallelFor(pos.size(), 4096, bar.sub(0.32, 0.01),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t v = r.begin(); v != r.end(); ++v)
+                          parts.parent[v] = joined.find(static_cast<std::uint32_t>(v));
+                      });
   }
+  tick(0.33);
   phase.emplace("check: components counted", PhaseKind::Serial);
   for (std::uint32_t v = 0; v < pos.size(); ++v)
     if (start[v + 1] > start[v] && parts.parent[v] == v) ++r.components;

@@ -33,6 +33,11 @@ struct Cloud {
 using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud>, Cloud,
                                                  3, std::uint32_t>;
 
+// A batch is evaluated in parts of at most about this many (point, copy) pairs (and at least one
+// point): near a pile of 30,000 copies a chunk of points made 200 MB of pairs, and the
+// faulting in of that memory was half the export's time.
+constexpr std::size_t kMostPairs = std::size_t(1) << 16;
+
 // Scratch vectors per thread and nesting depth: a copy may itself be an instancer, evaluated
 // from within this one's loop on the same thread.
 struct Work {
@@ -111,8 +116,7 @@ static double squaredDistance(const double q[3], const Vec3& p) {
 class BucketGrid {
  public:
   BucketGrid(const std::vector<Vec3>& points, double reach) : points_(points) {
-    if (points.empty() || points.size() > kMaxCopies || !(reach > 0.0) ||
-        !std::isfinite(reach))
+    if (points.empty() || points.size() > kMaxCopies || !(reach > 0.0) || !std::isfinite(reach))
       return;
     for (int divisions : {2, 1})
       if (build(reach, divisions)) {
@@ -192,9 +196,9 @@ class BucketGrid {
     }
     // Rounding of q's cell index can put q a hair outside its cell's box (relative error of
     // the index a few ulps of the largest coordinate).
-    const double slack = 1e-9 * (cell_ + std::max({std::abs(lo[0]), std::abs(lo[1]),
-                                                    std::abs(lo[2]), std::abs(hi[0]),
-                                                    std::abs(hi[1]), std::abs(hi[2])}));
+    const double slack =
+        1e-9 * (cell_ + std::max({std::abs(lo[0]), std::abs(lo[1]), std::abs(lo[2]),
+                                  std::abs(hi[0]), std::abs(hi[1]), std::abs(hi[2])}));
     const double r2 = sqr(reach + slack);
     const std::size_t cellCount = static_cast<std::size_t>(cells);
     const std::size_t maxEntries = static_cast<std::size_t>(32.0 * n + 4096.0);
@@ -250,6 +254,23 @@ class BucketGrid {
   bool built_ = false;
 };
 
+// A nanoflann result set: the indices strictly within a squared radius (the test
+// RadiusResultSet makes), the search stopped once there are more than `most`.
+struct CappedResults {
+  double radius2;
+  std::size_t most;
+  std::vector<std::uint32_t>* out;
+  void init() {}
+  std::size_t size() const { return out->size(); }
+  bool full() const { return true; }
+  double worstDist() const { return radius2; }
+  template <class Distance, class Index>
+  bool addPoint(Distance d2, Index i) {
+    if (d2 < radius2) out->push_back(static_cast<std::uint32_t>(i));
+    return out->size() <= most;
+  }
+};
+
 struct InstanceSet::Index {
   Index(const std::vector<Vec3>& points, double reach)
       : cloud{&points},
@@ -285,6 +306,23 @@ struct InstanceSet::Index {
     for (const auto& f : found) out.push_back(f.first);
     std::sort(out.begin(), out.end());
   }
+  // As within() where at most `most` copies are within `radius`; false (out incomplete) where
+  // more are, found without visiting them all: an interval over a box near a pile of 30,000
+  // copies needs only to know that it is a pile (collecting and sorting them all took 85 % of
+  // such an export).
+  bool withinAtMost(const double q[3], double radius, std::size_t most,
+                    std::vector<std::uint32_t>& out) const {
+    if (bucketed(radius) || cloud.points->size() <= kLinearScan) {
+      within(q, radius, out);
+      return out.size() <= most;
+    }
+    out.clear();
+    CappedResults results{radius * radius, most, &out};
+    tree.findNeighbors(results, q, kdUnsortedSearch());
+    if (out.size() > most) return false;
+    std::sort(out.begin(), out.end());
+    return true;
+  }
   std::uint32_t nearest(const double q[3], double* distance) const {
     std::uint32_t index = 0;
     double d2 = 0;
@@ -298,8 +336,7 @@ struct InstanceSet::Index {
   BucketGrid buckets;
 };
 
-InstanceSet::InstanceSet(std::vector<Vec3> positions,
-                         std::vector<std::array<double, 9>> rotations,
+InstanceSet::InstanceSet(std::vector<Vec3> positions, std::vector<std::array<double, 9>> rotations,
                          std::shared_ptr<const Program> copy, double reach, Combine combine,
                          Blend blend)
     : positions_(std::move(positions)),
@@ -369,10 +406,12 @@ double InstanceSet::eval(double x, double y, double z) const {
   return combine(values.data(), values.size());
 }
 
-// Every (point, copy) pair of a batch: the point in the copy's coordinates (qx, qy, qz), the
-// copy, and where each point's pairs start. `at(j)` gives point j's x, y, z.
+// Every (point, copy) pair of the first points of a batch: the point in the copy's coordinates
+// (qx, qy, qz), the copy, and where each point's pairs start. `at(j)` gives point j's x, y, z.
+// Returns how many points (at least one) were gathered: all n, unless their pairs pass
+// kMostPairs first.
 template <class At>
-void InstanceSet::gatherPairs(std::size_t n, At at, PairBatch& pairs) const {
+std::size_t InstanceSet::gatherPairs(std::size_t n, At at, PairBatch& pairs) const {
   pairs.start.resize(n + 1);
   pairs.start[0] = 0;
   std::size_t used = 0;  // pairs so far; the arrays are kept longer (no zeroing per batch)
@@ -426,25 +465,38 @@ void InstanceSet::gatherPairs(std::size_t n, At at, PairBatch& pairs) const {
       }
     }
     pairs.start[j + 1] = used;
+    if (used >= kMostPairs) return j + 1;
   }
+  return n;
 }
 
 void InstanceSet::evalBatch(const double* x, const double* y, const double* z, std::size_t n,
                             double* out) const {
+  for (std::size_t done = 0; done < n;)
+    done += evalBatchPart(x + done, y + done, z + done, n - done, out + done);
+}
+
+std::size_t InstanceSet::evalBatchPart(const double* x, const double* y, const double* z,
+                                       std::size_t points, double* out) const {
   // Every (point, copy) pair of the chunk is evaluated in one batch call of the copy, then
   // each point's values are combined in the same order eval() uses.
   ScopedWork work;
   PairBatch& pairs = work->pairs;
-  gatherPairs(n, [&](std::size_t j) { return std::array<double, 3>{x[j], y[j], z[j]}; }, pairs);
+  const std::size_t n = gatherPairs(
+      points,
+      [&](std::size_t j) {
+        return std::array<double, 3>{x[j], y[j], z[j]};
+      },
+      pairs);
   const std::vector<std::size_t>& start = pairs.start;
   std::vector<double>& values = work->values;
   values.resize(pairs.start[n]);
-  copy_->evalBatch(pairs.qx.data(), pairs.qy.data(), pairs.qz.data(), values.size(),
-                   values.data());
+  copy_->evalBatch(pairs.qx.data(), pairs.qy.data(), pairs.qz.data(), values.size(), values.data());
   for (std::size_t j = 0; j < n; ++j)
     out[j] = start[j + 1] == start[j] && whole_
                  ? whole_->eval(x[j], y[j], z[j])  // no copy of the subset reaches it
                  : combine(values.data() + start[j], start[j + 1] - start[j]);
+  return n;
 }
 
 // The world gradient of copy i from its gradient g in its own coordinates: turned back
@@ -454,7 +506,8 @@ Dual InstanceSet::toWorld(std::uint32_t i, const Dual& g, const Dual& x, const D
   double w[3] = {g.d[0], g.d[1], g.d[2]};
   if (!rotations_.empty()) {
     const std::array<double, 9>& r = rotations_[i];
-    for (int k = 0; k < 3; ++k) w[k] = r[3 * k] * g.d[0] + r[3 * k + 1] * g.d[1] + r[3 * k + 2] * g.d[2];
+    for (int k = 0; k < 3; ++k)
+      w[k] = r[3 * k] * g.d[0] + r[3 * k + 1] * g.d[1] + r[3 * k + 2] * g.d[2];
   }
   const Dual* in[3] = {&x, &y, &z};
   Dual v(g.v);
@@ -479,6 +532,12 @@ Dual InstanceSet::evalGradient(const Dual& x, const Dual& y, const Dual& z) cons
 
 void InstanceSet::evalGradientBatch(const Dual* x, const Dual* y, const Dual* z, std::size_t n,
                                     Dual* out) const {
+  for (std::size_t done = 0; done < n;)
+    done += evalGradientBatchPart(x + done, y + done, z + done, n - done, out + done);
+}
+
+std::size_t InstanceSet::evalGradientBatchPart(const Dual* x, const Dual* y, const Dual* z,
+                                               std::size_t points, Dual* out) const {
   // As evalBatch: every (point, copy) pair's value in one batch. A union's gradient is its
   // first largest copy's and a blend's comes from its largest two, so only those copies'
   // gradients are evaluated (one gradient batch), then combined as evalGradient combines
@@ -486,8 +545,12 @@ void InstanceSet::evalGradientBatch(const Dual* x, const Dual* y, const Dual* z,
   // point value, so the same copies are picked).
   ScopedWork work;
   PairBatch& pairs = work->pairs;
-  gatherPairs(n, [&](std::size_t j) { return std::array<double, 3>{x[j].v, y[j].v, z[j].v}; },
-              pairs);
+  const std::size_t n = gatherPairs(
+      points,
+      [&](std::size_t j) {
+        return std::array<double, 3>{x[j].v, y[j].v, z[j].v};
+      },
+      pairs);
   const std::vector<std::size_t>& start = pairs.start;
   const bool all = combine_ == Combine::Sum;
   std::vector<double>& v = work->values;
@@ -537,6 +600,7 @@ void InstanceSet::evalGradientBatch(const Dual* x, const Dual* y, const Dual* z,
       values[c] = toWorld(pairs.copies[chosen[c]], values[c], x[j], y[j], z[j]);
     out[j] = combine(values.data() + chosenStart[j], chosenStart[j + 1] - chosenStart[j]);
   }
+  return n;
 }
 
 Interval InstanceSet::evalInterval(const Interval& x, const Interval& y, const Interval& z) const {
@@ -557,10 +621,11 @@ Interval InstanceSet::evalInterval(const Interval& x, const Interval& y, const I
   index_->nearest(c, &dNearest);
   ScopedWork work;
   std::vector<std::uint32_t>& candidates = work->ids;
-  index_->within(c, std::max(reach_ + h, dNearest + 2 * h), candidates);
+  const bool few = index_->withinAtMost(c, std::max(reach_ + h, dNearest + 2 * h),
+                                        kMaxIntervalCopies, candidates);
   const bool anyInReach = dNearest <= reach_ + h;
   const double bumpMax = combine_ == Combine::Blend ? std::max(blend_.a0, 0.0) : 0.0;
-  if (candidates.size() > kMaxIntervalCopies) {
+  if (!few) {
     // Beyond its reach a copy's field is negative, so far from every copy F < 0.
     if (!anyInReach) return {-inf, 0.0, true};
     const Interval whole =
@@ -597,12 +662,13 @@ Interval InstanceSet::sumInterval(const Interval box[3], const double c[3], doub
   // some; summed in index order with outward rounding, as the points sum them.
   ScopedWork work;
   std::vector<std::uint32_t>& candidates = work->ids;
-  index_->within(c, reach_ + h, candidates);
+  const bool few = index_->withinAtMost(c, reach_ + h, kMaxIntervalCopies, candidates);
   if (candidates.empty()) return Interval(0.0);
-  if (candidates.size() > kMaxIntervalCopies) {
+  if (!few) {
+    // (as many as every copy: counting those within reach would cost visiting them all)
     const Interval one =
         copy_->evalInterval({-reach_, reach_}, {-reach_, reach_}, {-reach_, reach_});
-    const double n = static_cast<double>(candidates.size());
+    const double n = static_cast<double>(positions_.size());
     return outward(n * std::min(one.lo, 0.0), n * std::max(one.hi, 0.0), one.nan, 4);
   }
   Interval sum;

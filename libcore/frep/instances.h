@@ -15,10 +15,10 @@
 #include <memory>
 #include <vector>
 
+#include "base/vec.h"
 #include "frep/dual.h"
 #include "frep/field.h"
 #include "frep/interval.h"
-#include "base/vec.h"
 
 namespace frep {
 
@@ -75,7 +75,12 @@ class InstanceSet final : public Field, public std::enable_shared_from_this<Inst
 
  private:
   template <class At>
-  void gatherPairs(std::size_t n, At at, PairBatch& pairs) const;
+  std::size_t gatherPairs(std::size_t n, At at, PairBatch& pairs) const;
+  // evalBatch and evalGradientBatch of the first points of a batch; return how many.
+  std::size_t evalBatchPart(const double* x, const double* y, const double* z, std::size_t n,
+                            double* out) const;
+  std::size_t evalGradientBatchPart(const Dual* x, const Dual* y, const Dual* z, std::size_t n,
+                                    Dual* out) const;
   // The copies N(p), in increasing index order (so every mode combines them alike).
   void near(double x, double y, double z, std::vector<std::uint32_t>& out) const;
   template <class T>
