@@ -56,7 +56,7 @@ LIBRARIES = {
     "OpenMesh/": {"mesh/openmesh_bridge.h", "mesh/openmesh_bridge.cpp",
                   "hspline/hspline_attach.cpp"},
     "tbb/": {"mesh", "simplify", "check/self_intersections.cpp", "check/mesh_check.cpp",
-             "check/partitioned_check.cpp",
+             "check/partitioned_check.cpp", "check/mesh_check_passes.h",
              "check/volume_nesting.cpp",
              "check/printability.cpp",
              "volume/grid_ffd.cpp",

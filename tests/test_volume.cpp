@@ -513,6 +513,35 @@ TEST(VdbFiles, ADamagedTileCountEndsAtTheFileEndInsteadOfSpinning) {
   }
 }
 
+// OpenVDB fills a string of the length a file declares before it reads it: a name declared 4 GB
+// long in a file of a few hundred bytes is refused from the file's size, before any of it is
+// allocated (such files took 20 GB and a minute).
+TEST(VdbFiles, ALengthPastTheFileEndIsRefusedBeforeOpenVdbAllocatesIt) {
+  const std::string folder = sampleFolder();
+  openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(1.0f);
+  grid->tree().setValue(openvdb::Coord(1, 2, 3), 0.5f);
+  grid->insertMeta("frepcad_marker", openvdb::StringMetadata("x"));
+  const std::string good = folder + "/marked.vdb";
+  writeVdb(gridSetOf({grid}), good);
+  EXPECT_EQ(readVdb(good).size(), 1u);  // the check passes a sound file
+  std::ifstream in(good, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  const std::size_t at = bytes.find("frepcad_marker");
+  ASSERT_NE(at, std::string::npos);
+  const std::uint32_t length = 0xF0000000u;
+  std::memcpy(&bytes[at - 4], &length, 4);
+  std::ofstream(folder + "/long_name.vdb", std::ios::binary) << bytes;
+  try {
+    readVdb(folder + "/long_name.vdb");
+    ADD_FAILURE() << "a file declaring a 4 GB name was read";
+  } catch (const FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("long_name.vdb: the OpenVDB file is damaged: a metadata "
+                                         "name of 4026531840 bytes"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(VdbGrid, AModelNodeReadsAGridByNameAndMeshesPrintable) {
   const std::string path = sampleFolder() + "/named.vdb";
   GridSet two = sampledSphere(0.05, 1.0);
