@@ -5,6 +5,7 @@
 
 #include "cli/heavy_module.h"
 #include "cli/terminal_progress.h"
+#include "cli/vdb_precheck.h"
 #include "frep/program.h"
 #include "pipeline/export_pipeline.h"
 #include "volume/field_sources.h"
@@ -59,9 +60,9 @@ int exportLevelSet(const ExportOptions& opt, const Program& program, const Meshi
   return 0;
 }
 
-const HeavyModule kModule = {kHeavyModuleVersion, deformCommand,        repairCommand,
-                             compareCommand,      hsplineCommand,       vdbInfo,
-                             exportLevelSet,      registerVolumeSources};
+const HeavyModule kModule = {kHeavyModuleVersion, deformCommand,         repairCommand,
+                             compareCommand,      hsplineCommand,        vdbInfo,
+                             exportLevelSet,      registerVolumeSources, readVdbAlone};
 
 }  // namespace
 
@@ -69,5 +70,8 @@ const HeavyModule kModule = {kHeavyModuleVersion, deformCommand,        repairCo
 
 extern "C" __attribute__((visibility("default"))) const frep::cli::HeavyModule*
 frepcad_heavy_module() {
+  // Every .vdb this process reads is read by a child first (cli/vdb_precheck.h); the child
+  // itself turns that off.
+  frep::setVdbPrecheck(frep::cli::readVdbInChild);
   return &frep::cli::kModule;
 }

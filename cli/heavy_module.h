@@ -30,8 +30,10 @@ struct HeavyModule {
                         const MeshingBox& box);
   // The loaders of the mesh_sdf and vdb_grid nodes (volume/field_sources.h).
   void (*registerVolumeSources)();
+  // `frepcad __read-vdb PATH`: reads the file for a parent frepcad (cli/vdb_precheck.h).
+  int (*readVdbAlone)(const std::string& path);
 };
-constexpr int kHeavyModuleVersion = 1;
+constexpr int kHeavyModuleVersion = 2;
 
 // The module, loaded on first use. Throws std::runtime_error naming the file and the reason
 // when it cannot be found or loaded (main reports it in one line).

@@ -78,6 +78,8 @@ int main(int argc, char** argv) {
     if (command == "repair") return finish(heavyModule().repair(args));
     if (command == "compare") return finish(heavyModule().compare(args));
     if (command == "hspline") return finish(heavyModule().hspline(args));
+    // (not for users: a parent frepcad's read of an untrusted .vdb, cli/vdb_precheck.h)
+    if (command == "__read-vdb" && args.size() == 1) return heavyModule().readVdbAlone(args[0]);
     if (command == "--version") {
       std::cout << "frepcad " FREPCAD_VERSION "\n";
       return 0;

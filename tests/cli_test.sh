@@ -212,6 +212,11 @@ expect 0 "verdict: printable" -- "$frepcad" export ../vol.json -o "$work/vol.stl
 popd >/dev/null
 expect 0 "grid 'surface' \(float, level set, [0-9,]+ active voxels" -- "$frepcad" info "$work/csg.vdb"
 expect 0 '"grid_class": "level set"' -- "$frepcad" info "$work/csg.vdb" --json
+# a .vdb whose compressed leaf data is damaged (a fuzz case): OpenVDB's reader overruns its
+# buffer and aborts; frepcad reads each file in a child first and says so in one line
+expect 2 "damaged_leaf.vdb: (the OpenVDB file is damaged|not a readable OpenVDB file|the OpenVDB file ends)" -- "$frepcad" info "$src/tests/data/damaged_leaf.vdb"
+expect 2 "damaged_leaf.vdb: (the OpenVDB file is damaged|not a readable OpenVDB file|the OpenVDB file ends)" -- "$frepcad" deform "$src/tests/data/damaged_leaf.vdb" --lattice "$src/examples/lattices/bend.json" -o "$work/bent.vdb"
+[ ! -e "$work/bent.vdb" ] || { echo "FAIL: a failed deform wrote a file"; failures=$((failures + 1)); }
 expect 0 "fog volume" -- "$frepcad" export "$src/examples/csg.json" -o "$work/fog.vdb" --cells 32 --fog
 expect 2 "--fog applies to a .vdb output only" -- "$frepcad" export "$src/examples/csg.json" -o "$work/fog.stl" --fog
 expect 2 "--tolerance applies to meshes, not to a .vdb level set" -- "$frepcad" export "$src/examples/csg.json" -o "$work/x.vdb" --tolerance 0.1

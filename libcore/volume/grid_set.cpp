@@ -237,7 +237,16 @@ class VdbLayoutCheck {
   std::uint64_t size_ = 0, at_ = 0;
 };
 
+std::function<void(const std::string&)>& vdbPrecheck() {
+  static std::function<void(const std::string&)> check;
+  return check;
+}
+
 }  // namespace
+
+void setVdbPrecheck(std::function<void(const std::string& path)> check) {
+  vdbPrecheck() = std::move(check);
+}
 
 GridSet readVdb(const std::string& path) {
   initializeOpenVdb();
@@ -245,6 +254,7 @@ GridSet readVdb(const std::string& path) {
   const std::string name = displayName(path);
   checkVdbHeader(path, name);
   VdbLayoutCheck(path, name).run();
+  if (vdbPrecheck()) vdbPrecheck()(path);
   GridSet set;
   try {
     openvdb::io::File file(path);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -25,7 +26,7 @@ struct GridInfo {
   std::string gridClass;  // "level set", "fog volume", "staggered" or "unknown"
   Vec3 voxelSize{0, 0, 0};
   std::uint64_t activeVoxels = 0;
-  Box3 worldBox;  // of the active voxels; lo > hi when there are none
+  Box3 worldBox;                                // of the active voxels; lo > hi when there are none
   std::map<std::string, std::string> metadata;  // every metadata item, as text
 };
 
@@ -42,10 +43,13 @@ class GridSet {
   std::shared_ptr<Impl> impl;
 };
 
-
 // Reads every grid of a .vdb file. Throws FileError naming the file and what is wrong (not an
 // OpenVDB file, truncated, unknown value type, grids too large).
 GridSet readVdb(const std::string& path);
+// A check readVdb runs on each file after its own and before OpenVDB reads it (none by
+// default): frepcad reads the file in a child process first (cli/vdb_precheck.h), since
+// OpenVDB's reader can crash on damaged compressed data. It throws FileError to refuse.
+void setVdbPrecheck(std::function<void(const std::string& path)> check);
 // Writes every grid (names, types, transforms, metadata) atomically: a failure leaves no file.
 void writeVdb(const GridSet& grids, const std::string& path);
 
