@@ -101,8 +101,9 @@ void readVdbInChild(const std::string& path) {
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return;
   if (WIFSIGNALED(status)) {
     if (interrupted()) throw Cancelled();
-    throw FileError(name + ": the OpenVDB file is damaged: OpenVDB's reader failed on it (" +
-                    strsignal(WTERMSIG(status)) + ")");
+    throw FileError(name +
+                    ": the OpenVDB file is damaged: OpenVDB's reader crashed on it (signal " +
+                    std::to_string(WTERMSIG(status)) + ")");
   }
   // The child's one line, without its "frepcad: ".
   std::string line = said.substr(0, said.find('\n'));
