@@ -257,6 +257,8 @@ class BucketGrid {
 // A nanoflann result set: the indices strictly within a squared radius (the test
 // RadiusResultSet makes), the search stopped once there are more than `most`.
 struct CappedResults {
+  using DistanceType = double;  // (what newer nanoflann asks of a result set)
+  using IndexType = std::uint32_t;
   double radius2;
   std::size_t most;
   std::vector<std::uint32_t>* out;
@@ -264,6 +266,7 @@ struct CappedResults {
   std::size_t size() const { return out->size(); }
   bool full() const { return true; }
   double worstDist() const { return radius2; }
+  void sort() {}  // (the caller sorts the indices)
   template <class Distance, class Index>
   bool addPoint(Distance d2, Index i) {
     if (d2 < radius2) out->push_back(static_cast<std::uint32_t>(i));
