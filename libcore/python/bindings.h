@@ -13,5 +13,7 @@ void bindHSpline(pybind11::module_& m);  // hspline_bindings.cpp
 
 // mesh_settings_bindings.cpp: frepcore.MeshSettings and mesh_settings_table()
 void bindMeshSettings(pybind11::module_& m);
+// vdb_reader_binding.cpp: the frepcad that reads .vdb files first, and vdb_reader()
+void bindVdbReader(pybind11::module_& m);
 
 }  // namespace frep

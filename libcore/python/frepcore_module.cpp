@@ -67,6 +67,7 @@ PYBIND11_MODULE(_frepcore, m) {
   m.attr("EXIT_STATUS") = exits;
   // Models may name mesh and OpenVDB files (mesh_sdf, vdb_grid nodes).
   registerVolumeSources();
+  bindVdbReader(m);
 
   static py::exception<Cancelled> cancelled(m, "Cancelled");
   // A ValueError to callers that only know that; frepcore.exit_status_of reads it as "not

@@ -47,8 +47,8 @@ class GridSet {
 // OpenVDB file, truncated, unknown value type, grids too large).
 GridSet readVdb(const std::string& path);
 // A check readVdb runs on each file after its own and before OpenVDB reads it (none by
-// default): frepcad reads the file in a child process first (cli/vdb_precheck.h), since
-// OpenVDB's reader can crash on damaged compressed data. It throws FileError to refuse.
+// default): frepcad and frepcore have a helper read the file first (volume/vdb_reader_child.h),
+// since OpenVDB's reader can crash on damaged compressed data. It throws FileError to refuse.
 void setVdbPrecheck(std::function<void(const std::string& path)> check);
 // Writes every grid (names, types, transforms, metadata) atomically: a failure leaves no file.
 void writeVdb(const GridSet& grids, const std::string& path);

@@ -2,6 +2,8 @@
 printable, recomputed when the part changes, meshes and partial primitives as inputs, and
 refusals that say what is accepted."""
 
+import os
+
 import FreeCAD
 import Mesh  # noqa: F401  (registers Mesh::Feature)
 import Part
@@ -139,6 +141,13 @@ def test_vdb_files_import_as_a_feature_and_solids_export_as_level_sets(doc, tmp_
     grid.Path = "nothing.vdb"
     doc.recompute()
     assert not grid.isValid() and "nothing.vdb" in grid.getStatusString()
+    # A file whose damaged leaf crashes OpenVDB's reader: frepcad reads it first, FreeCAD lives.
+    damaged = os.path.join(os.path.dirname(__file__), "..", "data", "damaged_leaf.vdb")
+    grid.Path = damaged
+    doc.recompute()
+    assert not grid.isValid() and "the OpenVDB file is damaged" in grid.getStatusString()
+    with pytest.raises(OSError, match="damaged_leaf.vdb: the OpenVDB file is damaged"):
+        FRepImport.import_vdb(damaged, doc)
 
 
 def test_infill_made_on_a_part_is_sized_from_it_and_previews_as_a_lattice(doc):

@@ -24,6 +24,11 @@ try:
         if not where.startswith(root + os.sep):
             failures.append("%s loaded from %s, not from the install in %s"
                             % (module.__name__, where, root))
+    # .vdb files are read first by the installed frepcad (a damaged one cannot crash FreeCAD)
+    reader = frepcore.vdb_reader()
+    if not reader or os.path.realpath(reader) != os.path.join(root, "bin", "frepcad"):
+        failures.append("frepcore reads .vdb files with %r, not the installed frepcad"
+                        % (reader,))
     doc = FreeCAD.newDocument("installed")
     part = FRepExamples.build_csg(doc)
     doc.recompute()

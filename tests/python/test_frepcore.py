@@ -287,6 +287,16 @@ def test_level_sets_round_trip_through_vdb_files(tmp_path):
         fc.vdb_grids(str(tmp_path / "bad.vdb"))
 
 
+def test_a_vdb_that_crashes_openvdb_s_reader_is_an_os_error_not_a_crash():
+    # Its damaged compressed leaf overruns OpenVDB's buffer: read in this process it aborts
+    # the interpreter (malloc(): invalid size); frepcad reads it first and says so.
+    damaged = os.path.join(os.path.dirname(__file__), "..", "data", "damaged_leaf.vdb")
+    assert fc.vdb_reader() and os.access(fc.vdb_reader(), os.X_OK)
+    for read in (fc.vdb_grids, fc.vdb_to_mesh, lambda p: fc.from_vdb(p)(0, 0, 0)):
+        with pytest.raises(OSError, match="damaged_leaf.vdb: the OpenVDB file is damaged"):
+            read(damaged)
+
+
 def bending_lattice():
     """A 3 x 1 x 1 lattice around a bar whose two middle planes of points are lifted."""
     lattice = fc.Lattice((-1.3, -0.4, -0.4), (1.3, 0.4, 0.4), (3, 1, 1))

@@ -23,7 +23,7 @@ import textwrap
 
 from ._frepcore import Cancelled, EmptySolid, Mesh, Node, node_types, parse_model, read_mesh
 from ._frepcore import check_param, node_reference_markdown
-from ._frepcore import mesh_field, vdb_grids, vdb_to_mesh
+from ._frepcore import mesh_field, vdb_grids, vdb_to_mesh, vdb_reader
 from ._frepcore import Lattice, deform_mesh, deform_vdb, read_lattice, parse_lattice
 from ._frepcore import read_3mf, write_3mf, materials
 from ._frepcore import HSpline, parse_hs, read_hs, read_step_summary, attach_cylinder
@@ -34,7 +34,7 @@ from ._frepcore import DEFAULT_CELLS  # cells along the longest side when no res
 
 __all__ = ["Cancelled", "EmptySolid", "Mesh", "MeshSettings", "mesh_settings_table", "Node", "Shape", "node_types", "parse_model", "read_mesh",
            "load", "automatic_box", "NotPrintable", "from_mesh", "from_vdb", "vdb_grids",
-           "vdb_to_mesh", "Lattice", "deform_mesh", "deform_vdb", "read_lattice",
+           "vdb_to_mesh", "vdb_reader", "Lattice", "deform_mesh", "deform_vdb", "read_lattice",
            "parse_lattice", "read_3mf", "write_3mf", "materials", "HSpline", "parse_hs",
            "read_hs", "read_step_summary", "attach_cylinder", "mesh_settings", "EXIT_STATUS",
            "exit_status_of", "progress_part"]
