@@ -5,7 +5,6 @@
 #include <openvdb/io/Stream.h>
 
 #include <cstdint>
-#include <cstring>
 #include <fstream>
 #include <mutex>
 #include <sstream>
@@ -114,35 +113,6 @@ std::string describeGrid(const GridInfo& g) {
 
 namespace {
 
-// The fixed part of an OpenVDB file's header, checked before OpenVDB reads it: a file cut
-// short there is refused with what is wrong, where OpenVDB would log a warning and report a
-// file of no grids. Layout: the magic number (int64), the file format version (uint32), the
-// library's major and minor versions (uint32 each), a grid-offsets flag (1 byte) and a
-// 36-character UUID, then the metadata and the grids.
-void checkVdbHeader(const std::string& path, const std::string& name) {
-  constexpr std::size_t kFixedHeader = 8 + 4 + 4 + 4 + 1 + 36;
-  constexpr std::int64_t kMagic = 0x56444220;  // " BDV"
-  std::ifstream in(path, std::ios::binary);
-  char head[kFixedHeader];
-  in.read(head, kFixedHeader);
-  const auto got = static_cast<std::size_t>(in.gcount());
-  std::int64_t magic = 0;
-  if (got >= 8) std::memcpy(&magic, head, 8);
-  if (got < 8 || magic != kMagic)
-    throw FileError(name + ": not an OpenVDB file (no OpenVDB magic number at its start)");
-  if (got < kFixedHeader)
-    throw FileError(name + ": the OpenVDB file ends inside its header (" + std::to_string(got) +
-                    " of at least " + std::to_string(kFixedHeader) + " bytes): a truncated file");
-  std::uint32_t version = 0;
-  std::memcpy(&version, head + 8, 4);
-  if (version < openvdb::OPENVDB_FILE_VERSION_ROOTNODE_MAP ||
-      version > openvdb::OPENVDB_FILE_VERSION)
-    throw FileError(name + ": OpenVDB file format version " + std::to_string(version) +
-                    " is not one this build reads (" +
-                    std::to_string(openvdb::OPENVDB_FILE_VERSION_ROOTNODE_MAP) + " to " +
-                    std::to_string(openvdb::OPENVDB_FILE_VERSION) + ")");
-}
-
 // The sizes an OpenVDB file declares before its grids, each checked against the bytes left in
 // the file before OpenVDB allocates by it: its metadata (a count, then per entry a name and a
 // type name of a declared length and a value of a declared size), the grid count, and each
@@ -150,7 +120,8 @@ void checkVdbHeader(const std::string& path, const std::string& name) {
 // OpenVDB sizes a string by the length the file declares and fills it before reading: a
 // 162-byte file declaring names of 2 GB took 20 GB and a minute before it failed. Files
 // without grid offsets (written to a stream) and formats before 222 get the metadata check
-// only where their layout is the same.
+// only where their layout is the same. The fixed header comes first: a file cut short there is
+// refused with what is wrong, where OpenVDB would log a warning and report a file of no grids.
 class VdbLayoutCheck {
  public:
   VdbLayoutCheck(const std::string& path, const std::string& name)
@@ -160,12 +131,11 @@ class VdbLayoutCheck {
   }
 
   void run() {
-    const std::uint32_t version = u32At(8);
+    const std::uint32_t version = header();
     char hasOffsets = 0;
-    seek(20);
-    in_.read(&hasOffsets, 1);
+    bytes(&hasOffsets, 1);
     if (version < openvdb::OPENVDB_FILE_VERSION_NODE_MASK_COMPRESSION) return;
-    seek(57);  // (the fixed header checkVdbHeader read)
+    seek(kFixedHeader);  // (past the UUID)
     metaMap("the file's metadata");
     if (!hasOffsets) return;
     const std::uint32_t grids = u32();
@@ -185,6 +155,34 @@ class VdbLayoutCheck {
   }
 
  private:
+  // The magic number (int64), the file format version (uint32), the library's major and minor
+  // versions (uint32 each), a grid-offsets flag (1 byte) and a 36-character UUID.
+  static constexpr std::uint64_t kFixedHeader = 8 + 4 + 4 + 4 + 1 + 36;
+
+  // Checks the magic number and the format version; returns the version, the stream past
+  // the library's versions (at the offsets flag).
+  std::uint32_t header() {
+    constexpr std::int64_t kMagic = 0x56444220;  // " BDV"
+    std::int64_t magic = 0;
+    seek(0);
+    if (size_ >= 8) bytes(&magic, 8);
+    if (size_ < 8 || magic != kMagic)
+      throw FileError(name_ + ": not an OpenVDB file (no OpenVDB magic number at its start)");
+    if (size_ < kFixedHeader)
+      throw FileError(name_ + ": the OpenVDB file ends inside its header (" +
+                      std::to_string(size_) + " of at least " + std::to_string(kFixedHeader) +
+                      " bytes): a truncated file");
+    const std::uint32_t version = u32();
+    if (version < openvdb::OPENVDB_FILE_VERSION_ROOTNODE_MAP ||
+        version > openvdb::OPENVDB_FILE_VERSION)
+      throw FileError(name_ + ": OpenVDB file format version " + std::to_string(version) +
+                      " is not one this build reads (" +
+                      std::to_string(openvdb::OPENVDB_FILE_VERSION_ROOTNODE_MAP) + " to " +
+                      std::to_string(openvdb::OPENVDB_FILE_VERSION) + ")");
+    skip(8, "the library's version");
+    return version;
+  }
+
   [[noreturn]] void fail(const std::string& what) const {
     throw FileError(name_ + ": the OpenVDB file is damaged: " + what + " at byte " +
                     std::to_string(at_) + " does not fit in its " + std::to_string(size_) +
@@ -212,10 +210,6 @@ class VdbLayoutCheck {
     std::uint64_t v = 0;
     bytes(&v, 8);
     return v;
-  }
-  std::uint32_t u32At(std::uint64_t pos) {
-    seek(pos);
-    return u32();
   }
   void skip(std::uint64_t n, const char* what) {
     if (n > left()) fail(std::string(what) + " of " + std::to_string(n) + " bytes");
@@ -252,7 +246,6 @@ GridSet readVdb(const std::string& path) {
   initializeOpenVdb();
   requireRegularFile(path, "the OpenVDB file");
   const std::string name = displayName(path);
-  checkVdbHeader(path, name);
   VdbLayoutCheck(path, name).run();
   if (vdbPrecheck()) vdbPrecheck()(path);
   GridSet set;
