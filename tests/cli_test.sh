@@ -145,6 +145,11 @@ expect 1 "refusing to write" -- "$frepcad" export "$work/empty.json" -o "$work/e
 [ ! -e "$work/empty.stl" ] || { echo "FAIL: refused export left a file"; failures=$((failures + 1)); }
 # an empty solid without a box (no point inside: the bounds search finds nothing) is the same
 # verdict, and so is an instancer of one
+# HyperFun programs export like models (docs/hyperfun.md); a mistake names its line and column
+expect 0 "verdict: printable" -- "$frepcad" export "$src/examples/mount.hf" -o "$work/mount.stl" --cells 48
+printf 'my_model(x[3], a[1])\n{\n  my_model = hfSphere(x, 2);\n}\n' >"$work/bad.hf"
+expect 2 "bad.hf:3:14: hfsphere takes 3 arguments, not 2" -- "$frepcad" export "$work/bad.hf" -o "$work/bad.stl"
+[ ! -e "$work/bad.stl" ] || { echo "FAIL: a refused program wrote a file"; failures=$((failures + 1)); }
 echo '{"frepcad": 1, "root": {"type": "intersection", "inputs": [{"type": "sphere"}, {"type": "sphere", "params": {"center": [9, 0, 0]}}]}}' >"$work/none_inside.json"
 expect 1 "none_inside.json: the solid is empty: no point is inside, nothing to print" -- "$frepcad" export "$work/none_inside.json" -o "$work/empty.stl"
 echo '{"frepcad": 1, "root": {"type": "instancer", "inputs": [{"type": "intersection", "inputs": [{"type": "sphere"}, {"type": "sphere", "params": {"center": [9, 0, 0]}}]}]}}' >"$work/empty_copies.json"

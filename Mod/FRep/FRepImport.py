@@ -1,5 +1,7 @@
-"""Opens FRepCAD JSON models (the format `frepcad export` reads) as FRep features: File > Open
-and File > Import offer "FRep model (*.json)", and "OpenVDB volume (*.vdb)", which adds a
+"""Opens FRepCAD JSON models (the format `frepcad export` reads) and HyperFun programs as FRep
+features: File > Open and File > Import offer "FRep model (*.json)", "HyperFun model (*.hf)"
+(docs/hyperfun.md: each library primitive a Formula feature with HyperFun's own expression,
+the set operations and blends their features), and "OpenVDB volume (*.vdb)", which adds a
 VdbGrid feature showing the file's first float or double grid (its Grid property picks
 another). Each node becomes the feature of its registry
 type with its parameters, the inputs linked and hidden, so the model can be edited like one
@@ -17,6 +19,7 @@ import FRepFeatures as F
 from FRepPaths import frepcore
 
 FILTER = "FRep model (*.json)"
+HYPERFUN_FILTER = "HyperFun model (*.hf)"
 VDB_FILTER = "OpenVDB volume (*.vdb)"
 
 
@@ -35,7 +38,11 @@ def import_vdb(path, doc):
 def import_model(path, doc):
     """Adds the model's tree to doc as features; returns the feature of its root."""
     with io.open(path, encoding="utf-8") as f:  # this module's open() is FreeCAD's hook
-        model = frepcore.parse_model(f.read(), path, os.path.dirname(os.path.abspath(path)))
+        text = f.read()
+    if path.lower().endswith(".hf"):
+        model = frepcore.parse_hyperfun(text, os.path.basename(path))
+    else:
+        model = frepcore.parse_model(text, path, os.path.dirname(os.path.abspath(path)))
     made = {}  # a node shared by several parents (the format allows it) becomes one feature
 
     def feature(node):

@@ -1,6 +1,5 @@
 #include "frep/model_json.h"
 
-
 #include <cerrno>
 #include <cstring>
 #include <map>
@@ -9,6 +8,7 @@
 
 #include "base/errors.h"
 #include "base/file_names.h"
+#include "frep/hyperfun_import.h"
 
 namespace frep {
 
@@ -18,12 +18,18 @@ namespace {
 
 std::string typeOf(const json& j) {
   switch (j.type()) {
-    case json::value_t::null: return "null";
-    case json::value_t::boolean: return "a boolean";
-    case json::value_t::string: return "a string";
-    case json::value_t::array: return "an array";
-    case json::value_t::object: return "an object";
-    default: return "a number";
+    case json::value_t::null:
+      return "null";
+    case json::value_t::boolean:
+      return "a boolean";
+    case json::value_t::string:
+      return "a string";
+    case json::value_t::array:
+      return "an array";
+    case json::value_t::object:
+      return "an object";
+    default:
+      return "a number";
   }
 }
 
@@ -77,16 +83,21 @@ ParamValue paramFromJson(const ParamTemplate& t, const json& j, const std::strin
 json paramToJson(const ParamTemplate& t, const ParamValue& v) {
   switch (t.type) {
     case ParamType::Choice:
-    case ParamType::Text: return v.text;
-    case ParamType::Boolean: return v.numbers.at(0) != 0.0;
-    case ParamType::Real: return v.numbers.at(0);
-    case ParamType::Integer: return static_cast<long long>(v.numbers.at(0));
+    case ParamType::Text:
+      return v.text;
+    case ParamType::Boolean:
+      return v.numbers.at(0) != 0.0;
+    case ParamType::Real:
+      return v.numbers.at(0);
+    case ParamType::Integer:
+      return static_cast<long long>(v.numbers.at(0));
     case ParamType::Points: {
       json points = json::array();
       for (const Vec3& q : pointsOf(v)) points.push_back({q[0], q[1], q[2]});
       return points;
     }
-    default: return v.numbers;
+    default:
+      return v.numbers;
   }
 }
 
@@ -115,8 +126,7 @@ class Parser {
     if (!j.contains("type") || !j["type"].is_string())
       throw ModelError(where + ": a node needs a \"type\" string (see `frepcad info`)");
     for (auto it = j.begin(); it != j.end(); ++it)
-      if (it.key() != "type" && it.key() != "params" && it.key() != "inputs" &&
-          it.key() != "name")
+      if (it.key() != "type" && it.key() != "params" && it.key() != "inputs" && it.key() != "name")
         throw ModelError(where + ": unknown key \"" + it.key() +
                          "\"; a node has \"type\", \"params\", \"inputs\" and \"name\"");
     const std::string typeId = j["type"].get<std::string>();
@@ -132,8 +142,7 @@ class Parser {
 
     std::map<std::string, ParamValue> params;
     if (j.contains("params")) {
-      if (!j["params"].is_object())
-        throw ModelError(nodeWhere + ": \"params\" must be an object");
+      if (!j["params"].is_object()) throw ModelError(nodeWhere + ": \"params\" must be an object");
       for (auto it = j["params"].begin(); it != j["params"].end(); ++it) {
         const ParamTemplate* t = type->findParam(it.key());
         if (!t) throw ModelError(nodeWhere + ": " + type->unknownParamText(it.key()));
@@ -149,7 +158,8 @@ class Parser {
       if (!j["inputs"].is_array())
         throw ModelError(nodeWhere + ": \"inputs\" must be an array of nodes");
       for (std::size_t i = 0; i < j["inputs"].size(); ++i)
-        inputs.push_back(node(j["inputs"][i], shortPath(path) + ".inputs[" + std::to_string(i) + "]"));
+        inputs.push_back(
+            node(j["inputs"][i], shortPath(path) + ".inputs[" + std::to_string(i) + "]"));
     }
     return makeNode(typeId, std::move(params), std::move(inputs), source_ + ": " + path);
   }
@@ -204,8 +214,9 @@ std::string jsonErrorText(const std::string& text, std::size_t byte, const std::
     if (rest.find("NaN") != std::string::npos || rest.find("nfinity") != std::string::npos)
       reason = "NaN and Infinity are not JSON numbers (numbers must be finite)";
     else
-      reason = "an invalid literal (strings need double quotes; true, false and null are lower "
-               "case)";
+      reason =
+          "an invalid literal (strings need double quotes; true, false and null are lower "
+          "case)";
   } else if (what.find("unexpected end of input") != std::string::npos ||
              (what.find("missing closing quote") != std::string::npos && byte >= text.size())) {
     reason = "the text ends in the middle of a value (a truncated file?)";
@@ -220,8 +231,8 @@ std::string jsonErrorText(const std::string& text, std::size_t byte, const std::
     const std::size_t e = what.find("expected");
     reason = "a syntax error: " + what.substr(e);
   }
-  return "not valid JSON at line " + std::to_string(line) + ", column " +
-         std::to_string(column) + ": " + reason;
+  return "not valid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) +
+         ": " + reason;
 }
 
 }  // namespace
@@ -248,9 +259,10 @@ Model parseModel(const std::string& text, const std::string& source,
   if (doc.contains("frepcad")) {
     const json& v = doc["frepcad"];
     if (!v.is_number_integer() || v.get<long long>() != kModelFormatVersion)
-      throw ModelError(source + ": \"frepcad\": " + v.dump() + " is not a format version this "
-                       "frepcad reads; allowed: " + std::to_string(kModelFormatVersion) +
-                       " (a newer frepcad wrote the file?)");
+      throw ModelError(source + ": \"frepcad\": " + v.dump() +
+                       " is not a format version this "
+                       "frepcad reads; allowed: " +
+                       std::to_string(kModelFormatVersion) + " (a newer frepcad wrote the file?)");
   }
   if (doc.contains("definitions") && !doc["definitions"].is_object())
     throw ModelError(source + ": \"definitions\" must be an object of named nodes");
@@ -282,15 +294,15 @@ Model parseModel(const std::string& text, const std::string& source,
         }
       }
       if (!ok || !box.valid())
-        throw ModelError(source + ": export.bbox expects 6 numbers [x0, y0, z0, x1, y1, z1] "
-                                  "with x0 < x1, y0 < y1, z0 < z1");
+        throw ModelError(source +
+                         ": export.bbox expects 6 numbers [x0, y0, z0, x1, y1, z1] "
+                         "with x0 < x1, y0 < y1, z0 < z1");
       m.bbox = box;
     }
     if (e.contains("resolution")) {
       const json& r = e["resolution"];
       if (!r.is_number() || !(r.get<double>() > 0.0))
-        throw ModelError(source + ": export.resolution expects a cell size > 0, got " +
-                         r.dump());
+        throw ModelError(source + ": export.resolution expects a cell size > 0, got " + r.dump());
       m.resolution = r.get<double>();
     }
   }
@@ -299,8 +311,11 @@ Model parseModel(const std::string& text, const std::string& source,
 
 Model loadModel(const std::string& path) {
   const std::string text = readSmallFile(path, "model file", kMaxModelBytes);
+  if (isHyperFunPath(path)) return importHyperFun(text, displayName(path));
   const std::size_t slash = path.rfind('/');
-  const std::string folder = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+  const std::string folder = slash == std::string::npos ? "."
+                             : slash == 0               ? "/"
+                                                        : path.substr(0, slash);
   return parseModel(text, displayName(path), folder);
 }
 
@@ -326,8 +341,9 @@ std::string modelToJson(const Model& model) {
       return json{{"ref", it->second}};
     }
     if (isFieldNode(*n))
-      throw ModelError("an external field node cannot be written to a model file; save the "
-                       "field in its own file and refer to it by a node that reads it");
+      throw ModelError(
+          "an external field node cannot be written to a model file; save the "
+          "field in its own file and refer to it by a node that reads it");
     json j;
     j["type"] = n->type->id;
     json params = json::object();

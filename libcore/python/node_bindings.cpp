@@ -25,6 +25,7 @@
 #include "check/mesh_deviation.h"
 #include "check/printability.h"
 #include "frep/bounds.h"
+#include "frep/hyperfun_import.h"
 #include "frep/model_json.h"
 #include "frep/registry.h"
 #include "frep/registry_docs.h"
@@ -363,6 +364,22 @@ void bindNode(py::module_& m) {
       py::arg("text"), py::arg("source") = "model", py::arg("base_directory") = "",
       "Parses a JSON model: dict(root, bbox, resolution, description). Relative file names "
       "(mesh_sdf, vdb_grid) are read from base_directory when given.");
+  m.def(
+      "parse_hyperfun",
+      [](const std::string& text, const std::string& source) {
+        Model model = importHyperFun(text, source);
+        py::dict d;
+        d["root"] = PyNode{model.root, nullptr};
+        d["bbox"] = py::none();
+        d["resolution"] = py::none();
+        d["description"] = model.description;
+        return d;
+      },
+      py::arg("text"), py::arg("source") = "model.hf",
+      "Translates a HyperFun program (.hf) into a model: dict(root, bbox, resolution, "
+      "description) as parse_model gives. Each library primitive is a formula node with "
+      "HyperFun's own expression, | & \\ ~ and the blends are set-operation and blend nodes "
+      "with alpha 0 (docs/hyperfun.md). Raises ValueError naming the line and column.");
 
   m.def(
       "mesh_field",

@@ -170,3 +170,27 @@ def test_json_models_import_as_the_same_solid(doc, name):
     assert all(not o.Visibility for o in doc.Objects if o is not top)
     assert field_difference(top, path, sample_points(2000, reach=2.0)) < 1e-12
     assert "FRepImport" in FreeCAD.getImportType("json")
+
+
+def test_a_hyperfun_program_opens_as_features_with_its_values(doc, tmp_path):
+    """File > Open of a .hf program: the set operations and the blend as their features, each
+    primitive a Formula feature with HyperFun's expression, the same values everywhere, and
+    a printable export; a mistake in the program is one line naming its line and column."""
+    import FRepExport
+    import FRepImport
+    path = os.path.join(EXAMPLES, "mount.hf")
+    top = FRepImport.import_model(path, doc)
+    recompute_all(doc)
+    assert top.Label == "mount" and top.Visibility
+    assert top.Proxy.FREP_TYPE == "difference"
+    types = sorted(o.Proxy.FREP_TYPE for o in doc.Objects if hasattr(o, "Proxy"))
+    assert types.count("formula") == 8 and "blend_union" in types
+    points = [(x * 15, y * 8, z * 10 + 5) for x, y, z in sample_points(2000, reach=1.6)]
+    assert field_difference(top, path, points) < 1e-9
+    report = FRepExport.export_objects([top], str(tmp_path / "mount.stl"), cells=64)
+    assert report["printable"] and report["written"], report["text"]
+    assert "FRepImport" in FreeCAD.getImportType("hf")
+    bad = tmp_path / "bad.hf"
+    bad.write_text("my_model(x[3], a[1])\n{\n  my_model = hfSphere(x, 2);\n}\n")
+    with pytest.raises(ValueError, match=r"^bad.hf:3:14: hfsphere takes 3 arguments, not 2$"):
+        FRepImport.import_model(str(bad), doc)

@@ -22,6 +22,7 @@ import os
 import textwrap
 
 from ._frepcore import Cancelled, EmptySolid, Mesh, Node, node_types, parse_model, read_mesh
+from ._frepcore import parse_hyperfun
 from ._frepcore import check_param, node_reference_markdown
 from ._frepcore import mesh_field, vdb_grids, vdb_to_mesh, vdb_reader
 from ._frepcore import Lattice, deform_mesh, deform_vdb, read_lattice, parse_lattice
@@ -32,7 +33,7 @@ from ._frepcore import MeshSettings, mesh_settings_table
 from ._frepcore import EXIT_STATUS, __version__
 from ._frepcore import DEFAULT_CELLS  # cells along the longest side when no resolution is given
 
-__all__ = ["Cancelled", "EmptySolid", "Mesh", "MeshSettings", "mesh_settings_table", "Node", "Shape", "node_types", "parse_model", "read_mesh",
+__all__ = ["Cancelled", "EmptySolid", "Mesh", "MeshSettings", "mesh_settings_table", "Node", "Shape", "node_types", "parse_model", "parse_hyperfun", "read_mesh",
            "load", "automatic_box", "NotPrintable", "from_mesh", "from_vdb", "vdb_grids",
            "vdb_to_mesh", "vdb_reader", "Lattice", "deform_mesh", "deform_vdb", "read_lattice",
            "parse_lattice", "read_3mf", "write_3mf", "materials", "HSpline", "parse_hs",
@@ -327,11 +328,15 @@ def _box_pair(bbox):
 
 
 def load(path):
-    """Reads a .json model: (Shape, export settings dict with bbox and resolution). path: a
-    str or os.PathLike."""
+    """Reads a .json model or a HyperFun program (.hf): (Shape, export settings dict with bbox
+    and resolution). path: a str or os.PathLike."""
     path = os.fspath(path)
     with open(path, encoding="utf-8") as f:
-        model = parse_model(f.read(), path, os.path.dirname(os.path.abspath(path)))
+        text = f.read()
+    if path.lower().endswith(".hf"):
+        model = parse_hyperfun(text, path)
+    else:
+        model = parse_model(text, path, os.path.dirname(os.path.abspath(path)))
     return Shape(model["root"]), {"bbox": model["bbox"], "resolution": model["resolution"]}
 
 

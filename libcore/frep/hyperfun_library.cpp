@@ -1,0 +1,386 @@
+#include "frep/hyperfun_library.h"
+
+#include <cmath>
+#include <functional>
+#include <map>
+
+namespace frep::hyperfun {
+
+namespace {
+
+constexpr double kEps = 1e-6;  // HyperFun's zero
+
+using Args = std::vector<LibraryArgument>;
+using Compute = std::function<ExprPtr(Args&, ExprBuilder&)>;
+
+struct LibraryFunction {
+  const char* title;  // as HyperFun's manual spells it
+  const char* kinds;  // 'A' array, 'R' number
+  Compute compute;
+};
+
+// Item i (from 0) of an array argument, which must have a value.
+ExprPtr item(const LibraryArgument& a, std::size_t i, ExprBuilder& b) {
+  if (i >= a.array->size())
+    b.fail("the array " + a.name + " has " + std::to_string(a.array->size()) +
+           " items; this call reads item " + std::to_string(i + 1));
+  const ExprPtr& v = (*a.array)[i];
+  if (!v) b.fail(a.name + "[" + std::to_string(i + 1) + "] is used before it is given a value");
+  return v;
+}
+
+// A number the library checks: when it is known now, `bad` must not hold.
+void check(const ExprPtr& v, const std::function<bool(double)>& bad, const std::string& what,
+           ExprBuilder& b) {
+  if (ExprBuilder::isConstant(v) && bad(v->value)) b.fail(what);
+}
+
+bool nearZero(double v) {
+  return std::fabs(v) < kEps;
+}
+
+// (p_axis - c_axis) for a point array and a centre array
+ExprPtr offset(Args& a, int axis, ExprBuilder& b) {
+  return b.sub(item(a[0], axis, b), item(a[1], axis, b));
+}
+
+ExprPtr sumOfSquares(const std::vector<ExprPtr>& v, ExprBuilder& b) {
+  ExprPtr s = b.sqr(v[0]);
+  for (std::size_t i = 1; i < v.size(); ++i) s = b.add(s, b.sqr(v[i]));
+  return s;
+}
+
+// R^2 - the squares of the offsets across `axis` (a cylinder) or of all three (a sphere)
+Compute roundPrimitive(const char* title, int axis) {
+  return [title, axis](Args& a, ExprBuilder& b) {
+    std::vector<ExprPtr> across;
+    for (int k = 0; k < 3; ++k)
+      if (k != axis) across.push_back(offset(a, k, b));
+    return b.primitive(title, b.sub(b.sqr(a[2].value), sumOfSquares(across, b)));
+  };
+}
+
+// 1 - ((p_i - c_i)/r_i)^2 over the axes `axes` with half-axes args[first...]
+Compute ellipticPrimitive(const char* title, std::vector<int> axes, std::size_t first) {
+  return [title, axes, first](Args& a, ExprBuilder& b) {
+    std::vector<ExprPtr> scaled;
+    for (std::size_t k = 0; k < axes.size(); ++k) {
+      const ExprPtr r = a[first + k].value;
+      check(r, nearZero, std::string(title) + ": a half-axis is 0", b);
+      scaled.push_back(b.div(offset(a, axes[k], b), r));
+    }
+    return b.primitive(title, b.sub(b.constant(1.0), sumOfSquares(scaled, b)));
+  };
+}
+
+// (p_axis - c_axis)^2 - ((others)/R)^2
+Compute cone(const char* title, int axis) {
+  return [title, axis](Args& a, ExprBuilder& b) {
+    const ExprPtr r = a[2].value;
+    check(r, nearZero, std::string(title) + ": the radius at height 1 is 0", b);
+    std::vector<ExprPtr> across;
+    for (int k = 0; k < 3; ++k)
+      if (k != axis) across.push_back(b.div(offset(a, k, b), r));
+    return b.primitive(title, b.sub(b.sqr(offset(a, axis, b)), sumOfSquares(across, b)));
+  };
+}
+
+// r0^2 - |p - c|^2 - R^2 + 2 R sqrt(distance^2 from the axis)
+Compute torus(const char* title, int axis) {
+  return [title, axis](Args& a, ExprBuilder& b) {
+    const ExprPtr big = a[2].value, small = a[3].value;
+    std::vector<ExprPtr> all, across;
+    for (int k = 0; k < 3; ++k) {
+      all.push_back(offset(a, k, b));
+      if (k != axis) across.push_back(all.back());
+    }
+    ExprPtr f = b.sub(b.sqr(small), sumOfSquares(all, b));
+    f = b.sub(f, b.sqr(big));
+    f = b.add(f, b.mul(b.mul(b.constant(2.0), big), b.call("sqrt", {sumOfSquares(across, b)})));
+    return b.primitive(title, f);
+  };
+}
+
+// The intersection of the three slabs (p - v)(v + d - p) >= 0, by the R-function (alpha 0).
+ExprPtr block(Args& a, ExprBuilder& b) {
+  ExprPtr slab[3];
+  for (int k = 0; k < 3; ++k) {
+    check(
+        a[2 + k].value, [](double d) { return d < 0.0; }, "hfBlock: an edge length is negative", b);
+    const ExprPtr v = item(a[1], k, b), p = item(a[0], k, b);
+    slab[k] = b.mul(b.sub(p, v), b.sub(b.add(v, a[2 + k].value), p));
+  }
+  auto meet = [&](ExprPtr f, ExprPtr g) {
+    return b.sub(b.add(f, g), b.call("sqrt", {b.add(b.sqr(f), b.sqr(g))}));
+  };
+  return b.primitive("hfBlock", meet(meet(slab[0], slab[1]), slab[2]));
+}
+
+ExprPtr superellipsoid(Args& a, ExprBuilder& b) {
+  for (int k = 2; k < 7; ++k)
+    check(a[k].value, nearZero, "hfSuperell: a half-axis or shape parameter is 0", b);
+  const ExprPtr s1 = a[5].value, s2 = a[6].value;
+  ExprPtr t[3];
+  for (int k = 0; k < 3; ++k) t[k] = b.call("abs", {b.div(offset(a, k, b), a[2 + k].value)});
+  const ExprPtr p = b.div(b.constant(2.0), s2);
+  const ExprPtr xy = b.add(b.pow(t[0], p), b.pow(t[1], p));
+  const ExprPtr f = b.sub(b.sub(b.constant(1.0), b.pow(xy, b.div(s2, s1))),
+                          b.pow(t[2], b.div(b.constant(2.0), s1)));
+  return b.primitive("hfSuperell", f);
+}
+
+// Sum over the centres (arrays x0, y0, z0 of equal length) of kernel(squared distance, i).
+ExprPtr centreSum(Args& a, const std::function<ExprPtr(ExprPtr, std::size_t)>& kernel,
+                  ExprBuilder& b) {
+  const std::size_t n = a[1].array->size();
+  for (int k = 2; k <= 3; ++k)
+    if (a[k].array->size() < n)
+      b.fail("the centre arrays differ in length (" + a[1].name + ": " + std::to_string(n) + ", " +
+             a[k].name + ": " + std::to_string(a[k].array->size()) + ")");
+  ExprPtr sum = b.constant(0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::vector<ExprPtr> d;
+    for (int k = 0; k < 3; ++k) d.push_back(b.sub(item(a[0], k, b), item(a[1 + k], i, b)));
+    if (ExprPtr term = kernel(sumOfSquares(d, b), i)) sum = b.add(sum, term);
+  }
+  return sum;
+}
+
+ExprPtr blobby(Args& a, ExprBuilder& b) {
+  const ExprPtr sum = centreSum(
+      a,
+      [&](ExprPtr r2, std::size_t i) {
+        return b.mul(item(a[5], i, b), b.call("exp", {b.neg(b.mul(item(a[4], i, b), r2))}));
+      },
+      b);
+  return b.primitive("hfBlobby", b.sub(sum, a[6].value));
+}
+
+// Nishimura's kernel: b (1 - 3 t^2) to t = 1/3, 3/2 b (1 - t)^2 to t = 1, then 0 (t = r/d),
+// as one expression: the two pieces meet at t = 1/3 with value 2b/3.
+ExprPtr metaball(Args& a, ExprBuilder& b) {
+  const ExprPtr sum = centreSum(
+      a,
+      [&](ExprPtr r2, std::size_t i) -> ExprPtr {
+        const ExprPtr d = item(a[5], i, b);
+        const double radius = b.constantOf(d, "hfMetaball's radius of influence");
+        if (radius <= 0.0) return nullptr;  // HyperFun skips such a centre
+        const ExprPtr strength = item(a[4], i, b);
+        const ExprPtr t = b.div(b.call("sqrt", {r2}), d);
+        const ExprPtr inner = b.call("min", {t, b.constant(1.0 / 3.0)});
+        const ExprPtr outer = b.call("clamp", {t, b.constant(1.0 / 3.0), b.constant(1.0)});
+        ExprPtr k = b.mul(strength, b.sub(b.constant(1.0), b.mul(b.constant(3.0), b.sqr(inner))));
+        k = b.add(k, b.mul(b.mul(b.constant(1.5), strength), b.sqr(b.sub(b.constant(1.0), outer))));
+        return b.sub(k, b.mul(b.constant(2.0 / 3.0), strength));
+      },
+      b);
+  return b.primitive("hfMetaball", b.sub(sum, a[6].value));
+}
+
+// Wyvill's soft objects: 1 - 22/9 t + 17/9 t^2 - 4/9 t^3 with t = min(r^2/d^2, 1)
+ExprPtr soft(Args& a, ExprBuilder& b) {
+  const ExprPtr sum = centreSum(
+      a,
+      [&](ExprPtr r2, std::size_t i) -> ExprPtr {
+        const ExprPtr d = item(a[4], i, b);
+        const double radius = b.constantOf(d, "hfSoft's radius of influence");
+        if (radius <= 0.0) return nullptr;
+        const ExprPtr t = b.call("min", {b.div(r2, b.sqr(d)), b.constant(1.0)});
+        ExprPtr poly = b.sub(b.constant(1.0), b.mul(b.constant(22.0 / 9.0), t));
+        poly = b.add(poly, b.mul(b.constant(17.0 / 9.0), b.sqr(t)));
+        return b.sub(poly, b.mul(b.constant(4.0 / 9.0), b.mul(b.sqr(t), t)));
+      },
+      b);
+  return b.primitive("hfSoft", b.sub(sum, a[5].value));
+}
+
+// Cauchy kernels 1 / (1 + S^2 r^2)^2 round the points of `vect` (x, y, z of each in turn)
+ExprPtr convolutionPoints(Args& a, ExprBuilder& b) {
+  const std::size_t n = a[2].array->size();
+  if (a[1].array->size() < 3 * n)
+    b.fail("hfConvPoint: " + a[1].name + " holds " + std::to_string(a[1].array->size()) +
+           " coordinates for " + std::to_string(n) + " points (3 each)");
+  ExprPtr sum = b.constant(0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::vector<ExprPtr> d;
+    for (int k = 0; k < 3; ++k) d.push_back(b.sub(item(a[1], 3 * i + k, b), item(a[0], k, b)));
+    const ExprPtr s = item(a[2], i, b);
+    const ExprPtr q = b.add(b.constant(1.0), b.mul(b.sqr(s), sumOfSquares(d, b)));
+    sum = b.add(sum, b.div(b.constant(1.0), b.sqr(q)));
+  }
+  return b.primitive("hfConvPoint", b.sub(sum, a[3].value));
+}
+
+Compute blendOf(Expr::Kind kind, const char* title) {
+  return [kind, title](Args& a, ExprBuilder& b) {
+    const ExprPtr f1 = a[0].value, f2 = a[1].value;
+    const ExprPtr a0 = a[2].value, a1 = a[3].value, a2 = a[4].value;
+    check(a1, nearZero, std::string(title) + ": a1 is 0", b);
+    check(a2, nearZero, std::string(title) + ": a2 is 0", b);
+    if (ExprBuilder::isConstant(a0) && ExprBuilder::isConstant(a1) && ExprBuilder::isConstant(a2))
+      return b.blend(kind, f1, f2, a0->value, a1->value, a2->value);
+    // parameters that vary over space: the same value written out
+    const Expr::Kind setKind =
+        kind == Expr::Kind::BlendUnion ? Expr::Kind::Union : Expr::Kind::Intersection;
+    const ExprPtr bump =
+        b.div(a0, b.add(b.add(b.constant(1.0), b.sqr(b.div(f1, a1))), b.sqr(b.div(f2, a2))));
+    return b.add(b.setOperation(setKind, f1, f2), bump);
+  };
+}
+
+// Transformations: each replaces the items of the array args[0] (an inverse mapping of the
+// point) and returns 1.
+using Mapping = std::function<void(std::vector<ExprPtr>& p, Args& a, ExprBuilder& b)>;
+
+Compute transformation(Mapping mapping) {
+  return [mapping](Args& a, ExprBuilder& b) {
+    std::vector<ExprPtr> p;
+    for (int k = 0; k < 3; ++k) p.push_back(item(a[0], k, b));
+    mapping(p, a, b);
+    for (int k = 0; k < 3; ++k) (*a[0].array)[k] = p[k];
+    return b.constant(1.0);
+  };
+}
+
+// (u, v) -> (u cos t + v sin t, -u sin t + v cos t)
+void rotatePair(ExprPtr& u, ExprPtr& v, const ExprPtr& angle, ExprBuilder& b) {
+  const ExprPtr c = b.call("cos", {angle}), s = b.call("sin", {angle});
+  const ExprPtr u2 = b.add(b.mul(u, c), b.mul(v, s));
+  const ExprPtr v2 = b.add(b.neg(b.mul(u, s)), b.mul(v, c));
+  u = u2;
+  v = v2;
+}
+
+// The rotated pair for each axis: about x (y, z), about y (z, x), about z (x, y).
+constexpr int kPair[3][2] = {{1, 2}, {2, 0}, {0, 1}};
+
+Compute rotation(int axis) {
+  return transformation([axis](std::vector<ExprPtr>& p, Args& a, ExprBuilder& b) {
+    rotatePair(p[kPair[axis][0]], p[kPair[axis][1]], a[1].value, b);
+  });
+}
+
+Compute twist(const char* title, int axis) {
+  return transformation([axis, title](std::vector<ExprPtr>& p, Args& a, ExprBuilder& b) {
+    const ExprPtr span = b.sub(a[2].value, a[1].value);
+    check(span, nearZero, std::string(title) + ": the two ends are the same", b);
+    const ExprPtr t = b.div(b.sub(p[axis], a[1].value), span);
+    const ExprPtr angle = b.add(b.mul(b.sub(b.constant(1.0), t), a[3].value), b.mul(t, a[4].value));
+    rotatePair(p[kPair[axis][0]], p[kPair[axis][1]], angle, b);
+  });
+}
+
+Compute taper(const char* title, int axis) {
+  return transformation([axis, title](std::vector<ExprPtr>& p, Args& a, ExprBuilder& b) {
+    for (int k = 3; k <= 4; ++k)
+      check(
+          a[k].value, [](double s) { return s <= 0.0; },
+          std::string(title) + ": the scales must be > 0", b);
+    const ExprPtr span = b.sub(a[2].value, a[1].value);
+    check(span, nearZero, std::string(title) + ": the two ends are the same", b);
+    const ExprPtr t = b.call(
+        "clamp", {b.div(b.sub(p[axis], a[1].value), span), b.constant(0.0), b.constant(1.0)});
+    const ExprPtr scale = b.add(b.mul(b.sub(b.constant(1.0), t), a[3].value), b.mul(t, a[4].value));
+    for (int k = 0; k < 3; ++k)
+      if (k != axis) p[k] = b.div(p[k], scale);
+  });
+}
+
+const std::map<std::string, LibraryFunction>& library() {
+  static const std::map<std::string, LibraryFunction> table = [] {
+    std::map<std::string, LibraryFunction> t;
+    t["hfsphere"] = {"hfSphere", "AAR", roundPrimitive("hfSphere", -1)};
+    t["hfcylinderx"] = {"hfCylinderX", "AAR", roundPrimitive("hfCylinderX", 0)};
+    t["hfcylindery"] = {"hfCylinderY", "AAR", roundPrimitive("hfCylinderY", 1)};
+    t["hfcylinderz"] = {"hfCylinderZ", "AAR", roundPrimitive("hfCylinderZ", 2)};
+    t["hfellipsoid"] = {"hfEllipsoid", "AARRR", ellipticPrimitive("hfEllipsoid", {0, 1, 2}, 2)};
+    t["hfellcylx"] = {"hfEllCylX", "AARR", ellipticPrimitive("hfEllCylX", {1, 2}, 2)};
+    t["hfellcyly"] = {"hfEllCylY", "AARR", ellipticPrimitive("hfEllCylY", {0, 2}, 2)};
+    t["hfellcylz"] = {"hfEllCylZ", "AARR", ellipticPrimitive("hfEllCylZ", {0, 1}, 2)};
+    t["hfconex"] = {"hfConeX", "AAR", cone("hfConeX", 0)};
+    t["hfconey"] = {"hfConeY", "AAR", cone("hfConeY", 1)};
+    t["hfconez"] = {"hfConeZ", "AAR", cone("hfConeZ", 2)};
+    t["hftorusx"] = {"hfTorusX", "AARR", torus("hfTorusX", 0)};
+    t["hftorusy"] = {"hfTorusY", "AARR", torus("hfTorusY", 1)};
+    t["hftorusz"] = {"hfTorusZ", "AARR", torus("hfTorusZ", 2)};
+    t["hfblock"] = {"hfBlock", "AARRR", block};
+    t["hfsuperell"] = {"hfSuperell", "AARRRRR", superellipsoid};
+    t["hfblobby"] = {"hfBlobby", "AAAAAAR", blobby};
+    t["hfmetaball"] = {"hfMetaball", "AAAAAAR", metaball};
+    t["hfsoft"] = {"hfSoft", "AAAAAR", soft};
+    t["hfconvpoint"] = {"hfConvPoint", "AAAR", convolutionPoints};
+    t["hfblenduni"] = {"hfBlendUni", "RRRRR", blendOf(Expr::Kind::BlendUnion, "hfBlendUni")};
+    t["hfblendint"] = {"hfBlendInt", "RRRRR", blendOf(Expr::Kind::BlendIntersection, "hfBlendInt")};
+    t["hfshift3d"] = {"hfShift3D", "ARRR", transformation([](auto& p, Args& a, ExprBuilder& b) {
+                        for (int k = 0; k < 3; ++k) p[k] = b.sub(p[k], a[1 + k].value);
+                      })};
+    t["hfscale3d"] = {"hfScale3D", "ARRR", transformation([](auto& p, Args& a, ExprBuilder& b) {
+                        for (int k = 0; k < 3; ++k) {
+                          check(a[1 + k].value, nearZero, "hfScale3D: a scale is 0", b);
+                          p[k] = b.div(p[k], a[1 + k].value);
+                        }
+                      })};
+    t["hfstretch3d"] = {"hfStretch3D", "AARRR",
+                        transformation([](auto& p, Args& a, ExprBuilder& b) {
+                          for (int k = 0; k < 3; ++k) {
+                            check(a[2 + k].value, nearZero, "hfStretch3D: a scale is 0", b);
+                            const ExprPtr c = item(a[1], k, b);
+                            p[k] = b.add(c, b.div(b.sub(p[k], c), a[2 + k].value));
+                          }
+                        })};
+    t["hfrotate3dx"] = {"hfRotate3DX", "AR", rotation(0)};
+    t["hfrotate3dy"] = {"hfRotate3DY", "AR", rotation(1)};
+    t["hfrotate3dz"] = {"hfRotate3DZ", "AR", rotation(2)};
+    t["hftwistx"] = {"hfTwistX", "ARRRR", twist("hfTwistX", 0)};
+    t["hftwisty"] = {"hfTwistY", "ARRRR", twist("hfTwistY", 1)};
+    t["hftwistz"] = {"hfTwistZ", "ARRRR", twist("hfTwistZ", 2)};
+    t["hftaperx"] = {"hfTaperX", "ARRRR", taper("hfTaperX", 0)};
+    t["hftapery"] = {"hfTaperY", "ARRRR", taper("hfTaperY", 1)};
+    t["hftaperz"] = {"hfTaperZ", "ARRRR", taper("hfTaperZ", 2)};
+    return t;
+  }();
+  return table;
+}
+
+}  // namespace
+
+std::string libraryArguments(const std::string& name, std::string* unsupported) {
+  if (unsupported) unsupported->clear();
+  const auto it = library().find(name);
+  if (it != library().end()) return it->second.kinds;
+  if (unsupported && name.rfind("hf", 0) == 0) {
+    static const std::map<std::string, const char*> others = {
+        {"hfconvline", "convolution line segments"},
+        {"hfconvliner", "convolution line segments"},
+        {"hfconvarc", "convolution arcs"},
+        {"hfconvtriangle", "convolution triangles"},
+        {"hfconvcurve", "convolution curves"},
+        {"hfconvmesh", "convolution meshes"},
+        {"hfnoiseg", "Gardner noise"},
+        {"hfellconex", "elliptic cones"},
+        {"hfellconey", "elliptic cones"},
+        {"hfellconez", "elliptic cones"},
+        {"hfbeziervolume", "Bezier volumes"},
+        {"hfspacemapcubic", "space mappings"},
+        {"hfspacemapexp", "space mappings"},
+    };
+    const auto o = others.find(name);
+    if (o != others.end())
+      *unsupported = std::string(o->second) + " (" + name + ") are not translated yet";
+    else if (name.rfind("hfa_", 0) == 0)
+      *unsupported = "attribute functions (" + name + ") give colours, not shape";
+  }
+  return "";
+}
+
+ExprPtr callLibrary(const std::string& name, std::vector<LibraryArgument>& args, ExprBuilder& b) {
+  return library().at(name).compute(args, b);
+}
+
+std::vector<std::string> libraryNames() {
+  std::vector<std::string> out;
+  for (const auto& [key, f] : library()) out.push_back(f.title);
+  return out;
+}
+
+}  // namespace frep::hyperfun

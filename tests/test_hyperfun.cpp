@@ -1,0 +1,366 @@
+// HyperFun programs as FRep trees: each program below is written for the test from the
+// language's manual, and its tree's values are compared point by point with HyperFun's
+// definitions written out here by hand (the manual's formulas, alpha = 0 R-functions).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <random>
+#include <string>
+
+#include "base/errors.h"
+#include "frep/hyperfun_import.h"
+#include "frep/tree.h"
+
+namespace frep {
+namespace {
+
+using Field = std::function<double(double, double, double)>;
+
+Model load(const std::string& text) {
+  return importHyperFun(text, "test.hf");
+}
+
+// The tree of `program` against `expected` at random points of [-range, range]^3.
+void expectValues(const std::string& program, const Field& expected, double range = 3.0) {
+  const Program p = compile(load(program).root);
+  std::mt19937 g(11);
+  std::uniform_real_distribution<double> u(-range, range);
+  for (int i = 0; i < 300; ++i) {
+    const double x = u(g), y = u(g), z = u(g);
+    const double want = expected(x, y, z);
+    ASSERT_NEAR(p.eval(x, y, z), want, 1e-9 * (1.0 + std::fabs(want)))
+        << "at (" << x << ", " << y << ", " << z << ")\n"
+        << program;
+  }
+}
+
+std::string model(const std::string& body) {
+  return "my_model(x[3], a[1])\n{\n" + body + "\n}\n";
+}
+
+double sq(double v) {
+  return v * v;
+}
+double unite(double f, double g) {
+  return f + g + std::sqrt(f * f + g * g);
+}
+double meet(double f, double g) {
+  return f + g - std::sqrt(f * f + g * g);
+}
+
+std::string errorOf(const std::string& program) {
+  try {
+    load(program);
+  } catch (const ModelError& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+TEST(HyperFun, ArithmeticFollowsItsInterpreter) {
+  // unary minus binds before ^ ((-x)^2), ^ from the left, the set operators with + and -
+  expectValues(model("my_model = 9 - x[1]^2 - x[2]^2 - x[3]^2;"),
+               [](double x, double y, double z) { return 9 - x * x - y * y - z * z; });
+  expectValues(model("my_model = -x[1]^2 + 2^3^2 - 1;"),
+               [](double x, double, double) { return x * x + 64 - 1; });
+  expectValues(model("my_model = 4 - x[1]*x[1] / 2 - abs(x[2]) * 3 + 1/(2 + x[3]*x[3]);"),
+               [](double x, double y, double z) {
+                 return 4 - x * x / 2 - std::fabs(y) * 3 + 1 / (2 + z * z);
+               });
+  // integer powers of negative bases multiply out; a fractional power is exp(e log b)
+  expectValues(model("my_model = x[1]^3 - (x[2]*x[2] + 1)^1.5;"),
+               [](double x, double y, double) { return x * x * x - std::pow(y * y + 1, 1.5); });
+}
+
+TEST(HyperFun, SetOperatorsAreTheRFunctionsWithAlphaZero) {
+  const std::string body =
+      "array c[3];\n"
+      "c = [0.5, 0, 0];\n"
+      "s1 = hfSphere(x, c, 1.5);\n"
+      "c = [-0.5, 0.3, 0];\n"
+      "s2 = hfSphere(x, c, 1.2);\n"
+      "c = [0, 0, 0.8];\n"
+      "s3 = hfSphere(x, c, 1);\n";
+  auto ball = [](double x, double y, double z, double cx, double cy, double cz, double r) {
+    return r * r - sq(x - cx) - sq(y - cy) - sq(z - cz);
+  };
+  const auto s1 = [&](double x, double y, double z) { return ball(x, y, z, 0.5, 0, 0, 1.5); };
+  const auto s2 = [&](double x, double y, double z) { return ball(x, y, z, -0.5, 0.3, 0, 1.2); };
+  const auto s3 = [&](double x, double y, double z) { return ball(x, y, z, 0, 0, 0.8, 1); };
+  // left to right, one level: s1 | s2 & s3 is (s1 | s2) & s3
+  expectValues(model(body + "my_model = s1 | s2 & s3;"), [&](double x, double y, double z) {
+    return meet(unite(s1(x, y, z), s2(x, y, z)), s3(x, y, z));
+  });
+  expectValues(model(body + "my_model = s1 \\ s2 \\ ~s3;"), [&](double x, double y, double z) {
+    return meet(meet(s1(x, y, z), -s2(x, y, z)), s3(x, y, z));
+  });
+  // the tree keeps the operations as nodes: a difference of three, alpha 0
+  const Model m = load(model(body + "my_model = s1 \\ s2 \\ s3;"));
+  EXPECT_EQ(m.root->type->id, "difference");
+  EXPECT_EQ(m.root->inputs.size(), 3u);
+  EXPECT_EQ(m.root->real("alpha"), 0.0);
+  EXPECT_EQ(m.root->inputs[0]->type->id, "formula");
+  // arithmetic over solids is a formula with the solids as its inputs
+  expectValues(model(body + "my_model = (s1 | s2) + 0.5 * s3 - 0.25;"),
+               [&](double x, double y, double z) {
+                 return unite(s1(x, y, z), s2(x, y, z)) + 0.5 * s3(x, y, z) - 0.25;
+               });
+}
+
+TEST(HyperFun, PrimitivesHaveTheLibrarysValues) {
+  const std::string c = "array c[3];\nc = [0.3, -0.2, 0.5];\n";
+  const double cx = 0.3, cy = -0.2, cz = 0.5;
+  expectValues(model(c + "my_model = hfEllipsoid(x, c, 1.5, 1, 0.7);"),
+               [&](double x, double y, double z) {
+                 return 1 - sq((x - cx) / 1.5) - sq((y - cy) / 1) - sq((z - cz) / 0.7);
+               });
+  expectValues(model(c + "my_model = hfCylinderY(x, c, 0.8);"),
+               [&](double x, double, double z) { return 0.64 - sq(x - cx) - sq(z - cz); });
+  expectValues(model(c + "my_model = hfEllCylZ(x, c, 0.8, 1.3);"), [&](double x, double y, double) {
+    return 1 - sq((x - cx) / 0.8) - sq((y - cy) / 1.3);
+  });
+  expectValues(model(c + "my_model = hfConeX(x, c, 0.6);"), [&](double x, double y, double z) {
+    return sq(x - cx) - sq((y - cy) / 0.6) - sq((z - cz) / 0.6);
+  });
+  expectValues(
+      model(c + "my_model = hfTorusZ(x, c, 1.2, 0.4);"), [&](double x, double y, double z) {
+        const double dx = x - cx, dy = y - cy, dz = z - cz;
+        return 0.16 - dx * dx - dy * dy - dz * dz - 1.44 + 2 * 1.2 * std::sqrt(dx * dx + dy * dy);
+      });
+  expectValues(
+      model(c + "my_model = hfTorusX(x, c, 1.2, 0.4);"), [&](double x, double y, double z) {
+        const double dx = x - cx, dy = y - cy, dz = z - cz;
+        return 0.16 - dx * dx - dy * dy - dz * dz - 1.44 + 2 * 1.2 * std::sqrt(dy * dy + dz * dz);
+      });
+  // the block: the slabs (x - v)(v + d - x) met two by two
+  expectValues(model(c + "my_model = hfBlock(x, c, 2, 1, 1.5);"),
+               [&](double x, double y, double z) {
+                 const double a = (x - cx) * (cx + 2 - x), b = (y - cy) * (cy + 1 - y),
+                              d = (z - cz) * (cz + 1.5 - z);
+                 return meet(meet(a, b), d);
+               });
+  expectValues(model(c + "my_model = hfSuperell(x, c, 1.5, 1, 0.8, 0.5, 2.5);"),
+               [&](double x, double y, double z) {
+                 const double xt = std::fabs((x - cx) / 1.5), yt = std::fabs((y - cy) / 1),
+                              zt = std::fabs((z - cz) / 0.8), s1 = 0.5, s2 = 2.5;
+                 const double xy = std::pow(xt, 2 / s2) + std::pow(yt, 2 / s2);
+                 return 1 - std::pow(xy, s2 / s1) - std::pow(zt, 2 / s1);
+               });
+}
+
+TEST(HyperFun, SkeletalPrimitivesSumTheirKernels) {
+  const std::string centres =
+      "array x0[3], y0[3], z0[3], p[3], q[3];\n"
+      "x0 = [0, 1, -0.5];\n y0 = [0, 0.5, -1];\n z0 = [0, -0.3, 0.6];\n"
+      "p = [1.5, 2, 0.8];\n q = [1, 0.7, 1.3];\n";
+  const double X0[3] = {0, 1, -0.5}, Y0[3] = {0, 0.5, -1}, Z0[3] = {0, -0.3, 0.6};
+  const double P[3] = {1.5, 2, 0.8}, Q[3] = {1, 0.7, 1.3};
+  auto r2 = [&](int i, double x, double y, double z) {
+    return sq(x - X0[i]) + sq(y - Y0[i]) + sq(z - Z0[i]);
+  };
+  expectValues(model(centres + "my_model = hfBlobby(x, x0, y0, z0, p, q, 0.4);"),
+               [&](double x, double y, double z) {
+                 double s = 0;
+                 for (int i = 0; i < 3; ++i) s += Q[i] * std::exp(-P[i] * r2(i, x, y, z));
+                 return s - 0.4;
+               });
+  // Nishimura's pieces, as the manual gives them
+  expectValues(model(centres + "my_model = hfMetaball(x, x0, y0, z0, q, p, 0.3);"),
+               [&](double x, double y, double z) {
+                 double s = 0;
+                 for (int i = 0; i < 3; ++i) {
+                   const double r = std::sqrt(r2(i, x, y, z)), d = P[i], b = Q[i];
+                   if (r <= d / 3)
+                     s += b * (1 - 3 * sq(r / d));
+                   else if (r < d)
+                     s += 1.5 * b * sq(1 - r / d);
+                 }
+                 return s - 0.3;
+               });
+  expectValues(model(centres + "my_model = hfSoft(x, x0, y0, z0, p, 0.2);"),
+               [&](double x, double y, double z) {
+                 double s = 0;
+                 for (int i = 0; i < 3; ++i) {
+                   const double rr = r2(i, x, y, z), d2 = P[i] * P[i];
+                   if (std::sqrt(rr) <= P[i])
+                     s += 1 - 22 * rr / (9 * d2) + 17 * rr * rr / (9 * d2 * d2) -
+                          4 * rr * rr * rr / (9 * d2 * d2 * d2);
+                 }
+                 return s - 0.2;
+               });
+  expectValues(model("array v[6], w[2];\n v = [0, 0, 0, 1, 0.5, -0.5];\n w = [1.2, 0.9];\n"
+                     "my_model = hfConvPoint(x, v, w, 0.3);"),
+               [&](double x, double y, double z) {
+                 const double v[6] = {0, 0, 0, 1, 0.5, -0.5}, s[2] = {1.2, 0.9};
+                 double f = 0;
+                 for (int i = 0; i < 2; ++i) {
+                   const double rr = sq(v[3 * i] - x) + sq(v[3 * i + 1] - y) + sq(v[3 * i + 2] - z);
+                   f += 1 / sq(1 + s[i] * s[i] * rr);
+                 }
+                 return f - 0.3;
+               });
+}
+
+TEST(HyperFun, TransformationsMapTheArrayTheyAreGiven) {
+  // inverse mappings of the point, applied in order to a copy of x; x itself is unchanged
+  const std::string program = model(
+      "array xt[3], c[3];\n"
+      "xt[1] = x[1]; xt[2] = x[2]; xt[3] = x[3];\n"
+      "c = [0, 0, 0];\n"
+      "t = hfShift3D(xt, 1, -0.5, 0.25);\n"
+      "t = hfRotate3DZ(xt, 0.7);\n"
+      "t = hfScale3D(xt, 2, 1, 0.5);\n"
+      "t = hfRotate3DY(xt, -0.4);\n"
+      "t = hfRotate3DX(xt, 1.1);\n"
+      "moved = hfEllipsoid(xt, c, 1, 0.6, 0.8);\n"
+      "still = hfSphere(x, c, 0.5);\n"
+      "my_model = moved | still;");
+  expectValues(program, [](double x, double y, double z) {
+    double p[3] = {x - 1, y + 0.5, z - 0.25};
+    auto rotate = [](double& u, double& v, double t) {
+      const double u2 = u * std::cos(t) + v * std::sin(t);
+      const double v2 = -u * std::sin(t) + v * std::cos(t);
+      u = u2;
+      v = v2;
+    };
+    rotate(p[0], p[1], 0.7);
+    p[0] /= 2;
+    p[2] /= 0.5;
+    rotate(p[2], p[0], -0.4);
+    rotate(p[1], p[2], 1.1);
+    const double moved = 1 - sq(p[0]) - sq(p[1] / 0.6) - sq(p[2] / 0.8);
+    const double still = 0.25 - x * x - y * y - z * z;
+    return unite(moved, still);
+  });
+  expectValues(model("array xt[3], c[3];\n xt[1] = x[1]; xt[2] = x[2]; xt[3] = x[3];\n"
+                     "c = [0, 0, 0];\n"
+                     "t = hfTwistZ(xt, -1, 1, 0, 1.5);\n"
+                     "t = hfTaperX(xt, -1, 1, 0.5, 1.5);\n"
+                     "t = hfStretch3D(xt, c, 1.5, 1, 0.75);\n"
+                     "my_model = hfBlock(xt, c, 1, 0.5, 0.8);"),
+               [](double x, double y, double z) {
+                 double p[3] = {x, y, z};
+                 const double t = (p[2] + 1) / 2, angle = t * 1.5;
+                 const double px = p[0] * std::cos(angle) + p[1] * std::sin(angle);
+                 const double py = -p[0] * std::sin(angle) + p[1] * std::cos(angle);
+                 p[0] = px;
+                 p[1] = py;
+                 const double u = std::min(std::max((p[0] + 1) / 2, 0.0), 1.0);
+                 const double scale = (1 - u) * 0.5 + u * 1.5;
+                 p[1] /= scale;
+                 p[2] /= scale;
+                 p[0] /= 1.5;
+                 p[2] /= 0.75;
+                 const double a = p[0] * (1 - p[0]), b = p[1] * (0.5 - p[1]),
+                              d = p[2] * (0.8 - p[2]);
+                 return meet(meet(a, b), d);
+               });
+}
+
+TEST(HyperFun, LoopsConditionsAndBodiesRunOverNumbers) {
+  // a while loop places five balls; an if picks their radii; a body is called on a moved point
+  const std::string program =
+      "ball(x[3], a[1])\n{\n array c[3];\n c = [0, 0, 0];\n ball = hfSphere(x, c, 0.6);\n}\n"
+      "my_model(x[3], a[1])\n{\n"
+      " array c[3], xt[3];\n"
+      " i = 0;\n"
+      " u = -10;\n"
+      " while i < 5 loop\n"
+      "   c[1] = i - 2; c[2] = 0; c[3] = 0;\n"
+      "   if i = 2 or i >= 4 then r = 0.5; else r = 0.3; endif;\n"
+      "   u = u | hfSphere(x, c, r);\n"
+      "   i = i + 1;\n"
+      " endloop;\n"
+      " xt[1] = x[1]; xt[2] = x[2] - 1; xt[3] = x[3];\n"
+      " my_model = u | ball(xt, a);\n"
+      "}\n";
+  expectValues(program, [](double x, double y, double z) {
+    double u = -10;
+    for (int i = 0; i < 5; ++i) {
+      const double r = (i == 2 || i >= 4) ? 0.5 : 0.3;
+      u = unite(u, r * r - sq(x - (i - 2)) - y * y - z * z);
+    }
+    return unite(u, 0.36 - x * x - sq(y - 1) - z * z);
+  });
+  // the chain of unions is one union node of six inputs
+  const Model m = load(program);
+  ASSERT_EQ(m.root->type->id, "union");
+  EXPECT_EQ(m.root->inputs.size(), 7u);  // -10, the five balls, the called ball
+}
+
+TEST(HyperFun, BlendsAreBlendNodesWithTheLibrarysValues) {
+  const std::string body =
+      "array c[3];\n c = [0, 0, 0];\n s = 1;\n"
+      "b = hfBlock(x, c, 1, 1, 1);\n c = [0.5, 0.5, 1.2];\n"
+      "t = hfSphere(x, c, 0.5);\n";
+  auto block = [](double x, double y, double z) {
+    return meet(meet(x * (1 - x), y * (1 - y)), z * (1 - z));
+  };
+  auto ball = [](double x, double y, double z) {
+    return 0.25 - sq(x - 0.5) - sq(y - 0.5) - sq(z - 1.2);
+  };
+  expectValues(model(body + "my_model = hfBlendUni(b, t, 0.3, 0.5, 0.7);"),
+               [&](double x, double y, double z) {
+                 const double f1 = block(x, y, z), f2 = ball(x, y, z);
+                 return unite(f1, f2) + 0.3 / (1 + sq(f1 / 0.5) + sq(f2 / 0.7));
+               });
+  expectValues(model(body + "my_model = hfBlendInt(b, t, -0.2, 0.5, 0.4);"),
+               [&](double x, double y, double z) {
+                 const double f1 = block(x, y, z), f2 = ball(x, y, z);
+                 return meet(f1, f2) - 0.2 / (1 + sq(f1 / 0.5) + sq(f2 / 0.4));
+               });
+  const Model m = load(model(body + "my_model = hfBlendUni(b, t, 0.3, 0.5, 0.7);"));
+  EXPECT_EQ(m.root->type->id, "blend_union");
+  EXPECT_EQ(m.root->real("alpha"), 0.0);
+  EXPECT_EQ(m.root->real("a2"), 0.7);
+}
+
+TEST(HyperFun, FunctionsComputeAsItsInterpreterDoes) {
+  // mod of the values rounded to whole numbers, int towards zero, frac, logd, and sign, which
+  // HyperFun's interpreter computes as 1 for every value
+  expectValues(model("my_model = mod(3*x[1], 2.2) + int(2*x[2]) - frac(x[3]) + logd(5 + x[1]) "
+                     "+ sign(x[2]) + max(x[1], x[2]) * min(x[3], 1) + atan2(x[2], x[1]);"),
+               [](double x, double y, double z) {
+                 const double m = std::fmod(std::floor(3 * x + 0.5), std::floor(2.2 + 0.5));
+                 return m + std::trunc(2 * y) - (z - std::trunc(z)) + std::log10(5 + x) + 1 +
+                        std::max(x, y) * std::min(z, 1.0) + std::atan2(y, x);
+               });
+}
+
+TEST(HyperFun, ErrorsNameTheLineAndColumn) {
+  EXPECT_EQ(errorOf("my_model(x[3], a[1])\n{\n  my_model = 1 +;\n}\n"),
+            "test.hf:3:17: expected a value, found ';'");
+  EXPECT_EQ(errorOf(model("my_model = hfSpere(x, x, 1);")),
+            "test.hf:3:12: unknown function 'hfspere'");
+  EXPECT_EQ(errorOf(model("if x[1] > 0 then r = 1; endif;\nmy_model = 1;")),
+            "test.hf:3:4: this condition depends on the point (x); FRepCAD needs a number here");
+  EXPECT_EQ(errorOf(model("r = 2 / (1 - 1);\nmy_model = r;")),
+            "test.hf:3:7: division by zero (the divisor is 0)");
+  EXPECT_EQ(errorOf(model("my_model = a[1] - x[1];")),
+            "test.hf:3:12: a[1] is a parameter given to HyperFun from outside; FRepCAD is given "
+            "none: write the value into the program");
+  EXPECT_NE(errorOf(model("my_model = hfNoiseG(x, 1, 2, 3);")).find("Gardner noise"),
+            std::string::npos);
+  EXPECT_NE(errorOf(model("my_model = x[1] @ x[2];")).find("Cartesian product"), std::string::npos);
+  EXPECT_NE(errorOf(model("i = 0;\nwhile i < 1 loop\n j = 1;\nendloop;\nmy_model = 1;"))
+                .find("more than 1000000 statements"),
+            std::string::npos);
+  EXPECT_NE(
+      errorOf(model("array c[3];\nmy_model = hfSphere(x, c, 1);")).find("c[1] is used before"),
+      std::string::npos);
+  EXPECT_EQ(errorOf(model("array c[2];\nc = [1, 2, 3];\nmy_model = 1;")),
+            "test.hf:4:1: c has 2 items; 3 numbers given");
+  EXPECT_NE(errorOf("model(x[2], a[1])\n{\n model = x[1];\n}\n").find("FRepCAD's models are 3D"),
+            std::string::npos);
+  EXPECT_NE(errorOf(model("my_model = hfSphere(x, 1);")).find("hfsphere takes 3 arguments"),
+            std::string::npos);
+  // nesting a hostile file would use to overflow the stack is refused
+  EXPECT_NE(
+      errorOf(model("my_model = " + std::string(5000, '(') + "1" + std::string(5000, ')') + ";"))
+          .find("nested deeper than"),
+      std::string::npos);
+}
+
+}  // namespace
+}  // namespace frep
