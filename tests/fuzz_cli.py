@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Fuzz test of frepcad: random mutations of the example models, of small meshes (STL, OBJ,
-PLY, OFF, 3MF) and of an OpenVDB file, each run through `frepcad export`, `check`,
+"""Fuzz test of frepcad: random mutations of the example models (JSON and HyperFun), of small
+meshes (STL, OBJ, PLY, OFF, 3MF) and of an OpenVDB file, each run through `frepcad export`, `check`,
 `check --print`, `repair`, `compare`, `deform` or `info`.
 
 Asserts for every case: no signal (no crash), exit status 0, 1 or 2 only, at most a few lines
@@ -24,12 +24,16 @@ TOKENS = ["NaN", "Infinity", "-Infinity", "1e999", "-1e999", "-1", "0", "1e-320"
           '"x"', "[]", "{}", "null", "true", '"ref"', "\xff\xfe", '{"type": "sphere"}',
           '{"ref": "a"}', ",", ":", "[", "{", '"', "\\u0000", '"frepcad": 99', '"exprot": 1',
           "9" * 400, "[[[[[[[[[[", "-0", "0.0000000000000000000000001"]
+# HyperFun words and shapes a mutation inserts into a .hf program
+HF_TOKENS = ["hfSphere(x, c, 1)", "hfBlock(", "while 1 = 1 loop ", "endloop;", "if ", " then ",
+             "endif;", " | ", " \\ ", "~", "x[", "a[1]", "array q[1000000];", "(((((", "^",
+             "--", "my_model", "hfNoiseG(x, 1, 1, 1)", "x[0]", "x[4]", "1e999", "/ 0", "@"]
 STATUS = {}  # exit status -> cases, to show the cases reach past the parser
 LIBRARY_TEXT = ("json.exception", "terminate called", "Traceback", "what():", "basic_string",
                 "std::", "Segmentation", "Aborted", "\x1b[")
 
 
-def mutate_text(rng, text):
+def mutate_text(rng, text, tokens=TOKENS):
     data = bytearray(text.encode("utf-8", "surrogateescape"))
     for _ in range(rng.randint(1, 3)):
         kind = rng.randrange(7)
@@ -44,7 +48,7 @@ def mutate_text(rng, text):
             span = data[at:at + rng.randint(1, 200)]
             data[at:at] = span
         elif kind == 3:  # insert a token
-            data[at:at] = rng.choice(TOKENS).encode("utf-8", "surrogateescape")
+            data[at:at] = rng.choice(tokens).encode("utf-8", "surrogateescape")
         elif kind == 4:  # truncate
             del data[at:]
         elif kind == 5:  # replace a number
@@ -108,9 +112,9 @@ def seeds(frepcad, src, work):
     models = []
     for folder in (os.path.join(src, "examples"), os.path.join(src, "examples", "showcase")):
         for name in sorted(os.listdir(folder)):
-            if name.endswith(".json"):
+            if name.endswith(".json") or name.endswith(".hf"):
                 with open(os.path.join(folder, name), encoding="utf-8") as f:
-                    models.append(f.read())
+                    models.append((os.path.splitext(name)[1], f.read()))
     meshes = []
     for fmt, ext in (("stl", ".stl"), ("stl-ascii", ".stl"), ("obj", ".obj"), ("ply", ".ply")):
         path = os.path.join(work, "seed" + ext)
@@ -281,7 +285,9 @@ def main(argv):
             if rng.random() < 0.01:
                 jobs.append((i, "export", sized_model(rng), ".json", False))
             elif rng.random() < 0.7:
-                jobs.append((i, "export", mutate_text(rng, rng.choice(models)), ".json",
+                ext, text = rng.choice(models)
+                tokens = HF_TOKENS if ext == ".hf" else TOKENS
+                jobs.append((i, "export", mutate_text(rng, text, tokens), ext,
                              rng.random() < 0.5))
             else:
                 ext, data = rng.choice(meshes)
