@@ -287,6 +287,10 @@ TEST(HyperFun, LoopsConditionsAndBodiesRunOverNumbers) {
   const Model m = load(program);
   ASSERT_EQ(m.root->type->id, "union");
   EXPECT_EQ(m.root->inputs.size(), 7u);  // -10, the five balls, the called ball
+  // names for the features: the body's, a variable's, else the library call's
+  EXPECT_EQ(m.labels.at(m.root.get()), "my_model");
+  EXPECT_EQ(m.labels.at(m.root->inputs[1].get()), "hfSphere");
+  EXPECT_EQ(m.labels.at(m.root->inputs[6].get()), "ball");
 }
 
 TEST(HyperFun, BlendsAreBlendNodesWithTheLibrarysValues) {

@@ -44,12 +44,15 @@ def import_model(path, doc):
     else:
         model = frepcore.parse_model(text, path, os.path.dirname(os.path.abspath(path)))
     made = {}  # a node shared by several parents (the format allows it) becomes one feature
+    labels = model.get("labels", {})  # a HyperFun program's names for its values
 
     def feature(node):
         key = node.to_json()
         if key not in made:
             inputs = [feature(i) for i in node.inputs]
             made[key] = F.make(node.type, doc, inputs=inputs, **node.params)
+            if key in labels:
+                made[key].Label = labels[key]
         return made[key]
 
     top = feature(model["root"])

@@ -51,8 +51,13 @@ class Evaluator {
       f.vars[d.name] = {true, nullptr, std::vector<ExprPtr>(static_cast<std::size_t>(d.size))};
     }
     execute(body.statements, f);
-    return value(*body.result, f);
+    const ExprPtr result = value(*body.result, f);
+    if (!ExprBuilder::isConstant(result)) names.emplace(result.get(), body.name);
+    return result;
   }
+
+  // The variable (or body) each value was first given to: its feature's label.
+  std::map<const Expr*, std::string> names;
 
  private:
   struct Frame {
@@ -97,6 +102,7 @@ class Evaluator {
           if (it != f.vars.end() && it->second.isArray)
             b_.fail("'" + s.name + "' is an array: give it [numbers] or assign " + s.name + "[i]");
           const ExprPtr v = value(*s.value, f);
+          if (!ExprBuilder::isConstant(v)) names.emplace(v.get(), s.name);  // the first name
           f.vars[s.name] = {false, v, {}};
           break;
         }
@@ -305,7 +311,9 @@ class Evaluator {
 // Symbolic values as FRep nodes.
 class Emitter {
  public:
-  Emitter(ExprBuilder& b, std::string path) : b_(b), path_(std::move(path)) {}
+  Emitter(ExprBuilder& b, std::string path, const std::map<const Expr*, std::string>& names,
+          std::map<const Node*, std::string>& labels)
+      : b_(b), path_(std::move(path)), names_(names), labels_(labels) {}
 
   NodePtr solid(const ExprPtr& e) {
     const auto found = made_.find(e.get());
@@ -332,6 +340,11 @@ class Emitter {
         break;
     }
     made_[e.get()] = n;
+    const auto name = names_.find(e.get());
+    if (name != names_.end())
+      labels_.emplace(n.get(), name->second);
+    else if (e->kind == Expr::Kind::Primitive)
+      labels_.emplace(n.get(), e->label);
     return n;
   }
 
@@ -457,6 +470,8 @@ class Emitter {
 
   ExprBuilder& b_;
   std::string path_;
+  const std::map<const Expr*, std::string>& names_;
+  std::map<const Node*, std::string>& labels_;
   std::map<const Expr*, NodePtr> made_;
 };
 
@@ -482,8 +497,8 @@ Model importHyperFun(const std::string& text, const std::string& source) {
   Evaluator evaluator(program, b);
   std::vector<ExprPtr> point = {b.coordinate(0), b.coordinate(1), b.coordinate(2)};
   const ExprPtr result = evaluator.run(body, point, {});
-  Emitter emitter(b, source);
   Model m;
+  Emitter emitter(b, source, evaluator.names, m.labels);
   b.at(body.result->at);
   m.root = emitter.solid(result);
   m.description = "HyperFun model " + body.name + " from " + source;

@@ -4,11 +4,12 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 
-#include "frep/tree.h"
 #include "base/vec.h"
+#include "frep/tree.h"
 
 namespace frep {
 
@@ -22,13 +23,17 @@ struct Model {
   std::optional<Box3> bbox;          // export bounding box
   std::optional<double> resolution;  // export cell size
   std::string description;
+  // Names for the nodes' features where the source had them (HyperFun's variable names);
+  // not written to JSON.
+  std::map<const Node*, std::string> labels;
 };
 
 // Parses a model from JSON text; `source` names it in error messages. Relative file paths
 // (mesh_sdf, vdb_grid) are taken from `baseDirectory` when it is given. Throws ModelError.
 Model parseModel(const std::string& text, const std::string& source = "model",
                  const std::string& baseDirectory = "");
-// Reads and parses a model file (relative file paths in it: from its folder). Throws FileError (unreadable) or ModelError.
+// Reads and parses a model file (relative file paths in it: from its folder). Throws FileError
+// (unreadable) or ModelError.
 Model loadModel(const std::string& path);
 // Serialises a model (shared nodes are written once under "definitions").
 std::string modelToJson(const Model& model);

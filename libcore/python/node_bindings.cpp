@@ -15,7 +15,6 @@
 #include <thread>
 
 #include "base/atomic_file.h"
-#include "base/process_memory.h"
 #include "base/errors.h"
 #include "base/exit_status.h"
 #include "base/process_memory.h"
@@ -373,11 +372,20 @@ void bindNode(py::module_& m) {
         d["bbox"] = py::none();
         d["resolution"] = py::none();
         d["description"] = model.description;
+        // the features' names, by the JSON of each node's tree (Node.to_json())
+        py::dict labels;
+        for (const auto& [node, label] : model.labels) {
+          Model one;
+          one.root = NodePtr(model.root, node);  // (aliasing: alive while the tree is)
+          labels[py::str(modelToJson(one))] = label;
+        }
+        d["labels"] = labels;
         return d;
       },
       py::arg("text"), py::arg("source") = "model.hf",
       "Translates a HyperFun program (.hf) into a model: dict(root, bbox, resolution, "
-      "description) as parse_model gives. Each library primitive is a formula node with "
+      "description) as parse_model gives, and labels: {node.to_json(): the program's name "
+      "for it}. Each library primitive is a formula node with "
       "HyperFun's own expression, | & \\ ~ and the blends are set-operation and blend nodes "
       "with alpha 0 (docs/hyperfun.md). Raises ValueError naming the line and column.");
 

@@ -185,6 +185,10 @@ def test_a_hyperfun_program_opens_as_features_with_its_values(doc, tmp_path):
     assert top.Proxy.FREP_TYPE == "difference"
     types = sorted(o.Proxy.FREP_TYPE for o in doc.Objects if hasattr(o, "Proxy"))
     assert types.count("formula") == 8 and "blend_union" in types
+    # the features carry the program's names: its variables, else the library call
+    labels = sorted(o.Label for o in doc.Objects if o is not top)
+    for name in ("plate", "boss", "body", "bore", "holes", "hfBlock", "hfCylinderZ"):
+        assert name in labels, labels
     points = [(x * 15, y * 8, z * 10 + 5) for x, y, z in sample_points(2000, reach=1.6)]
     assert field_difference(top, path, points) < 1e-9
     report = FRepExport.export_objects([top], str(tmp_path / "mount.stl"), cells=64)
