@@ -241,9 +241,22 @@ int exportModel(const ExportOptions& opt) {
     throw EmptySolidError(opt.input + ": " + e.what());
   } catch (const ModelError& e) {
     std::string text = e.what();
-    if (text.find("unbounded") != std::string::npos)
-      text += " (frepcad export --bbox x0 y0 z0 x1 y1 z1, or export.bbox in the model)";
-    throw ModelError(opt.input + ": " + text);
+    const bool unbounded = text.find("unbounded") != std::string::npos;
+    if (!unbounded || !model.fallbackBox || box.bbox) {
+      if (unbounded)
+        text += " (frepcad export --bbox x0 y0 z0 x1 y1 z1, or export.bbox in the model)";
+      throw ModelError(opt.input + ": " + text);
+    }
+    box.bbox = model.fallbackBox;
+    chosen = chooseBox(program, request.known, box);
+    request.box.bbox = chosen.box;
+    request.box.resolution = chosen.resolution;
+    const Box3& b = *model.fallbackBox;
+    if (!opt.quiet)
+      std::cerr << "frepcad: " << opt.input << ": the solid's extent could not be found; "
+                << "meshing the box " << b.lo[0] << " " << b.lo[1] << " " << b.lo[2] << " "
+                << b.hi[0] << " " << b.hi[1] << " " << b.hi[2]
+                << " (HyperFun's; --bbox to choose another)\n";
   }
   if (vdb) return heavyModule().exportLevelSet(opt, program, chosen);
   if (opt.bricks)

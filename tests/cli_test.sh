@@ -147,6 +147,12 @@ expect 1 "refusing to write" -- "$frepcad" export "$work/empty.json" -o "$work/e
 # verdict, and so is an instancer of one
 # HyperFun programs export like models (docs/hyperfun.md); a mistake names its line and column
 expect 0 "verdict: printable" -- "$frepcad" export "$src/examples/mount.hf" -o "$work/mount.stl" --cells 48
+# the test programs (tests/test_hyperfun.cpp checks their values): each exports printable;
+# those whose extent the interval search cannot prove are meshed in HyperFun's -10..10 box
+for program in "$src"/tests/data/hyperfun/*.hf; do
+  expect 0 "verdict: printable" -- "$frepcad" export "$program" -o "$work/program.stl" --cells 40
+done
+expect 0 "meshing the box -10 -10 -10 10 10 10 \(HyperFun's" -- "$frepcad" export "$src/tests/data/hyperfun/quadrics.hf" -o "$work/program.stl" --cells 40
 printf 'my_model(x[3], a[1])\n{\n  my_model = hfSphere(x, 2);\n}\n' >"$work/bad.hf"
 expect 2 "bad.hf:3:14: hfsphere takes 3 arguments, not 2" -- "$frepcad" export "$work/bad.hf" -o "$work/bad.stl"
 [ ! -e "$work/bad.stl" ] || { echo "FAIL: a refused program wrote a file"; failures=$((failures + 1)); }

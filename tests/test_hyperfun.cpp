@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <functional>
 #include <random>
+#include <sstream>
 #include <string>
 
 #include "base/errors.h"
@@ -344,8 +346,9 @@ TEST(HyperFun, ErrorsNameTheLineAndColumn) {
   EXPECT_EQ(errorOf(model("my_model = a[1] - x[1];")),
             "test.hf:3:12: a[1] is a parameter given to HyperFun from outside; FRepCAD is given "
             "none: write the value into the program");
-  EXPECT_NE(errorOf(model("my_model = hfNoiseG(x, 1, 2, 3);")).find("Gardner noise"),
-            std::string::npos);
+  EXPECT_NE(
+      errorOf(model("my_model = hfConvArc(x, x, x, x, x, x, x, 1);")).find("convolution arcs"),
+      std::string::npos);
   EXPECT_NE(errorOf(model("my_model = x[1] @ x[2];")).find("Cartesian product"), std::string::npos);
   EXPECT_NE(errorOf(model("i = 0;\nwhile i < 1 loop\n j = 1;\nendloop;\nmy_model = 1;"))
                 .find("more than 1000000 statements"),
@@ -364,6 +367,261 @@ TEST(HyperFun, ErrorsNameTheLineAndColumn) {
       errorOf(model("my_model = " + std::string(5000, '(') + "1" + std::string(5000, ')') + ";"))
           .find("nested deeper than"),
       std::string::npos);
+}
+
+// The programs in tests/data/hyperfun (which cli_test.sh also exports printable), each against
+// HyperFun's definitions of what it calls, at 10,000 random points.
+double slab(double p, double v, double d) {
+  return (p - v) * (v + d - p);
+}
+double block(double x, double y, double z, const double v[3], const double d[3]) {
+  return meet(meet(slab(x, v[0], d[0]), slab(y, v[1], d[1])), slab(z, v[2], d[2]));
+}
+void turn(double& u, double& v, double t) {  // HyperFun's inverse rotation of a pair
+  const double u2 = u * std::cos(t) + v * std::sin(t), v2 = -u * std::sin(t) + v * std::cos(t);
+  u = u2;
+  v = v2;
+}
+double metaballKernel(double r, double b, double d) {
+  if (r <= d / 3) return b * (1 - 3 * sq(r / d));
+  return r < d ? 1.5 * b * sq(1 - r / d) : 0.0;
+}
+double softKernel(double r2, double d) {
+  const double d2 = d * d;
+  if (std::sqrt(r2) > d) return 0.0;
+  return 1 - 22 * r2 / (9 * d2) + 17 * r2 * r2 / (9 * d2 * d2) -
+         4 * r2 * r2 * r2 / (9 * d2 * d2 * d2);
+}
+double lineKernel(const double b[3], const double e[3], double s, double x, double y, double z) {
+  const double l = std::sqrt(sq(e[0] - b[0]) + sq(e[1] - b[1]) + sq(e[2] - b[2]));
+  const double ax = (e[0] - b[0]) / l, ay = (e[1] - b[1]) / l, az = (e[2] - b[2]) / l;
+  const double dx = x - b[0], dy = y - b[1], dz = z - b[2];
+  const double t = dx * ax + dy * ay + dz * az, d2 = dx * dx + dy * dy + dz * dz;
+  const double p = std::sqrt(1 + s * s * (d2 - t * t));
+  const double q = std::sqrt(1 + s * s * (d2 + l * l - 2 * l * t));
+  return t / (2 * p * p * (p * p + s * s * t * t)) + (l - t) / (2 * p * p * q * q) +
+         (std::atan(s * t / p) + std::atan(s * (l - t) / p)) / (2 * s * p * p * p);
+}
+double triangleKernel(double v[9], double s, double x, double y, double z) {
+  double a1[3] = {v[0], v[1], v[2]}, a2[3] = {v[3], v[4], v[5]}, a3[3] = {v[6], v[7], v[8]};
+  auto len = [](const double* p, const double* q) {
+    return std::sqrt(sq(p[0] - q[0]) + sq(p[1] - q[1]) + sq(p[2] - q[2]));
+  };
+  const double l0 = len(a2, a1), l1 = len(a3, a2), l2 = len(a1, a3);
+  double t1[3], t2[3], t3[3];
+  if (l1 >= l2 && l1 > l0) {  // rotate so that a1-a2 is the longest side
+    std::copy(a2, a2 + 3, t1), std::copy(a3, a3 + 3, t2), std::copy(a1, a1 + 3, t3);
+  } else if (l2 >= l1 && l2 > l0) {
+    std::copy(a3, a3 + 3, t1), std::copy(a1, a1 + 3, t2), std::copy(a2, a2 + 3, t3);
+  } else {
+    std::copy(a1, a1 + 3, t1), std::copy(a2, a2 + 3, t2), std::copy(a3, a3 + 3, t3);
+  }
+  double e21[3], e13[3];
+  for (int k = 0; k < 3; ++k) e21[k] = t2[k] - t1[k], e13[k] = t1[k] - t3[k];
+  const double L = len(t2, t1);
+  const double t = -(e21[0] * e13[0] + e21[1] * e13[1] + e21[2] * e13[2]) / (L * L);
+  double b[3], u[3], w[3];
+  for (int k = 0; k < 3; ++k) b[k] = t1[k] + t * e21[k];
+  const double ul = len(t2, b), vl = len(t3, b);
+  for (int k = 0; k < 3; ++k) u[k] = (t2[k] - b[k]) / ul, w[k] = (t3[k] - b[k]) / vl;
+  const double d[3] = {x - b[0], y - b[1], z - b[2]};
+  const double d2 = sq(d[0]) + sq(d[1]) + sq(d[2]);
+  const double uu = d[0] * u[0] + d[1] * u[1] + d[2] * u[2];
+  const double vv = d[0] * w[0] + d[1] * w[1] + d[2] * w[2];
+  const double h = len(t3, b), A1 = len(t1, b), A2 = len(t2, b);
+  const double g = vv - h, m = A2 * g + uu * h, k = uu * h - A1 * g;
+  const double C2 = 1 / (s * s) + d2 - uu * uu, C = std::sqrt(C2);
+  const double q = C2 - vv * vv, ww = C2 - 2 * vv * h + h * h;
+  const double A = std::sqrt(A1 * A1 * ww + h * h * (q + uu * uu) - 2 * A1 * h * uu * g);
+  const double B = std::sqrt(A2 * A2 * ww + h * h * (q + uu * uu) + 2 * A2 * h * uu * g);
+  const double n1 = A1 + uu, n2 = A2 - uu, n3 = A1 * n1 + vv * h, n4 = -A1 * uu - g * h,
+               n5 = -A2 * n2 - vv * h, n6 = -A2 * uu + g * h;
+  const double arc1 = k * (std::atan(n3 / A) + std::atan(n4 / A)) / A;
+  const double arc2 = m * (std::atan(n5 / B) + std::atan(n6 / B)) / B;
+  const double arc3 = vv * (std::atan(n1 / C) + std::atan(n2 / C)) / C;
+  return (arc1 + arc2 + arc3) / (2 * q * s);
+}
+
+struct ProgramCase {
+  const char* file;
+  Field expected;
+};
+
+const std::vector<ProgramCase>& programCases() {
+  static const std::vector<ProgramCase> cases = {
+      {"csg.hf",
+       [](double x, double y, double z) {
+         const double v[3] = {-1, -1, -1}, d[3] = {2, 2, 2};
+         const double bores = unite(unite(0.45 * 0.45 - y * y - z * z, 0.16 - x * x - z * z),
+                                    0.35 * 0.35 - x * x - y * y);
+         return meet(meet(block(x, y, z, v, d), 1.35 * 1.35 - x * x - y * y - z * z), -bores);
+       }},
+      {"cones.hf",
+       [](double x, double y, double z) {
+         const double va[3] = {-1, -2, -2}, da[3] = {2, 4, 4}, vb[3] = {-2, -1.2, -2},
+                      db[3] = {4, 2.4, 4}, vc[3] = {-2, -2, -0.8}, dc[3] = {4, 4, 1.6};
+         const double cx = meet(x * x - sq(y / 0.5) - sq(z / 0.5), block(x, y, z, va, da));
+         const double cy = meet(y * y - sq(x / 0.4) - sq(z / 0.4), block(x, y, z, vb, db));
+         const double cz = meet(z * z - sq(x / 0.6) - sq(y / 0.6), block(x, y, z, vc, dc));
+         return unite(unite(cx, cy), cz);
+       }},
+      {"tori.hf",
+       [](double x, double y, double z) {
+         const double r2 = x * x + y * y + z * z;
+         const double tz = 0.09 - r2 - 1.44 + 2 * 1.2 * std::sqrt(x * x + y * y);
+         const double p2 = sq(x - 1.2) + y * y + z * z;
+         const double tx = 0.0625 - p2 - 1 + 2 * 1 * std::sqrt(y * y + z * z);
+         const double q2 = sq(x + 1.2) + y * y + z * z;
+         const double ty = 0.04 - q2 - 0.81 + 2 * 0.9 * std::sqrt(sq(x + 1.2) + z * z);
+         return unite(unite(tz, tx), ty);
+       }},
+      {"quadrics.hf",
+       [](double x, double y, double z) {
+         const double v[3] = {-1.5, -1.5, -1.5}, d[3] = {3, 3, 3};
+         const double e = 1 - sq(x / 1.4) - sq(y / 0.9) - sq(z / 0.7);
+         const double rods =
+             meet(unite(unite(1 - sq(y / 0.3) - sq(z / 0.5), 1 - sq(x / 0.45) - sq(z / 0.25)),
+                        1 - sq(x / 0.2) - sq(y / 0.35)),
+                  block(x, y, z, v, d));
+         const double s1 = 0.4, s2 = 1.6;
+         const double xy =
+             std::pow(std::fabs(x / 0.8), 2 / s2) + std::pow(std::fabs(y / 0.6), 2 / s2);
+         const double cap =
+             1 - std::pow(xy, s2 / s1) - std::pow(std::fabs((z - 1.2) / 0.4), 2 / s1);
+         return unite(unite(e, rods), cap);
+       }},
+      {"blobs.hf",
+       [](double x, double y, double z) {
+         double f = 0;
+         for (int i = 1; i <= 6; ++i) {
+           const double t = (i - 1) * 3.14159265358979 / 3;
+           const double r2 = sq(x - std::cos(t)) + sq(y - std::sin(t)) + sq(z - 0.2 * (i - 3.5));
+           f += (1 + 0.1 * i) * std::exp(-3 * r2);
+         }
+         return f - 0.4;
+       }},
+      {"metaballs.hf",
+       [](double x, double y, double z) {
+         const double cx[3] = {-1, 0, 1}, cy[3] = {0, 0.4, 0}, cz[3] = {0, 0, 0.3},
+                      b[3] = {1, 1.2, 0.8}, d[3] = {1.6, 1.4, 1.5};
+         double meta = 0;
+         for (int i = 0; i < 3; ++i)
+           meta +=
+               metaballKernel(std::sqrt(sq(x - cx[i]) + sq(y - cy[i]) + sq(z - cz[i])), b[i], d[i]);
+         const double soft = softKernel(x * x + sq(y + 1) + z * z, 1.2) +
+                             softKernel(x * x + sq(y + 1.6) + sq(z - 0.4), 1) - 0.25;
+         return unite(meta - 0.3, soft);
+       }},
+      {"convolution.hf",
+       [](double x, double y, double z) {
+         const double point = 1 / sq(1 + 4 * (x * x + y * y + sq(z - 1.2))) - 0.2;
+         const double b1[3] = {-1, 0, 0}, e1[3] = {1, 0, 0}, b2[3] = {0, -1, 0},
+                      e2[3] = {0, 1, 0.5};
+         const double lines =
+             lineKernel(b1, e1, 2.5, x, y, z) + lineKernel(b2, e2, 2, x, y, z) - 0.5;
+         double tri[9] = {-0.8, -0.6, -0.8, 0.9, -0.5, -0.7, 0.1, 0.8, -0.9};
+         return point + lines + triangleKernel(tri, 3, x, y, z) - 0.3;
+       }},
+      {"blends.hf",
+       [](double x, double y, double z) {
+         const double vp[3] = {-1.5, -1.5, -0.3}, dp[3] = {3, 3, 0.5}, vc[3] = {-2, -2, -0.1},
+                      dc[3] = {4, 4, 1.8};
+         const double plate = block(x, y, z, vp, dp);
+         const double post = meet(0.25 - x * x - y * y, block(x, y, z, vc, dc));
+         const double ball = 0.81 - x * x - y * y - sq(z - 1.6);
+         const double top = meet(post, ball) + 0.1 / (1 + sq(post / 0.3) + sq(ball / 0.3));
+         return unite(plate, top) + 0.15 / (1 + sq(plate / 0.4) + sq(top / 0.4));
+       }},
+      {"transforms.hf",
+       [](double x, double y, double z) {
+         double p[3] = {x - 0.4, y, z - 0.2};
+         turn(p[0], p[1], 0.6);
+         turn(p[1], p[2], 0.3);
+         p[0] /= 1.5;
+         p[2] /= 0.8;
+         const double v[3] = {-0.5, -0.3, -0.2}, d[3] = {1, 0.6, 0.4};
+         const double slabs = block(p[0], p[1], p[2], v, d);
+         double q[3] = {0.2 + (x - 0.2) / 1.8, y / 0.7, z};
+         turn(q[2], q[0], -0.5);
+         const double ell = 1 - sq(q[0] / 0.6) - sq(q[1] / 0.5) - sq(q[2] / 0.4);
+         return unite(slabs, ell);
+       }},
+      {"deformations.hf",
+       [](double x, double y, double z) {
+         double u = -10;
+         for (int axis = 0; axis < 3; ++axis)
+           for (int kind = 0; kind < 2; ++kind) {
+             double p[3] = {x, y, z};
+             if (kind == 0) {
+               const double lo = -1, hi = 1;
+               const double th[3][2] = {{0, 1.2}, {0.3, -0.9}, {-0.5, 0.5}};
+               const double t = (p[axis] - lo) / (hi - lo);
+               const double angle = (1 - t) * th[axis][0] + t * th[axis][1];
+               const int pair[3][2] = {{1, 2}, {2, 0}, {0, 1}};
+               turn(p[pair[axis][0]], p[pair[axis][1]], angle);
+             } else {
+               const double ends[3][2] = {{-1, 1}, {-0.8, 0.8}, {-1, 0.5}};
+               const double scales[3][2] = {{0.6, 1.3}, {1.4, 0.5}, {0.7, 1}};
+               const double t = std::min(
+                   std::max((p[axis] - ends[axis][0]) / (ends[axis][1] - ends[axis][0]), 0.0), 1.0);
+               const double scale = (1 - t) * scales[axis][0] + t * scales[axis][1];
+               for (int k = 0; k < 3; ++k)
+                 if (k != axis) p[k] /= scale;
+             }
+             double c[3] = {-1.1, -0.25, -0.15};
+             c[axis] = -1;
+             const double sizes[3][3] = {{2, 0.5, 0.3}, {0.5, 2, 0.3}, {0.5, 0.3, 2}};
+             u = unite(u, block(p[0], p[1], p[2], c, sizes[axis]));
+           }
+         return u;
+       }},
+      {"noise.hf",
+       [](double x, double y, double z) {
+         const double sx = std::sin(4 * x), sy = std::sin(4 * y), sz = std::sin(4 * z);
+         const double k = 1 / 1.17;
+         const double serx = sx + k * std::sin(4 * x / 1.35 + 0.5 * sz);
+         const double sery = sy + k * std::sin(4 * y / 1.35 + 0.5 * sx);
+         const double serz = sz + k * std::sin(4 * z / 1.35 + 0.5 * sy);
+         return 1 - x * x - y * y - z * z + 0.15 * serx * sery * serz;
+       }},
+      {"bodies.hf",
+       [](double x, double y, double z) {
+         auto ring = [](double px, double py, double pz) {
+           return 0.0625 - px * px - py * py - pz * pz - 0.64 + 1.6 * std::sqrt(px * px + py * py);
+         };
+         double p[3] = {x + 0.6, y, z};
+         turn(p[1], p[2], 1.5707963267949);
+         const double pair = unite(ring(x - 0.6, y, z), ring(p[0], p[1], p[2]));
+         // mod(17, 5) + int(2.7) - frac(0.5) + sign(-3) + logd(100) = 6.5 > 6: r = 0.3
+         const double ball = 0.09 - x * x - y * y - sq(z - 1);
+         return unite(pair, ball) + 0.01 * std::sin(4 * x) * std::cos(3 * y);
+       }},
+  };
+  return cases;
+}
+
+std::string programText(const std::string& file) {
+  std::ifstream in(std::string(FREP_SOURCE_DIR) + "/tests/data/hyperfun/" + file);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(HyperFun, EveryLibraryCallAgreesWithHyperFunAtTenThousandPoints) {
+  for (const ProgramCase& c : programCases()) {
+    const std::string text = programText(c.file);
+    ASSERT_FALSE(text.empty()) << c.file;
+    const Program p = compile(importHyperFun(text, c.file).root);
+    std::mt19937 g(17);
+    std::uniform_real_distribution<double> u(-2.2, 2.2);
+    double worst = 0;
+    for (int i = 0; i < 10000; ++i) {
+      const double x = u(g), y = u(g), z = u(g);
+      const double want = c.expected(x, y, z);
+      worst = std::max(worst, std::fabs(p.eval(x, y, z) - want) / (1.0 + std::fabs(want)));
+    }
+    EXPECT_LT(worst, 1e-9) << c.file;
+  }
 }
 
 }  // namespace

@@ -502,6 +502,10 @@ Model importHyperFun(const std::string& text, const std::string& source) {
   b.at(body.result->at);
   m.root = emitter.solid(result);
   m.description = "HyperFun model " + body.name + " from " + source;
+  // HyperFun's polygonizer looks at -10..10 on each axis unless told otherwise: the box its
+  // models are made for, used where the solid's extent cannot be proven (a cylinder without
+  // ends; polynomial fields that overflow the interval search far away).
+  m.fallbackBox = Box3{{-10.0, -10.0, -10.0}, {10.0, 10.0, 10.0}};
   return m;
 }
 

@@ -1,5 +1,6 @@
 #include "frep/hyperfun_library.h"
 
+#include <array>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -211,6 +212,142 @@ ExprPtr convolutionPoints(Args& a, ExprBuilder& b) {
   return b.primitive("hfConvPoint", b.sub(sum, a[3].value));
 }
 
+ExprPtr dot(const std::vector<ExprPtr>& a, const std::vector<ExprPtr>& b, ExprBuilder& e) {
+  return e.add(e.add(e.mul(a[0], b[0]), e.mul(a[1], b[1])), e.mul(a[2], b[2]));
+}
+
+// McCormack and Sherstyuk's closed form of the Cauchy kernel integrated along each segment
+// (begin[3i..3i+2] to end[3i..3i+2], width S[i]).
+ExprPtr convolutionLines(Args& a, ExprBuilder& b) {
+  const std::size_t n = a[3].array->size();
+  for (int k = 1; k <= 2; ++k)
+    if (a[k].array->size() < 3 * n)
+      b.fail("hfConvLine: " + a[k].name + " holds " + std::to_string(a[k].array->size()) +
+             " coordinates for " + std::to_string(n) + " segments (3 each)");
+  ExprPtr sum = b.constant(0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::vector<ExprPtr> along, d;
+    for (int k = 0; k < 3; ++k) {
+      along.push_back(b.sub(item(a[2], 3 * i + k, b), item(a[1], 3 * i + k, b)));
+      d.push_back(b.sub(item(a[0], k, b), item(a[1], 3 * i + k, b)));
+    }
+    const ExprPtr l = b.call("sqrt", {sumOfSquares(along, b)});
+    check(
+        l, [](double v) { return v == 0.0; }, "hfConvLine: a segment's ends are the same", b);
+    for (ExprPtr& c : along) c = b.div(c, l);
+    const ExprPtr s = item(a[3], i, b), s2 = b.sqr(s);
+    const ExprPtr t = dot(d, along, b), d2 = sumOfSquares(d, b);
+    const ExprPtr p2 = b.add(b.constant(1.0), b.mul(s2, b.sub(d2, b.sqr(t))));
+    const ExprPtr p = b.call("sqrt", {p2});
+    const ExprPtr q2 =
+        b.add(b.constant(1.0),
+              b.mul(s2, b.sub(b.add(d2, b.sqr(l)), b.mul(b.mul(b.constant(2.0), l), t))));
+    const ExprPtr rest = b.sub(l, t);
+    ExprPtr f = b.div(t, b.mul(b.mul(b.constant(2.0), p2), b.add(p2, b.mul(s2, b.sqr(t)))));
+    f = b.add(f, b.div(rest, b.mul(b.mul(b.constant(2.0), p2), q2)));
+    const ExprPtr arcs =
+        b.add(b.call("atan", {b.div(b.mul(s, t), p)}), b.call("atan", {b.div(b.mul(s, rest), p)}));
+    f = b.add(f, b.div(arcs, b.mul(b.mul(b.mul(b.constant(2.0), s), p2), p)));
+    sum = b.add(sum, f);
+  }
+  return b.primitive("hfConvLine", b.sub(sum, a[4].value));
+}
+
+// McCormack and Sherstyuk's closed form over each triangle (vect[9i..9i+8]): the triangle is
+// split at the foot of its height on its longest side; the geometry is numbers, the point's
+// part stays an expression.
+ExprPtr convolutionTriangles(Args& a, ExprBuilder& b) {
+  const std::size_t n = a[2].array->size();
+  if (a[1].array->size() < 9 * n)
+    b.fail("hfConvTriangle: " + a[1].name + " holds " + std::to_string(a[1].array->size()) +
+           " coordinates for " + std::to_string(n) + " triangles (9 each)");
+  using P = std::array<double, 3>;
+  auto minus = [](const P& u, const P& v) { return P{u[0] - v[0], u[1] - v[1], u[2] - v[2]}; };
+  auto norm = [](const P& u) { return std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]); };
+  ExprPtr sum = b.constant(0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    P v[3];
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 3; ++k)
+        v[c][k] = b.constantOf(item(a[1], 9 * i + 3 * c + k, b), "hfConvTriangle's corners");
+    // the longest side first (from corner 1 to corner 2)
+    const double l01 = norm(minus(v[1], v[0])), l12 = norm(minus(v[2], v[1])),
+                 l20 = norm(minus(v[0], v[2]));
+    if (l12 >= l20 && l12 > l01) {
+      const P t = v[0];
+      v[0] = v[1];
+      v[1] = v[2];
+      v[2] = t;
+    } else if (l20 >= l12 && l20 > l01) {
+      const P t = v[0];
+      v[0] = v[2];
+      v[2] = v[1];
+      v[1] = t;
+    }
+    const P side = minus(v[1], v[0]), back = minus(v[0], v[2]);
+    const double side2 = side[0] * side[0] + side[1] * side[1] + side[2] * side[2];
+    if (side2 == 0.0) b.fail("hfConvTriangle: a triangle has no area");
+    const double t = -(side[0] * back[0] + side[1] * back[1] + side[2] * back[2]) / side2;
+    const P foot = {v[0][0] + t * side[0], v[0][1] + t * side[1], v[0][2] + t * side[2]};
+    const P toCorner2 = minus(v[1], foot), toApex = minus(v[2], foot);
+    const double h = norm(toApex), a1 = norm(minus(v[0], foot)), a2 = norm(toCorner2);
+    if (h == 0.0 || a2 == 0.0) b.fail("hfConvTriangle: a triangle has no area");
+    std::vector<ExprPtr> d, uAxis, vAxis;
+    for (int k = 0; k < 3; ++k) {
+      d.push_back(b.sub(item(a[0], k, b), b.constant(foot[k])));
+      uAxis.push_back(b.constant(toCorner2[k] / a2));
+      vAxis.push_back(b.constant(toApex[k] / h));
+    }
+    const ExprPtr s = item(a[2], i, b);
+    const ExprPtr u = dot(d, uAxis, b), w = dot(d, vAxis, b), d2 = sumOfSquares(d, b);
+    const ExprPtr H = b.constant(h), A1 = b.constant(a1), A2 = b.constant(a2);
+    const ExprPtr g = b.sub(w, H);
+    const ExprPtr m = b.add(b.mul(A2, g), b.mul(u, H));
+    const ExprPtr k = b.sub(b.mul(u, H), b.mul(A1, g));
+    const ExprPtr c2 = b.sub(b.add(b.div(b.constant(1.0), b.sqr(s)), d2), b.sqr(u));
+    const ExprPtr c = b.call("sqrt", {c2});
+    const ExprPtr q = b.sub(c2, b.sqr(w));
+    const ExprPtr ww = b.add(b.sub(c2, b.mul(b.mul(b.constant(2.0), w), H)), b.constant(h * h));
+    const ExprPtr hq = b.mul(b.constant(h * h), b.add(q, b.sqr(u)));
+    const ExprPtr huG = b.mul(b.mul(b.constant(2.0 * h), u), g);
+    const ExprPtr bigA = b.call(
+        "sqrt", {b.sub(b.add(b.mul(b.constant(a1 * a1), ww), hq), b.mul(b.constant(a1), huG))});
+    const ExprPtr bigB = b.call(
+        "sqrt", {b.add(b.add(b.mul(b.constant(a2 * a2), ww), hq), b.mul(b.constant(a2), huG))});
+    const ExprPtr n1 = b.add(A1, u), n2 = b.sub(A2, u);
+    const ExprPtr n3 = b.add(b.mul(A1, n1), b.mul(w, H));
+    const ExprPtr n4 = b.sub(b.neg(b.mul(A1, u)), b.mul(g, H));
+    const ExprPtr n5 = b.sub(b.neg(b.mul(A2, n2)), b.mul(w, H));
+    const ExprPtr n6 = b.add(b.neg(b.mul(A2, u)), b.mul(g, H));
+    auto pair = [&](ExprPtr weight, ExprPtr p1, ExprPtr p2, ExprPtr r) {
+      return b.div(
+          b.mul(weight, b.add(b.call("atan", {b.div(p1, r)}), b.call("atan", {b.div(p2, r)}))), r);
+    };
+    const ExprPtr arc =
+        b.add(b.add(pair(k, n3, n4, bigA), pair(m, n5, n6, bigB)), pair(w, n1, n2, c));
+    sum = b.add(sum, b.div(arc, b.mul(b.mul(b.constant(2.0), q), s)));
+  }
+  return b.primitive("hfConvTriangle", b.sub(sum, a[3].value));
+}
+
+// Gardner's solid noise: a product of three two-term sine series
+ExprPtr noise(Args& a, ExprBuilder& b) {
+  const ExprPtr amp = a[1].value, freq = a[2].value, phase = a[3].value;
+  ExprPtr s[3], wave[3];
+  for (int k = 0; k < 3; ++k) {
+    wave[k] = b.mul(freq, item(a[0], k, b));
+    s[k] = b.call("sin", {wave[k]});
+  }
+  const ExprPtr second = b.div(amp, b.constant(1.17));
+  ExprPtr product;
+  for (int k = 0; k < 3; ++k) {
+    const ExprPtr shifted = b.add(b.div(wave[k], b.constant(1.35)), b.mul(phase, s[(k + 2) % 3]));
+    const ExprPtr series = b.add(b.mul(amp, s[k]), b.mul(second, b.call("sin", {shifted})));
+    product = k == 0 ? series : b.mul(product, series);
+  }
+  return b.primitive("hfNoiseG", product);
+}
+
 Compute blendOf(Expr::Kind kind, const char* title) {
   return [kind, title](Args& a, ExprBuilder& b) {
     const ExprPtr f1 = a[0].value, f2 = a[1].value;
@@ -309,6 +446,9 @@ const std::map<std::string, LibraryFunction>& library() {
     t["hfmetaball"] = {"hfMetaball", "AAAAAAR", metaball};
     t["hfsoft"] = {"hfSoft", "AAAAAR", soft};
     t["hfconvpoint"] = {"hfConvPoint", "AAAR", convolutionPoints};
+    t["hfconvline"] = {"hfConvLine", "AAAAR", convolutionLines};
+    t["hfconvtriangle"] = {"hfConvTriangle", "AAAR", convolutionTriangles};
+    t["hfnoiseg"] = {"hfNoiseG", "ARRR", noise};
     t["hfblenduni"] = {"hfBlendUni", "RRRRR", blendOf(Expr::Kind::BlendUnion, "hfBlendUni")};
     t["hfblendint"] = {"hfBlendInt", "RRRRR", blendOf(Expr::Kind::BlendIntersection, "hfBlendInt")};
     t["hfshift3d"] = {"hfShift3D", "ARRR", transformation([](auto& p, Args& a, ExprBuilder& b) {
@@ -350,13 +490,10 @@ std::string libraryArguments(const std::string& name, std::string* unsupported) 
   if (it != library().end()) return it->second.kinds;
   if (unsupported && name.rfind("hf", 0) == 0) {
     static const std::map<std::string, const char*> others = {
-        {"hfconvline", "convolution line segments"},
-        {"hfconvliner", "convolution line segments"},
+        {"hfconvliner", "convolution line segments of varying width"},
         {"hfconvarc", "convolution arcs"},
-        {"hfconvtriangle", "convolution triangles"},
         {"hfconvcurve", "convolution curves"},
         {"hfconvmesh", "convolution meshes"},
-        {"hfnoiseg", "Gardner noise"},
         {"hfellconex", "elliptic cones"},
         {"hfellconey", "elliptic cones"},
         {"hfellconez", "elliptic cones"},
