@@ -346,9 +346,8 @@ TEST(HyperFun, ErrorsNameTheLineAndColumn) {
   EXPECT_EQ(errorOf(model("my_model = a[1] - x[1];")),
             "test.hf:3:12: a[1] is a parameter given to HyperFun from outside; FRepCAD is given "
             "none: write the value into the program");
-  EXPECT_NE(
-      errorOf(model("my_model = hfConvArc(x, x, x, x, x, x, x, 1);")).find("convolution arcs"),
-      std::string::npos);
+  EXPECT_NE(errorOf(model("my_model = hfConvCurve(x, x, x, 1);")).find("convolution curves"),
+            std::string::npos);
   EXPECT_NE(errorOf(model("my_model = x[1] @ x[2];")).find("Cartesian product"), std::string::npos);
   EXPECT_NE(errorOf(model("i = 0;\nwhile i < 1 loop\n j = 1;\nendloop;\nmy_model = 1;"))
                 .find("more than 1000000 statements"),
@@ -440,6 +439,56 @@ double triangleKernel(double v[9], double s, double x, double y, double z) {
   const double arc2 = m * (std::atan(n5 / B) + std::atan(n6 / B)) / B;
   const double arc3 = vv * (std::atan(n1 / C) + std::atan(n2 / C)) / C;
   return (arc1 + arc2 + arc3) / (2 * q * s);
+}
+
+// HyperFun's arc kernel, as its library computes it (pi as 3.141592, 1e-6 added to the axis
+// and the angle, an arc over 180 degrees as two pieces, the sign of p2 choosing atan or atanh).
+double arcKernel(const double c[3], double r, double theta, const double axis[3], double angle,
+                 double s, double x, double y, double z) {
+  const double pi = 3.141592, rd = pi / 180, eps = 1e-6;
+  angle += eps;
+  double i = axis[0] + eps, j = axis[1] + eps, k = axis[2] + eps;
+  double length = std::max(std::sqrt(i * i + j * j + k * k), eps);
+  i /= length, j /= length, k /= length;
+  auto turned = [](double i, double j, double k, double angle, const double p[3], double out[3]) {
+    const double cs = std::cos(3.141592 / 180 * -angle), sn = std::sin(3.141592 / 180 * -angle),
+                 o = 1 - cs;
+    out[0] = (cs + i * i * o) * p[0] + (-k * sn + i * j * o) * p[1] + (j * sn + k * i * o) * p[2];
+    out[1] = (k * sn + i * j * o) * p[0] + (cs + j * j * o) * p[1] + (-i * sn + j * k * o) * p[2];
+    out[2] = (-j * sn + k * i * o) * p[0] + (i * sn + j * k * o) * p[1] + (cs + k * k * o) * p[2];
+  };
+  auto piece = [&](const double q[3], double th) {
+    const double a = 2 * r * s * s, d2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2];
+    const double b = 1 + r * r * s * s + s * s * d2;
+    const double p2 = -std::pow(r * s, 4) +
+                      2 * r * r * s * s * (s * s * (d2 - 2 * q[2] * q[2]) - 1) - sq(1 + s * s * d2);
+    const double p1 = std::sqrt(std::fabs(p2)), p3 = p1 * p2;
+    const double X = q[0], Y = q[1];
+    const double f1 = b * Y / (X * p2 * (a * X - b)) +
+                      (a * (X * X + Y * Y) * std::sin(th) - b * Y) /
+                          (X * p2 * (a * (X * std::cos(th) + Y * std::sin(th)) - b));
+    const double f2 = p2 < 0 ? 2 * b *
+                                   (std::atan(-a * Y / p1) +
+                                    std::atan((a * Y - (a * X + b) * std::tan(th / 2)) / p1)) /
+                                   p3
+                             : 2 * b *
+                                   (std::atanh(a * Y / p1) +
+                                    std::atanh(((a * X + b) * std::tan(th / 2) - a * Y) / p1)) /
+                                   p3;
+    return f1 + f2;
+  };
+  const double d[3] = {x - c[0], y - c[1], z - c[2]};
+  double p[3];
+  turned(i, j, k, angle, d, p);
+  double f = 0;
+  theta = std::min(theta, 360.0);
+  if (theta > 180) {
+    double q[3];
+    turned(0, 0, 1, 180, p, q);
+    f += piece(q, (theta - 180) * rd);
+    theta = 180;
+  }
+  return f + piece(p, theta * rd);
 }
 
 struct ProgramCase {
@@ -574,6 +623,14 @@ const std::vector<ProgramCase>& programCases() {
              u = unite(u, block(p[0], p[1], p[2], c, sizes[axis]));
            }
          return u;
+       }},
+      {"arcs.hf",
+       [](double x, double y, double z) {
+         const double c1[3] = {0, 0, 0}, c2[3] = {0.3, 0.2, 0.4}, a1[3] = {1, 0, 0},
+                      a2[3] = {0, 1, 0};
+         const double f = arcKernel(c1, 1, 180, a1, 30, 3, x, y, z) +
+                          arcKernel(c2, 0.7, 270, a2, 60, 2.5, x, y, z) - 0.25;
+         return meet(f, 4 - x * x - y * y - z * z);
        }},
       {"noise.hf",
        [](double x, double y, double z) {

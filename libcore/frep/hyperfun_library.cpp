@@ -330,6 +330,91 @@ ExprPtr convolutionTriangles(Args& a, ExprBuilder& b) {
   return b.primitive("hfConvTriangle", b.sub(sum, a[3].value));
 }
 
+// McCormack and Sherstyuk's closed form along each arc: the point is turned into the arc's
+// frame (its axis and angle, in degrees, with HyperFun's own constants: pi as 3.141592 and
+// 1e-6 added to the angle and axis), and an arc over 180 degrees is summed as two pieces. The
+// form's p2 is never positive (it is minus a sum of squares), so its atan branch is the one.
+ExprPtr convolutionArcs(Args& a, ExprBuilder& b) {
+  const std::size_t n = a[6].array->size();
+  for (int k : {1, 4})
+    if (a[k].array->size() < 3 * n)
+      b.fail("hfConvArc: " + a[k].name + " holds " + std::to_string(a[k].array->size()) +
+             " coordinates for " + std::to_string(n) + " arcs (3 each)");
+  for (int k : {2, 3, 5})
+    if (a[k].array->size() < n)
+      b.fail("hfConvArc: " + a[k].name + " has " + std::to_string(a[k].array->size()) +
+             " items for " + std::to_string(n) + " arcs");
+  constexpr double kPi = 3.141592, kDegree = kPi / 180.0;
+  auto number = [&](int arg, std::size_t i) {
+    return b.constantOf(item(a[arg], i, b), "hfConvArc's arcs");
+  };
+  // rotation by -angle (degrees) about the unit axis (i, j, k)
+  using M = std::array<double, 9>;
+  auto rotation = [&](double i, double j, double k, double angle) {
+    const double c = std::cos(kDegree * -angle), s = std::sin(kDegree * -angle), o = 1.0 - c;
+    return M{c + i * i * o,      -k * s + i * j * o, j * s + k * i * o,
+             k * s + i * j * o,  c + j * j * o,      -i * s + j * k * o,
+             -j * s + k * i * o, i * s + j * k * o,  c + k * k * o};
+  };
+  auto apply = [&](const M& m, const std::vector<ExprPtr>& p) {
+    std::vector<ExprPtr> out;
+    for (int r = 0; r < 3; ++r)
+      out.push_back(
+          b.add(b.add(b.mul(b.constant(m[3 * r]), p[0]), b.mul(b.constant(m[3 * r + 1]), p[1])),
+                b.mul(b.constant(m[3 * r + 2]), p[2])));
+    return out;
+  };
+  auto piece = [&](const std::vector<ExprPtr>& p, double r, ExprPtr s, double th) {
+    const ExprPtr X = p[0], Y = p[1], Z = p[2], s2 = b.sqr(s);
+    const ExprPtr A = b.mul(b.constant(2.0 * r), s2);
+    const ExprPtr d2 = sumOfSquares(p, b);
+    const ExprPtr r2s2 = b.mul(b.constant(r * r), s2);
+    const ExprPtr B = b.add(b.add(b.constant(1.0), r2s2), b.mul(s2, d2));
+    ExprPtr p2 = b.neg(b.sqr(r2s2));
+    p2 = b.add(
+        p2, b.mul(b.mul(b.constant(2.0), r2s2),
+                  b.sub(b.mul(s2, b.sub(d2, b.mul(b.constant(2.0), b.sqr(Z)))), b.constant(1.0))));
+    p2 = b.sub(p2, b.sqr(b.add(b.constant(1.0), b.mul(s2, d2))));
+    const ExprPtr p1 = b.call("sqrt", {b.neg(p2)});
+    const ExprPtr p3 = b.mul(p1, p2);
+    const ExprPtr sinT = b.constant(std::sin(th)), cosT = b.constant(std::cos(th));
+    ExprPtr f1 = b.div(b.mul(B, Y), b.mul(b.mul(X, p2), b.sub(b.mul(A, X), B)));
+    const ExprPtr num = b.sub(b.mul(b.mul(A, b.add(b.sqr(X), b.sqr(Y))), sinT), b.mul(B, Y));
+    const ExprPtr den =
+        b.mul(b.mul(X, p2), b.sub(b.mul(A, b.add(b.mul(X, cosT), b.mul(Y, sinT))), B));
+    f1 = b.add(f1, b.div(num, den));
+    const ExprPtr first = b.call("atan", {b.div(b.neg(b.mul(A, Y)), p1)});
+    const ExprPtr second = b.call(
+        "atan",
+        {b.div(b.sub(b.mul(A, Y), b.mul(b.add(b.mul(A, X), B), b.constant(std::tan(th / 2)))),
+               p1)});
+    const ExprPtr f2 = b.div(b.mul(b.mul(b.constant(2.0), B), b.add(first, second)), p3);
+    return b.add(f1, f2);
+  };
+  constexpr double eps = 1e-6;
+  ExprPtr sum = b.constant(0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::vector<ExprPtr> d;
+    for (int k = 0; k < 3; ++k)
+      d.push_back(b.sub(item(a[0], k, b), b.constant(number(1, 3 * i + k))));
+    const double r = number(2, i);
+    double theta = std::min(number(3, i), 360.0);
+    double ax = number(4, 3 * i) + eps, ay = number(4, 3 * i + 1) + eps,
+           az = number(4, 3 * i + 2) + eps;
+    const double length = std::max(std::sqrt(ax * ax + ay * ay + az * az), eps);
+    ax /= length, ay /= length, az /= length;
+    const M turn = rotation(ax, ay, az, number(5, i) + eps);
+    const std::vector<ExprPtr> p = apply(turn, d);
+    const ExprPtr s = item(a[6], i, b);
+    if (theta > 180.0) {  // the part beyond half a turn, turned back by 180 degrees about z
+      sum = b.add(sum, piece(apply(rotation(0, 0, 1, 180.0), p), r, s, (theta - 180.0) * kDegree));
+      theta = 180.0;
+    }
+    sum = b.add(sum, piece(p, r, s, theta * kDegree));
+  }
+  return b.primitive("hfConvArc", b.sub(sum, a[7].value));
+}
+
 // Gardner's solid noise: a product of three two-term sine series
 ExprPtr noise(Args& a, ExprBuilder& b) {
   const ExprPtr amp = a[1].value, freq = a[2].value, phase = a[3].value;
@@ -448,6 +533,7 @@ const std::map<std::string, LibraryFunction>& library() {
     t["hfconvpoint"] = {"hfConvPoint", "AAAR", convolutionPoints};
     t["hfconvline"] = {"hfConvLine", "AAAAR", convolutionLines};
     t["hfconvtriangle"] = {"hfConvTriangle", "AAAR", convolutionTriangles};
+    t["hfconvarc"] = {"hfConvArc", "AAAAAAAR", convolutionArcs};
     t["hfnoiseg"] = {"hfNoiseG", "ARRR", noise};
     t["hfblenduni"] = {"hfBlendUni", "RRRRR", blendOf(Expr::Kind::BlendUnion, "hfBlendUni")};
     t["hfblendint"] = {"hfBlendInt", "RRRRR", blendOf(Expr::Kind::BlendIntersection, "hfBlendInt")};
@@ -491,7 +577,6 @@ std::string libraryArguments(const std::string& name, std::string* unsupported) 
   if (unsupported && name.rfind("hf", 0) == 0) {
     static const std::map<std::string, const char*> others = {
         {"hfconvliner", "convolution line segments of varying width"},
-        {"hfconvarc", "convolution arcs"},
         {"hfconvcurve", "convolution curves"},
         {"hfconvmesh", "convolution meshes"},
         {"hfellconex", "elliptic cones"},
