@@ -136,7 +136,10 @@ int exportDocument(const ExportOptions& o) {
       {"resolution", nullptr},
       {"bbox", nullptr},
       {"units", o.units},
-      {"settings", nlohmann::json::parse(meshSettingsJson(o.mesh, o.meshGiven))}};
+      // only the settings given: none leaves a mesh that is the part itself as it is
+      {"settings", o.meshGiven.empty()
+                       ? nlohmann::json::object()
+                       : nlohmann::json::parse(meshSettingsJson(o.mesh, o.meshGiven))}};
   if (o.cells) args["cells"] = *o.cells;
   if (o.resolution) args["resolution"] = *o.resolution;
   if (o.bbox)

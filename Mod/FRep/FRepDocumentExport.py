@@ -1,8 +1,10 @@
 """`frepcad export part.FCStd`: run by freecadcmd (headless) from the frepcad CLI.
 
 Opens the document, applies --set overrides (Object.Property=value, Spreadsheet.alias=value
-or Spreadsheet.A1=value), recomputes, and exports the chosen object with the CGAL check
-(OpenSCAD's -D for FRep documents). The arguments come in FREPCAD_EXPORT_ARGS (JSON), since
+or Spreadsheet.A1=value), recomputes, and exports with the CGAL check
+(OpenSCAD's -D for FRep documents): the objects --object names, else every visible top-level
+solid (FRep features, Polygonize meshes, hsplines, Part solids and meshes), each its own
+object in a 3MF and their union otherwise. The arguments come in FREPCAD_EXPORT_ARGS (JSON), since
 freecadcmd's own value options crash on Debian's 0.20. Exit status (frepcore.EXIT_STATUS): 0
 written, 1 not printable (nothing written), 2 bad input, 3 internal error, 130 cancelled.
 """
@@ -205,24 +207,50 @@ def apply_override(doc, text):
                          % (what, shortened(value.strip()), getattr(obj, prop)))
 
 
-def choose_object(doc, name):
+def exportable(obj):
+    """Whether frepcad exports obj: an FRep feature or input (Part solids, PartDesign bodies,
+    meshes: lattice-deformed, repaired, imported), a Polygonize feature or an hspline."""
+    import FRepHSpline
     import FRepPolygonize
     import FRepTree
-    if name:
+    return (isinstance(getattr(obj, "Proxy", None), FRepPolygonize.Polygonize)
+            or FRepHSpline.is_hspline(obj) or FRepTree.is_frep_input(obj))
+
+
+def top_level_solids(doc):
+    """The visible exportable objects that no other exportable object is built from."""
+    return [o for o in doc.Objects if exportable(o) and getattr(o, "Visibility", True)
+            and not any(exportable(p) for p in o.InList)]
+
+
+def candidates_text(doc, limit=20):
+    """The objects frepcad can export, by name and label, for a message."""
+    found = [o for o in doc.Objects if exportable(o)]
+    names = [o.Name if o.Label == o.Name else "%s ('%s')" % (o.Name, shortened(o.Label, 40))
+             for o in found[:limit]]
+    return (", ".join(names) + (", ..." if len(found) > limit else "")) or "none"
+
+
+def choose_objects(doc, names):
+    """The objects named by --object (by name or label), else every visible top-level solid."""
+    chosen = []
+    for name in names:
         obj = doc.getObject(name) or next(iter(doc.getObjectsByLabel(name)), None)
         if obj is None:
-            raise UsageError("--object %s: no such object in %s" % (name, doc.Label))
-        return obj
-    meshes = [o for o in doc.Objects
-              if isinstance(getattr(o, "Proxy", None), FRepPolygonize.Polygonize)]
-    if len(meshes) == 1:
-        return meshes[0]
-    tops = [o for o in doc.Objects if FRepTree.is_frep_feature(o)
-            and not any(FRepTree.is_frep_feature(p) for p in o.InList)]
-    if len(tops) == 1 and not meshes:
-        return tops[0]
-    raise UsageError("%s has %d Polygonize features and %d top-level FRep features; choose one "
-                     "with --object NAME" % (doc.Label, len(meshes), len(tops)))
+            raise UsageError("--object %s: no such object in %s; it can export: %s"
+                             % (name, doc.Label, candidates_text(doc)))
+        if not exportable(obj):
+            raise UsageError("--object %s: %s (%s) is not a solid, mesh or FRep feature; %s "
+                             "can export: %s" % (name, obj.Label, obj.TypeId, doc.Label,
+                                                 candidates_text(doc)))
+        chosen.append(obj)
+    if chosen:
+        return chosen
+    tops = top_level_solids(doc)
+    if not tops:
+        raise UsageError("%s has no visible solid to export; it can export: %s (choose with "
+                         "--object NAME)" % (doc.Label, candidates_text(doc)))
+    return tops
 
 
 def quiet_console_errors(quiet):
@@ -276,7 +304,12 @@ def main(out):
                              "%s (%s)" % (n, t) for n, t in missing[:5])))
     for text in args.sets:
         apply_override(doc, text)
-    chosen = [choose_object(doc, name) for name in args.objects] or [choose_object(doc, "")]
+    chosen = choose_objects(doc, args.objects)
+    is_3mf = args.output.lower().endswith(".3mf") or args.format == "3mf"
+    if len(chosen) > 1 and not is_3mf and not args.quiet:
+        print("frepcad: %s: exporting the union of %s (a .3mf keeps each its own object; "
+              "--object NAME exports one)" % (args.document, ", ".join(o.Label for o in chosen)),
+              file=sys.stderr)
     for o in doc.Objects:  # recompute everything: the saved results may be stale
         o.touch()
     # FreeCAD reports each failed feature on its console ("Error: ...", then "Recompute

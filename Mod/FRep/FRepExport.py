@@ -13,6 +13,7 @@ import os
 import FreeCAD
 
 import FRepErrors
+import FRepHSpline
 import FRepMeshing
 import FRepPolygonize
 import FRepTree
@@ -48,11 +49,16 @@ def solid_and_box(objects, cells=None, resolution=None, bbox=None):
                 raise ValueError("%s: property 'Source' is empty" % obj.Label)
             shape = FRepTree.shape_of(obj.Source)
             boxes.append(FRepPolygonize.meshing_box(obj, shape))
+        elif FRepHSpline.is_hspline(obj):
+            try:
+                shape = frepcore.from_mesh(mesh_of(obj), name=obj.Label)
+            except OSError as e:  # open: not a solid (the message names it)
+                raise ValueError(str(e))
         elif FRepTree.is_frep_input(obj):
             shape = FRepTree.shape_of(obj)
         else:
-            raise ValueError("%s is not an FRep input or a Polygonize feature; accepted: %s"
-                             % (FRepTree.describe(obj), FRepTree.ACCEPTED))
+            raise ValueError("%s is not an FRep input, a Polygonize feature or an hspline; "
+                             "accepted: %s" % (FRepTree.describe(obj), FRepTree.ACCEPTED))
         shapes.append(shape)
     solid = shapes[0] if len(shapes) == 1 else frepcore.union(*shapes)
     if len(objects) == 1 and boxes and cells is None and resolution is None and bbox is None:
@@ -68,19 +74,33 @@ def solid_and_box(objects, cells=None, resolution=None, bbox=None):
 
 
 def is_plain_mesh(obj):
-    """A Mesh feature of FreeCAD's own (imported, repaired, made by another workbench), not
-    a feature whose mesh is the preview of a solid."""
-    return obj.TypeId == "Mesh::Feature"
+    """A Mesh feature of FreeCAD's own (imported, repaired, made by another workbench), or an
+    hspline (its own tessellation), not a feature whose mesh is the preview of a solid."""
+    return obj.TypeId == "Mesh::Feature" or FRepHSpline.is_hspline(obj)
+
+
+def mesh_of(obj):
+    """The frepcore mesh of a plain mesh (is_plain_mesh), placed: a Mesh feature's own, an
+    hspline's surface tessellated within the document's solid tolerance."""
+    import FRepSolids
+    if FRepHSpline.is_hspline(obj):
+        tolerance = FRepSolids.solid_tolerance(obj.Document, obj.Shape)
+        if obj.Placement.isIdentity():
+            return FRepHSpline.hspline_of(obj).tessellate(tolerance)
+        import MeshPart
+        return FRepSolids.as_frepcore_mesh(MeshPart.meshFromShape(
+            Shape=obj.Shape, LinearDeflection=tolerance,
+            AngularDeflection=FRepSolids.ANGULAR_DEFLECTION, Relative=False))
+    return FRepSolids.as_frepcore_mesh(obj.Mesh)  # (its points already placed)
 
 
 def _export_mesh_as_it_is(obj, filename, fmt, force, progress):
     """A mesh that is the part itself is written as it is, after the same check: meshing it
     again (through its distance field) would only change it."""
-    import FRepSolids
     name = os.path.basename(filename)
-    if obj.Mesh.CountFacets == 0:
+    mesh = mesh_of(obj)
+    if mesh.triangle_count == 0:
         raise ValueError("%s: the mesh is empty" % obj.Label)
-    mesh = FRepSolids.as_frepcore_mesh(obj.Mesh)  # (its points already placed)
 
     def work(tick):
         report = mesh.check(name, tick)
@@ -174,6 +194,9 @@ def _export_3mf(objects, filename, progress, cells, resolution, bbox, force, set
         meshes = []
         share = 0.8 / len(objects)
         for i, obj in enumerate(objects):
+            if is_plain_mesh(obj) and cells is None and resolution is None and bbox is None:
+                meshes.append((obj.Label, mesh_of(obj)))  # the part itself, as it is
+                continue
             meshed = isinstance(getattr(obj, "Proxy", None), FRepPolygonize.Polygonize)
             # a Polygonize feature keeps its own settings unless the caller gives a box or size
             own = meshed and len(objects) > 1

@@ -199,3 +199,46 @@ def test_an_empty_solid_is_not_printable(tmp_path):
     assert r.returncode == frepcore.EXIT_STATUS["not_printable"], (r.stdout, r.stderr)
     assert "Nothing: the result is empty" in r.stderr and len(r.stderr.splitlines()) == 1
     assert not out.exists()
+
+
+EXAMPLES = os.path.join(os.path.dirname(__file__), "..", "..", "examples")
+
+
+def test_with_no_object_every_visible_top_level_solid_exports(tmp_path):
+    """lattice.FCStd holds two bent parts: their union in an STL (said on stderr), each its
+    own object in a 3MF; the lattices and the parts' hidden inputs are not exported."""
+    path = os.path.join(EXAMPLES, "lattice.FCStd")
+    stl = str(tmp_path / "both.stl")
+    r = frepcad(path, "-o", stl, "--cells", "40")
+    assert r.returncode == 0, r.stderr
+    assert "exporting the union of BentHoledBar, BentBlock" in r.stderr
+    assert frepcore.read_mesh(stl).check()["components"] == 2
+    three = str(tmp_path / "all.3mf")
+    r = frepcad(path, "-o", three, "--cells", "40")
+    assert r.returncode == 0, r.stderr
+    assert "union" not in r.stderr
+    assert sorted(name for name, _ in frepcore.read_3mf(three)["objects"]) == \
+        ["BentBlock", "BentHoledBar"]
+    # one of them by --object; a wrong name lists what can be exported
+    r = frepcad(path, "-o", str(tmp_path / "one.stl"), "--object", "BentBlock", "--cells", "40")
+    assert r.returncode == 0 and "union" not in r.stderr, r.stderr
+    r = frepcad(path, "-o", str(tmp_path / "none.stl"), "--object", "Nothing")
+    assert r.returncode == 2
+    assert r.stderr.strip().endswith("it can export: Bar, Hole0, Hole1, Hole2, HoledBar, Block, "
+                                     "BentHoledBar, BentBlock"), r.stderr
+    r = frepcad(path, "-o", str(tmp_path / "none.stl"), "--object", "LatticeBlock")
+    assert r.returncode == 2 and "is not a solid, mesh or FRep feature" in r.stderr
+
+
+def test_an_hspline_document_exports_its_surface_as_it_is(tmp_path):
+    """The hspline tutorial's surface is an open sheet: exported, it is tessellated and
+    checked; not printable (its border edges), written with --force (exit status 1 still:
+    what was written is not printable)."""
+    path = os.path.join(EXAMPLES, "hspline.FCStd")
+    out = str(tmp_path / "sheet.stl")
+    r = frepcad(path, "-o", out)
+    assert r.returncode == 1, r.stderr
+    assert "border edges" in r.stdout and not os.path.exists(out)
+    r = frepcad(path, "-o", out, "--force")
+    assert r.returncode == 1 and "wrote %s" % out in r.stdout, r.stderr
+    assert frepcore.read_mesh(out).triangle_count > 1000
