@@ -203,6 +203,16 @@ def polygonize():
     return svg(body, defs)
 
 
+def section():
+    defs = radial("b", BLUE)
+    body = sphere(32, 30, 22)
+    body += ('<path d="M2,42 L42,42 L62,26 L22,26 Z" fill="#ffffff" fill-opacity="0.55" %s/>\n'
+             % stroke(1.5))
+    body += ('<ellipse cx="32" cy="34" rx="19" ry="5.5" fill="none" stroke="%s" '
+             'stroke-width="4"/>\n' % ORANGE[1])
+    return svg(body, defs)
+
+
 def export():
     defs = radial("b", BLUE)
     body = ('<path d="M10,8 L38,8 L48,18 L48,58 L10,58 Z" fill="#ffffff" %s/>\n'
@@ -727,6 +737,7 @@ ICONS = {
     "blend_union": blend_union_icon,
     "blend_intersection": lambda: blend("intersection"),
     "polygonize": polygonize,
+    "section": section,
     "export": export,
     "preview": preview,
     "twist": twist,

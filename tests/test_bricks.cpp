@@ -98,7 +98,7 @@ TEST(BrickJobs, RandomTreesInJobsAreTheOneProcessMesh) {
     const BrickJobPlan plan = planBrickJobs(box, settingsOf(sharp, how), jobs, 1);
     expectSameMesh(inJobs(p, plan), whole,
                    "tree " + std::to_string(i) + " in " + std::to_string(jobs) + " jobs:\n" +
-                       modelToJson(Model{tree, box.box, box.resolution, ""}));
+                       modelToJson(Model{tree, box.box, box.resolution, "", {}, {}}));
   }
   EXPECT_GT(nonEmpty, 40);
 }

@@ -284,7 +284,7 @@ void refineRandomTrees(unsigned seed, int trees, int levels = 1) {
     const CheckReport r = checkMesh(mesh);
     ASSERT_TRUE(r.printable()) << "tree " << i << " at " << o.resolution << " ("
                                << stats.refinedCubes << " cubes refined): " << reasonsOf(r) << "\n"
-                               << modelToJson(Model{tree, o.bbox, o.resolution, ""});
+                               << modelToJson(Model{tree, o.bbox, o.resolution, "", {}, {}});
     if (i % 8 == 0 && o.settings.dropFlatVertices) {
       MeshingOptions other = o;
       other.brickCells = 6;

@@ -496,7 +496,7 @@ TEST_P(RandomTreeShard, EveryMeshIsPrintable) {
       const CheckReport r = checkMesh(mesh);
       ASSERT_TRUE(r.printable()) << "tree " << i << " at " << o.resolution << " mode " << mode
                                  << ": " << reasons(r) << "\n"
-                                 << modelToJson(Model{tree, o.bbox, o.resolution, ""});
+                                 << modelToJson(Model{tree, o.bbox, o.resolution, "", {}, {}});
       expectOldCheckAgrees(mesh, r, "tree " + std::to_string(i) + " mode " + std::to_string(mode));
       if (mode == 1) cubeTriangles = mesh.triangleCount();
       if (mode == 2) {
@@ -509,7 +509,7 @@ TEST_P(RandomTreeShard, EveryMeshIsPrintable) {
         const CheckReport f = checkMesh(fewer);
         ASSERT_TRUE(f.printable())
             << "tree " << i << " flat, mode " << mode << ": " << reasons(f) << "\n"
-            << modelToJson(Model{tree, o.bbox, o.resolution, ""});
+            << modelToJson(Model{tree, o.bbox, o.resolution, "", {}, {}});
         expectOldCheckAgrees(fewer, f,
                              "tree " + std::to_string(i) + " flat, mode " + std::to_string(mode));
         // each vertex dropped takes two triangles with it

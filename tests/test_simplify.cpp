@@ -184,7 +184,7 @@ void simplifyRandomTrees(unsigned seed, int trees) {
       ASSERT_TRUE(r.printable()) << "tree " << i << " sharp " << sharp << " tolerance "
                                  << o.tolerance << " regions " << o.regionCells << ": "
                                  << reasons(r) << "\n"
-                                 << modelToJson(Model{tree, box, cell, ""});
+                                 << modelToJson(Model{tree, box, cell, "", {}, {}});
       ASSERT_EQ(countSelfIntersectionsWithCgal(s.positions, s.triangles, true), 0u) << "tree " << i;
       EXPECT_EQ(r.components, components) << "tree " << i;
       fewer += (tetra ? 2 : 1) * s.triangleCount() < mesh.triangleCount();
@@ -697,7 +697,7 @@ void straightenRandomTrees(unsigned seed, int trees) {
     const TriangleMesh s = straightenCreases(mesh, p, {box, cell, {}}, &stats);
     const CheckReport r = checkMesh(s);
     ASSERT_TRUE(r.printable()) << "tree " << i << ": " << reasons(r) << "\n"
-                               << modelToJson(Model{tree, box, cell, ""});
+                               << modelToJson(Model{tree, box, cell, "", {}, {}});
     ASSERT_EQ(countSelfIntersectionsWithCgal(s.positions, s.triangles, true), 0u) << "tree " << i;
     EXPECT_EQ(r.components, checkMesh(mesh).components) << "tree " << i;
     merged += stats.collapses > 0;

@@ -66,7 +66,7 @@ LAYOUT = (
         ("FRep_HSplineFiles", "Hspline files", "Import or export .hs, STEP or a checked STL",
          ("FRep_HSplineImport", "FRep_HSplineExport")))),
     ("FRep mesh", (
-        "FRep_Polygonize", "FRep_Export", "FRep_Repair", "FRep_Printability",
+        "FRep_Polygonize", "FRep_Section", "FRep_Export", "FRep_Repair", "FRep_Printability",
         ("FRep_Settings", "Meshing settings", "The preview's quality and the tolerance solids "
          "are tessellated at", ("FRep_PreviewQuality", "FRep_SolidTolerance")))),
 )
@@ -251,6 +251,38 @@ class PolygonizeCommand:
         # sees why in the tree and can change its settings, and undo still removes it.
         doc.recompute()
         report_if_failed("FRep Polygonize", obj)
+
+
+class SectionCommand:
+    def GetResources(self):
+        return {"Pixmap": FRepPaths.icon("section"),
+                "MenuText": QT_TRANSLATE_NOOP("FRep_Section", "Section"),
+                "ToolTip": QT_TRANSLATE_NOOP(
+                    "FRep_Section",
+                    "Cut the selected FRep solid by a plane (through the middle of its box, "
+                    "across z; Origin and Normal in its properties) into closed wires that "
+                    "Sketcher, Part and PartDesign use like any edges.")}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None and \
+            len(FreeCADGui.Selection.getSelection()) == 1
+
+    def Activated(self):
+        import FRepSection
+        selection = FreeCADGui.Selection.getSelection()
+        if len(selection) != 1 or not FRepTree.is_frep_input(selection[0]):
+            report("FRep Section", "Section needs exactly one FRep feature or solid selected")
+            return
+        doc = selection[0].Document
+        try:
+            with Transaction(doc, "Section"):
+                obj = FRepSection.make(selection[0], doc)
+                add_to_active_container(obj)
+        except ValueError as e:  # an empty or unbounded solid: no box to centre the plane in
+            report("FRep Section", str(e))
+            return
+        doc.recompute()
+        report_if_failed("FRep Section", obj)
 
 
 class ExportCommand:
@@ -574,6 +606,7 @@ def register():
     for type_id in FRepFeatures.NODE_TYPES:
         COMMANDS[command_name(type_id)] = NodeCommand(type_id)
     COMMANDS.update({"FRep_Polygonize": PolygonizeCommand(), "FRep_Export": ExportCommand(),
+                     "FRep_Section": SectionCommand(),
                      "FRep_PreviewQuality": PreviewQualityCommand(),
                      "FRep_SolidTolerance": SolidToleranceCommand(),
                      "FRep_Lattice": LatticeCommand(), "FRep_Deform": DeformCommand(),

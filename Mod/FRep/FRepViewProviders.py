@@ -48,6 +48,30 @@ class ViewProviderFRep(StatelessProxy):
         return True
 
 
+class ViewProviderSection(ViewProviderFRep):
+    """A section's wires: drawn thick and orange over the solid they cut."""
+
+    def attach(self, vobj):
+        self.Object = vobj.Object
+        vobj.LineWidth = 3.0
+        vobj.LineColor = (0.85, 0.45, 0.05)
+
+    def getIcon(self):
+        return FRepPaths.icon("section")
+
+    def claimChildren(self):
+        return []
+
+    def onDelete(self, vobj, subelements):
+        return True
+
+    def setEdit(self, vobj, mode=0):  # its plane and cells are plain properties
+        return None
+
+    def doubleClicked(self, vobj):
+        return False
+
+
 class ViewProviderPolygonize(ViewProviderFRep):
     def getIcon(self):
         return FRepPaths.icon("polygonize")

@@ -22,13 +22,13 @@ struct Model {
   NodePtr root;
   std::optional<Box3> bbox;          // export bounding box
   std::optional<double> resolution;  // export cell size
-  // The box to mesh when the solid's own extent cannot be found (a HyperFun program: its
-  // polygonizer's -10..10); the export says when it uses it.
-  std::optional<Box3> fallbackBox;
   std::string description;
   // Names for the nodes' features where the source had them (HyperFun's variable names);
   // not written to JSON.
   std::map<const Node*, std::string> labels;
+  // The box to mesh when the solid's own extent cannot be found (a HyperFun program: its
+  // polygonizer's -10..10); the export says when it uses it.
+  std::optional<Box3> fallbackBox;
 };
 
 // Parses a model from JSON text; `source` names it in error messages. Relative file paths

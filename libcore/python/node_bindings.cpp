@@ -37,6 +37,7 @@
 #include "lattice/lattice_file.h"
 #include "mesh/mesh_ffd.h"
 #include "mesh/mesher.h"
+#include "mesh/section.h"
 #include "pipeline/brick_jobs.h"
 #include "pipeline/export_pipeline.h"
 #include "python/binding_helpers.h"
@@ -264,6 +265,35 @@ void bindNode(py::module_& m) {
           "Welds the run's piece files (one per job, in job order), checks the mesh and "
           "writes `path` atomically (a binary STL or a 3MF streamed, never whole in memory; "
           "unit and metadata for a 3MF): the export's report dict plus 'written'.")
+      .def(
+          "section",
+          [](PyNode& n, const Vec3& origin, const Vec3& u, const Vec3& v, py::object bbox,
+             double cell, py::object progress) {
+            SectionPlane plane{origin, u, v};
+            const Box3 box = toBox(bbox.cast<py::sequence>());
+            double u0, u1, v0, v1;
+            py::list out;
+            if (!sectionRectangle(plane, box, u0, u1, v0, v1)) return out;
+            n.compiled();
+            std::shared_ptr<const Program> program = n.program;
+            const std::vector<SectionLoop> loops = runWithProgress<std::vector<SectionLoop>>(
+                [=](std::function<bool(double)> tick) {
+                  return sectionField(*program, plane, u0, u1, v0, v1, cell, Progress(tick));
+                },
+                progress);
+            for (const SectionLoop& l : loops) {
+              py::list points;
+              for (const Vec3& p : l.points) points.append(py::make_tuple(p[0], p[1], p[2]));
+              out.append(py::make_tuple(points, l.closed));
+            }
+            return out;
+          },
+          py::arg("origin"), py::arg("u"), py::arg("v"), py::arg("bbox"), py::arg("cell"),
+          py::arg("progress") = py::none(),
+          "The contours where the plane through `origin` spanned by the unit vectors u and v "
+          "(at right angles) cuts the solid inside bbox, sampled at `cell`: a list of "
+          "(points, closed), the solid on the left of each loop seen against u x v; holes "
+          "are loops of their own, turning the other way (mesh/section.h).")
       .def(
           "mesh",
           [](PyNode& n, py::object bbox, double resolution, py::object progress, bool normals,

@@ -171,3 +171,58 @@ def test_infill_made_on_a_part_is_sized_from_it_and_previews_as_a_lattice(doc):
     assert plain.Cell.Value == 2.0 and plain.Wall.Value == pytest.approx(0.48)
     assert plain.Thickness.Value == pytest.approx(0.3)
     assert F.make("infill", doc, inputs=[block]).Cell.Value == 1.0
+
+
+def test_a_section_is_closed_wires_that_part_and_sketcher_use(doc, tmp_path):
+    """A ring (a ball with a bore) cut across: two closed loops on the surface, a face of the
+    right area from them, an extrusion of the right volume, and a sketch that takes their
+    edges as external geometry; the plane moved, the wires follow; saved and reopened, the
+    same."""
+    import math
+    import Sketcher  # noqa: F401  (registers Sketcher::SketchObject)
+    import FRepSection
+    ball = F.make("sphere", doc, name="Ball", radius=2)
+    bore = F.make("cylinder", doc, name="Bore", radius=0.8, length=6)
+    ring = F.make("difference", doc, name="Ring", inputs=[ball, bore])
+    section = FRepSection.make(ring, doc, origin=(0, 0, 0.5), normal=(0, 0, 1))
+    doc.recompute()
+    assert section.isValid(), section.getStatusString()
+    assert section.Loops == 2 and len(section.Shape.Wires) == 2
+    assert all(w.isClosed() for w in section.Shape.Wires)
+    outer, inner = sorted(section.Shape.Wires, key=lambda w: -w.Length)
+    big = math.sqrt(4 - 0.25)
+    assert outer.Length == pytest.approx(2 * math.pi * big, rel=2e-3)
+    assert inner.Length == pytest.approx(2 * math.pi * 0.8, rel=2e-3)
+    for v in outer.Vertexes[::25]:  # on the ball, in the plane
+        assert v.Point.Length == pytest.approx(2, abs=1e-6) and v.Point.z == pytest.approx(0.5)
+    face = Part.Face([outer, inner])
+    assert face.Area == pytest.approx(math.pi * (big ** 2 - 0.64), rel=3e-3)
+    extrusion = doc.addObject("Part::Extrusion", "Slab")
+    extrusion.Base = section
+    extrusion.Dir = FreeCAD.Vector(0, 0, 0.2)
+    extrusion.Solid = True
+    sketch = doc.addObject("Sketcher::SketchObject", "Sketch")
+    sketch.Placement = FreeCAD.Placement(FreeCAD.Vector(0, 0, 0.5), FreeCAD.Rotation())
+    sketch.addExternal("Section", "Edge1")
+    doc.recompute()
+    assert extrusion.Shape.Volume == pytest.approx(face.Area * 0.2, rel=1e-6)
+    assert len(sketch.ExternalGeometry) == 1 and sketch.isValid()
+    section.Origin = FreeCAD.Vector(0, 0, 1.9)  # the bore takes all of the ball up there
+    doc.recompute()
+    assert section.isValid() and section.Loops == 0 and section.Shape.isNull()
+    assert not extrusion.isValid()  # (a clean refusal: an empty compound crashed FreeCAD 0.20)
+    section.Origin = FreeCAD.Vector(0, 0, 5)  # the plane misses the solid's box
+    doc.recompute()
+    assert section.isValid() and section.Loops == 0
+    section.Origin = FreeCAD.Vector(0, 0, 0.5)
+    doc.recompute()
+    path = str(tmp_path / "section.FCStd")
+    doc.saveAs(path)
+    FreeCAD.closeDocument(doc.Name)
+    again = FreeCAD.openDocument(path)
+    try:
+        again.getObject("Section").touch()
+        again.recompute()
+        assert again.getObject("Section").Loops == 2
+    finally:
+        FreeCAD.closeDocument(again.Name)

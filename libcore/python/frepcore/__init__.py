@@ -207,6 +207,28 @@ class Shape:
         box, cell = automatic_box(self, resolution=resolution, bbox=bbox, cells=cells)
         return self.node.mesh(box, cell, progress, normals, mesh_settings(settings, **options))
 
+    def section(self, origin=(0, 0, 0), normal=(0, 0, 1), u=None, cells=256, bbox=None,
+                progress=None):
+        """Where the plane through origin with this normal cuts the solid: a list of
+        (points, closed) polylines, the solid on the left of each seen against the normal
+        (holes turn the other way). u: the plane's first axis (default: one at right angles
+        to the normal); the grid has `cells` cells along the longer side of the solid's box
+        (or bbox) as the plane sees it. [] where the plane misses the solid."""
+        n = _unit(normal, "normal")
+        if u is None:  # the axis least along the normal, made perpendicular to it
+            k = min(range(3), key=lambda i: abs(n[i]))
+            u = [0.0, 0.0, 0.0]
+            u[k] = 1.0
+        u = [a - b * sum(x * y for x, y in zip(u, n)) for a, b in zip(u, n)]
+        u = _unit(u, "u (along the normal)")
+        v = (n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0])
+        box, _ = automatic_box(self, bbox=bbox, cells=cells)
+        side = max(box[1][i] - box[0][i] for i in range(3))
+        if not (isinstance(cells, int) and 2 <= cells <= 4096):
+            raise ValueError("section: cells %r is not allowed; a whole number from 2 to 4096"
+                             % (cells,))
+        return self.node.section(tuple(origin), tuple(u), v, box, side / cells, progress)
+
     def export(self, path, resolution=None, bbox=None, cells=None, format="", check=True,
                progress=None, force=False, settings=None, **options):
         """Meshes, checks with CGAL and writes path atomically (libcore's export pipeline,
@@ -301,6 +323,16 @@ def progress_part(progress, start, share):
     if progress is None:
         return None
     return lambda f: progress(start + share * f)
+
+
+def _unit(vector, what):
+    """vector scaled to length 1; ValueError naming `what` for a zero or non-finite one."""
+    v = [float(c) for c in vector]
+    length = math.sqrt(sum(c * c for c in v))
+    if len(v) != 3 or not (length > 0) or not math.isfinite(length):
+        raise ValueError("section: %s %r is not a direction; three finite numbers, not all 0"
+                         % (what, tuple(vector)))
+    return [c / length for c in v]
 
 
 def automatic_box(shape, resolution=None, bbox=None, cells=None, padding_cells=1.5,
