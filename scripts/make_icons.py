@@ -9,6 +9,7 @@ to its category's icon (category-<name>.svg) and then to frep.svg.
     python3 scripts/make_icons.py
 """
 
+import math
 import os
 import sys
 
@@ -210,6 +211,17 @@ def section():
              % stroke(1.5))
     body += ('<ellipse cx="32" cy="34" rx="19" ry="5.5" fill="none" stroke="%s" '
              'stroke-width="4"/>\n' % ORANGE[1])
+    return svg(body, defs)
+
+
+def point_sample():
+    defs = radial("b", BLUE)
+    body = sphere(32, 32, 24, fill="#ffffff")
+    for ring, count in ((0.35, 6), (0.7, 12), (0.95, 16)):
+        for k in range(count):
+            a = 2 * math.pi * (k + 0.5 * ring) / count
+            body += '<circle cx="%.1f" cy="%.1f" r="2.6" fill="%s"/>\n' % (
+                32 + 22 * ring * math.cos(a), 32 + 22 * ring * math.sin(a), BLUE[1])
     return svg(body, defs)
 
 
@@ -738,6 +750,7 @@ ICONS = {
     "blend_intersection": lambda: blend("intersection"),
     "polygonize": polygonize,
     "section": section,
+    "point_sample": point_sample,
     "export": export,
     "preview": preview,
     "twist": twist,

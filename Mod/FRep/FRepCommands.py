@@ -66,7 +66,10 @@ LAYOUT = (
         ("FRep_HSplineFiles", "Hspline files", "Import or export .hs, STEP or a checked STL",
          ("FRep_HSplineImport", "FRep_HSplineExport")))),
     ("FRep mesh", (
-        "FRep_Polygonize", "FRep_Section", "FRep_Export", "FRep_Repair", "FRep_Printability",
+        "FRep_Polygonize", ("FRep_Geometry", "Section and points", "FreeCAD geometry from a "
+                            "solid: a plane section as wires, surface points as a Points "
+                            "object", ("FRep_Section", "FRep_PointSample")),
+        "FRep_Export", "FRep_Repair", "FRep_Printability",
         ("FRep_Settings", "Meshing settings", "The preview's quality and the tolerance solids "
          "are tessellated at", ("FRep_PreviewQuality", "FRep_SolidTolerance")))),
 )
@@ -283,6 +286,34 @@ class SectionCommand:
             return
         doc.recompute()
         report_if_failed("FRep Section", obj)
+
+
+class PointSampleCommand:
+    def GetResources(self):
+        return {"Pixmap": FRepPaths.icon("point_sample"),
+                "MenuText": QT_TRANSLATE_NOOP("FRep_PointSample", "Point sample"),
+                "ToolTip": QT_TRANSLATE_NOOP(
+                    "FRep_PointSample",
+                    "Points on the selected FRep solid's surface, about a cell apart (Cells "
+                    "in its properties), as a FreeCAD Points object.")}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None and \
+            len(FreeCADGui.Selection.getSelection()) == 1
+
+    def Activated(self):
+        import FRepPointSample
+        selection = FreeCADGui.Selection.getSelection()
+        if len(selection) != 1 or not FRepTree.is_frep_input(selection[0]):
+            report("FRep Point sample", "Point sample needs exactly one FRep feature or solid "
+                   "selected")
+            return
+        doc = selection[0].Document
+        with Transaction(doc, "Point sample"):
+            obj = FRepPointSample.make(selection[0], doc)
+            add_to_active_container(obj)
+        doc.recompute()
+        report_if_failed("FRep Point sample", obj)
 
 
 class ExportCommand:
@@ -606,7 +637,7 @@ def register():
     for type_id in FRepFeatures.NODE_TYPES:
         COMMANDS[command_name(type_id)] = NodeCommand(type_id)
     COMMANDS.update({"FRep_Polygonize": PolygonizeCommand(), "FRep_Export": ExportCommand(),
-                     "FRep_Section": SectionCommand(),
+                     "FRep_Section": SectionCommand(), "FRep_PointSample": PointSampleCommand(),
                      "FRep_PreviewQuality": PreviewQualityCommand(),
                      "FRep_SolidTolerance": SolidToleranceCommand(),
                      "FRep_Lattice": LatticeCommand(), "FRep_Deform": DeformCommand(),

@@ -72,6 +72,18 @@ class ViewProviderSection(ViewProviderFRep):
         return False
 
 
+class ViewProviderPointSample(ViewProviderSection):
+    """Sampled points: drawn larger than FreeCAD's default so a sparse sample shows."""
+
+    def attach(self, vobj):
+        self.Object = vobj.Object
+        if hasattr(vobj, "PointSize"):
+            vobj.PointSize = 3.0
+
+    def getIcon(self):
+        return FRepPaths.icon("point_sample")
+
+
 class ViewProviderPolygonize(ViewProviderFRep):
     def getIcon(self):
         return FRepPaths.icon("polygonize")

@@ -226,3 +226,23 @@ def test_a_section_is_closed_wires_that_part_and_sketcher_use(doc, tmp_path):
         assert again.getObject("Section").Loops == 2
     finally:
         FreeCAD.closeDocument(again.Name)
+
+
+def test_a_point_sample_lies_on_the_surface(doc):
+    """Points of a ball's surface, about a cell apart; more cells, more points."""
+    import FRepPointSample
+    ball = F.make("sphere", doc, name="Ball", radius=2, center=FreeCAD.Vector(1, 0, 0))
+    sample = FRepPointSample.make(ball, doc, cells=24)
+    doc.recompute()
+    assert sample.isValid(), sample.getStatusString()
+    points = sample.Points.Points
+    assert sample.Count == len(points) > 500
+    # on the surface to the mesh's single precision (its vertices are floats)
+    assert max(abs((p - FreeCAD.Vector(1, 0, 0)).Length - 2) for p in points) < 1e-4
+    coarse = sample.Count
+    sample.Cells = 48
+    doc.recompute()
+    assert sample.Count > 3 * coarse
+    sample.Cells = 2
+    doc.recompute()
+    assert not sample.isValid() and "'Cells' = 2 is out of range" in sample.getStatusString()
