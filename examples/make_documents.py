@@ -9,6 +9,7 @@
                                     their .json files (File > Open does the same)
     examples/lattice.FCStd          lattices bending an FRep bar with holes and a mesh block
     examples/hspline.FCStd          seed 003's hspline tutorial after its editing steps
+    examples/bracket.FCStd          a PartDesign bracket filled with the gyroid infill
 
 FREP_EXAMPLES=lattice,csg (names, comma-separated) writes only those documents.
 
@@ -91,6 +92,14 @@ def build():
         FRepExamples.build_lattice_bend(doc)
         doc.recompute()
         save(doc, "lattice")
+
+    if wanted("bracket"):
+        doc = new_document("bracket", "A 40 x 24 x 10 mm PartDesign bracket (a Body) filled "
+                           "by the FRep Infill: a 1.5 mm skin round a gyroid of 5 mm cells. "
+                           "Try: frepcad export examples/bracket.FCStd -o bracket.3mf")
+        FRepExamples.build_bracket_infill(doc)
+        doc.recompute()
+        save(doc, "bracket")
 
     if wanted("hspline"):
         doc = new_document("hspline", "Seed 003's hspline tutorial (docs/hsplines.md) after "
