@@ -145,6 +145,8 @@ expect 1 "refusing to write" -- "$frepcad" export "$work/empty.json" -o "$work/e
 [ ! -e "$work/empty.stl" ] || { echo "FAIL: refused export left a file"; failures=$((failures + 1)); }
 # an empty solid without a box (no point inside: the bounds search finds nothing) is the same
 # verdict, and so is an instancer of one
+# the infilled PartDesign bracket: its one visible solid, the infill, exports printable
+expect 0 "wrote .*bracket.3mf from .*bracket.FCStd \(BracketInfill\)" -- "$frepcad" export "$src/examples/bracket.FCStd" -o "$work/bracket.3mf" --cells 64
 # HyperFun programs export like models (docs/hyperfun.md); a mistake names its line and column
 expect 0 "verdict: printable" -- "$frepcad" export "$src/examples/mount.hf" -o "$work/mount.stl" --cells 48
 # the test programs (tests/test_hyperfun.cpp checks their values): each exports printable;

@@ -150,7 +150,7 @@ def test_hspline_document_holds_the_tutorial_with_its_detail():
 
 
 @pytest.mark.parametrize("name", ["csg", "csg_spreadsheet", "twist", "helix", "gyroid",
-                                  "showcase", "lattice", "hspline"])
+                                  "showcase", "lattice", "hspline", "bracket"])
 def test_examples_were_saved_from_the_gui(name):
     """Without GuiDocument.xml FreeCAD opens a document with every object shown, consumed
     inputs included; make_documents.py saves from the GUI so the inputs stay hidden."""
