@@ -226,94 +226,70 @@ class NodeCommand:
             FreeCADGui.SendMsgToActiveView("ViewFit")
 
 
-class PolygonizeCommand:
+class FromSolidCommand:
+    """A command that makes a feature from the one selected FRep solid: Polygonize, Section,
+    Point sample. `make(source, doc)` makes it (a ValueError: the solid cannot have one)."""
+
+    def __init__(self, name, title, icon, tooltip, make):
+        self.name, self.title, self.icon, self.tooltip, self.make = (name, title, icon,
+                                                                      tooltip, make)
+
     def GetResources(self):
-        return {"Pixmap": FRepPaths.icon("polygonize"),
-                "MenuText": QT_TRANSLATE_NOOP("FRep_Polygonize", "Polygonize"),
-                "ToolTip": QT_TRANSLATE_NOOP(
-                    "FRep_Polygonize",
-                    "Mesh the selected FRep solid at full resolution into a Polygonize "
-                    "feature (automatic bounding box, resolution and method in its "
-                    "properties). Shows progress; Esc or the cancel button stops it.")}
+        return {"Pixmap": FRepPaths.icon(self.icon),
+                "MenuText": QT_TRANSLATE_NOOP(self.name, self.title),
+                "ToolTip": QT_TRANSLATE_NOOP(self.name, self.tooltip)}
 
     def IsActive(self):
         return FreeCAD.ActiveDocument is not None and \
             len(FreeCADGui.Selection.getSelection()) == 1
 
     def Activated(self):
+        where = "FRep " + self.title
         selection = FreeCADGui.Selection.getSelection()
         if len(selection) != 1 or not FRepTree.is_frep_input(selection[0]):
-            report("FRep Polygonize", "Polygonize needs exactly one FRep feature or Part "
-                   "primitive selected")
-            return
-        doc = selection[0].Document
-        with Transaction(doc, "Polygonize"):
-            obj = FRepPolygonize.make(selection[0], doc)
-            add_to_active_container(obj)
-        # Recompute outside the transaction: a cancel or an error marks the feature, the user
-        # sees why in the tree and can change its settings, and undo still removes it.
-        doc.recompute()
-        report_if_failed("FRep Polygonize", obj)
-
-
-class SectionCommand:
-    def GetResources(self):
-        return {"Pixmap": FRepPaths.icon("section"),
-                "MenuText": QT_TRANSLATE_NOOP("FRep_Section", "Section"),
-                "ToolTip": QT_TRANSLATE_NOOP(
-                    "FRep_Section",
-                    "Cut the selected FRep solid by a plane (through the middle of its box, "
-                    "across z; Origin and Normal in its properties) into closed wires that "
-                    "Sketcher, Part and PartDesign use like any edges.")}
-
-    def IsActive(self):
-        return FreeCAD.ActiveDocument is not None and \
-            len(FreeCADGui.Selection.getSelection()) == 1
-
-    def Activated(self):
-        import FRepSection
-        selection = FreeCADGui.Selection.getSelection()
-        if len(selection) != 1 or not FRepTree.is_frep_input(selection[0]):
-            report("FRep Section", "Section needs exactly one FRep feature or solid selected")
+            report(where, "%s needs exactly one FRep feature, Part primitive or solid "
+                   "selected" % self.title)
             return
         doc = selection[0].Document
         try:
-            with Transaction(doc, "Section"):
-                obj = FRepSection.make(selection[0], doc)
+            with Transaction(doc, self.title):
+                obj = self.make(selection[0], doc)
                 add_to_active_container(obj)
-        except ValueError as e:  # an empty or unbounded solid: no box to centre the plane in
-            report("FRep Section", str(e))
+        except ValueError as e:  # (an empty or unbounded solid, for a box-centred plane)
+            report(where, str(e))
             return
+        # Recompute outside the transaction: a cancel or an error marks the feature, the user
+        # sees why in the tree and can change its settings, and undo still removes it.
         doc.recompute()
-        report_if_failed("FRep Section", obj)
+        report_if_failed(where, obj)
 
 
-class PointSampleCommand:
-    def GetResources(self):
-        return {"Pixmap": FRepPaths.icon("point_sample"),
-                "MenuText": QT_TRANSLATE_NOOP("FRep_PointSample", "Point sample"),
-                "ToolTip": QT_TRANSLATE_NOOP(
-                    "FRep_PointSample",
-                    "Points on the selected FRep solid's surface, about a cell apart (Cells "
-                    "in its properties), as a FreeCAD Points object.")}
+def _make_section(source, doc):
+    import FRepSection
+    return FRepSection.make(source, doc)
 
-    def IsActive(self):
-        return FreeCAD.ActiveDocument is not None and \
-            len(FreeCADGui.Selection.getSelection()) == 1
 
-    def Activated(self):
-        import FRepPointSample
-        selection = FreeCADGui.Selection.getSelection()
-        if len(selection) != 1 or not FRepTree.is_frep_input(selection[0]):
-            report("FRep Point sample", "Point sample needs exactly one FRep feature or solid "
-                   "selected")
-            return
-        doc = selection[0].Document
-        with Transaction(doc, "Point sample"):
-            obj = FRepPointSample.make(selection[0], doc)
-            add_to_active_container(obj)
-        doc.recompute()
-        report_if_failed("FRep Point sample", obj)
+def _make_point_sample(source, doc):
+    import FRepPointSample
+    return FRepPointSample.make(source, doc)
+
+
+FROM_SOLID = {
+    "FRep_Polygonize": (
+        "Polygonize", "polygonize",
+        "Mesh the selected FRep solid at full resolution into a Polygonize feature (automatic "
+        "bounding box, resolution and method in its properties). Shows progress; Esc or the "
+        "cancel button stops it.", FRepPolygonize.make),
+    "FRep_Section": (
+        "Section", "section",
+        "Cut the selected FRep solid by a plane (through the middle of its box, across z; "
+        "Origin and Normal in its properties) into closed wires that Sketcher, Part and "
+        "PartDesign use like any edges.", _make_section),
+    "FRep_PointSample": (
+        "Point sample", "point_sample",
+        "Points on the selected FRep solid's surface, about a cell apart (Cells in its "
+        "properties), as a FreeCAD Points object.", _make_point_sample),
+}
 
 
 class ExportCommand:
@@ -636,8 +612,9 @@ def register():
     COMMANDS.clear()
     for type_id in FRepFeatures.NODE_TYPES:
         COMMANDS[command_name(type_id)] = NodeCommand(type_id)
-    COMMANDS.update({"FRep_Polygonize": PolygonizeCommand(), "FRep_Export": ExportCommand(),
-                     "FRep_Section": SectionCommand(), "FRep_PointSample": PointSampleCommand(),
+    for name, (title, icon, tooltip, make) in FROM_SOLID.items():
+        COMMANDS[name] = FromSolidCommand(name, title, icon, tooltip, make)
+    COMMANDS.update({"FRep_Export": ExportCommand(),
                      "FRep_PreviewQuality": PreviewQualityCommand(),
                      "FRep_SolidTolerance": SolidToleranceCommand(),
                      "FRep_Lattice": LatticeCommand(), "FRep_Deform": DeformCommand(),

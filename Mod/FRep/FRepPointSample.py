@@ -11,7 +11,7 @@ import FreeCAD
 import FRepTree
 from FRepErrors import one_line_errors
 from FRepPaths import frepcore
-from FRepProxy import FeatureProxy
+from FRepProxy import FeatureProxy, add_property
 
 GROUP = "Point sample"
 DEFAULT_CELLS = 64
@@ -19,14 +19,11 @@ DEFAULT_CELLS = 64
 
 class PointSampleFeature(FeatureProxy):
     def setup(self, obj):
-        if "Source" not in obj.PropertiesList:
-            obj.addProperty("App::PropertyLink", "Source", GROUP,
-                            "The FRep solid (or any FRep input) to sample.")
-        if "Cells" not in obj.PropertiesList:
-            obj.addProperty("App::PropertyInteger", "Cells", GROUP,
-                            "Cells along the longest side of the solid's box: the points are "
-                            "about a cell apart. Allowed: 4 to 1024.")
-            obj.Cells = DEFAULT_CELLS
+        add_property(obj, "App::PropertyLink", "Source", GROUP,
+                     "The FRep solid (or any FRep input) to sample.")
+        add_property(obj, "App::PropertyInteger", "Cells", GROUP,
+                     "Cells along the longest side of the solid's box: the points are about "
+                     "a cell apart. Allowed: 4 to 1024.", DEFAULT_CELLS)
         if "Count" not in obj.PropertiesList:
             obj.addProperty("App::PropertyInteger", "Count", GROUP, "Points (read-only).")
             obj.setEditorMode("Count", 1)

@@ -10,7 +10,7 @@ import FreeCAD
 import FRepMeshing
 import FRepTree
 from FRepErrors import FeatureError, one_line_errors
-from FRepProxy import FeatureProxy
+from FRepProxy import FeatureProxy, add_property
 from FRepPaths import frepcore
 
 GROUP = "Polygonize"
@@ -109,10 +109,7 @@ def settings_of(obj):
 class Polygonize(FeatureProxy):
     def setup(self, obj):
         def add(kind, name, doc, value=None):
-            if name not in obj.PropertiesList:
-                obj.addProperty(kind, name, GROUP, doc)
-                if value is not None:
-                    setattr(obj, name, value)
+            add_property(obj, kind, name, GROUP, doc, value)
 
         add("App::PropertyLink", "Source", "The FRep feature (or Part primitive) to mesh.")
         add("App::PropertyBool", "AutoBounds",

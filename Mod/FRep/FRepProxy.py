@@ -17,6 +17,14 @@ class StatelessProxy:
         return None
 
 
+def add_property(obj, kind, name, group, doc, value=None):
+    """Adds a property unless the object has it (a reopened document keeps its values)."""
+    if name not in obj.PropertiesList:
+        obj.addProperty(kind, name, group, doc)
+        if value is not None:
+            setattr(obj, name, value)
+
+
 class FeatureProxy(StatelessProxy):
     """Base of the workbench's document features: setup(obj) adds the properties, both when
     the feature is made and when a document saved before a property existed is reopened."""

@@ -11,7 +11,7 @@ import FreeCAD
 import FRepTree
 from FRepErrors import one_line_errors
 from FRepPaths import frepcore
-from FRepProxy import FeatureProxy
+from FRepProxy import FeatureProxy, add_property
 
 GROUP = "Section"
 DEFAULT_CELLS = 256
@@ -20,10 +20,7 @@ DEFAULT_CELLS = 256
 class SectionFeature(FeatureProxy):
     def setup(self, obj):
         def add(kind, name, doc, value=None):
-            if name not in obj.PropertiesList:
-                obj.addProperty(kind, name, GROUP, doc)
-                if value is not None:
-                    setattr(obj, name, value)
+            add_property(obj, kind, name, GROUP, doc, value)
 
         add("App::PropertyLink", "Source", "The FRep solid (or any FRep input) to cut.")
         add("App::PropertyVectorDistance", "Origin", "A point of the cutting plane.")
