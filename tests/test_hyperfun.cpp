@@ -361,6 +361,17 @@ TEST(HyperFun, ErrorsNameTheLineAndColumn) {
             std::string::npos);
   EXPECT_NE(errorOf(model("my_model = hfSphere(x, 1);")).find("hfsphere takes 3 arguments"),
             std::string::npos);
+  // a long formula is fine (3,000 blobs: about 150,000 characters), one of over a million is
+  // refused before it is built
+  const std::string blobs =
+      "array x0[3000], y0[3000], z0[3000], p[3000], q[3000];\n i = 1;\n"
+      "while i <= 3000 loop\n x0[i] = 0.01 * i; y0[i] = 0; z0[i] = 0; p[i] = 3; q[i] = 1;\n"
+      " i = i + 1;\nendloop;\n";
+  EXPECT_EQ(errorOf(model(blobs + "my_model = hfBlobby(x, x0, y0, z0, p, q, 0.4);")), "(accepted)");
+  std::string turns = "array p[3];\n p[1] = x[1]; p[2] = x[2]; p[3] = x[3];\n";
+  for (int k = 0; k < 40; ++k) turns += "t = hfRotate3DZ(p, 0.1);\n";
+  EXPECT_NE(errorOf(model(turns + "my_model = hfSphere(p, p, 1);")).find("longer than 1000000"),
+            std::string::npos);
   // nesting a hostile file would use to overflow the stack is refused
   EXPECT_NE(
       errorOf(model("my_model = " + std::string(5000, '(') + "1" + std::string(5000, ')') + ";"))

@@ -403,9 +403,13 @@ class Emitter {
 
   // Text of `e` in the formula language with as few parentheses as its parser needs;
   // `precedence` says how it binds: 1 sum, 2 product, 3 sign, 4 power, 5 a single value.
+  // r.length: the characters of the formula written so far (a node's text replaces its
+  // parts', which counted while they were written), checked as it grows so that a tree
+  // whose text would explode is refused before it is built.
   std::string render(const ExprPtr& e, Rendering& r, int& precedence) {
+    const std::size_t before = r.length;
     std::string out = renderOnce(e, r, precedence);
-    r.length += out.size();
+    r.length = before + out.size();
     if (r.length > kMostFormulaChars)
       b_.fail("a formula of the model is longer than " + std::to_string(kMostFormulaChars) +
               " characters (many nested transformations?)");
