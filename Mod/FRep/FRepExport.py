@@ -79,6 +79,13 @@ def is_plain_mesh(obj):
     return obj.TypeId == "Mesh::Feature" or FRepHSpline.is_hspline(obj)
 
 
+def kept_as_it_is(obj, cells, resolution, bbox, settings):
+    """Whether obj is written as its own mesh: a plain mesh, and no box, size or meshing
+    setting asked for (any of them means: mesh it again)."""
+    return (is_plain_mesh(obj) and cells is None and resolution is None and bbox is None
+            and not settings)
+
+
 def mesh_of(obj):
     """The frepcore mesh of a plain mesh (is_plain_mesh), placed: a Mesh feature's own, an
     hspline's surface tessellated within the document's solid tolerance."""
@@ -152,8 +159,7 @@ def export_objects(objects, filename, progress=None, cells=None, fmt="", resolut
                            settings, unit)
     if unit != "mm":
         raise ValueError("%s: a unit applies to a 3MF output only" % os.path.basename(filename))
-    if len(objects) == 1 and is_plain_mesh(objects[0]) and cells is None and \
-            resolution is None and bbox is None and not settings and \
+    if len(objects) == 1 and kept_as_it_is(objects[0], cells, resolution, bbox, settings) and \
             not filename.lower().endswith(".vdb"):
         return _export_mesh_as_it_is(objects[0], filename, fmt, force, progress)
     solid, (box, cell) = solid_and_box(objects, cells, resolution, bbox)
@@ -194,7 +200,7 @@ def _export_3mf(objects, filename, progress, cells, resolution, bbox, force, set
         meshes = []
         share = 0.8 / len(objects)
         for i, obj in enumerate(objects):
-            if is_plain_mesh(obj) and cells is None and resolution is None and bbox is None:
+            if kept_as_it_is(obj, cells, resolution, bbox, settings):
                 meshes.append((obj.Label, mesh_of(obj)))  # the part itself, as it is
                 continue
             meshed = isinstance(getattr(obj, "Proxy", None), FRepPolygonize.Polygonize)
