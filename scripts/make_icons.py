@@ -705,6 +705,25 @@ def hspline_solid():
                radial("b", BLUE))
 
 
+def hspline_envelope():
+    """Envelope: a bent tube carried by two skeleton segments meeting at a joint."""
+    body = ('<path d="M6,22 L30,22 C44,22 50,30 50,44 L50,60 L34,60 L34,44 C34,40 32,38 28,38 '
+            'L6,38 Z" fill="%s" stroke="%s" stroke-width="2"/>\n' % (TAN, TAN_EDGE))
+    body += ('<path d="M4,30 L42,30 L42,62" fill="none" stroke="#333333" stroke-width="3" '
+             'stroke-linecap="round" stroke-linejoin="round"/>\n')
+    return svg(body + centres([(4, 30), (42, 30), (42, 62)], CV_RED, 4))
+
+
+def hspline_attach():
+    """Attach: a tube standing on a sheet, joined around a ring of the sheet's CVs."""
+    body = ('<path d="M2,46 L18,32 L62,32 L46,46 Z" fill="%s" stroke="%s" stroke-width="2"/>\n'
+            % (TAN, TAN_EDGE))
+    body += ('<path d="M22,38 C22,30 24,26 26,12 L42,12 C44,26 46,30 46,38 Z" fill="#e8c987" '
+             'stroke="%s" stroke-width="2"/>\n<ellipse cx="34" cy="12" rx="8" ry="3" '
+             'fill="#f0dcae" stroke="%s" stroke-width="2"/>\n' % (TAN_EDGE, TAN_EDGE))
+    return svg(body + centres([(22, 38), (34, 42), (46, 38), (34, 34)], CV_GREEN, 3))
+
+
 def file_page(extra):
     return ('<path d="M14,4 L42,4 L52,14 L52,60 L14,60 Z" fill="#ffffff" %s/>\n'
             '<path d="M42,4 L42,14 L52,14" fill="none" %s/>\n'
@@ -801,6 +820,8 @@ ICONS = {
     "hspline_solid": hspline_solid,
     "hspline_import": hspline_import,
     "hspline_export": hspline_export,
+    "hspline_envelope": hspline_envelope,
+    "hspline_attach": hspline_attach,
     # Fallbacks for node types added without their own icon, by registry category.
     "category-primitive": lambda: svg(sphere(), radial("b", BLUE)),
     "category-transform": transform,

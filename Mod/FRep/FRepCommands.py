@@ -63,6 +63,9 @@ LAYOUT = (
                                   "FRep_HSplineTorus", "FRep_HSplineFromFace")),
         "FRep_HSplineRefine", "FRep_HSplineZeroOffsets", "FRep_HSplineUnrefine",
         "FRep_HSplineToSolid",
+        ("FRep_HSplineCompose", "Attach and envelope", "Join a cylinder to an hspline through a "
+         "seam; bind an hspline to skeleton segments that bend it",
+         ("FRep_HSplineAttach", "FRep_HSplineEnvelope")),
         ("FRep_HSplineFiles", "Hspline files", "Import or export .hs, STEP or a checked STL",
          ("FRep_HSplineImport", "FRep_HSplineExport")))),
     ("FRep mesh", (

@@ -367,6 +367,9 @@ def tag(obj, how, level=0, region=None, mode="set"):
 
 # -- edits (each one property change set: one undo step inside a transaction) --------------
 def _edited(obj, change, values_only=False):
+    if getattr(obj.Proxy, "DERIVED", False):
+        raise ValueError("%s: its CVs follow its segments; edit the CVs of its Base '%s' "
+                         "instead" % (obj.Label, obj.Base.Label if obj.Base else "(none)"))
     h = hspline_of(obj)
     try:
         result = change(h)

@@ -76,10 +76,29 @@ class AttachmentFeature(FeatureProxy):
                           ("J0", "Its first CV along v."), ("J1", "Its last CV along v.")):
             if name not in have:
                 obj.addProperty("App::PropertyInteger", name, GROUP, doc)
+        if "LimbHeight" not in have:
+            obj.addProperty("App::PropertyLength", "LimbHeight", GROUP,
+                            "The height of the cylinder the Attach command made over the ring; "
+                            "a new rectangle in its panel rebuilds that cylinder. 0: the "
+                            "cylinder is the user's own and keeps its CVs.")
         if "Subdivisions" not in have:
             obj.addProperty("App::PropertyIntegerConstraint", "Subdivisions", GROUP,
                             "Catmull-Clark steps (0 to 6): each makes four times the faces.")
             obj.Subdivisions = (3, 0, 6, 1)
+
+    # For the Attach panel, which does not import this module.
+    def parent_grid(self, obj):
+        return H._shared(obj.Parent).grid_size(0)
+
+    def tagged_rectangle(self, obj):
+        """The rectangle of the parent's tagged level-0 CVs; None when they span none."""
+        tagged = [(i, j) for level, i, j in H.tags(obj.Parent) if level == 0]
+        if len({i for i, _ in tagged}) > 1 and len({j for _, j in tagged}) > 1:
+            return default_rectangle(obj.Parent)
+        return None
+
+    def set_rectangle(self, obj, rect):
+        set_rectangle(obj, rect)
 
     @one_line_errors
     def execute(self, obj):
@@ -99,7 +118,7 @@ def make_attachment(doc, parent, cylinder, rect, subdivisions=3, name="Attachmen
     AttachmentFeature(obj)
     if FreeCAD.GuiUp:
         import FRepViewProviders
-        FRepViewProviders.ViewProviderFRep(obj.ViewObject)
+        FRepViewProviders.ViewProviderAttachment(obj.ViewObject)
     obj.Parent, obj.Cylinder = parent, cylinder
     obj.I0, obj.I1, obj.J0, obj.J1 = rect
     obj.Subdivisions = subdivisions
@@ -111,5 +130,47 @@ def make_attachment(doc, parent, cylinder, rect, subdivisions=3, name="Attachmen
 def attach_new_cylinder(doc, parent, rect, rows=5, height=10.0, subdivisions=3):
     """A new cylinder hspline standing on the ring around `rect` of the parent, and the
     Attachment joining them. Returns (cylinder feature, attachment)."""
+    check_rectangle(parent, rect)
     limb = H.make_hspline(doc, cylinder_over_ring(parent, rect, rows, height), name="Limb")
-    return limb, make_attachment(doc, parent, limb, rect, subdivisions)
+    joint = make_attachment(doc, parent, limb, rect, subdivisions)
+    joint.LimbHeight = height
+    return limb, joint
+
+
+def check_rectangle(parent, rect, label=None):
+    """ValueError naming the rectangle's fault: it must lie inside the parent's level-0 grid
+    and span at least one CV each way."""
+    i0, i1, j0, j1 = rect
+    nu, nv = H._shared(parent).grid_size(0)
+    who = label or parent.Label
+    if not (0 <= i0 < i1 < nu):
+        raise ValueError("%s: the rectangle's CVs along u must satisfy 0 <= I0 < I1 <= %d, "
+                         "not I0 = %d, I1 = %d" % (who, nu - 1, i0, i1))
+    if not (0 <= j0 < j1 < nv):
+        raise ValueError("%s: the rectangle's CVs along v must satisfy 0 <= J0 < J1 <= %d, "
+                         "not J0 = %d, J1 = %d" % (who, nv - 1, j0, j1))
+
+
+def default_rectangle(parent):
+    """The rectangle of the parent's tagged level-0 CVs, or a 2 x 2 one at its middle."""
+    tagged = [(i, j) for level, i, j in H.tags(parent) if level == 0]
+    if len({i for i, _ in tagged}) > 1 and len({j for _, j in tagged}) > 1:
+        return (min(i for i, _ in tagged), max(i for i, _ in tagged),
+                min(j for _, j in tagged), max(j for _, j in tagged))
+    nu, nv = H._shared(parent).grid_size(0)
+    return (nu // 2 - 1, nu // 2 + 1, nv // 2 - 1, nv // 2 + 1)
+
+
+def default_height(parent):
+    """A limb a third of the parent's size high."""
+    return round(max(parent.Shape.BoundBox.DiagonalLength / 3.0, 1e-3), 3)
+
+
+def set_rectangle(obj, rect):
+    """A new rectangle for an attachment; the cylinder the command made is built again over
+    the new ring (one the user gave keeps its CVs: its CV count must match the ring)."""
+    check_rectangle(obj.Parent, rect, obj.Label)
+    if obj.LimbHeight > 0 and H.is_hspline(obj.Cylinder):
+        H.store(obj.Cylinder, cylinder_over_ring(obj.Parent, rect, 5, float(obj.LimbHeight)))
+        obj.Cylinder.touch()
+    obj.I0, obj.I1, obj.J0, obj.J1 = rect

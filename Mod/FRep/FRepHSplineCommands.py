@@ -7,7 +7,8 @@ import FreeCAD
 import FreeCADGui
 
 import FRepPaths
-from FRepGuiHelpers import QT_TRANSLATE_NOOP, Transaction, add_to_active_container, report
+from FRepGuiHelpers import (QT_TRANSLATE_NOOP, Transaction, add_to_active_container, report,
+                             report_if_failed)
 
 
 def _selected_hsplines():
@@ -128,6 +129,77 @@ class EditCommand:
                 FreeCAD.Console.PrintMessage("%s: unrefine removed %d CVs\n" % (obj.Label, result))
 
 
+class AttachCommand:
+    def GetResources(self):
+        return {"Pixmap": FRepPaths.icon("hspline_attach"),
+                "MenuText": QT_TRANSLATE_NOOP("FRep_HSplineAttach", "Attach cylinder"),
+                "ToolTip": QT_TRANSLATE_NOOP(
+                    "FRep_HSplineAttach",
+                    "Stands a cylinder on the selected hspline, joined through a Catmull-Clark "
+                    "seam around a rectangle of its level-0 CVs (the tagged ones, or one at its "
+                    "middle); a second selected hspline cylinder is used instead of a new one. "
+                    "The panel sets the rectangle, the height and the seam's subdivisions.")}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None and 1 <= len(_selected_hsplines()) <= 2
+
+    def Activated(self):
+        import FRepHSplineAttach as A
+        doc = FreeCAD.ActiveDocument
+        chosen = _selected_hsplines()
+        parent = chosen[0]
+        doc.openTransaction("Attach to %s" % parent.Label)
+        try:
+            rect = A.default_rectangle(parent)
+            if len(chosen) == 2:
+                joint = A.make_attachment(doc, parent, chosen[1], rect)
+            else:
+                _, joint = A.attach_new_cylinder(doc, parent, rect,
+                                                 height=A.default_height(parent))
+            add_to_active_container(joint)
+            doc.recompute()
+        except ValueError as e:
+            doc.abortTransaction()
+            report("FRep hspline", str(e))
+            return
+        _select(joint)
+        joint.ViewObject.Proxy.transaction_open = True
+        FreeCADGui.ActiveDocument.setEdit(joint.Name, 0)
+
+
+class EnvelopeCommand:
+    def GetResources(self):
+        return {"Pixmap": FRepPaths.icon("hspline_envelope"),
+                "MenuText": QT_TRANSLATE_NOOP("FRep_HSplineEnvelope", "Envelope"),
+                "ToolTip": QT_TRANSLATE_NOOP(
+                    "FRep_HSplineEnvelope",
+                    "Binds the selected hspline's CVs to skeleton segments (the selected lines "
+                    "or coordinate systems, in order; none: two lines along its longest side, "
+                    "jointed at the middle). Move a segment to bend the surface; the joint stays "
+                    "round (level 0 refined there, its level 1 blending the two frames).")}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None and len(_selected_hsplines()) == 1
+
+    def Activated(self):
+        import FRepHSplineEnvelope as E
+        doc = FreeCAD.ActiveDocument
+        base = _selected_hsplines()[0]
+        segments = [o for o in FreeCADGui.Selection.getSelection() if o != base]
+        try:
+            with Transaction(doc, "Envelope %s" % base.Label):
+                if not segments:
+                    segments = E.make_skeleton(doc, base)
+                obj = E.make_envelope(doc, base, segments)
+                add_to_active_container(obj)
+                doc.recompute()
+        except ValueError as e:
+            report("FRep hspline", str(e))
+            return
+        report_if_failed("FRep hspline", obj)
+        _select(obj)
+
+
 class ImportCommand:
     def GetResources(self):
         return {"Pixmap": FRepPaths.icon("hspline_import"), "MenuText": "Import .hs...",
@@ -200,6 +272,8 @@ def commands():
     for action, name in (("refine", "Refine"), ("zero", "ZeroOffsets"), ("unrefine", "Unrefine"),
                          ("solid", "ToSolid")):
         made["FRep_HSpline" + name] = EditCommand(action)
+    made["FRep_HSplineAttach"] = AttachCommand()
+    made["FRep_HSplineEnvelope"] = EnvelopeCommand()
     made["FRep_HSplineImport"] = ImportCommand()
     made["FRep_HSplineExport"] = ExportCommand()
     return made

@@ -360,3 +360,27 @@ class ViewProviderHSpline(DraggerHost, StatelessProxy):
 def _tags(obj):
     t = list(obj.Tagged)
     return [tuple(t[k:k + 3]) for k in range(0, len(t) - len(t) % 3, 3)]
+
+
+class ViewProviderEnvelope(ViewProviderHSpline):
+    """An Envelope draws as an hspline (its CVs follow the segments, so edit mode is its Base's:
+    double-click opens the Base's edit panel) and holds its Base and segments in the tree."""
+
+    def getIcon(self):
+        return FRepPaths.icon("hspline_envelope")
+
+    def claimChildren(self):
+        obj = self.Object
+        return ([obj.Base] if obj.Base is not None else []) + list(obj.Segments)
+
+    def setEdit(self, vobj, mode=0):
+        if mode != 0:
+            return None
+        base = vobj.Object.Base
+        if base is not None and base.ViewObject is not None:
+            import FreeCADGui
+            from PySide import QtCore
+            gui_doc = FreeCADGui.getDocument(base.Document.Name)
+            # after this edit request has been turned down, not inside it
+            QtCore.QTimer.singleShot(0, lambda: gui_doc.setEdit(base.Name, 0))
+        return False

@@ -48,6 +48,23 @@ class ViewProviderFRep(StatelessProxy):
         return True
 
 
+class ViewProviderAttachment(ViewProviderFRep):
+    """An hspline attachment: edit mode is the Attach panel (the rectangle, the limb)."""
+
+    def getIcon(self):
+        return FRepPaths.icon("hspline_attach")
+
+    def setEdit(self, vobj, mode=0):
+        if mode != 0:
+            return None
+        import FreeCADGui
+        import FRepHSplineAttachPanel
+        # (the Attach command opens edit mode inside the transaction that made the objects)
+        opened, self.transaction_open = getattr(self, "transaction_open", False), False
+        FreeCADGui.Control.showDialog(FRepHSplineAttachPanel.AttachPanel(vobj.Object, opened))
+        return True
+
+
 class ViewProviderSection(ViewProviderFRep):
     """A section's wires: drawn thick and orange over the solid they cut."""
 

@@ -9,6 +9,7 @@
 #include "hspline/hs_file.h"
 #include "hspline/hspline.h"
 #include "hspline/hspline_attach.h"
+#include "hspline/hspline_envelope.h"
 #include "hspline/hspline_flatten.h"
 #include "hspline/hspline_select.h"
 #include "hspline/hspline_shapes.h"
@@ -397,6 +398,34 @@ void bindHSpline(py::module_& m) {
       "parent CVs around [i0, i1] x [j0, j1] (cylinder CV k over ring CV k, the ring running "
       "+i, +j, -i, -j from (i0, j0)); the joined net as a Catmull-Clark surface subdivided "
       "`subdivisions` times. dict(mesh, extraordinary, boundary_loops, control_faces).");
+  m.def(
+      "envelope",
+      [](const HSpline& rest, const std::vector<std::tuple<Vec3, Vec3, Mat34>>& segments,
+         const std::vector<int>& levels, double jointReach, bool refineJoints) {
+        std::vector<HsSegment> bones;
+        for (const auto& [start, end, motion] : segments) bones.push_back({start, end, motion});
+        HsEnvelopeSettings settings;
+        settings.levels = levels, settings.jointReach = jointReach;
+        settings.refineJoints = refineJoints;
+        HsEnvelope e;
+        {
+          py::gil_scoped_release release;
+          e = envelope(rest, bones, settings);
+        }
+        py::dict d;
+        d["hspline"] = e.surface, d["bound_per_segment"] = e.boundPerSegment;
+        d["bound_per_level"] = e.boundPerLevel, d["blended"] = e.blended;
+        d["joints"] = e.joints, d["joint_reach"] = e.jointReach;
+        return d;
+      },
+      py::arg("rest"), py::arg("segments"), py::arg("levels") = std::vector<int>{0, 1},
+      py::arg("joint_reach") = 0.0, py::arg("refine_joints") = true,
+      "Seed 003's enveloping: the CVs of `levels` bound to skeleton segments, each given as "
+      "(rest start, rest end, motion), the motion a rigid 3x4 row-major matrix from the rest "
+      "pose to the current one. Level 0 goes with each CV's nearest segment; finer levels "
+      "blend the rotations of a joint's two segments within joint_reach of it (0: sized from "
+      "the control net); refine_joints refines level 0 there first. dict(hspline, "
+      "bound_per_segment, bound_per_level, blended, joints, joint_reach).");
   m.def("parse_hs", &parseHs, py::arg("text"), py::arg("source") = "<text>");
   m.def(
       "read_hs", [](const FilePath& path) { return readHsFile(path); }, py::arg("path"));

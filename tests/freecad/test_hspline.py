@@ -236,3 +236,93 @@ def test_an_attachment_joins_a_cylinder_and_follows_its_edits(doc):
     joint.I1 = 7  # the ring no longer has the cylinder's 12 CVs
     doc.recompute()
     assert "Invalid" in joint.State
+
+
+def _tube_volume(obj, n=64):
+    """The volume of an open tube's surface closed by flat fans at its two end rings."""
+    surface = obj.Shape.Faces[0].Surface
+    u0, u1, v0, v1 = surface.bounds()
+    rows = [[surface.value(u0 + (u1 - u0) * a / n, v0 + (v1 - v0) * b / (3 * n))
+             for a in range(n)] for b in range(3 * n + 1)]
+    tet = lambda a, b, c: a.dot(b.cross(c)) / 6.0
+    volume = 0.0
+    for b in range(3 * n):
+        for a in range(n):
+            p, q = rows[b], rows[b + 1]
+            volume += tet(p[a], p[(a + 1) % n], q[(a + 1) % n]) + tet(p[a], q[(a + 1) % n], q[a])
+    for row, sign in ((rows[0], -1), (rows[-1], 1)):
+        c = sum(row, FreeCAD.Vector()) * (1.0 / n)
+        volume += sum(sign * tet(c, row[a], row[(a + 1) % n]) for a in range(n))
+    return abs(volume)
+
+
+def test_an_envelope_bends_a_joint_without_collapsing_and_reopens(doc, tmp_path):
+    import FRepHSplineEnvelope as E
+    arm = H.make_cylinder(doc, 8, 12, 10, 80, name="Arm")
+    upper = E.make_line(doc, (0, 0, 0), (0, 0, 40), "Upper")
+    fore = E.make_line(doc, (0, 0, 40), (0, 0, 80), "Fore")
+    env = E.make_envelope(doc, arm, [upper, fore])
+    doc.recompute()
+    assert env.isValid(), env.getStatusString()
+    rest = _tube_volume(env)
+    assert env.Levels == 2 and "blended across 1 joint" in env.Binding
+    # The forearm turned 90 degrees about the elbow, as the Transform tool would do it.
+    fore.Placement = FreeCAD.Placement(FreeCAD.Vector(), FreeCAD.Rotation(FreeCAD.Vector(1, 0, 0), 90),
+                                       FreeCAD.Vector(0, 0, 40))
+    doc.recompute()
+    assert env.isValid(), env.getStatusString()
+    box = env.Shape.BoundBox
+    assert box.ZMax < 55 and box.YMin == pytest.approx(-80 + 40, abs=0.5)
+    assert _tube_volume(env) == pytest.approx(rest, rel=0.025)
+    # Its CVs are the segments' to move; the Base's edits come through.
+    with pytest.raises(ValueError, match="edit the CVs of its Base 'Arm'"):
+        H.refine(env, [(0, 1, 1)])
+    H.nudge_cvs(arm, [(0, k, 0) for k in range(8)], (0, 0, -5))
+    doc.recompute()
+    assert env.Shape.BoundBox.ZMin == pytest.approx(-5, abs=1e-6)
+    # Set rest pose: the bent pose becomes the rest, the surface its Base's.
+    path, name = str(tmp_path / "envelope.FCStd"), env.Name
+    again = _reopened(doc, path)
+    try:
+        env2 = again.getObject(name)
+        again.recompute()
+        assert env2.isValid() and env2.Shape.BoundBox.ZMax < 55
+        E.set_rest_pose(env2)
+        again.recompute()
+        assert env2.Shape.BoundBox.ZMax == pytest.approx(80, abs=1e-6)
+    finally:
+        FreeCAD.closeDocument(again.Name)
+
+
+def test_an_envelope_names_what_is_wrong(doc):
+    import FRepHSplineEnvelope as E
+    arm = H.make_cylinder(doc, 8, 12, 10, 80, name="Arm")
+    box = doc.addObject("Part::Box", "Box")
+    env = E.make_envelope(doc, arm, [E.make_line(doc, (0, 0, 0), (0, 0, 80))])
+    doc.recompute()
+    assert env.isValid()
+    env.Segments = [box]
+    doc.recompute()
+    assert "Invalid" in env.State
+    assert "neither a straight line" in env.getStatusString()
+
+
+def test_an_attachment_s_rectangle_rebuilds_the_limb_and_bad_ones_are_named(doc):
+    import FRepHSplineAttach as A
+    body = H.make_plane(doc, 10, 10, 90, 90)
+    doc.recompute()
+    H.set_tags(body, [(0, 2, 2), (0, 4, 5)])
+    rect = A.default_rectangle(body)
+    assert rect == (2, 4, 2, 5)
+    limb, joint = A.attach_new_cylinder(doc, body, rect, height=A.default_height(body))
+    doc.recompute()
+    assert joint.isValid(), joint.getStatusString()
+    assert H._shared(limb).grid_size(0)[0] == 2 * 2 + 2 * 3
+    A.set_rectangle(joint, (3, 6, 3, 6))  # a bigger ring: the limb gets 12 CVs around
+    doc.recompute()
+    assert joint.isValid(), joint.getStatusString()
+    assert H._shared(limb).grid_size(0)[0] == 12
+    for bad, says in (((6, 3, 3, 6), "0 <= I0 < I1 <= 9"), ((3, 6, 3, 10), "0 <= J0 < J1 <= 9")):
+        with pytest.raises(ValueError, match=says):
+            A.set_rectangle(joint, bad)
+    assert (joint.I0, joint.I1, joint.J0, joint.J1) == (3, 6, 3, 6)
