@@ -131,6 +131,15 @@ class FRepFeature(FeatureProxy):
         """The registry's parameters of this type (dicts as frepcore.node_types gives)."""
         return NODE_TYPES[self.FREP_TYPE]["params"]
 
+    def blend_guide(self, obj):
+        """A blend's guide (FRepBlendReach.guide); None for other features."""
+        import FRepBlendReach
+        return FRepBlendReach.guide(obj) if FRepBlendReach.is_blend(obj) else None
+
+    def set_blend_reach(self, obj, name, point):
+        import FRepBlendReach
+        return FRepBlendReach.set_reach(obj, name, point)
+
     # -- the tree ------------------------------------------------------------------------------
     def local_shape(self, obj, builder):
         """This node over its inputs' shapes, before its own Placement."""

@@ -144,9 +144,14 @@ class AttachCommand:
         return FreeCAD.ActiveDocument is not None and 1 <= len(_selected_hsplines()) <= 2
 
     def Activated(self):
+        from PySide import QtCore
+        doc, chosen = FreeCAD.ActiveDocument, _selected_hsplines()
+        # After the command has returned: FreeCAD closes a transaction still open when a
+        # command ends, and this one must stay open until the panel's OK or Cancel.
+        QtCore.QTimer.singleShot(0, lambda: self.attach(doc, chosen))
+
+    def attach(self, doc, chosen):
         import FRepHSplineAttach as A
-        doc = FreeCAD.ActiveDocument
-        chosen = _selected_hsplines()
         parent = chosen[0]
         doc.openTransaction("Attach to %s" % parent.Label)
         try:
@@ -163,8 +168,10 @@ class AttachCommand:
             report("FRep hspline", str(e))
             return
         _select(joint)
-        joint.ViewObject.Proxy.transaction_open = True
-        FreeCADGui.ActiveDocument.setEdit(joint.Name, 0)
+        import FRepHSplineAttachPanel
+        # (the panel, not edit mode: FreeCAD's setEdit commits the open transaction, and OK
+        # or Cancel must decide about the new objects too)
+        FreeCADGui.Control.showDialog(FRepHSplineAttachPanel.AttachPanel(joint, True))
 
 
 class EnvelopeCommand:

@@ -61,12 +61,13 @@ def segment_poses(obj, segments):
                 raise ValueError("%s: segment '%s' has zero length" % (obj.Label, seg.Label))
             # The frame turns with the line's placement (so a turn about the line's own axis
             # counts), and by the least rotation for a change of its end points.
-            placed = seg.Placement.Rotation
+            # (a copy: calls on the object's own Rotation touch the object in FreeCAD 0.20)
+            placed = FreeCAD.Rotation(*seg.Placement.Rotation.Q)
             local = placed.inverted().multVec(end - start)
             turn = placed.multiply(FreeCAD.Rotation(FreeCAD.Vector(1, 0, 0), local))
             out.append((start, end, FreeCAD.Placement(start, turn)))
         elif _is_placement_only(seg):
-            out.append((seg.Placement.Base, None, seg.Placement))
+            out.append((FreeCAD.Vector(seg.Placement.Base), None, FreeCAD.Placement(seg.Placement)))
         else:
             raise ValueError("%s: property 'Segments': '%s' is neither a straight line (one "
                              "straight edge) nor a placement (a coordinate system)"
@@ -162,7 +163,7 @@ class EnvelopeFeature(H.HSplineFeature):
         now = segment_poses(obj, obj.Segments)
         segments = []
         for k, (start, end, frame) in enumerate(now):
-            rest = obj.RestPlacements[k]
+            rest = FreeCAD.Placement(obj.RestPlacements[k])
             motion = frame.multiply(rest.inverse())
             segments.append((tuple(obj.RestEnds[2 * k]), tuple(obj.RestEnds[2 * k + 1]),
                              _matrix12(motion)))

@@ -53,7 +53,8 @@ def position_rotations(owner, source):
     turns = [r for _, r in _placements(source)]
     if all(r is None or abs(r.Angle) < 1e-12 for r in turns):
         return []
-    back = owner.Placement.Rotation.inverted()
+    # (on a copy: inverted() on the object's own Rotation touches the object in FreeCAD 0.20)
+    back = FreeCAD.Rotation(*owner.Placement.Rotation.Q).inverted()
     out = []
     for r in turns:
         local = back.multiply(r or FreeCAD.Rotation())

@@ -27,6 +27,11 @@ class ViewProviderFRep(StatelessProxy):
         return True
 
     # Double-click (or Edit) opens the parameters' task panel; mode 0 is the default edit.
+    def updateData(self, obj, prop):
+        if prop == "Mesh":  # a blend's guide, when it is up, follows the new values
+            import FRepBlendGuideView
+            FRepBlendGuideView.refresh(obj)
+
     def setEdit(self, vobj, mode=0):
         if mode != 0:
             return None
@@ -59,9 +64,7 @@ class ViewProviderAttachment(ViewProviderFRep):
             return None
         import FreeCADGui
         import FRepHSplineAttachPanel
-        # (the Attach command opens edit mode inside the transaction that made the objects)
-        opened, self.transaction_open = getattr(self, "transaction_open", False), False
-        FreeCADGui.Control.showDialog(FRepHSplineAttachPanel.AttachPanel(vobj.Object, opened))
+        FreeCADGui.Control.showDialog(FRepHSplineAttachPanel.AttachPanel(vobj.Object))
         return True
 
 

@@ -18,7 +18,9 @@ class FRepWorkbench(FreeCADGui.Workbench):
                          "resources", "icons", "frep.svg")
 
     def Initialize(self):
+        import FRepBlendGuideView
         import FRepCommands
+        FRepBlendGuideView.install()  # a selected blend shows where it acts
         bars, menus = FRepCommands.register()
         for title, names in bars:
             self.appendToolbar(title, names)
