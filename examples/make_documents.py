@@ -10,6 +10,8 @@
     examples/lattice.FCStd          lattices bending an FRep bar with holes and a mesh block
     examples/hspline.FCStd          seed 003's hspline tutorial after its editing steps
     examples/bracket.FCStd          a PartDesign bracket filled with the gyroid infill
+    examples/attachment.FCStd       an hspline limb attached to an hspline torus, closed
+    examples/envelope.FCStd         an hspline ring folded by two enveloping bones
 
 FREP_EXAMPLES=lattice,csg (names, comma-separated) writes only those documents.
 
@@ -100,6 +102,27 @@ def build():
         FRepExamples.build_bracket_infill(doc)
         doc.recompute()
         save(doc, "bracket")
+
+    if wanted("attachment"):
+        doc = new_document("attachment", "Seed 003's attachment: a limb (an hspline cylinder) "
+                           "joined to an hspline torus through a Catmull-Clark seam around a "
+                           "2 x 2 rectangle of its CVs, closed at its tip: one closed surface. "
+                           "Edit the Limb's CVs and the joint follows; double-click the "
+                           "attachment for its panel. Try: frepcad export "
+                           "examples/attachment.FCStd -o limb.stl")
+        FRepExamples.build_attachment(doc)
+        doc.recompute()
+        save(doc, "attachment")
+
+    if wanted("envelope"):
+        doc = new_document("envelope", "Seed 003's enveloping: an hspline ring bound to two "
+                           "bones across it; the second bone is turned 60 degrees about the "
+                           "joint and folds the ring, which keeps 98 % of its volume (level 0 "
+                           "refined at the joint, level 1 blending the bones' frames). Turn "
+                           "the Bone001 line (Placement) to fold it further.")
+        FRepExamples.build_envelope(doc)
+        doc.recompute()
+        save(doc, "envelope")
 
     if wanted("hspline"):
         doc = new_document("hspline", "Seed 003's hspline tutorial (docs/hsplines.md) after "

@@ -147,6 +147,10 @@ expect 1 "refusing to write" -- "$frepcad" export "$work/empty.json" -o "$work/e
 # verdict, and so is an instancer of one
 # the infilled PartDesign bracket: its one visible solid, the infill, exports printable
 expect 0 "wrote .*bracket.3mf from .*bracket.FCStd \(BracketInfill\)" -- "$frepcad" export "$src/examples/bracket.FCStd" -o "$work/bracket.3mf" --cells 64
+# the hspline examples: a limb attached to a torus (a mesh, written as it is) and a ring folded
+# by an envelope (an hspline solid, tessellated): each one closed surface, printable
+expect 0 "wrote .*limb.stl from .*attachment.FCStd \(BodyWithLimb\)" -- "$frepcad" export "$src/examples/attachment.FCStd" -o "$work/limb.stl"
+expect 0 "wrote .*folded.stl from .*envelope.FCStd \(FoldedRing\)" -- "$frepcad" export "$src/examples/envelope.FCStd" -o "$work/folded.stl"
 # HyperFun programs export like models (docs/hyperfun.md); a mistake names its line and column
 expect 0 "verdict: printable" -- "$frepcad" export "$src/examples/mount.hf" -o "$work/mount.stl" --cells 48
 # the test programs (tests/test_hyperfun.cpp checks their values): each exports printable;

@@ -690,6 +690,98 @@ TEST(HsAttachment, ACylinderJoinsAPlaneThroughFourExtraordinaryPoints) {
   EXPECT_GT(a.mesh.triangles.size(), 4000u);
 }
 
+TEST(HsAttachment, AClosedLimbOnATorusMakesAClosedSurface) {
+  const HSpline torus = hsplineTorus(12, 8, 30, 10);
+  std::vector<std::pair<int, int>> ring;
+  for (int i = 3; i < 5; ++i) ring.push_back({i, 1});
+  for (int j = 1; j < 3; ++j) ring.push_back({5, j});
+  for (int i = 5; i > 3; --i) ring.push_back({i, 3});
+  for (int j = 3; j > 1; --j) ring.push_back({3, j});
+  Vec3 centre{0, 0, 0};
+  for (const auto& [i, j] : ring)
+    centre = vadd(centre, vscale(torus.position(0, i, j), 1.0 / ring.size()));
+  // outward: from the tube's centre circle through the ring's centre
+  const double r = std::hypot(centre[0], centre[1]);
+  const Vec3 tube{centre[0] * 30 / r, centre[1] * 30 / r, 0};
+  const Vec3 out = vscale(vsub(centre, tube), 1 / vlength(vsub(centre, tube)));
+  std::vector<Vec3> p;
+  for (int row = 0; row < 5; ++row)
+    for (const auto& [i, j] : ring) {
+      const Vec3 q = torus.position(0, i, j);
+      const double taper = row <= 1 ? 1.0 : 0.7;
+      p.push_back(vadd(vadd(centre, vscale(vsub(q, centre), taper)), vscale(out, 8.0 * (row - 1))));
+    }
+  const HSpline limb(SplineAxis::periodicUniform(8), SplineAxis::clampedUniform(2), p);
+  const HsAttachment open = attachCylinder(torus, 3, 5, 1, 3, limb, 2, false);
+  EXPECT_EQ(open.boundaryLoops, 1);  // the limb's rim
+  const HsAttachment a = attachCylinder(torus, 3, 5, 1, 3, limb, 3, true);
+  EXPECT_EQ(a.boundaryLoops, 0);
+  // Closed and consistently oriented: each directed edge once, and its twin there too.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+  for (const Triangle& t : a.mesh.triangles)
+    for (int e = 0; e < 3; ++e) ++edges[{t[e], t[(e + 1) % 3]}];
+  for (const auto& [e, n] : edges) {
+    EXPECT_EQ(n, 1);
+    EXPECT_EQ(edges.count({e.second, e.first}), 1u);
+  }
+  // It encloses the torus's volume and more (the limb), outward facing.
+  double volume = 0;
+  for (const Triangle& t : a.mesh.triangles) {
+    const auto v = [&](int k) {
+      const auto& x = a.mesh.positions[t[k]];
+      return Vec3{x[0], x[1], x[2]};
+    };
+    volume += vdot(v(0), vcross(v(1), v(2))) / 6;
+  }
+  const double torusVolume = 2 * 3.14159265 * 3.14159265 * 30 * 100;
+  EXPECT_GT(volume, 0.85 * torusVolume);
+  EXPECT_LT(volume, 1.5 * torusVolume);
+}
+
+TEST(HsAttachment, ARefinedSeamDoublesTheRingAndKeepsTheParentsDetail) {
+  // A bump modelled on the plane's level 1, away from the rectangle: a seam on level 0 drops
+  // it (seed 003's attachment uses level 0 only); on level 1 the joined surface has it.
+  HSpline plane = hsplinePlane(10, 10, 90, 90);
+  plane.refine(0, {{1, 1}});
+  for (const HsCv& cv : std::vector<HsCv>(plane.level(1).cvs))
+    if (plane.movable(1, cv.i, cv.j)) plane.setValue(1, cv.i, cv.j, {0, 0, 6});
+  const Vec3 bump = plane.position(0, 1, 1);
+  const auto highest = [&](const HsAttachment& a) {  // near the bump, far from the limb
+    float z = -1e9f;
+    for (const auto& p : a.mesh.positions)
+      if (std::abs(p[0] - bump[0]) < 15 && std::abs(p[1] - bump[1]) < 15) z = std::max(z, p[2]);
+    return z;
+  };
+  const HsAttachment coarse = attachCylinder(plane, 3, 6, 3, 6, cylinderOverRing(plane, 5), 3);
+  const auto [nu1, nv1] = std::pair{plane.level(1).u.count(), plane.level(1).v.count()};
+  // The same rectangle on level 1 (each level-0 CV i has its child near 2 i - 1 there): a ring
+  // of twice the CVs, and a cylinder of 24 around standing on it.
+  std::vector<std::pair<int, int>> ring;
+  const int a0 = 5, a1 = 11;
+  for (int i = a0; i < a1; ++i) ring.push_back({i, a0});
+  for (int j = a0; j < a1; ++j) ring.push_back({a1, j});
+  for (int i = a1; i > a0; --i) ring.push_back({i, a1});
+  for (int j = a1; j > a0; --j) ring.push_back({a0, j});
+  std::vector<Vec3> p;
+  for (int r = 0; r < 5; ++r)
+    for (const auto& [i, j] : ring) {
+      const Vec3 q = plane.position(1, i, j);
+      p.push_back({q[0] * (r <= 1 ? 1.0 : 0.7), q[1] * (r <= 1 ? 1.0 : 0.7), 10.0 * (r - 1)});
+    }
+  const HSpline limb(SplineAxis::periodicUniform(24), SplineAxis::clampedUniform(2), p);
+  const HsAttachment fine = attachCylinder(plane, a0, a1, a0, a1, limb, 3, false, 1);
+  EXPECT_GT(nu1, 10);
+  EXPECT_EQ(fine.extraordinary, 4);
+  EXPECT_EQ(fine.boundaryLoops, 2);
+  EXPECT_LT(highest(coarse), 0.05f);  // flat where the plane has its bump
+  EXPECT_GT(highest(fine), 2.0f);     // the bump is there
+  EXPECT_GT(fine.mesh.triangles.size(), 2 * coarse.mesh.triangles.size());
+  (void)nv1;
+  // A level past the limit, and a ring that does not fit the level's grid, are refused.
+  EXPECT_THROW(attachCylinder(plane, a0, a1, a0, a1, limb, 3, false, 4), ModelError);
+  EXPECT_THROW(attachCylinder(plane, 3, 6, 3, 6, limb, 3, false, 1), ModelError);
+}
+
 TEST(HsAttachment, WhatDoesNotFitIsRefusedWithTheReason) {
   const HSpline plane = hsplinePlane(10, 10, 90, 90);
   auto message = [&](int i1, const HSpline& c, int subdivisions) {

@@ -4,6 +4,8 @@ Used by examples/make_documents.py (examples/*.FCStd), the tests and the benchma
 documents, the tests and the JSON references describe the same exact solids.
 """
 
+import FreeCAD
+
 import FRepFeatures as F
 import FRepPolygonize
 
@@ -184,3 +186,37 @@ def hspline_tutorial(doc, step=None):
         if step is not None and done >= step:
             break
     return obj
+
+
+def build_attachment(doc, height=9.0):
+    """Seed 003's attachment on a closed body: a limb (a tapered hspline cylinder of 6 rows)
+    standing on a 2 x 2 rectangle of CVs on the outside of an hspline torus, joined through a
+    Catmull-Clark seam and closed at its tip: one closed, printable surface. Returns (torus,
+    limb, attachment)."""
+    import FRepHSpline as H
+    import FRepHSplineAttach as A
+    torus = H.make_torus(doc, 12, 8, 30.0, 10.0, name="Body")
+    doc.recompute()
+    rect = (3, 5, 1, 3)  # (the rectangle may not wrap round the tube's seam, at j = 0)
+    limb, joint = A.attach_new_cylinder(doc, torus, rect, rows=6, height=height)
+    limb.Label, joint.Label = "Limb", "BodyWithLimb"
+    joint.CloseEnd = True
+    return torus, limb, joint
+
+
+def build_envelope(doc, fold=60.0):
+    """Seed 003's enveloping on a closed surface: an hspline ring (a torus) bound to two bones
+    along its diameter; the second bone turned `fold` degrees about the joint folds the ring
+    there. Level 0 is refined around the joint and level 1 there blends the two bones' frames,
+    so the fold stays round. Returns (ring, bones, envelope)."""
+    import FRepHSpline as H
+    import FRepHSplineEnvelope as E
+    ring = H.make_torus(doc, 16, 8, 30.0, 8.0, name="Ring")
+    bones = [E.make_line(doc, (-40, 0, 0), (0, 0, 0), "Bone"),
+             E.make_line(doc, (0, 0, 0), (40, 0, 0), "Bone")]
+    env = E.make_envelope(doc, ring, bones)
+    env.Label = "FoldedRing"
+    doc.recompute()
+    bones[1].Placement = FreeCAD.Placement(FreeCAD.Vector(), FreeCAD.Rotation(
+        FreeCAD.Vector(0, 1, 0), -fold), FreeCAD.Vector(0, 0, 0))
+    return ring, bones, env

@@ -29,16 +29,41 @@ def ring(rect):
             [(i, j1) for i in range(i1, i0, -1)] + [(i0, j) for j in range(j1, j0, -1)])
 
 
-def cylinder_over_ring(parent, rect, rows=5, height=10.0, taper=0.7):
-    """A cylinder hspline whose CV k stands over ring CV k: row 1 on the ring, the rows above
-    it `height` apart along the parent's normal there, drawn in by `taper` toward the ring's
-    centre; row 0 below (it is dropped by the attachment)."""
+def with_level(parent, level):
+    """The parent's hierarchy with a grid on `level` (made by knot insertion where it has no
+    such level: the surface does not change), as the attachment's seam uses it."""
     h = H._shared(parent)
-    points = [FreeCAD.Vector(*h.position(0, i, j)) for i, j in ring(rect)]
+    if h.level_count > level:
+        return h
+    h = h.copy()
+    while h.level_count <= level:
+        _, i, j = h.cvs(h.level_count - 1)[0]
+        h.refine(h.level_count - 1, [(i, j)])
+    return h
+
+
+def convert_rectangle(parent, rect, from_level, to_level):
+    """The rectangle of one level's grid nearest, by its corners' parameters, to a rectangle
+    of another's."""
+    h = with_level(parent, max(from_level, to_level))
+    nu, nv = h.grid_size(to_level)
+    i0, i1, j0, j1 = rect
+    (u0, v0), (u1, v1) = h.reference(from_level, i0, j0), h.reference(from_level, i1, j1)
+    near_u = lambda u: min(range(nu), key=lambda i: abs(h.reference(to_level, i, 0)[0] - u))
+    near_v = lambda v: min(range(nv), key=lambda j: abs(h.reference(to_level, 0, j)[1] - v))
+    return (near_u(u0), near_u(u1), near_v(v0), near_v(v1))
+
+
+def cylinder_over_ring(parent, rect, rows=5, height=10.0, taper=0.7, level=0):
+    """A cylinder hspline whose CV k stands over ring CV k (of the parent's `level`): row 1 on
+    the ring, the rows above it `height` apart along the parent's normal there, drawn in by
+    `taper` toward the ring's centre; row 0 below (it is dropped by the attachment)."""
+    h = with_level(parent, level)
+    points = [FreeCAD.Vector(*h.position(level, i, j)) for i, j in ring(rect)]
     centre = sum(points, FreeCAD.Vector()) * (1.0 / len(points))
     i0, i1, j0, j1 = rect
-    u, v = h.reference(0, (i0 + i1) // 2, (j0 + j1) // 2)
-    normal = FreeCAD.Vector(*h.evaluate(u, v, 0)["normal"])
+    u, v = h.reference(level, (i0 + i1) // 2, (j0 + j1) // 2)
+    normal = FreeCAD.Vector(*h.evaluate(u, v)["normal"])
     positions = []
     for r in range(rows):
         for p in points:
@@ -81,24 +106,43 @@ class AttachmentFeature(FeatureProxy):
                             "The height of the cylinder the Attach command made over the ring; "
                             "a new rectangle in its panel rebuilds that cylinder. 0: the "
                             "cylinder is the user's own and keeps its CVs.")
+        if "CloseEnd" not in have:
+            obj.addProperty("App::PropertyBool", "CloseEnd", GROUP,
+                            "Close the cylinder's free end with one face, rounded off by the "
+                            "subdivision: on a closed parent (a torus) the result is a closed, "
+                            "printable surface.")
+            obj.CloseEnd = True
+        if "SeamLevel" not in have:
+            obj.addProperty("App::PropertyIntegerConstraint", "SeamLevel", GROUP,
+                            "The parent's level the ring and the seam's net are taken on (0 to "
+                            "3): each level doubles the CVs around the joint and keeps the "
+                            "parent's detail up to it. I0..J1 count CVs of that level.")
+            obj.SeamLevel = (0, 0, 3, 1)
         if "Subdivisions" not in have:
             obj.addProperty("App::PropertyIntegerConstraint", "Subdivisions", GROUP,
                             "Catmull-Clark steps (0 to 6): each makes four times the faces.")
             obj.Subdivisions = (3, 0, 6, 1)
 
     # For the Attach panel, which does not import this module.
-    def parent_grid(self, obj):
-        return H._shared(obj.Parent).grid_size(0)
+    def parent_grid(self, obj, level=None):
+        level = obj.SeamLevel if level is None else level
+        return with_level(obj.Parent, level).grid_size(level)
 
     def tagged_rectangle(self, obj):
-        """The rectangle of the parent's tagged level-0 CVs; None when they span none."""
-        tagged = [(i, j) for level, i, j in H.tags(obj.Parent) if level == 0]
-        if len({i for i, _ in tagged}) > 1 and len({j for _, j in tagged}) > 1:
-            return default_rectangle(obj.Parent)
-        return None
+        """The rectangle of the parent's tagged CVs on the seam's level; None when they span
+        none."""
+        return tagged_rectangle(obj.Parent, obj.SeamLevel)
 
     def set_rectangle(self, obj, rect):
         set_rectangle(obj, rect)
+
+    def set_seam_level(self, obj, level):
+        """A new seam level, the rectangle carried over to it; returns the new rectangle."""
+        rect = convert_rectangle(obj.Parent, (obj.I0, obj.I1, obj.J0, obj.J1), obj.SeamLevel,
+                                 level)
+        obj.SeamLevel = level
+        set_rectangle(obj, rect)
+        return rect
 
     @one_line_errors
     def execute(self, obj):
@@ -107,7 +151,8 @@ class AttachmentFeature(FeatureProxy):
                 raise ValueError("%s: property '%s' must link an HSpline" % (obj.Label, name))
         try:
             joined = frepcore.attach_cylinder(H._shared(obj.Parent), obj.I0, obj.I1, obj.J0,
-                                              obj.J1, H._shared(obj.Cylinder), obj.Subdivisions)
+                                              obj.J1, H._shared(obj.Cylinder), obj.Subdivisions,
+                                              obj.CloseEnd, obj.SeamLevel)
         except ValueError as e:
             raise ValueError("%s: %s" % (obj.Label, e)) from None
         FRepMeshing.set_mesh(obj, FRepMeshing.to_freecad_mesh(joined["mesh"]))
@@ -137,11 +182,11 @@ def attach_new_cylinder(doc, parent, rect, rows=5, height=10.0, subdivisions=3):
     return limb, joint
 
 
-def check_rectangle(parent, rect, label=None):
-    """ValueError naming the rectangle's fault: it must lie inside the parent's level-0 grid
-    and span at least one CV each way."""
+def check_rectangle(parent, rect, label=None, level=0):
+    """ValueError naming the rectangle's fault: it must lie inside the parent's grid on the
+    seam's level and span at least one CV each way."""
     i0, i1, j0, j1 = rect
-    nu, nv = H._shared(parent).grid_size(0)
+    nu, nv = with_level(parent, level).grid_size(level)
     who = label or parent.Label
     if not (0 <= i0 < i1 < nu):
         raise ValueError("%s: the rectangle's CVs along u must satisfy 0 <= I0 < I1 <= %d, "
@@ -151,12 +196,20 @@ def check_rectangle(parent, rect, label=None):
                          "not J0 = %d, J1 = %d" % (who, nv - 1, j0, j1))
 
 
-def default_rectangle(parent):
-    """The rectangle of the parent's tagged level-0 CVs, or a 2 x 2 one at its middle."""
-    tagged = [(i, j) for level, i, j in H.tags(parent) if level == 0]
+def tagged_rectangle(parent, level=0):
+    """The rectangle of the parent's tagged CVs of `level`; None when they span none."""
+    tagged = [(i, j) for lv, i, j in H.tags(parent) if lv == level]
     if len({i for i, _ in tagged}) > 1 and len({j for _, j in tagged}) > 1:
         return (min(i for i, _ in tagged), max(i for i, _ in tagged),
                 min(j for _, j in tagged), max(j for _, j in tagged))
+    return None
+
+
+def default_rectangle(parent):
+    """The rectangle of the parent's tagged level-0 CVs, or a 2 x 2 one at its middle."""
+    rect = tagged_rectangle(parent, 0)
+    if rect is not None:
+        return rect
     nu, nv = H._shared(parent).grid_size(0)
     return (nu // 2 - 1, nu // 2 + 1, nv // 2 - 1, nv // 2 + 1)
 
@@ -169,8 +222,9 @@ def default_height(parent):
 def set_rectangle(obj, rect):
     """A new rectangle for an attachment; the cylinder the command made is built again over
     the new ring (one the user gave keeps its CVs: its CV count must match the ring)."""
-    check_rectangle(obj.Parent, rect, obj.Label)
+    check_rectangle(obj.Parent, rect, obj.Label, obj.SeamLevel)
     if obj.LimbHeight > 0 and H.is_hspline(obj.Cylinder):
-        H.store(obj.Cylinder, cylinder_over_ring(obj.Parent, rect, 5, float(obj.LimbHeight)))
+        H.store(obj.Cylinder, cylinder_over_ring(obj.Parent, rect, 5, float(obj.LimbHeight),
+                                                 level=obj.SeamLevel))
         obj.Cylinder.touch()
     obj.I0, obj.I1, obj.J0, obj.J1 = rect

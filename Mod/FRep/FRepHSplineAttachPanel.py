@@ -25,22 +25,31 @@ class AttachPanel:
         layout.setRowWrapPolicy(QtGui.QFormLayout.WrapLongRows)
         layout.setFieldGrowthPolicy(QtGui.QFormLayout.AllNonFixedFieldsGrow)
         text = QtGui.QLabel(translate(
-            "FRep", "The cylinder stands on the ring of the parent's level-0 CVs around this "
-                    "rectangle. Ctrl+click CVs in the parent's edit mode and take them with "
-                    "From tagged CVs."))
+            "FRep", "The cylinder stands on the ring of the parent's CVs around this "
+                    "rectangle (CVs of the seam level). Ctrl+click CVs in the parent's edit "
+                    "mode and take them with From tagged CVs."))
         text.setWordWrap(True)
         layout.addRow(text)
-        nu, nv = obj.Proxy.parent_grid(obj)
+        self.level = narrow(QtGui.QSpinBox())
+        self.level.setObjectName("SeamLevel")
+        self.level.setRange(0, 3)
+        self.level.setValue(obj.SeamLevel)
+        self.level.setToolTip(translate("FRep", "The parent's level the ring is taken on: each "
+                                                "level doubles the CVs around the joint (the "
+                                                "seam refined) and keeps the parent's detail "
+                                                "up to it"))
+        self.level.valueChanged.connect(self.level_changed)
+        layout.addRow(translate("FRep", "Seam level"), self.level)
         self.boxes = {}
         for name, tip in FIELDS:
             box = narrow(QtGui.QSpinBox())
-            box.setRange(0, (nu if name[0] == "I" else nv) - 1)
             box.setValue(getattr(obj, name))
             box.setObjectName(name)
             box.setToolTip(translate("FRep", tip))
             box.valueChanged.connect(self.rectangle_changed)
             layout.addRow(name, box)
             self.boxes[name] = box
+        self.set_ranges()
         self.tagged = QtGui.QPushButton(translate("FRep", "From tagged CVs"))
         self.tagged.setObjectName("FromTagged")
         self.tagged.clicked.connect(self.from_tagged)
@@ -70,6 +79,20 @@ class AttachPanel:
         layout.addRow(self.status)
         self.describe()
 
+    def set_ranges(self):
+        nu, nv = self.obj.Proxy.parent_grid(self.obj)
+        for name, box in self.boxes.items():
+            box.blockSignals(True)
+            box.setRange(0, (nu if name[0] == "I" else nv) - 1)
+            box.setValue(getattr(self.obj, name))
+            box.blockSignals(False)
+
+    def level_changed(self, value):
+        def change():
+            self.obj.Proxy.set_seam_level(self.obj, value)
+            self.set_ranges()  # (the rectangle carried over to the new level's CVs)
+        self._apply(change)
+
     def rectangle(self):
         return tuple(self.boxes[name].value() for name, _ in FIELDS)
 
@@ -98,9 +121,10 @@ class AttachPanel:
     def from_tagged(self):
         rect = self.obj.Proxy.tagged_rectangle(self.obj)
         if rect is None:
-            self.describe(translate("FRep", "%s has no tagged level-0 CVs spanning a rectangle: "
-                                            "double-click it, Ctrl+click two opposite corners")
-                          % self.obj.Parent.Label)
+            self.describe(translate("FRep", "%s has no tagged CVs of level %d spanning a "
+                                            "rectangle: double-click it, Ctrl+click two "
+                                            "opposite corners")
+                          % (self.obj.Parent.Label, self.obj.SeamLevel))
             return
         for (name, _), value in zip(FIELDS, rect):
             self.boxes[name].blockSignals(True)

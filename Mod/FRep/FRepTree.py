@@ -15,7 +15,10 @@ PART_PRIMITIVES = ("Part::Box", "Part::Sphere", "Part::Cylinder", "Part::Cone", 
 
 
 def is_frep_feature(obj):
-    return getattr(getattr(obj, "Proxy", None), "FREP_TYPE", None) is not None
+    """An FRep node feature (its proxy builds a node); an hspline attachment, which has a type
+    for its icon but is a plain mesh, is not one."""
+    proxy = getattr(obj, "Proxy", None)
+    return getattr(proxy, "FREP_TYPE", None) is not None and hasattr(proxy, "local_shape")
 
 
 def is_frep_input(obj):

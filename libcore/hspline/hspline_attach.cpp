@@ -20,13 +20,34 @@ using ControlNet = OpenMesh::PolyMesh_ArrayKernelT<Traits>;
   throw ModelError("hspline attachment: " + why);
 }
 
+
+// The hierarchy with its levels up to `level` there.
+HSpline withLevel(const HSpline& h, int level) {
+  HSpline out = h;
+  // Refining one CV adds the next level's knots (its grid); zero offsets leave the surface.
+  while (out.levelCount() <= level) {
+    const HsLevel& last = out.level(out.levelCount() - 1);
+    out.refine(out.levelCount() - 1, {{last.cvs.front().i, last.cvs.front().j}});
+  }
+  return out;
+}
+
 }  // namespace
 
-HsAttachment attachCylinder(const HSpline& parent, int i0, int i1, int j0, int j1,
-                            const HSpline& cylinder, int subdivisions) {
-  const HsLevel& p = parent.level(0);
+HsAttachment attachCylinder(const HSpline& parentSurface, int i0, int i1, int j0, int j1,
+                            const HSpline& cylinder, int subdivisions, bool closeEnd,
+                            int parentLevel) {
+  if (parentLevel < 0 || parentLevel > kMaxAttachLevel)
+    refuse("the seam level must be 0 to " + std::to_string(kMaxAttachLevel) + ", got " +
+           std::to_string(parentLevel));
+  const HSpline parent = withLevel(parentSurface, parentLevel);
+  const HsLevel& p = parent.level(parentLevel);
   const HsLevel& c = cylinder.level(0);
   const int nu = p.u.count(), nv = p.v.count();
+  if (static_cast<std::size_t>(nu) * static_cast<std::size_t>(nv) > kMaxAttachGrid)
+    refuse("the parent's level " + std::to_string(parentLevel) + " has " + std::to_string(nu) +
+           " x " + std::to_string(nv) + " CVs, more than the " +
+           std::to_string(kMaxAttachGrid) + " a seam's net may have; choose a lower level");
   if (subdivisions < 0 || subdivisions > 6)
     refuse("subdivisions must be 0 to 6, got " + std::to_string(subdivisions));
   if (!(0 <= i0 && i0 < i1 && i1 < nu && 0 <= j0 && j0 < j1 && j1 < nv))
@@ -44,12 +65,16 @@ HsAttachment attachCylinder(const HSpline& parent, int i0, int i1, int j0, int j
   ControlNet net;
   const std::vector<Vec3> cylinderPoints = cylinder.positions(0);
   auto point = [](const Vec3& x) { return ControlNet::Point(x[0], x[1], x[2]); };
-  // Parent CVs, but those strictly inside the rectangle, whose patches give way.
+  // The parent's net on its chosen level (every grid point, through its parents' nets and
+  // offsets: the detail of the levels up to it is kept), but the points strictly inside the
+  // rectangle, whose patches give way.
   std::vector<ControlNet::VertexHandle> pv(static_cast<std::size_t>(nu) * nv);
   auto inside = [&](int i, int j) { return i0 < i && i < i1 && j0 < j && j < j1; };
-  for (const HsCv& cv : p.cvs)
-    if (!inside(cv.i, cv.j))
-      pv[cv.i + static_cast<std::size_t>(nu) * cv.j] = net.add_vertex(point(cv.value));
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i)
+      if (!inside(i, j))
+        pv[i + static_cast<std::size_t>(nu) * j] =
+            net.add_vertex(point(parent.position(parentLevel, i, j)));
   const int cellsU = p.u.isPeriodic() ? nu : nu - 1, cellsV = p.v.isPeriodic() ? nv : nv - 1;
   auto at = [&](int i, int j) { return pv[(i % nu) + static_cast<std::size_t>(nu) * (j % nv)]; };
   for (int j = 0; j < cellsV; ++j)
@@ -82,6 +107,13 @@ HsAttachment attachCylinder(const HSpline& parent, int i0, int i1, int j0, int j
             "the cylinder's CVs do not join the ring consistently (its u must run along the ring's "
             "order)");
     }
+
+  if (closeEnd) {
+    // One face over the last row, turning the way the quads below it leave that row's edges.
+    const auto& top = cyl[static_cast<std::size_t>(rows) - 1];
+    if (!net.add_face(top).is_valid())
+      refuse("the cylinder's last row cannot be closed by one face");
+  }
 
   HsAttachment out;
   out.controlFaces = net.n_faces();

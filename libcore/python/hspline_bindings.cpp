@@ -380,11 +380,12 @@ void bindHSpline(py::module_& m) {
   m.def(
       "attach_cylinder",
       [](const HSpline& parent, int i0, int i1, int j0, int j1, const HSpline& cylinder,
-         int subdivisions) {
+         int subdivisions, bool closeEnd, int parentLevel) {
         HsAttachment a;
         {
           py::gil_scoped_release release;
-          a = attachCylinder(parent, i0, i1, j0, j1, cylinder, subdivisions);
+          a = attachCylinder(parent, i0, i1, j0, j1, cylinder, subdivisions, closeEnd,
+                             parentLevel);
         }
         py::dict d;
         d["mesh"] = a.mesh, d["extraordinary"] = a.extraordinary,
@@ -393,11 +394,15 @@ void bindHSpline(py::module_& m) {
         return d;
       },
       py::arg("parent"), py::arg("i0"), py::arg("i1"), py::arg("j0"), py::arg("j1"),
-      py::arg("cylinder"), py::arg("subdivisions") = 3,
+      py::arg("cylinder"), py::arg("subdivisions") = 3, py::arg("close_end") = false,
+      py::arg("parent_level") = 0,
       "Seed 003's attachment: the cylinder's next-to-last row of CVs joined to the ring of "
       "parent CVs around [i0, i1] x [j0, j1] (cylinder CV k over ring CV k, the ring running "
       "+i, +j, -i, -j from (i0, j0)); the joined net as a Catmull-Clark surface subdivided "
-      "`subdivisions` times. dict(mesh, extraordinary, boundary_loops, control_faces).");
+      "`subdivisions` times; close_end closes the cylinder's free end with one face; "
+      "parent_level takes the ring and the parent's net on that level (the seam refined: twice "
+      "the CVs around per level, the parent's detail up to it kept; rectangle indices on it). "
+      "dict(mesh, extraordinary, boundary_loops, control_faces).");
   m.def(
       "envelope",
       [](const HSpline& rest, const std::vector<std::tuple<Vec3, Vec3, Mat34>>& segments,

@@ -405,3 +405,42 @@ def test_instancer_along_draft_arrays_meshes_and_clouds(doc):
     doc.recompute()
     assert ("Copies: property 'PositionsSource' links 'Nothing' (Part::Feature), which has no "
             "points" in copies.getStatusString())
+
+
+def test_a_blend_guide_covers_where_the_blend_acts_and_its_handles_set_the_reach(doc):
+    import FRepBlendReach as R
+    slab = F.make("box", doc, size=(20, 20, 10), corner=(-10, -10, -10))
+    post = F.make("cylinder", doc, radius=4, length=20)
+    blend = F.make("blend_union", doc, inputs=[slab, post], a0=1, a1=2, a2=2)
+    doc.recompute()
+    g = R.guide(blend)
+    # the coat lies where the added term exceeds a tenth of a0, (f1/a1)^2 + (f2/a2)^2 <= 9,
+    # and on the blend's surface (within its band of 1.5 cells); meshed vertices lie on the
+    # boundary of that set, within the meshing's error
+    pts = g["mesh"].points
+    assert g["mesh"].triangle_count > 100
+    f1 = FRepTree.shape_of(slab).values(pts)
+    f2 = FRepTree.shape_of(post).values(pts)
+    fb = FRepTree.shape_of(blend).values(pts)
+    band = 1.5 * (20 + 2 * (0.1 * math.sqrt(20 ** 2 * 2 + 20 ** 2) + 6)) / R.GUIDE_CELLS
+    for a, b, c in zip(f1, f2, fb):
+        assert (a / 2) ** 2 + (b / 2) ** 2 <= 9 + 0.6
+        assert abs(c) <= band * 1.15
+    # nowhere far from the two circles where the post passes the slab's faces
+    assert max(math.hypot(p[0], p[1]) for p in pts) < 4 + 3 * 2 + 1.5
+    assert g["anchor"].z == pytest.approx(0, abs=1e-6)
+    assert math.hypot(g["anchor"].x, g["anchor"].y) == pytest.approx(4, abs=1e-6)
+    handles = {name: (point, d) for name, point, d, _ in g["handles"]}
+    assert set(handles) == {"A1", "A2"}
+    # A1: up the post, 2 mm from the slab's top; A2: out along the slab's top, 2 mm from the post
+    p1, d1 = handles["A1"]
+    assert d1.z == pytest.approx(1, abs=1e-9) and p1.z == pytest.approx(2, abs=1e-6)
+    p2, d2 = handles["A2"]
+    assert d2.z == pytest.approx(0, abs=1e-9) and math.hypot(p2.x, p2.y) == pytest.approx(6, abs=1e-6)
+    # dropping the A1 handle 3 mm further up sets A1 to 5; the guide grows with it
+    assert R.set_reach(blend, "A1", p1 + d1 * 3) == pytest.approx(5, abs=1e-6)
+    doc.recompute()
+    assert blend.A1 == pytest.approx(5) and blend.isValid()
+    assert max(p[2] for p in R.guide(blend)["mesh"].points) > max(p[2] for p in pts) + 2
+    with pytest.raises(ValueError, match="A1 must be more than 0"):
+        R.set_reach(blend, "A1", g["anchor"])

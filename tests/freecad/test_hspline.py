@@ -225,6 +225,7 @@ def test_an_attachment_joins_a_cylinder_and_follows_its_edits(doc):
     body = H.make_plane(doc, 10, 10, 90, 90)
     doc.recompute()
     limb, joint = A.attach_new_cylinder(doc, body, (3, 6, 3, 6), rows=5, height=10)
+    joint.CloseEnd = False  # the open rim keeps its row's height (the boundary rule)
     doc.recompute()
     assert joint.isValid(), joint.getStatusString()
     assert joint.Mesh.CountFacets > 4000 and joint.Mesh.BoundBox.ZMax == pytest.approx(30, abs=1e-3)
@@ -326,3 +327,26 @@ def test_an_attachment_s_rectangle_rebuilds_the_limb_and_bad_ones_are_named(doc)
         with pytest.raises(ValueError, match=says):
             A.set_rectangle(joint, bad)
     assert (joint.I0, joint.I1, joint.J0, joint.J1) == (3, 6, 3, 6)
+
+
+def test_a_refined_seam_doubles_the_ring_and_keeps_the_rectangle_where_it_was(doc):
+    import FRepHSplineAttach as A
+    body = H.make_plane(doc, 10, 10, 90, 90)
+    doc.recompute()
+    limb, joint = A.attach_new_cylinder(doc, body, (3, 6, 3, 6), height=10)
+    doc.recompute()
+    coarse = joint.Mesh.CountFacets
+    box = joint.Mesh.BoundBox
+    rect = joint.Proxy.set_seam_level(joint, 1)
+    doc.recompute()
+    assert joint.isValid(), joint.getStatusString()
+    i0, i1, j0, j1 = rect
+    assert H._shared(limb).grid_size(0)[0] == 2 * (i1 - i0) + 2 * (j1 - j0) == 24
+    assert joint.Mesh.CountFacets > 2 * coarse
+    # the ring lies where it was: the joined surface spans about the same box
+    fine = joint.Mesh.BoundBox
+    assert abs(fine.XLength - box.XLength) < 1 and abs(fine.ZMax - box.ZMax) < 2
+    nu, nv = joint.Proxy.parent_grid(joint)
+    assert nu > 10 and nv > 10 and H._shared(body).level_count == 1  # (the body unchanged)
+    with pytest.raises(ValueError, match="0 <= I0 < I1 <= %d" % (nu - 1)):
+        A.set_rectangle(joint, (0, 30, 0, 30))
