@@ -643,12 +643,18 @@ namespace {
 
 // A cylinder over the ring of plane CVs around [3, 6] x [3, 6]: 12 CVs around, CV k over ring
 // CV k, rising in rows of 10.
-HSpline cylinderOverRing(const HSpline& plane, int rows) {
+// The CVs around rectangle [i0, i1] x [j0, j1], in the order a cylinder's CVs go around it.
+std::vector<std::pair<int, int>> ringAround(int i0, int i1, int j0, int j1) {
   std::vector<std::pair<int, int>> ring;
-  for (int i = 3; i < 6; ++i) ring.push_back({i, 3});
-  for (int j = 3; j < 6; ++j) ring.push_back({6, j});
-  for (int i = 6; i > 3; --i) ring.push_back({i, 6});
-  for (int j = 6; j > 3; --j) ring.push_back({3, j});
+  for (int i = i0; i < i1; ++i) ring.push_back({i, j0});
+  for (int j = j0; j < j1; ++j) ring.push_back({i1, j});
+  for (int i = i1; i > i0; --i) ring.push_back({i, j1});
+  for (int j = j1; j > j0; --j) ring.push_back({i0, j});
+  return ring;
+}
+
+HSpline cylinderOverRing(const HSpline& plane, int rows) {
+  const auto ring = ringAround(3, 6, 3, 6);
   Vec3 centre{0, 0, 0};
   for (const auto& [i, j] : ring)
     centre = vadd(centre, vscale(plane.position(0, i, j), 1.0 / ring.size()));
@@ -692,11 +698,7 @@ TEST(HsAttachment, ACylinderJoinsAPlaneThroughFourExtraordinaryPoints) {
 
 TEST(HsAttachment, AClosedLimbOnATorusMakesAClosedSurface) {
   const HSpline torus = hsplineTorus(12, 8, 30, 10);
-  std::vector<std::pair<int, int>> ring;
-  for (int i = 3; i < 5; ++i) ring.push_back({i, 1});
-  for (int j = 1; j < 3; ++j) ring.push_back({5, j});
-  for (int i = 5; i > 3; --i) ring.push_back({i, 3});
-  for (int j = 3; j > 1; --j) ring.push_back({3, j});
+  const auto ring = ringAround(3, 5, 1, 3);
   Vec3 centre{0, 0, 0};
   for (const auto& [i, j] : ring)
     centre = vadd(centre, vscale(torus.position(0, i, j), 1.0 / ring.size()));
@@ -756,12 +758,8 @@ TEST(HsAttachment, ARefinedSeamDoublesTheRingAndKeepsTheParentsDetail) {
   const auto [nu1, nv1] = std::pair{plane.level(1).u.count(), plane.level(1).v.count()};
   // The same rectangle on level 1 (each level-0 CV i has its child near 2 i - 1 there): a ring
   // of twice the CVs, and a cylinder of 24 around standing on it.
-  std::vector<std::pair<int, int>> ring;
   const int a0 = 5, a1 = 11;
-  for (int i = a0; i < a1; ++i) ring.push_back({i, a0});
-  for (int j = a0; j < a1; ++j) ring.push_back({a1, j});
-  for (int i = a1; i > a0; --i) ring.push_back({i, a1});
-  for (int j = a1; j > a0; --j) ring.push_back({a0, j});
+  const auto ring = ringAround(a0, a1, a0, a1);
   std::vector<Vec3> p;
   for (int r = 0; r < 5; ++r)
     for (const auto& [i, j] : ring) {

@@ -18,6 +18,14 @@ double linearDeterminant(const Mat34& m);
 // q = R (p - c) + c.
 Mat34 rotationMatrix(const Vec3& axis, double angleDeg, const Vec3& center);
 
+// Whether the linear part is a rotation (orthonormal, determinant +1) within `tolerance`.
+bool isRigid(const Mat34& m, double tolerance = 1e-6);
+
+// Between two rigid maps: their rotations interpolated (slerp, t from 0 to 1) about `centre`,
+// which goes to the point between where the two maps take it. An average of the two maps'
+// images instead would shrink what it carries (a joint's inner side).
+Mat34 rotationAbout(const Mat34& a, const Mat34& b, double t, const Vec3& centre);
+
 // v / |v|.
 Vec3 normalized(const Vec3& v);
 

@@ -20,7 +20,6 @@ using ControlNet = OpenMesh::PolyMesh_ArrayKernelT<Traits>;
   throw ModelError("hspline attachment: " + why);
 }
 
-
 // The hierarchy with its levels up to `level` there.
 HSpline withLevel(const HSpline& h, int level) {
   HSpline out = h;
@@ -46,8 +45,8 @@ HsAttachment attachCylinder(const HSpline& parentSurface, int i0, int i1, int j0
   const int nu = p.u.count(), nv = p.v.count();
   if (static_cast<std::size_t>(nu) * static_cast<std::size_t>(nv) > kMaxAttachGrid)
     refuse("the parent's level " + std::to_string(parentLevel) + " has " + std::to_string(nu) +
-           " x " + std::to_string(nv) + " CVs, more than the " +
-           std::to_string(kMaxAttachGrid) + " a seam's net may have; choose a lower level");
+           " x " + std::to_string(nv) + " CVs, more than the " + std::to_string(kMaxAttachGrid) +
+           " a seam's net may have; choose a lower level");
   if (subdivisions < 0 || subdivisions > 6)
     refuse("subdivisions must be 0 to 6, got " + std::to_string(subdivisions));
   if (!(0 <= i0 && i0 < i1 && i1 < nu && 0 <= j0 && j0 < j1 && j1 < nv))

@@ -3,8 +3,8 @@
 // cylinder's next-to-last row of CVs is constrained to the ring of parent CVs around the
 // rectangle (whose inner patches give way), which makes the four ring corners extraordinary
 // (five edges); the joined control net is then a Catmull-Clark surface, subdivided with
-// OpenMesh. The cylinder's level 0 takes part, and the parent's chosen level (level 0, as in seed 003,
-// unless the seam is refined).
+// OpenMesh. The cylinder's level 0 takes part, and the parent's chosen level (level 0, as in seed
+// 003, unless the seam is refined).
 #pragma once
 
 #include "base/triangle_mesh.h"

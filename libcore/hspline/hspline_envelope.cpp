@@ -1,11 +1,11 @@
 #include "hspline/hspline_envelope.h"
 
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
 
+#include "base/affine.h"
 #include "base/errors.h"
 
 namespace frep {
@@ -22,12 +22,6 @@ struct Weights {
   double wb = 0;
   const Joint* joint = nullptr;
 };
-
-Eigen::Matrix3d rotationOf(const Mat34& m) {
-  Eigen::Matrix3d r;
-  r << m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10];
-  return r;
-}
 
 Vec3 apply(const Mat34& m, const Vec3& p) {
   return {m[0] * p[0] + m[1] * p[1] + m[2] * p[2] + m[3],
@@ -52,8 +46,7 @@ void checkSegments(const std::vector<HsSegment>& segments) {
       if (!std::isfinite(x)) throw ModelError(name + ": its motion must be finite");
     if (!(vlength(vsub(s.end, s.start)) > 0))
       throw ModelError(name + " has zero length; a segment runs from one point to another");
-    const Eigen::Matrix3d r = rotationOf(s.motion);
-    if (!(r.transpose() * r).isIdentity(1e-6) || r.determinant() < 0)
+    if (!isRigid(s.motion))
       throw ModelError(name +
                        ": its motion must be rigid (a rotation and a translation, "
                        "no scaling or mirroring)");
@@ -106,12 +99,7 @@ Vec3 carried(const std::vector<HsSegment>& segments, const Weights& w, const Vec
   if (w.b == w.a || w.wb <= 0) return apply(ma, p);
   const Mat34& mb = segments[w.b].motion;
   if (w.wb >= 1) return apply(mb, p);
-  const Eigen::Quaterniond qa(rotationOf(ma)), qb(rotationOf(mb));
-  const Eigen::Matrix3d r = qa.slerp(w.wb, qb).toRotationMatrix();
-  const Vec3& c = w.joint->point;
-  const Vec3 centre = vadd(vscale(apply(ma, c), 1 - w.wb), vscale(apply(mb, c), w.wb));
-  const Eigen::Vector3d q = r * Eigen::Vector3d(p[0] - c[0], p[1] - c[1], p[2] - c[2]);
-  return {q[0] + centre[0], q[1] + centre[1], q[2] + centre[2]};
+  return apply(rotationAbout(ma, mb, w.wb, w.joint->point), p);
 }
 
 double meanControlEdge(const HSpline& h) {

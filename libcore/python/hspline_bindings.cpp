@@ -384,8 +384,7 @@ void bindHSpline(py::module_& m) {
         HsAttachment a;
         {
           py::gil_scoped_release release;
-          a = attachCylinder(parent, i0, i1, j0, j1, cylinder, subdivisions, closeEnd,
-                             parentLevel);
+          a = attachCylinder(parent, i0, i1, j0, j1, cylinder, subdivisions, closeEnd, parentLevel);
         }
         py::dict d;
         d["mesh"] = a.mesh, d["extraordinary"] = a.extraordinary,
