@@ -25,7 +25,7 @@ Mat34 rotationX(double degrees, const Vec3& c) {
           0, si, co,  c[2] - si * c[1] - co * c[2]};
 }
 
-Vec3 apply(const Mat34& m, const Vec3& p) {
+Vec3 mapPoint(const Mat34& m, const Vec3& p) {
   return {m[0] * p[0] + m[1] * p[1] + m[2] * p[2] + m[3],
           m[4] * p[0] + m[5] * p[1] + m[6] * p[2] + m[7],
           m[8] * p[0] + m[9] * p[1] + m[10] * p[2] + m[11]};
@@ -85,7 +85,8 @@ HSpline everyCvBlended(const HSpline& rest, const std::vector<HsSegment>& s, dou
     const Vec3& p = positions[k];
     const double t = std::clamp(0.5 + (p[2] - 40) / (2 * reach), 0.0, 1.0);
     const double w = t * t * (3 - 2 * t);
-    const Vec3 q = vadd(vscale(apply(s[0].motion, p), 1 - w), vscale(apply(s[1].motion, p), w));
+    const Vec3 q =
+        vadd(vscale(mapPoint(s[0].motion, p), 1 - w), vscale(mapPoint(s[1].motion, p), w));
     out.moveCv(0, rest.level(0).cvs[k].i, rest.level(0).cvs[k].j, q);
   }
   return out;
@@ -113,7 +114,7 @@ TEST(HsEnvelope, AJointEnvelopedOnARefinedLevelKeepsItsVolume) {
     const auto end = grid(e.surface, 16, 4).back();
     const auto restEnd = grid(arm.tube, 16, 4).back();
     for (std::size_t a = 0; a < end.size(); ++a)
-      EXPECT_LT(vlength(vsub(end[a], apply(segments[1].motion, restEnd[a]))), 1e-9);
+      EXPECT_LT(vlength(vsub(end[a], mapPoint(segments[1].motion, restEnd[a]))), 1e-9);
   }
 }
 
@@ -152,7 +153,7 @@ TEST(HsEnvelope, FinerLevelsFollowTheirParentsFrames) {
   const auto a = grid(tube, 24, 40), b = grid(e.surface, 24, 40);
   for (std::size_t r = 0; r < a.size(); ++r)
     for (std::size_t c = 0; c < a[r].size(); ++c)
-      EXPECT_LT(vlength(vsub(apply(turn, a[r][c]), b[r][c])), 1e-9);
+      EXPECT_LT(vlength(vsub(mapPoint(turn, a[r][c]), b[r][c])), 1e-9);
 }
 
 TEST(HsEnvelope, BadSegmentsAreRefusedWithTheReason) {

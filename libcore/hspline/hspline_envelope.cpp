@@ -23,7 +23,7 @@ struct Weights {
   const Joint* joint = nullptr;
 };
 
-Vec3 apply(const Mat34& m, const Vec3& p) {
+Vec3 mapPoint(const Mat34& m, const Vec3& p) {
   return {m[0] * p[0] + m[1] * p[1] + m[2] * p[2] + m[3],
           m[4] * p[0] + m[5] * p[1] + m[6] * p[2] + m[7],
           m[8] * p[0] + m[9] * p[1] + m[10] * p[2] + m[11]};
@@ -96,10 +96,10 @@ Weights weightsAt(const std::vector<HsSegment>& segments, const std::vector<Join
 // when the skeleton stays joined; otherwise their average).
 Vec3 carried(const std::vector<HsSegment>& segments, const Weights& w, const Vec3& p) {
   const Mat34& ma = segments[w.a].motion;
-  if (w.b == w.a || w.wb <= 0) return apply(ma, p);
+  if (w.b == w.a || w.wb <= 0) return mapPoint(ma, p);
   const Mat34& mb = segments[w.b].motion;
-  if (w.wb >= 1) return apply(mb, p);
-  return apply(rotationAbout(ma, mb, w.wb, w.joint->point), p);
+  if (w.wb >= 1) return mapPoint(mb, p);
+  return mapPoint(rotationAbout(ma, mb, w.wb, w.joint->point), p);
 }
 
 double meanControlEdge(const HSpline& h) {
