@@ -152,6 +152,9 @@ class EnvelopeFeature(H.HSplineFeature):
     def inputs(self, obj):
         return [obj.Base] if obj.Base is not None else []
 
+    def set_rest_pose(self, obj):  # for the view provider's context menu
+        set_rest_pose(obj)
+
     @one_line_errors
     def execute(self, obj):
         if not H.is_hspline(obj.Base) or obj.Base == obj:

@@ -373,6 +373,27 @@ class ViewProviderEnvelope(ViewProviderHSpline):
         obj = self.Object
         return ([obj.Base] if obj.Base is not None else []) + list(obj.Segments)
 
+    def setupContextMenu(self, vobj, menu):
+        """Set rest pose: bind the segments where they are now (one undo step)."""
+        from PySide import QtGui
+        action = QtGui.QAction(QtGui.QIcon(FRepPaths.icon("hspline_envelope")), "Set rest pose",
+                               menu)
+        action.setToolTip("Bind the segments where they are now: the surface takes its Base's "
+                          "shape in the current pose")
+        action.triggered.connect(lambda: self.set_rest_pose(vobj.Object))
+        menu.addAction(action)
+
+    def set_rest_pose(self, obj):
+        doc = obj.Document
+        doc.openTransaction("Set rest pose of %s" % obj.Label)
+        try:
+            obj.Proxy.set_rest_pose(obj)
+            doc.recompute()
+            doc.commitTransaction()
+        except ValueError as e:
+            doc.abortTransaction()
+            FreeCAD.Console.PrintError("%s\n" % e)
+
     def setEdit(self, vobj, mode=0):
         if mode != 0:
             return None
