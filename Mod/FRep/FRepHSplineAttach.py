@@ -124,14 +124,17 @@ class AttachmentFeature(FeatureProxy):
             obj.Subdivisions = (3, 0, 6, 1)
 
     # For the Attach panel, which does not import this module.
+    def parent_levels(self, obj):
+        return H._shared(obj.Parent).level_count
+
     def parent_grid(self, obj, level=None):
         level = obj.SeamLevel if level is None else level
         return with_level(obj.Parent, level).grid_size(level)
 
-    def tagged_rectangle(self, obj):
-        """The rectangle of the parent's tagged CVs on the seam's level; None when they span
-        none."""
-        return tagged_rectangle(obj.Parent, obj.SeamLevel)
+    def tagged_rectangle(self, obj, level=None):
+        """The rectangle of the parent's tagged CVs on `level` (default: the seam's); None
+        when they span none."""
+        return tagged_rectangle(obj.Parent, obj.SeamLevel if level is None else level)
 
     def set_rectangle(self, obj, rect):
         set_rectangle(obj, rect)
@@ -172,12 +175,15 @@ def make_attachment(doc, parent, cylinder, rect, subdivisions=3, name="Attachmen
     return obj
 
 
-def attach_new_cylinder(doc, parent, rect, rows=5, height=10.0, subdivisions=3):
-    """A new cylinder hspline standing on the ring around `rect` of the parent, and the
-    Attachment joining them. Returns (cylinder feature, attachment)."""
-    check_rectangle(parent, rect)
-    limb = H.make_hspline(doc, cylinder_over_ring(parent, rect, rows, height), name="Limb")
+def attach_new_cylinder(doc, parent, rect, rows=5, height=10.0, subdivisions=3, level=0):
+    """A new cylinder hspline standing on the ring around `rect` (CVs of the parent's
+    `level`, the seam's), and the Attachment joining them. Returns (cylinder feature,
+    attachment)."""
+    check_rectangle(parent, rect, level=level)
+    limb = H.make_hspline(doc, cylinder_over_ring(parent, rect, rows, height, level=level),
+                          name="Limb")
     joint = make_attachment(doc, parent, limb, rect, subdivisions)
+    joint.SeamLevel = level
     joint.LimbHeight = height
     return limb, joint
 
@@ -207,11 +213,21 @@ def tagged_rectangle(parent, level=0):
 
 def default_rectangle(parent):
     """The rectangle of the parent's tagged level-0 CVs, or a 2 x 2 one at its middle."""
-    rect = tagged_rectangle(parent, 0)
-    if rect is not None:
-        return rect
-    nu, nv = H._shared(parent).grid_size(0)
-    return (nu // 2 - 1, nu // 2 + 1, nv // 2 - 1, nv // 2 + 1)
+    return default_placement(parent, 0)[1]
+
+
+def default_placement(parent, shown_level=0):
+    """(seam level, rectangle) for a new attachment: the rectangle the tagged CVs of the
+    shown level span (a level up to the seam's limit of 3), else the tagged level-0 CVs',
+    else 2 x 2 spans at the middle of level 0."""
+    h = H._shared(parent)
+    shown = h.level_count - 1 if shown_level < 0 else min(shown_level, h.level_count - 1)
+    for level in ((shown, 0) if 0 < shown <= 3 else (0,)):
+        rect = tagged_rectangle(parent, level)
+        if rect is not None:
+            return level, rect
+    nu, nv = h.grid_size(0)
+    return 0, (nu // 2 - 1, nu // 2 + 1, nv // 2 - 1, nv // 2 + 1)
 
 
 def default_height(parent):

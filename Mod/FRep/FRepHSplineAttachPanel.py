@@ -119,6 +119,15 @@ class AttachPanel:
         self._apply(lambda: self.obj.Proxy.set_rectangle(self.obj, self.rectangle()))
 
     def from_tagged(self):
+        """The rectangle of the tagged CVs on the level the parent shows (the seam moves to
+        that level), else on the seam's level."""
+        view = self.obj.Parent.ViewObject
+        shown = view.ShowLevel if view is not None and hasattr(view, "ShowLevel") else -2
+        levels = self.obj.Proxy.parent_levels(self.obj)
+        shown = levels - 1 if shown == -1 else shown
+        if 0 <= shown <= 3 and shown < levels and shown != self.obj.SeamLevel and \
+                self.obj.Proxy.tagged_rectangle(self.obj, shown) is not None:
+            self.level.setValue(shown)  # (carries the rectangle over, rebuilds the limb)
         rect = self.obj.Proxy.tagged_rectangle(self.obj)
         if rect is None:
             self.describe(translate("FRep", "%s has no tagged CVs of level %d spanning a "

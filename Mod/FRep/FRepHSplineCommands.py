@@ -155,12 +155,15 @@ class AttachCommand:
         parent = chosen[0]
         doc.openTransaction("Attach to %s" % parent.Label)
         try:
-            rect = A.default_rectangle(parent)
+            # the rectangle the tagged CVs of the level shown in the view span
+            shown = parent.ViewObject.ShowLevel if parent.ViewObject else 0
+            level, rect = A.default_placement(parent, shown)
             if len(chosen) == 2:
                 joint = A.make_attachment(doc, parent, chosen[1], rect)
+                joint.SeamLevel = level
             else:
                 _, joint = A.attach_new_cylinder(doc, parent, rect,
-                                                 height=A.default_height(parent))
+                                                 height=A.default_height(parent), level=level)
             add_to_active_container(joint)
             doc.recompute()
         except ValueError as e:

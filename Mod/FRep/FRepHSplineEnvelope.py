@@ -146,7 +146,9 @@ class EnvelopeFeature(H.HSplineFeature):
 
     def onChanged(self, obj, prop):
         super().onChanged(obj, prop)
-        if prop == "Segments" and "RestNames" in obj.PropertiesList:
+        # (not while the document is read back: the rest pose comes from the file then)
+        if prop == "Segments" and "RestNames" in obj.PropertiesList and \
+                "Restore" not in obj.State:
             keep_rest_pose(obj)
 
     def inputs(self, obj):

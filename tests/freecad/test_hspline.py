@@ -350,3 +350,44 @@ def test_a_refined_seam_doubles_the_ring_and_keeps_the_rectangle_where_it_was(do
     assert nu > 10 and nv > 10 and H._shared(body).level_count == 1  # (the body unchanged)
     with pytest.raises(ValueError, match="0 <= I0 < I1 <= %d" % (nu - 1)):
         A.set_rectangle(joint, (0, 30, 0, 30))
+
+
+def test_placements_are_segments_too_and_a_new_segment_keeps_the_others_rest_pose(doc):
+    import FRepHSplineEnvelope as E
+    arm = H.make_cylinder(doc, 8, 12, 10, 80, name="Arm")
+    upper = doc.addObject("App::Placement", "Shoulder")  # runs to the next segment's origin
+    elbow = doc.addObject("App::Placement", "Elbow")
+    elbow.Placement.Base = FreeCAD.Vector(0, 0, 40)
+    env = E.make_envelope(doc, arm, [upper, elbow])
+    doc.recompute()
+    assert env.isValid(), env.getStatusString()
+    assert "blended across 1 joint" in env.Binding
+    # the elbow turned about its own origin: the forearm (the last segment, along its local Z
+    # as long as the one before it) goes with it
+    elbow.Placement = FreeCAD.Placement(FreeCAD.Vector(0, 0, 40),
+                                        FreeCAD.Rotation(FreeCAD.Vector(1, 0, 0), 90))
+    doc.recompute()
+    bent = env.Shape.BoundBox
+    assert bent.ZMax < 55 and bent.YMin == pytest.approx(-40, abs=0.5)
+    # a third segment added later takes its rest pose where it is; the others keep theirs
+    wrist = E.make_line(doc, (0, -40, 40), (0, -50, 40), "Wrist")
+    env.Segments = [upper, elbow, wrist]
+    doc.recompute()
+    assert env.isValid(), env.getStatusString()
+    assert env.Shape.BoundBox.ZMax < 55
+
+
+def test_the_rectangle_comes_from_the_tagged_cvs_of_the_shown_level(doc):
+    import FRepHSplineAttach as A
+    body = H.make_plane(doc, 10, 10, 90, 90)
+    doc.recompute()
+    assert A.default_placement(body, -1) == (0, (4, 6, 4, 6))  # nothing tagged: the middle
+    H.refine(body, [(0, i, j) for i in range(2, 8) for j in range(2, 8)])
+    H.set_tags(body, [(0, 3, 3), (0, 6, 6), (1, 6, 6), (1, 11, 12)])
+    assert A.default_placement(body, 0) == (0, (3, 6, 3, 6))
+    assert A.default_placement(body, -1) == (1, (6, 11, 6, 12))  # the finest shown
+    level, rect = A.default_placement(body, 1)
+    limb, joint = A.attach_new_cylinder(doc, body, rect, height=10, level=level)
+    doc.recompute()
+    assert joint.isValid(), joint.getStatusString()
+    assert joint.SeamLevel == 1 and H._shared(limb).grid_size(0)[0] == 2 * 5 + 2 * 6
