@@ -188,7 +188,7 @@ def hspline_tutorial(doc, step=None):
     return obj
 
 
-def build_attachment(doc, height=9.0):
+def build_attachment(doc, height=36.0):
     """Seed 003's attachment on a closed body: a limb (a tapered hspline cylinder of 6 rows)
     standing on a 2 x 2 rectangle of CVs on the outside of an hspline torus, joined through a
     Catmull-Clark seam and closed at its tip: one closed, printable surface. Returns (torus,

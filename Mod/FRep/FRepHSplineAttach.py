@@ -6,7 +6,7 @@ recomputes the joined surface.
 Scripting:
     import FRepHSplineAttach as A
     body = H.make_plane(doc, 10, 10, 90, 90)
-    limb, joint = A.attach_new_cylinder(doc, body, (3, 6, 3, 6), rows=5, height=10)
+    limb, joint = A.attach_new_cylinder(doc, body, (3, 6, 3, 6), rows=5, height=30)
     doc.recompute()
 """
 
@@ -54,10 +54,10 @@ def convert_rectangle(parent, rect, from_level, to_level):
     return (near_u(u0), near_u(u1), near_v(v0), near_v(v1))
 
 
-def cylinder_over_ring(parent, rect, rows=5, height=10.0, taper=0.7, level=0):
+def cylinder_over_ring(parent, rect, rows=5, height=30.0, taper=0.7, level=0):
     """A cylinder hspline whose CV k stands over ring CV k (of the parent's `level`): row 1 on
-    the ring, the rows above it `height` apart along the parent's normal there, drawn in by
-    `taper` toward the ring's centre; row 0 below (it is dropped by the attachment)."""
+    the ring, the rows above it evenly up to `height` along the parent's normal there, drawn
+    in by `taper` toward the ring's centre; row 0 below (it is dropped by the attachment)."""
     h = with_level(parent, level)
     points = [FreeCAD.Vector(*h.position(level, i, j)) for i, j in ring(rect)]
     centre = sum(points, FreeCAD.Vector()) * (1.0 / len(points))
@@ -68,7 +68,7 @@ def cylinder_over_ring(parent, rect, rows=5, height=10.0, taper=0.7, level=0):
     for r in range(rows):
         for p in points:
             q = centre + (p - centre) * (1.0 if r <= 1 else taper)
-            q = q + normal * (height * (r - 1))
+            q = q + normal * (height * (r - 1) / (rows - 2))
             positions.append((q.x, q.y, q.z))
     n = len(points)
     knots_v = [0, 0, 0] + list(range(rows - 2)) + [rows - 3] * 3
@@ -103,9 +103,10 @@ class AttachmentFeature(FeatureProxy):
                 obj.addProperty("App::PropertyInteger", name, GROUP, doc)
         if "LimbHeight" not in have:
             obj.addProperty("App::PropertyLength", "LimbHeight", GROUP,
-                            "The height of the cylinder the Attach command made over the ring; "
-                            "a new rectangle in its panel rebuilds that cylinder. 0: the "
-                            "cylinder is the user's own and keeps its CVs.")
+                            "The height above the ring of the cylinder the Attach command made "
+                            "(its top row's); a new rectangle or seam level in its panel "
+                            "rebuilds that cylinder. 0: the cylinder is the user's own and "
+                            "keeps its CVs.")
         if "CloseEnd" not in have:
             obj.addProperty("App::PropertyBool", "CloseEnd", GROUP,
                             "Close the cylinder's free end with one face, rounded off by the "
@@ -175,10 +176,12 @@ def make_attachment(doc, parent, cylinder, rect, subdivisions=3, name="Attachmen
     return obj
 
 
-def attach_new_cylinder(doc, parent, rect, rows=5, height=10.0, subdivisions=3, level=0):
-    """A new cylinder hspline standing on the ring around `rect` (CVs of the parent's
-    `level`, the seam's), and the Attachment joining them. Returns (cylinder feature,
-    attachment)."""
+def attach_new_cylinder(doc, parent, rect, rows=5, height=30.0, subdivisions=3, level=0):
+    """A new cylinder hspline of `rows` rows (4 or more) standing `height` high on the ring
+    around `rect` (CVs of the parent's `level`, the seam's), and the Attachment joining them.
+    Returns (cylinder feature, attachment)."""
+    if rows < 4:
+        raise ValueError("%s: a limb needs 4 rows of CVs or more, not %d" % (parent.Label, rows))
     check_rectangle(parent, rect, level=level)
     limb = H.make_hspline(doc, cylinder_over_ring(parent, rect, rows, height, level=level),
                           name="Limb")
@@ -240,7 +243,8 @@ def set_rectangle(obj, rect):
     the new ring (one the user gave keeps its CVs: its CV count must match the ring)."""
     check_rectangle(obj.Parent, rect, obj.Label, obj.SeamLevel)
     if obj.LimbHeight > 0 and H.is_hspline(obj.Cylinder):
-        H.store(obj.Cylinder, cylinder_over_ring(obj.Parent, rect, 5, float(obj.LimbHeight),
+        rows = H._shared(obj.Cylinder).grid_size(0)[1]  # (as many rows as it had)
+        H.store(obj.Cylinder, cylinder_over_ring(obj.Parent, rect, rows, float(obj.LimbHeight),
                                                  level=obj.SeamLevel))
         obj.Cylinder.touch()
     obj.I0, obj.I1, obj.J0, obj.J1 = rect

@@ -61,8 +61,8 @@ class AttachPanel:
         self.height.setSuffix(" mm")
         self.height.setValue(float(obj.LimbHeight) or 1.0)
         self.height.setEnabled(obj.LimbHeight > 0)
-        self.height.setToolTip(translate("FRep", "How far the cylinder's rows stand apart along "
-                                                 "the parent's normal"))
+        self.height.setToolTip(translate("FRep", "How high the cylinder's top row stands above "
+                                                 "the ring, along the parent's normal"))
         self.height.valueChanged.connect(self.height_changed)
         layout.addRow(translate("FRep", "Height"), self.height)
         self.steps = narrow(QtGui.QSpinBox())

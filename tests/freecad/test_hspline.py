@@ -224,7 +224,7 @@ def test_an_attachment_joins_a_cylinder_and_follows_its_edits(doc):
     import FRepHSplineAttach as A
     body = H.make_plane(doc, 10, 10, 90, 90)
     doc.recompute()
-    limb, joint = A.attach_new_cylinder(doc, body, (3, 6, 3, 6), rows=5, height=10)
+    limb, joint = A.attach_new_cylinder(doc, body, (3, 6, 3, 6), rows=5, height=30)
     joint.CloseEnd = False  # the open rim keeps its row's height (the boundary rule)
     doc.recompute()
     assert joint.isValid(), joint.getStatusString()
