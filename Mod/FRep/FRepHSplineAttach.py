@@ -56,18 +56,25 @@ def convert_rectangle(parent, rect, from_level, to_level):
 
 def cylinder_over_ring(parent, rect, rows=5, height=30.0, taper=0.7, level=0):
     """A cylinder hspline whose CV k stands over ring CV k (of the parent's `level`): row 1 on
-    the ring, the rows above it evenly up to `height` along the parent's normal there, drawn
-    in by `taper` toward the ring's centre; row 0 below (it is dropped by the attachment)."""
+    the ring, the rows above it evenly up to `height` along the parent's normal there, round,
+    `taper` times the ring's mean radius; row 0 below (it is dropped by the attachment)."""
     h = with_level(parent, level)
     points = [FreeCAD.Vector(*h.position(level, i, j)) for i, j in ring(rect)]
     centre = sum(points, FreeCAD.Vector()) * (1.0 / len(points))
     i0, i1, j0, j1 = rect
     u, v = h.reference(level, (i0 + i1) // 2, (j0 + j1) // 2)
     normal = FreeCAD.Vector(*h.evaluate(u, v)["normal"])
+    # Above the ring the rows are round (a ring around a rectangle is not): each CV keeps
+    # its ring CV's direction from the centre, at `taper` times the ring's mean radius.
+    flat = [(p - centre) - normal * (p - centre).dot(normal) for p in points]
+    radius = sum(f.Length for f in flat) / len(flat)
     positions = []
     for r in range(rows):
-        for p in points:
-            q = centre + (p - centre) * (1.0 if r <= 1 else taper)
+        for p, f in zip(points, flat):
+            if r <= 1 or f.Length < 1e-12:
+                q = centre + (p - centre) * (1.0 if r <= 1 else taper)
+            else:
+                q = centre + f * (taper * radius / f.Length)
             q = q + normal * (height * (r - 1) / (rows - 2))
             positions.append((q.x, q.y, q.z))
     n = len(points)
