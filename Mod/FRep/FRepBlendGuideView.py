@@ -7,6 +7,8 @@ computes the guide (obj.Proxy.blend_guide); this module only draws it and report
 import FreeCAD
 import FreeCADGui
 
+from FRepGuiHelpers import Transaction
+
 GUIDE_COLOUR = (0.2, 0.55, 0.95)
 HANDLE_COLOURS = {"A1": (0.9, 0.35, 0.1), "A2": (0.1, 0.6, 0.2)}
 
@@ -33,6 +35,7 @@ class Guide:
         self.obj = obj
         self.root = None
         self.scene = None
+        self.pending = False
         self.handles = {}  # name -> (dragger, start point, direction, size, lift)
         self.build()
 
@@ -117,19 +120,31 @@ class Guide:
     def dropped(self, name):
         """A handle let go: its reach is set from where it lies, as one undo step."""
         obj = self.obj
-        doc = obj.Document
-        doc.openTransaction("Drag %s of %s" % (name, obj.Label))
         try:
-            value = obj.Proxy.set_blend_reach(obj, name, self.handle_point(name))
-            doc.recompute()
-            doc.commitTransaction()
+            with Transaction(obj.Document, "Drag %s of %s" % (name, obj.Label)):
+                value = obj.Proxy.set_blend_reach(obj, name, self.handle_point(name))
+                obj.Document.recompute()
             FreeCAD.Console.PrintMessage("%s: %s = %.4g\n" % (obj.Label, name, value))
         except Exception as e:
-            doc.abortTransaction()
             FreeCAD.Console.PrintError("%s: %s\n" % (obj.Label, e))
-        from PySide import QtCore
-        # (rebuilt once Coin's callback has returned: the dragger is still in use)
-        QtCore.QTimer.singleShot(0, self.build)
+        self.schedule()  # (the recompute's refresh comes to the same one build)
+
+    def schedule(self):
+        """One build once the event in hand is done: a dragger's callback must not remove the
+        dragger it runs in, and a drop and the recompute it causes ask for the same build."""
+        if not self.pending:
+            from PySide import QtCore
+            self.pending = True
+            QtCore.QTimer.singleShot(0, self._build_pending)
+
+    def _build_pending(self):
+        self.pending = False
+        try:
+            shown = _guides.get((self.obj.Document.Name, self.obj.Name)) is self
+        except Exception:  # the object or its document is gone
+            shown = False
+        if shown:  # (not hidden in the meantime)
+            self.build()
 
     def remove(self):
         if self.root is not None and self.scene is not None:
@@ -184,7 +199,7 @@ def refresh(obj):
     """After a recompute of a blend whose guide is up: the guide follows the new values."""
     guide = guide_of(obj)
     if guide is not None:
-        guide.build()
+        guide.schedule()
 
 
 def install():

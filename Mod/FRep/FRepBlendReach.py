@@ -23,12 +23,12 @@ def is_blend(obj):
     return getattr(getattr(obj, "Proxy", None), "FREP_TYPE", None) in BLENDS
 
 
-def _inputs(obj):
+def _inputs(obj, builder=None):
     inputs = obj.Proxy.inputs(obj)
     if len(inputs) < 2:
         raise ValueError("%s: a blend guide needs the blend's two inputs; it has %d"
                          % (obj.Label, len(inputs)))
-    builder = FRepTree.Builder()
+    builder = builder or FRepTree.Builder()
     return [builder.shape(i) for i in inputs]
 
 
@@ -73,10 +73,10 @@ def _meeting_point(f1, f2, box):
     return p
 
 
-def _box(obj, reach):
+def _box(obj, blended, reach):
     """The box the guide is meshed in, in the blend's frame: the blend's bounds (or, where it
     is unbounded, its preview's) grown by three reaches and a tenth."""
-    bounds = obj.Proxy.local_shape(obj, FRepTree.Builder()).bounds()
+    bounds = blended.bounds()
     if bounds["empty"]:
         raise ValueError("%s: the blend is empty; there is nothing to guide" % obj.Label)
     if bounds["bounded"]:
@@ -101,14 +101,15 @@ def guide(obj):
     the box), anchor: a point where the surfaces meet (or None), handles: [(property, point,
     direction, lift)]: the point where the reach is now, the line it moves on, and how far off
     the surface to draw it). ValueError naming the blend when its inputs cannot be built."""
-    shapes = _inputs(obj)
+    builder = FRepTree.Builder()  # (the inputs built once, for them and the blend)
+    shapes = _inputs(obj, builder)
     f1, f2 = shapes[0], shapes[1]
     a1, a2 = float(obj.A1), float(obj.A2)
-    box = _box(obj, max(a1, a2))
+    blended = obj.Proxy.local_shape(obj, builder)
+    box = _box(obj, blended, max(a1, a2))
     # The region, as a coat on the blend's surface (a band 1.5 cells either side of it), so the
     # view shows where on the part the blend acts rather than a cloud around it.
     coat = 1.5 * max(box[1][k] - box[0][k] for k in range(3)) / GUIDE_CELLS
-    blended = obj.Proxy.local_shape(obj, FRepTree.Builder())
     region = frepcore.Node(
         "formula", {"formula": "min(%r - (f1/a1)^2 - (f2/a2)^2, t - abs(f3))"
                                % (1.0 / FRACTION - 1.0),

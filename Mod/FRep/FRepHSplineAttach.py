@@ -33,13 +33,7 @@ def with_level(parent, level):
     """The parent's hierarchy with a grid on `level` (made by knot insertion where it has no
     such level: the surface does not change), as the attachment's seam uses it."""
     h = H._shared(parent)
-    if h.level_count > level:
-        return h
-    h = h.copy()
-    while h.level_count <= level:
-        _, i, j = h.cvs(h.level_count - 1)[0]
-        h.refine(h.level_count - 1, [(i, j)])
-    return h
+    return h if h.level_count > level else h.with_level(level)
 
 
 def convert_rectangle(parent, rect, from_level, to_level):

@@ -164,8 +164,8 @@ class EnvelopeFeature(H.HSplineFeature):
         if not obj.Segments:
             raise ValueError("%s: property 'Segments' is empty; give the lines or placements "
                              "that carry the surface" % obj.Label)
-        keep_rest_pose(obj)
         now = segment_poses(obj, obj.Segments)
+        keep_rest_pose(obj, now)
         segments = []
         for k, (start, end, frame) in enumerate(now):
             rest = FreeCAD.Placement(obj.RestPlacements[k])
@@ -188,13 +188,17 @@ class EnvelopeFeature(H.HSplineFeature):
         super().execute(obj)
 
 
-def keep_rest_pose(obj):
-    """The rest pose of each segment: kept for segments bound before, taken where it is now for
-    a new one."""
-    try:
-        now = segment_poses(obj, obj.Segments)
-    except ValueError:
-        return  # execute says why
+def keep_rest_pose(obj, now=None):
+    """The rest pose of each segment: kept for segments bound before, taken where it is now
+    (`now`: segment_poses, when the caller has them) for a new one."""
+    names = [s.Name for s in obj.Segments]
+    if names == list(obj.RestNames):
+        return
+    if now is None:
+        try:
+            now = segment_poses(obj, obj.Segments)
+        except ValueError:
+            return  # execute says why
     old = {name: (obj.RestPlacements[k], obj.RestEnds[2 * k], obj.RestEnds[2 * k + 1])
            for k, name in enumerate(obj.RestNames)
            if k < len(obj.RestPlacements) and 2 * k + 1 < len(obj.RestEnds)}
@@ -203,9 +207,7 @@ def keep_rest_pose(obj):
         rest = old.get(seg.Name, (frame, start, end))
         placements.append(rest[0])
         ends += [rest[1], rest[2]]
-    names = [s.Name for s in obj.Segments]
-    if names != list(obj.RestNames):
-        obj.RestPlacements, obj.RestEnds, obj.RestNames = placements, ends, names
+    obj.RestPlacements, obj.RestEnds, obj.RestNames = placements, ends, names
 
 
 def set_rest_pose(obj):

@@ -384,14 +384,12 @@ class ViewProviderEnvelope(ViewProviderHSpline):
         menu.addAction(action)
 
     def set_rest_pose(self, obj):
-        doc = obj.Document
-        doc.openTransaction("Set rest pose of %s" % obj.Label)
+        from FRepGuiHelpers import Transaction
         try:
-            obj.Proxy.set_rest_pose(obj)
-            doc.recompute()
-            doc.commitTransaction()
+            with Transaction(obj.Document, "Set rest pose of %s" % obj.Label):
+                obj.Proxy.set_rest_pose(obj)
+                obj.Document.recompute()
         except ValueError as e:
-            doc.abortTransaction()
             FreeCAD.Console.PrintError("%s\n" % e)
 
     def setEdit(self, vobj, mode=0):

@@ -20,8 +20,9 @@ using ControlNet = OpenMesh::PolyMesh_ArrayKernelT<Traits>;
   throw ModelError("hspline attachment: " + why);
 }
 
-// The hierarchy with its levels up to `level` there.
-HSpline withLevel(const HSpline& h, int level) {
+}  // namespace
+
+HSpline hsplineWithLevel(const HSpline& h, int level) {
   HSpline out = h;
   // Refining one CV adds the next level's knots (its grid); zero offsets leave the surface.
   while (out.levelCount() <= level) {
@@ -31,15 +32,13 @@ HSpline withLevel(const HSpline& h, int level) {
   return out;
 }
 
-}  // namespace
-
 HsAttachment attachCylinder(const HSpline& parentSurface, int i0, int i1, int j0, int j1,
                             const HSpline& cylinder, int subdivisions, bool closeEnd,
                             int parentLevel) {
   if (parentLevel < 0 || parentLevel > kMaxAttachLevel)
     refuse("the seam level must be 0 to " + std::to_string(kMaxAttachLevel) + ", got " +
            std::to_string(parentLevel));
-  const HSpline parent = withLevel(parentSurface, parentLevel);
+  const HSpline parent = hsplineWithLevel(parentSurface, parentLevel);
   const HsLevel& p = parent.level(parentLevel);
   const HsLevel& c = cylinder.level(0);
   const int nu = p.u.count(), nv = p.v.count();

@@ -30,6 +30,9 @@ struct HsAttachment {
 // the rectangle's indices are on that level. Subdivided `subdivisions` times (0 to 6). Throws
 // ModelError naming what does not fit.
 constexpr int kMaxAttachLevel = 3;
+// The hierarchy with a grid on `level` (levels it lacks made by knot insertion around one CV,
+// with zero offsets: the surface does not change), as a seam on that level uses it.
+HSpline hsplineWithLevel(const HSpline& h, int level);
 constexpr std::size_t kMaxAttachGrid = 1u << 20;  // parent net points on the seam's level
 HsAttachment attachCylinder(const HSpline& parent, int i0, int i1, int j0, int j1,
                             const HSpline& cylinder, int subdivisions, bool closeEnd = false,

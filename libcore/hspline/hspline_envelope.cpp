@@ -126,7 +126,6 @@ HsEnvelope envelope(const HSpline& rest, const std::vector<HsSegment>& segments,
       throw ModelError("envelope: level " + std::to_string(level) + " is not a level (0 to " +
                        std::to_string(HSpline::kMaxLevels - 1) + ")");
   HsEnvelope out;
-  out.joints.clear();
   const std::vector<Joint> joints = jointsOf(segments);
   for (const Joint& j : joints) out.joints.push_back(j.point);
   out.jointReach = settings.jointReach > 0 ? settings.jointReach : 1.25 * meanControlEdge(rest);

@@ -137,6 +137,9 @@ void bindHSpline(py::module_& m) {
           "The hierarchy as flat arrays (knots, periods, each CV's level, i, j, value); "
           "values_only: the values alone.")
       .def("copy", [](const HSpline& h) { return HSpline(h); })
+      .def("with_level", &hsplineWithLevel, py::arg("level"),
+           "A copy with a grid on `level`: levels it lacks are made by knot insertion, the "
+           "surface unchanged (what an attachment's seam on that level uses).")
       .def_property_readonly("level_count", &HSpline::levelCount)
       .def_property_readonly("cv_count", &HSpline::cvCount)
       .def_property_readonly(
