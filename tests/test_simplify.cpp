@@ -20,6 +20,7 @@
 #include "random_trees.h"
 #include "simplify/simplify.h"
 #include "simplify/straighten_creases.h"
+#include "simplify/work_zone.h"
 #include "sorted_triangles.h"
 #include "test_nodes.h"
 
@@ -615,6 +616,70 @@ TEST(StraightenCreases, ASmoothSurfaceIsLeftAsItWas) {
     EXPECT_EQ(stats.collapses, 0u) << "cell " << cell;
     EXPECT_EQ(testing::sortedTriangles(s), testing::sortedTriangles(mesh)) << "cell " << cell;
   }
+}
+
+// The straightening's work zone (simplify/work_zone.h) is what lets it leave faces far from a
+// crease out of every region: a box the zone covers meets no box that meets none of the
+// zone's blocks. On random boxes round a random zone, every box the zone covers and every box
+// it does not meet are disjoint (closed boxes, coordinates on block boundaries included), a
+// box added with a margin is covered, and a box far from every added one is not met.
+TEST(StraightenCreases, TheWorkZonesBoxesNeverMeetThoseLeftOut) {
+  const Box3 box{{-1, -2, -1}, {3, 1, 1}};
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> at(-1.2f, 3.2f), size(0.0f, 0.4f);
+  // (coordinates on the blocks' boundaries too, where the rounding decides)
+  std::uniform_int_distribution<int> snap(0, 3);
+  auto randomBox = [&](float lo[3], float hi[3]) {
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = at(rng);
+      if (snap(rng) == 0) lo[a] = std::round(lo[a] / 0.1f) * 0.1f;
+      hi[a] = lo[a] + (snap(rng) == 0 ? 0.0f : size(rng));
+    }
+  };
+  int covered = 0, apart = 0, farAway = 0;
+  for (int round = 0; round < 20; ++round) {
+    simplifying::WorkZone zone(box, 0.1);
+    std::vector<std::array<float, 6>> added;
+    for (int i = 0; i < 6; ++i) {
+      std::array<float, 6> b;
+      randomBox(b.data(), b.data() + 3);
+      zone.add(b.data(), b.data() + 3, 0.15);
+      EXPECT_TRUE(zone.covers(b.data(), b.data() + 3));
+      added.push_back(b);
+    }
+    std::vector<std::array<float, 6>> boxes(400);
+    for (auto& b : boxes) randomBox(b.data(), b.data() + 3);
+    for (const auto& a : boxes) {
+      if (!zone.covers(a.data(), a.data() + 3)) continue;
+      ++covered;
+      for (const auto& b : boxes) {
+        if (zone.meets(b.data(), b.data() + 3)) continue;
+        ++apart;
+        bool overlap = true;
+        for (int k = 0; k < 3; ++k) overlap = overlap && a[k] <= b[3 + k] && b[k] <= a[3 + k];
+        ASSERT_FALSE(overlap) << "a covered box meets a box left out";
+      }
+    }
+    // inside the meshing box and far from everything added (more than the margin and a
+    // block): not met (beyond the box's padding, blocks are clamped to its last ones)
+    for (const auto& b : boxes) {
+      bool far = true;
+      for (int k = 0; k < 3; ++k) far = far && box.lo[k] <= b[k] && b[3 + k] <= box.hi[k];
+      for (const auto& c : added) {
+        bool near = true;
+        for (int k = 0; k < 3; ++k)
+          near = near && b[k] <= c[3 + k] + 0.15f + 0.21f && c[k] - 0.15f - 0.21f <= b[3 + k];
+        far = far && !near;
+      }
+      if (far) {
+        ++farAway;
+        EXPECT_FALSE(zone.meets(b.data(), b.data() + 3));
+      }
+    }
+  }
+  EXPECT_GT(covered, 100);
+  EXPECT_GT(apart, 10000);
+  EXPECT_GT(farAway, 1000);
 }
 
 TEST(StraightenCreases, NeedsSharpFeatures) {

@@ -105,18 +105,27 @@ void RegionSimplifier::setUp(const RegionInput& in) {
   }
   deadFace_.assign(faces_.size(), kLive);
   deviation_.assign(faces_.size(), std::numeric_limits<float>::quiet_NaN());
-  // the region's vertices: those of its faces that lie in it
+  // the region's vertices: those of its faces that lie in it, each listed once (marked in
+  // localOf_ as it is met, those outside too), then in order
+  constexpr std::uint32_t kSeen = kNone - 1;
+  outside_.clear();
   for (const Triangle& t : faces_)
-    for (std::uint32_t v : t)
-      if (regions_.of(s_.pos[v]) == key_) gid_.push_back(v);
+    for (std::uint32_t v : t) {
+      if (localOf_[v] != kNone) continue;
+      localOf_[v] = kSeen;
+      (regions_.of(s_.pos[v]) == key_ ? gid_ : outside_).push_back(v);
+    }
+  for (std::uint32_t g : outside_) localOf_[g] = kNone;
   std::sort(gid_.begin(), gid_.end());
-  gid_.erase(std::unique(gid_.begin(), gid_.end()), gid_.end());
   const std::size_t n = gid_.size();
   for (std::uint32_t l = 0; l < n; ++l) localOf_[gid_[l]] = l;
   // (the lists are cleared, not freed: the next region reuses them)
   if (around_.size() < n) around_.resize(n);
   for (std::size_t l = 0; l < n; ++l) around_[l].clear();
   fixed_.assign(n, 0);
+  incomplete_.assign(n, 0);
+  if (!s_.incomplete.empty())
+    for (std::uint32_t l = 0; l < n; ++l) fixed_[l] = incomplete_[l] = s_.incomplete[gid_[l]];
   removedLocal_.assign(n, 0);
   stamp_.assign(n, 0);
   for (std::uint32_t f = 0; f < faces_.size(); ++f)

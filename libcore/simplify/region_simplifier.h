@@ -24,6 +24,7 @@
 #include "base/triangle_geometry.h"
 #include "check/face_pair_test.h"
 #include "simplify/simplify.h"
+#include "simplify/work_zone.h"
 
 namespace frep {
 namespace simplifying {
@@ -168,6 +169,11 @@ struct State {
   // the vertices merged into it. The mesh must stay within the tolerance of each, so the
   // surface cannot recede from the mesh either (the other side of the Hausdorff distance).
   std::vector<std::vector<Vec3f>> samples;
+  // With collapses onto creases only, per pass: where the pass works (no change leaves it),
+  // and the vertices with a face left out of every region (their stars are not all loaded:
+  // they stay, and no collapse or flip reads their stars).
+  const WorkZone* zone = nullptr;
+  std::vector<std::uint8_t> incomplete;
 };
 
 // (collapses onto creases only) whether a vertex of t is near a crease
@@ -440,8 +446,10 @@ class RegionSimplifier {
   std::uint64_t key_ = 0;
   std::vector<std::uint32_t> gid_;      // local vertex -> global
   std::vector<std::uint32_t> localOf_;  // global vertex -> local, kNone outside the region
+  std::vector<std::uint32_t> outside_;  // (set-up's scratch: vertices of its faces outside it)
   std::vector<std::vector<std::uint32_t>> around_;  // local vertex -> its faces
   std::vector<std::uint8_t> fixed_, removedLocal_;
+  std::vector<std::uint8_t> incomplete_;  // local vertex -> a face of its star is not loaded
   std::vector<std::uint32_t> stamp_;
   std::vector<Triangle> faces_;
   // a face's state: live, removed for good, or removed only by the collapse under test (it

@@ -46,6 +46,26 @@ void markNearCreases(State& s, const std::vector<Triangle>& faces) {
       for (std::uint32_t v : faces[f]) s.nearCrease[v] = 1;
 }
 
+// With collapses onto creases only: the work zone's blocks, and how far round a face near a
+// crease it reaches, in cells. A change there moves the faces round an edge with an end near
+// the crease: they reach about one edge (a cell, up to maxEdge) beyond the near faces, and a
+// change whose faces leave the zone is refused. Measured on the twist (docs/performance.md,
+// "Straightened creases"): ...
+constexpr double kZoneBlockCells = 1.0;
+constexpr double kZoneMarginCells = 2.0;
+
+struct Box {
+  float lo[3], hi[3];
+};
+Box boxOf(const std::vector<Vec3f>& pos, const Triangle& t) {
+  Box b;
+  for (int a = 0; a < 3; ++a) {
+    b.lo[a] = std::min({pos[t[0]][a], pos[t[1]][a], pos[t[2]][a]});
+    b.hi[a] = std::max({pos[t[0]][a], pos[t[1]][a], pos[t[2]][a]});
+  }
+  return b;
+}
+
 void validate(const SimplifyOptions& o) {
   auto bad = [](const std::string& what) { throw ModelError("simplify: " + what); };
   if (!(o.cell > 0.0) || !std::isfinite(o.cell)) bad("cell must be a positive number");
@@ -99,14 +119,18 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field, const Si
   const double shifts[4] = {0.0, 0.5, 0.25, 0.75};
   for (int pass = 0; pass < o.passes; ++pass) {
     if (o.progress && !o.progress(static_cast<double>(pass) / o.passes)) throw Cancelled();
-    phase.emplace("simplify: faces sorted into regions", PhaseKind::Serial);
     Regions regions;
     for (int a = 0; a < 3; ++a)
       regions.origin[a] = o.bbox.lo[a] - shifts[pass % 4] * side - o.cell * (pass / 4) * 0.37;
     regions.side = side;
-    // faces inside one region, grouped by it; faces crossing regions, frozen
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> inner, frozen;
-    std::vector<std::uint32_t> crossing;
+    // The faces in chunks, each chunk's lists in face order, joined in chunk order (the same
+    // lists whatever the threads).
+    constexpr std::size_t kChunk = 1 << 15;
+    const std::size_t chunks = (faces.size() + kChunk - 1) / kChunk;
+    auto chunkFaces = [&](std::size_t c) {
+      return std::make_pair(static_cast<std::uint32_t>(c * kChunk),
+                            static_cast<std::uint32_t>(std::min(faces.size(), (c + 1) * kChunk)));
+    };
     // With collapses onto creases only, the regions holding a face near a crease (the others'
     // faces stay as they are and are not sorted in: most of the mesh)
     std::vector<std::uint64_t> active;
@@ -114,39 +138,96 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field, const Si
       return !o.creaseCollapsesOnly || std::binary_search(active.begin(), active.end(), r);
     };
     if (o.creaseCollapsesOnly) {
+      phase.emplace("simplify: faces near creases", PhaseKind::Parallel);
       markNearCreases(s, faces);
-      for (const Triangle& t : faces) {
-        if (!touchesCrease(s, t)) continue;
-        const std::uint64_t r = regions.of(s.pos[t[0]]);
-        if (regions.of(s.pos[t[1]]) == r && regions.of(s.pos[t[2]]) == r) active.push_back(r);
-      }
+      std::vector<std::vector<std::uint64_t>> found(chunks);
+      tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+        const auto [from, to] = chunkFaces(c);
+        for (std::uint32_t f = from; f < to; ++f) {
+          const Triangle& t = faces[f];
+          if (!touchesCrease(s, t)) continue;
+          const std::uint64_t r = regions.of(s.pos[t[0]]);
+          if (regions.of(s.pos[t[1]]) == r && regions.of(s.pos[t[2]]) == r) found[c].push_back(r);
+        }
+      });
+      for (const std::vector<std::uint64_t>& part : found)
+        active.insert(active.end(), part.begin(), part.end());
       std::sort(active.begin(), active.end());
       active.erase(std::unique(active.begin(), active.end()), active.end());
     }
-    for (std::uint32_t f = 0; f < faces.size(); ++f) {
-      const Triangle& t = faces[f];
-      const std::uint64_t r = regions.of(s.pos[t[0]]);
-      if (regions.of(s.pos[t[1]]) == r && regions.of(s.pos[t[2]]) == r) {
-        if (isActive(r))
-          inner.emplace_back(r, f);
-        else
-          crossing.push_back(f);  // (left as it is)
-        continue;
-      }
-      crossing.push_back(f);
-      std::int64_t lo[3], hi[3];
-      for (int a = 0; a < 3; ++a) {
-        // every region whose closed cube the face's box meets
-        const double mn = std::min({s.pos[t[0]][a], s.pos[t[1]][a], s.pos[t[2]][a]});
-        const double mx = std::max({s.pos[t[0]][a], s.pos[t[1]][a], s.pos[t[2]][a]});
-        lo[a] = static_cast<std::int64_t>(std::floor((mn - regions.origin[a]) / side - 1e-9));
-        hi[a] = static_cast<std::int64_t>(std::floor((mx - regions.origin[a]) / side + 1e-9));
-      }
-      for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
-        for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
-          for (std::int64_t i = lo[0]; i <= hi[0]; ++i)
-            if (isActive(Regions::key(i, j, k))) frozen.emplace_back(Regions::key(i, j, k), f);
+    // With collapses onto creases only: the work zone round the faces near a crease (where a region
+    // holds one), the faces it loads, and the vertices with a face it leaves out.
+    std::optional<WorkZone> zone;
+    std::vector<std::uint8_t> loaded;
+    if (!active.empty()) {
+      phase.emplace("simplify: the work zone", PhaseKind::Parallel);
+      zone.emplace(o.bbox, kZoneBlockCells * o.cell);
+      tbb::parallel_for(std::size_t(0), faces.size(), [&](std::size_t f) {
+        if (!touchesCrease(s, faces[f])) return;
+        const Box b = boxOf(s.pos, faces[f]);
+        zone->add(b.lo, b.hi, kZoneMarginCells * o.cell);
+      });
+      loaded.resize(faces.size());
+      tbb::parallel_for(std::size_t(0), faces.size(), [&](std::size_t f) {
+        const Box b = boxOf(s.pos, faces[f]);
+        loaded[f] = zone->meets(b.lo, b.hi);
+      });
+      phase.emplace("simplify: vertices with faces left out", PhaseKind::Serial);
+      s.incomplete.assign(nv, 0);
+      for (std::size_t f = 0; f < faces.size(); ++f)
+        if (!loaded[f])
+          for (std::uint32_t v : faces[f]) s.incomplete[v] = 1;
+      s.zone = &*zone;
     }
+    phase.emplace("simplify: faces sorted into regions", PhaseKind::Parallel);
+    // faces inside one region, grouped by it; faces crossing regions, frozen
+    struct Sorted {
+      std::vector<std::pair<std::uint64_t, std::uint32_t>> inner, frozen;
+      std::vector<std::uint32_t> crossing;
+    };
+    std::vector<Sorted> sorted(chunks);
+    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+      Sorted& out = sorted[c];
+      const auto [from, to] = chunkFaces(c);
+      for (std::uint32_t f = from; f < to; ++f) {
+        const Triangle& t = faces[f];
+        if (!loaded.empty() && !loaded[f]) {
+          out.crossing.push_back(f);  // (left as it is)
+          continue;
+        }
+        const std::uint64_t r = regions.of(s.pos[t[0]]);
+        if (regions.of(s.pos[t[1]]) == r && regions.of(s.pos[t[2]]) == r) {
+          if (isActive(r))
+            out.inner.emplace_back(r, f);
+          else
+            out.crossing.push_back(f);  // (left as it is)
+          continue;
+        }
+        out.crossing.push_back(f);
+        std::int64_t lo[3], hi[3];
+        for (int a = 0; a < 3; ++a) {
+          // every region whose closed cube the face's box meets
+          const double mn = std::min({s.pos[t[0]][a], s.pos[t[1]][a], s.pos[t[2]][a]});
+          const double mx = std::max({s.pos[t[0]][a], s.pos[t[1]][a], s.pos[t[2]][a]});
+          lo[a] = static_cast<std::int64_t>(std::floor((mn - regions.origin[a]) / side - 1e-9));
+          hi[a] = static_cast<std::int64_t>(std::floor((mx - regions.origin[a]) / side + 1e-9));
+        }
+        for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
+          for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
+            for (std::int64_t i = lo[0]; i <= hi[0]; ++i)
+              if (isActive(Regions::key(i, j, k)))
+                out.frozen.emplace_back(Regions::key(i, j, k), f);
+      }
+    });
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> inner, frozen;
+    std::vector<std::uint32_t> crossing;
+    for (Sorted& part : sorted) {
+      inner.insert(inner.end(), part.inner.begin(), part.inner.end());
+      frozen.insert(frozen.end(), part.frozen.begin(), part.frozen.end());
+      crossing.insert(crossing.end(), part.crossing.begin(), part.crossing.end());
+    }
+    sorted.clear();
+    phase.emplace("simplify: regions' faces in order", PhaseKind::Parallel);
     tbb::parallel_sort(inner.begin(), inner.end());
     tbb::parallel_sort(frozen.begin(), frozen.end());
     std::vector<std::uint32_t> innerFaces(inner.size()), frozenFaces(frozen.size());
@@ -183,6 +264,7 @@ TriangleMesh simplifyMesh(const TriangleMesh& mesh, const Field& field, const Si
       largest = std::max(largest, r.largestDistance);
     }
     faces.swap(next);
+    s.zone = nullptr;
   }
 
   // the surviving vertices, renumbered in their order

@@ -33,6 +33,7 @@ bool RegionSimplifier::relocate(std::uint32_t l, const Vec3& p, RegionOutput& ou
 
 bool RegionSimplifier::collapse(const Candidate& c, RegionOutput& out) {
   const std::uint32_t u = c.u, v = c.v, gu = gid_[u], gv = gid_[v];
+  if (incomplete_[u] || incomplete_[v]) return false;  // (their rings are not all known)
   // the two faces on the edge, and their third vertices
   std::uint32_t edgeFaces[2], third[2], m = 0;
   for (std::uint32_t f : around_[u])
@@ -146,7 +147,8 @@ bool RegionSimplifier::linkProved(std::uint32_t w) {
     if (vertex == w) return proved;
   const std::uint32_t l = local(w);
   bool proved = false;
-  if (l != kNone) {  // (a vertex outside the region: not all its faces are listed here)
+  // (a vertex outside the region, or with faces left out: not all its faces are listed here)
+  if (l != kNone && !incomplete_[l]) {
     sectors_.clear();
     for (std::uint32_t f : around_[l]) {
       if (deadFace_[f] != kLive) continue;
@@ -163,6 +165,12 @@ bool RegionSimplifier::linkProved(std::uint32_t w) {
 bool RegionSimplifier::acceptable(const std::vector<std::uint32_t>& changed, double worstBefore,
                                   std::uint32_t gv, std::uint32_t gu, double allowed,
                                   RegionOutput& out) {
+  if (changed.empty()) return false;
+  if (s_.zone) {  // (a face of the pass's work zone: none left out can meet it)
+    FaceBox zone = boxOf(faces_[changed[0]]);
+    for (std::uint32_t f : changed) zone.grow(boxOf(faces_[f]));
+    if (!s_.zone->covers(zone.lo, zone.hi)) return false;
+  }
   const double floorQuality = std::min(featureMove_ ? kFeatureQuality : kQuality, worstBefore);
   for (std::size_t i = 0; i < changed.size(); ++i) {
     const Triangle& t = faces_[changed[i]];

@@ -63,6 +63,7 @@ bool RegionSimplifier::tryFlip(std::uint32_t f, std::uint32_t g, std::uint32_t u
   const std::uint32_t a = third(f), b = third(g);
   const std::uint32_t lu = local(u), lv = local(v), la = local(a), lb = local(b);
   if (a == b || lu == kNone || lv == kNone || la == kNone || lb == kNone) return false;
+  if (incomplete_[lu] || incomplete_[lv] || incomplete_[la] || incomplete_[lb]) return false;
   // u and v keep three faces each
   if (around_[lu].size() <= 3 || around_[lv].size() <= 3) return false;
   // The quad's turning before and after (its four outer edges keep their outer faces).
