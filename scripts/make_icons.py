@@ -601,6 +601,22 @@ def infill():
     return svg(body)
 
 
+def strut_lattice():
+    """Strut lattice: a cube cell of beams, its body diagonals meeting at the centre (BCC)."""
+    front = [(8, 20), (44, 20), (44, 56), (8, 56)]
+    back = [(20, 8), (56, 8), (56, 44), (20, 44)]
+    edges = [(front[i], front[(i + 1) % 4]) for i in range(4)]
+    edges += [(back[i], back[(i + 1) % 4]) for i in range(4)]
+    edges += [(front[i], back[i]) for i in range(4)]
+    body = "".join('<line x1="%g" y1="%g" x2="%g" y2="%g" stroke="%s" stroke-width="2" '
+                   'opacity="0.7"/>\n' % (a + b + (STROKE,)) for a, b in edges)
+    centre = (32, 32)
+    body += "".join('<line x1="%g" y1="%g" x2="%g" y2="%g" stroke="%s" stroke-width="5.5" '
+                    'stroke-linecap="round"/>\n' % (p + centre + (BLUE[1],))
+                    for p in front + back)
+    return svg(body + centres(front + back + [centre], STROKE, 3.5))
+
+
 # -- meshing and printing -------------------------------------------------------------------
 def solid_tolerance():
     """The solid input tolerance: an arc and the facets that stand for it, the gap marked."""
@@ -804,6 +820,7 @@ ICONS = {
     "neovius": neovius,
     "lidinoid": lidinoid,
     "infill": infill,
+    "strut_lattice": strut_lattice,
     "lattice": lattice_net,
     "deform": deform,
     "solid_tolerance": solid_tolerance,

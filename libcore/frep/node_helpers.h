@@ -84,4 +84,26 @@ inline Point3Slots applyAffine(ProgramBuilder& b, Point3Slots p, const Mat34& m)
           b.affine(p.x, p.y, p.z, m[8], m[9], m[10], m[11])};
 }
 
+// |p - (a + t e)|, t the projection of p on the segment from a along e clamped to [0, 1]
+// (*along: the slot of t, when asked); |p - a| where e is zero.
+inline Slot segmentDistance(ProgramBuilder& b, const Point3Slots& p, const Vec3& a, const Vec3& e,
+                            Slot* along = nullptr) {
+  const Slot dx = b.affine(p.x, p.x, p.x, 1.0, 0.0, 0.0, -a[0]);
+  const Slot dy = b.affine(p.y, p.y, p.y, 1.0, 0.0, 0.0, -a[1]);
+  const Slot dz = b.affine(p.z, p.z, p.z, 1.0, 0.0, 0.0, -a[2]);
+  const double l2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+  if (l2 == 0.0) {
+    if (along) *along = b.constant(0.0);
+    return b.length3(dx, dy, dz);
+  }
+  const double dot = e[0] * a[0] + e[1] * a[1] + e[2] * a[2];
+  const Slot raw = b.affine(p.x, p.y, p.z, e[0] / l2, e[1] / l2, e[2] / l2, -dot / l2);
+  const Slot t = b.min(b.max(raw, b.constant(0.0)), b.constant(1.0));
+  if (along) *along = t;
+  const Slot ox = b.affine(dx, t, t, 1.0, -e[0], 0.0, 0.0);
+  const Slot oy = b.affine(dy, t, t, 1.0, -e[1], 0.0, 0.0);
+  const Slot oz = b.affine(dz, t, t, 1.0, -e[2], 0.0, 0.0);
+  return b.length3(ox, oy, oz);
+}
+
 }  // namespace frep

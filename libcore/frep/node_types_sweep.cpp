@@ -23,18 +23,9 @@ constexpr std::size_t kMostPathPoints = 10001;
 // r(t) - |p - (a + t (b - a))| with t the clamped projection of p on the segment [a, b].
 Slot capsule(ProgramBuilder& b, const Point3Slots& p, const Vec3& a, const Vec3& e, double ra,
              double rb) {
-  const double l2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
-  const Slot dx = b.affine(p.x, p.x, p.x, 1.0, 0.0, 0.0, -a[0]);
-  const Slot dy = b.affine(p.y, p.y, p.y, 1.0, 0.0, 0.0, -a[1]);
-  const Slot dz = b.affine(p.z, p.z, p.z, 1.0, 0.0, 0.0, -a[2]);
-  if (l2 == 0.0) return b.sub(b.constant(ra), b.length3(dx, dy, dz));
-  const double dot = e[0] * a[0] + e[1] * a[1] + e[2] * a[2];
-  const Slot raw = b.affine(p.x, p.y, p.z, e[0] / l2, e[1] / l2, e[2] / l2, -dot / l2);
-  const Slot t = b.min(b.max(raw, b.constant(0.0)), b.constant(1.0));
-  const Slot ox = b.affine(dx, t, t, 1.0, -e[0], 0.0, 0.0);
-  const Slot oy = b.affine(dy, t, t, 1.0, -e[1], 0.0, 0.0);
-  const Slot oz = b.affine(dz, t, t, 1.0, -e[2], 0.0, 0.0);
-  const Slot dist = b.length3(ox, oy, oz);
+  Slot t;
+  const Slot dist = segmentDistance(b, p, a, e, &t);
+  if (e[0] == 0.0 && e[1] == 0.0 && e[2] == 0.0) return b.sub(b.constant(ra), dist);
   return b.affine(t, dist, dist, rb - ra, -1.0, 0.0, ra);
 }
 

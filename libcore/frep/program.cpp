@@ -1,11 +1,11 @@
 #include "frep/program.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <deque>
 #include <sstream>
 #include <type_traits>
 #include <utility>
-
 
 namespace frep {
 
@@ -17,15 +17,15 @@ struct OpInfo {
   bool commutative;
 };
 constexpr OpInfo kOpInfo[] = {
-    {"const", 0, 1, false},    {"add", 2, 0, true},         {"sub", 2, 0, false},
-    {"mul", 2, 0, true},       {"div", 2, 0, false},        {"neg", 1, 0, false},
-    {"sqr", 1, 0, false},      {"sqrt", 1, 0, false},       {"abs", 1, 0, false},
-    {"min", 2, 0, true},       {"max", 2, 0, true},         {"exp", 1, 0, false},
-    {"sin", 1, 0, false},      {"cos", 1, 0, false},        {"affine", 3, 4, false},
-    {"runion", 2, 1, true},    {"rintersect", 2, 1, true},  {"blendbump", 2, 3, false},
-    {"atan2", 2, 0, false},    {"powabs", 1, 1, false},     {"floor", 1, 0, false},
-    {"tan", 1, 0, false},      {"atan", 1, 0, false},       {"log", 1, 0, false},
-    {"powconst", 1, 1, false}, {"select", 3, 0, false},     {"external", 3, 1, false},
+    {"const", 0, 1, false},    {"add", 2, 0, true},        {"sub", 2, 0, false},
+    {"mul", 2, 0, true},       {"div", 2, 0, false},       {"neg", 1, 0, false},
+    {"sqr", 1, 0, false},      {"sqrt", 1, 0, false},      {"abs", 1, 0, false},
+    {"min", 2, 0, true},       {"max", 2, 0, true},        {"exp", 1, 0, false},
+    {"sin", 1, 0, false},      {"cos", 1, 0, false},       {"affine", 3, 4, false},
+    {"runion", 2, 1, true},    {"rintersect", 2, 1, true}, {"blendbump", 2, 3, false},
+    {"atan2", 2, 0, false},    {"powabs", 1, 1, false},    {"floor", 1, 0, false},
+    {"tan", 1, 0, false},      {"atan", 1, 0, false},      {"log", 1, 0, false},
+    {"powconst", 1, 1, false}, {"select", 3, 0, false},    {"external", 3, 1, false},
 };
 static_assert(sizeof(kOpInfo) / sizeof(kOpInfo[0]) == static_cast<int>(Op::Count_),
               "every op needs an entry");
@@ -58,7 +58,9 @@ class Scratch {
   std::vector<T>* buffer_;
 };
 
-double externalAt(const Field& f, double x, double y, double z) { return f.eval(x, y, z); }
+double externalAt(const Field& f, double x, double y, double z) {
+  return f.eval(x, y, z);
+}
 Interval externalAt(const Field& f, const Interval& x, const Interval& y, const Interval& z) {
   return f.evalInterval(x, y, z);
 }
@@ -67,10 +69,18 @@ Dual externalAt(const Field& f, const Dual& x, const Dual& y, const Dual& z) {
 }
 }  // namespace
 
-const char* opName(Op op) { return kOpInfo[static_cast<int>(op)].name; }
-int opArity(Op op) { return kOpInfo[static_cast<int>(op)].arity; }
-int opConstantCount(Op op) { return kOpInfo[static_cast<int>(op)].constants; }
-bool opIsCommutative(Op op) { return kOpInfo[static_cast<int>(op)].commutative; }
+const char* opName(Op op) {
+  return kOpInfo[static_cast<int>(op)].name;
+}
+int opArity(Op op) {
+  return kOpInfo[static_cast<int>(op)].arity;
+}
+int opConstantCount(Op op) {
+  return kOpInfo[static_cast<int>(op)].constants;
+}
+bool opIsCommutative(Op op) {
+  return kOpInfo[static_cast<int>(op)].commutative;
+}
 
 Program::Program(std::vector<Instruction> code, std::vector<double> constants, Slot result,
                  std::vector<std::shared_ptr<const Field>> externals)
@@ -142,15 +152,16 @@ T Program::evalGeneric(const T& x, const T& y, const T& z) const {
   s[kSlotZ] = z;
   const double* k = constants_.data();
   for (const Step& in : plan_) {
-    s[in.out] = in.op == Op::External
-                    ? externalAt(*externals_[static_cast<std::size_t>(k[in.k])], s[in.a],
-                                 s[in.b], s[in.c])
-                    : applyOp<T>(in.op, s[in.a], s[in.b], s[in.c], k + in.k);
+    s[in.out] = in.op == Op::External ? externalAt(*externals_[static_cast<std::size_t>(k[in.k])],
+                                                   s[in.a], s[in.b], s[in.c])
+                                      : applyOp<T>(in.op, s[in.a], s[in.b], s[in.c], k + in.k);
   }
   return s[planResult_];
 }
 
-double Program::eval(double x, double y, double z) const { return evalGeneric<double>(x, y, z); }
+double Program::eval(double x, double y, double z) const {
+  return evalGeneric<double>(x, y, z);
+}
 
 Interval Program::evalInterval(const Interval& x, const Interval& y, const Interval& z) const {
   return evalGeneric<Interval>(x, y, z);
@@ -227,6 +238,48 @@ struct DualSlots {
   }
 };
 
+// The choices of min, max, abs, select and floor on duals, component array by component
+// array: the same picks as Dual's own functions (so the same bits), without copying a Dual
+// per point, which kept the compiler from vectorising those kernels (gradients of a strut
+// lattice, all mins and clamps, ran at a tenth of its values' rate).
+struct DualPicks {
+  static constexpr std::size_t S = Program::kBatchSize;
+  using Mask = std::int64_t;  // (as wide as a double: the picks vectorise)
+  // o = take ? b : sign * a, the first component deciding; o may be a or b.
+  static void pick(const Mask* take, const double* a, const double* b, double sign, std::size_t n,
+                   double* o) {
+    for (int k = 0; k < 4; ++k)
+      for (std::size_t j = 0; j < n; ++j)
+        o[k * S + j] = take[j] ? b[k * S + j] : a[k * S + j] * sign;
+  }
+  static void min(const double* a, const double* b, std::size_t n, double* o) {
+    Mask take[S];
+    for (std::size_t j = 0; j < n; ++j) take[j] = b[j] < a[j];
+    pick(take, a, b, 1.0, n, o);
+  }
+  static void max(const double* a, const double* b, std::size_t n, double* o) {
+    Mask take[S];
+    for (std::size_t j = 0; j < n; ++j) take[j] = b[j] > a[j];
+    pick(take, a, b, 1.0, n, o);
+  }
+  static void abs(const double* a, std::size_t n, double* o) {  // a.v < 0 ? -a : a
+    Mask keep[S];
+    for (std::size_t j = 0; j < n; ++j) keep[j] = !(a[j] < 0.0);
+    pick(keep, a, a, -1.0, n, o);
+  }
+  static void select(const double* a, const double* b, const double* c, std::size_t n,
+                     double* o) {  // a.v >= 0 ? b : c
+    Mask take[S];
+    for (std::size_t j = 0; j < n; ++j) take[j] = a[j] >= 0.0;
+    pick(take, c, b, 1.0, n, o);
+  }
+  static void floor(const double* a, std::size_t n, double* o) {
+    for (std::size_t j = 0; j < n; ++j) o[j] = std::floor(a[j]);
+    for (int k = 1; k < 4; ++k)
+      for (std::size_t j = 0; j < n; ++j) o[k * S + j] = 0.0;
+  }
+};
+
 // Runs the plan over one chunk of points (the slots of x, y, z filled). The switch is outside
 // the loops so that each loop is a straight vectorisable kernel; each kernel calls the same
 // scalar function applyOp uses, so values are bit-identical to the point modes. (An operand
@@ -238,6 +291,8 @@ __attribute__((always_inline)) inline void runPlan(const Step* plan, std::size_t
                                                    std::size_t n, double* slots) {
   using V = typename Slots::Value;
   constexpr std::size_t W = Slots::kWidth;
+  constexpr bool kDuals = std::is_same_v<Slots, DualSlots>;
+  alignas(32) double scratch[kDuals ? DualSlots::kWidth : 1];
   for (std::size_t s = 0; s < steps; ++s) {
     const Step& in = plan[s];
     double* o = slots + in.out * W;
@@ -245,26 +300,60 @@ __attribute__((always_inline)) inline void runPlan(const Step* plan, std::size_t
     const double* b = slots + in.b * W;
     const double* c = slots + in.c * W;
     const double* k = kbase + in.k;
-#define FREP_KERNEL(expr)                                                          \
-  for (std::size_t j = 0; j < n; ++j) {                                            \
-    [[maybe_unused]] const V A = Slots::load(a, j), B = Slots::load(b, j),       \
-                             C = Slots::load(c, j);                              \
-    Slots::store(o, j, (expr));                                                    \
-  }                                                                                \
+// (Duals are written to a scratch first and copied: with the output apart from the inputs,
+// the compiler vectorises the kernel; written in place it had to check twelve arrays against
+// four for overlap and ran one point at a time.)
+#define FREP_KERNEL(expr)                                                                 \
+  {                                                                                       \
+    double* const out = kDuals ? scratch : o;                                             \
+    for (std::size_t j = 0; j < n; ++j) {                                                 \
+      [[maybe_unused]] const V A = Slots::load(a, j), B = Slots::load(b, j),              \
+                               C = Slots::load(c, j);                                     \
+      Slots::store(out, j, (expr));                                                       \
+    }                                                                                     \
+    if (kDuals)                                                                           \
+      for (int q = 0; q < 4; ++q)                                                         \
+        std::copy(scratch + q * DualSlots::kStride, scratch + q * DualSlots::kStride + n, \
+                  o + q * DualSlots::kStride);                                            \
+  }                                                                                       \
   break
     switch (in.op) {
-      case Op::Const: FREP_KERNEL(V(k[0]));
-      case Op::Add: FREP_KERNEL(A + B);
-      case Op::Sub: FREP_KERNEL(A - B);
-      case Op::Mul: FREP_KERNEL(A * B);
-      case Op::Div: FREP_KERNEL(A / B);
-      case Op::Neg: FREP_KERNEL(-A);
-      case Op::Sqr: FREP_KERNEL(sqr(A));
-      case Op::Sqrt: FREP_KERNEL(sqrt(A));
-      case Op::Abs: FREP_KERNEL(abs(A));
-      case Op::Min: FREP_KERNEL(min(A, B));
-      case Op::Max: FREP_KERNEL(max(A, B));
-      case Op::Exp: FREP_KERNEL(exp(A));
+      case Op::Const:
+        FREP_KERNEL(V(k[0]));
+      case Op::Add:
+        FREP_KERNEL(A + B);
+      case Op::Sub:
+        FREP_KERNEL(A - B);
+      case Op::Mul:
+        FREP_KERNEL(A * B);
+      case Op::Div:
+        FREP_KERNEL(A / B);
+      case Op::Neg:
+        FREP_KERNEL(-A);
+      case Op::Sqr:
+        FREP_KERNEL(sqr(A));
+      case Op::Sqrt:
+        FREP_KERNEL(sqrt(A));
+      case Op::Abs:
+        if constexpr (kDuals) {
+          DualPicks::abs(a, n, o);
+          break;
+        }
+        FREP_KERNEL(abs(A));
+      case Op::Min:
+        if constexpr (kDuals) {
+          DualPicks::min(a, b, n, o);
+          break;
+        }
+        FREP_KERNEL(min(A, B));
+      case Op::Max:
+        if constexpr (kDuals) {
+          DualPicks::max(a, b, n, o);
+          break;
+        }
+        FREP_KERNEL(max(A, B));
+      case Op::Exp:
+        FREP_KERNEL(exp(A));
       case Op::Sin:
         // The lattices take sin and cos of one argument, emitted one after the other: one
         // pass gives both (the same bits), unless an output overwrites the argument.
@@ -279,22 +368,43 @@ __attribute__((always_inline)) inline void runPlan(const Step* plan, std::size_t
       case Op::Cos:
         Slots::sinCos(a, n, nullptr, o);
         break;
-      case Op::Affine: FREP_KERNEL(affine<V>(A, B, C, k));
-      case Op::RUnion: FREP_KERNEL(rUnion<V>(A, B, k[0]));
-      case Op::RIntersect: FREP_KERNEL(rIntersect<V>(A, B, k[0]));
-      case Op::BlendBump: FREP_KERNEL(blendBump<V>(A, B, k));
-      case Op::Atan2: FREP_KERNEL(atan2(A, B));
-      case Op::PowAbs: FREP_KERNEL(powAbs(A, k[0]));
-      case Op::Floor: FREP_KERNEL(floor(A));
-      case Op::Tan: FREP_KERNEL(tan(A));
-      case Op::Atan: FREP_KERNEL(atan(A));
-      case Op::Log: FREP_KERNEL(log(A));
-      case Op::PowConst: FREP_KERNEL(powConst(A, k[0]));
-      case Op::Select: FREP_KERNEL(select(A, B, C));
+      case Op::Affine:
+        FREP_KERNEL(affine<V>(A, B, C, k));
+      case Op::RUnion:
+        FREP_KERNEL(rUnion<V>(A, B, k[0]));
+      case Op::RIntersect:
+        FREP_KERNEL(rIntersect<V>(A, B, k[0]));
+      case Op::BlendBump:
+        FREP_KERNEL(blendBump<V>(A, B, k));
+      case Op::Atan2:
+        FREP_KERNEL(atan2(A, B));
+      case Op::PowAbs:
+        FREP_KERNEL(powAbs(A, k[0]));
+      case Op::Floor:
+        if constexpr (kDuals) {
+          DualPicks::floor(a, n, o);
+          break;
+        }
+        FREP_KERNEL(floor(A));
+      case Op::Tan:
+        FREP_KERNEL(tan(A));
+      case Op::Atan:
+        FREP_KERNEL(atan(A));
+      case Op::Log:
+        FREP_KERNEL(log(A));
+      case Op::PowConst:
+        FREP_KERNEL(powConst(A, k[0]));
+      case Op::Select:
+        if constexpr (kDuals) {
+          DualPicks::select(a, b, c, n, o);
+          break;
+        }
+        FREP_KERNEL(select(A, B, C));
       case Op::External:
         Slots::external(*externals[static_cast<std::size_t>(k[0])], a, b, c, n, o);
         break;
-      case Op::Count_: break;
+      case Op::Count_:
+        break;
     }
 #undef FREP_KERNEL
   }
@@ -312,14 +422,14 @@ __attribute__((always_inline)) inline void runPlan(const Step* plan, std::size_t
 
 template <class Step>
 FREP_VECTOR_CLONES void runPlanDouble(const Step* plan, std::size_t steps, const double* kbase,
-                                      const std::shared_ptr<const Field>* externals,
-                                      std::size_t n, double* slots) {
+                                      const std::shared_ptr<const Field>* externals, std::size_t n,
+                                      double* slots) {
   runPlan<DoubleSlots>(plan, steps, kbase, externals, n, slots);
 }
 template <class Step>
 FREP_VECTOR_CLONES void runPlanDual(const Step* plan, std::size_t steps, const double* kbase,
-                                    const std::shared_ptr<const Field>* externals,
-                                    std::size_t n, double* slots) {
+                                    const std::shared_ptr<const Field>* externals, std::size_t n,
+                                    double* slots) {
   runPlan<DualSlots>(plan, steps, kbase, externals, n, slots);
 }
 }  // namespace
@@ -337,8 +447,8 @@ void Program::evalChunk(const double* x, const double* y, const double* z, std::
   for (std::size_t j = 0; j < n; ++j) out[j] = r[j];
 }
 
-void Program::evalDualChunk(const Dual* x, const Dual* y, const Dual* z, std::size_t n,
-                            Dual* out, double* slots) const {
+void Program::evalDualChunk(const Dual* x, const Dual* y, const Dual* z, std::size_t n, Dual* out,
+                            double* slots) const {
   constexpr std::size_t W = 4 * kBatchSize;
   for (std::size_t j = 0; j < n; ++j) {
     DualSlots::store(slots + kSlotX * W, j, x[j]);

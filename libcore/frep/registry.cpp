@@ -316,6 +316,7 @@ const Registry& registry() {
     registerLattices(r);
     registerArrays(r);
     registerMicrostructures(r);
+    registerStrutLattices(r);
     registerFormula(r);
     registerFieldSources(r);
     return r;

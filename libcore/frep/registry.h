@@ -138,6 +138,7 @@ void registerBoundedBlend(Registry& r);
 void registerSweeps(Registry& r);
 void registerBlobs(Registry& r);
 void registerArrays(Registry& r);
+void registerStrutLattices(Registry& r);
 void registerDeformations(Registry& r);
 void registerFieldOperations(Registry& r);
 void registerMicrostructures(Registry& r);

@@ -444,3 +444,35 @@ def test_a_blend_guide_covers_where_the_blend_acts_and_its_handles_set_the_reach
     assert max(p[2] for p in R.guide(blend)["mesh"].points) > max(p[2] for p in pts) + 2
     with pytest.raises(ValueError, match="A1 must be more than 0"):
         R.set_reach(blend, "A1", g["anchor"])
+
+
+def test_strut_lattice_in_a_part_saves_reopens_and_changes_cell(doc, tmp_path):
+    """An octet lattice cut to a block: a closed preview; the cell type and the radius change
+    it; the document saves and reopens with the same preview."""
+    lattice = F.make("strut_lattice", doc, cell_type="octet", cell=(2.0, 2.0, 2.0), radius=0.25,
+                     node_radius=0.35)
+    block = F.make("box", doc, corner=(0, 0, 0), size=(8.0, 6.0, 4.0))
+    part = F.make("intersection", doc, inputs=[lattice, block])
+    doc.recompute()
+    assert part.isValid(), part.getStatusString()
+    octet = part.Mesh.CountFacets
+    assert octet > 1000 and part.Mesh.isSolid() and not part.Mesh.hasNonManifolds()
+    assert part.Mesh.BoundBox.XLength == pytest.approx(8.0, abs=0.2)
+    lattice.CellType = "kelvin"
+    doc.recompute()
+    assert part.isValid() and part.Mesh.CountFacets != octet
+    volume = part.Mesh.Volume
+    lattice.Radius = 0.35
+    doc.recompute()
+    assert part.Mesh.Volume > 1.3 * volume  # thicker struts
+    before = mesh_signature(part.Mesh)
+    path = str(tmp_path / "struts.FCStd")
+    doc.saveAs(path)
+    reopened = FreeCAD.openDocument(path)
+    try:
+        again = reopened.getObject(part.Name)
+        assert reopened.getObject(lattice.Name).CellType == "kelvin"
+        reopened.recompute()
+        assert mesh_signature(again.Mesh) == before
+    finally:
+        FreeCAD.closeDocument(reopened.Name)

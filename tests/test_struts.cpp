@@ -1,0 +1,170 @@
+// Strut lattices (frep/node_types_struts.cpp, frep/strut_cells.h): the field against the
+// distance to every strut of the cells round the point, each unit cell meshed printable, a
+// graded radius, and a program whose size does not grow with the cells a part spans.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "base/errors.h"
+#include "check/mesh_check.h"
+#include "frep/strut_cells.h"
+#include "frep/tree.h"
+#include "mesh/mesher.h"
+#include "test_nodes.h"
+
+namespace frep {
+namespace {
+
+NodePtr lattice(const std::string& cell, Vec3 size, double radius, double nodeRadius = 0.0,
+                Vec3 origin = {0, 0, 0}, std::vector<NodePtr> inputs = {}) {
+  return makeNode("strut_lattice",
+                  {{"cell_type", textValue(cell)},
+                   {"cell", vec3Value(size)},
+                   {"radius", realValue(radius)},
+                   {"node_radius", realValue(nodeRadius)},
+                   {"origin", vec3Value(origin)}},
+                  std::move(inputs));
+}
+
+double segmentDistance(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 e = vsub(b, a), d = vsub(p, a);
+  const double l2 = vdot(e, e);
+  const double t = l2 > 0 ? std::clamp(vdot(d, e) / l2, 0.0, 1.0) : 0.0;
+  return vlength(vsub(d, vscale(e, t)));
+}
+
+// The distance from p to the struts (or nodes) of the 5 x 5 x 5 cells round p's own: every
+// strut of the lattice copied into those cells, no folding.
+struct BruteForce {
+  double struts, nodes;
+};
+BruteForce bruteForce(const UnitCell& cell, const Vec3& size, const Vec3& origin, const Vec3& p) {
+  int own[3];
+  for (int a = 0; a < 3; ++a) own[a] = static_cast<int>(std::floor((p[a] - origin[a]) / size[a]));
+  BruteForce best{HUGE_VAL, HUGE_VAL};
+  auto world = [&](const Vec3& u, int i, int j, int k) {
+    return Vec3{origin[0] + (u[0] + i) * size[0], origin[1] + (u[1] + j) * size[1],
+                origin[2] + (u[2] + k) * size[2]};
+  };
+  for (int i = own[0] - 2; i <= own[0] + 2; ++i)
+    for (int j = own[1] - 2; j <= own[1] + 2; ++j)
+      for (int k = own[2] - 2; k <= own[2] + 2; ++k) {
+        for (const UnitStrut& s : cell.struts)
+          best.struts =
+              std::min(best.struts, segmentDistance(p, world(s.a, i, j, k), world(s.b, i, j, k)));
+        for (const Vec3& n : cell.nodes)
+          best.nodes = std::min(best.nodes, vlength(vsub(p, world(n, i, j, k))));
+      }
+  return best;
+}
+
+// The figure: at 10,000 random points the field is radius minus the distance to the
+// nearest strut within 1e-9, for every unit cell, with a cube cell, and with a cell of three
+// sizes moved off the origin and node spheres.
+TEST(StrutLattice, TheDistanceToTheNearestStrutAtTenThousandPoints) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  for (const UnitCell& cell : unitCells()) {
+    for (int variant = 0; variant < 2; ++variant) {
+      const Vec3 size = variant ? Vec3{0.9, 0.6, 1.3} : Vec3{1, 1, 1};
+      const Vec3 origin = variant ? Vec3{0.17, -0.4, 2.3} : Vec3{0, 0, 0};
+      const double radius = 0.07, nodeRadius = variant ? 0.12 : 0.0;
+      const Program p = compile(lattice(cell.id, size, radius, nodeRadius, origin));
+      double worst = 0.0;
+      for (int i = 0; i < 5000; ++i) {
+        const Vec3 q{u(rng), u(rng), u(rng)};
+        const BruteForce b = bruteForce(cell, size, origin, q);
+        double exact = radius - b.struts;
+        if (nodeRadius > 0) exact = std::max(exact, nodeRadius - b.nodes);
+        worst = std::max(worst, std::abs(p.eval(q[0], q[1], q[2]) - exact));
+      }
+      EXPECT_LT(worst, 1e-9) << cell.id << (variant ? ", cell of three sizes, node spheres" : "");
+    }
+  }
+}
+
+// Each unit cell meshes printable at three resolutions, cut to a block of 2 x 2 x 2 cells, with
+// struts in every cell (about the volume the cell's struts make).
+TEST(StrutLattice, EveryUnitCellMeshesPrintableAtThreeResolutions) {
+  for (const UnitCell& cell : unitCells()) {
+    const NodePtr part = makeNode(
+        "intersection", {},
+        {lattice(cell.id, {1, 1, 1}, 0.08), testing::box({-0.9, -0.9, -0.9}, {2.0, 2.0, 2.0})});
+    const Program p = compile(part);
+    double volumes[3];
+    int r = 0;
+    for (double h : {0.05, 0.035, 0.025}) {
+      MeshingOptions o;
+      o.bbox = {{-1.0, -1.0, -1.0}, {1.2, 1.2, 1.2}};
+      o.resolution = h;
+      const CheckReport report = checkMesh(polygonize(p, o));
+      EXPECT_TRUE(report.printable()) << cell.id << " at " << h;
+      volumes[r++] = report.volume;
+    }
+    // the finer meshes agree on the volume (the struts are resolved, not lost between points)
+    EXPECT_NEAR(volumes[1], volumes[2], 0.03 * volumes[2]) << cell.id;
+    EXPECT_GT(volumes[2], 0.02) << cell.id;
+  }
+}
+
+// A graded lattice: the input's value is the radius point by point.
+TEST(StrutLattice, AFieldInputGradesTheRadius) {
+  const NodePtr radius = makeNode(
+      "formula", {{"formula", textValue("0.05 + 0.02 * x")}, {"parameters", textValue("")}}, {});
+  const Program p = compile(lattice("octet", {1, 1, 1}, 0.1, 0.0, {0, 0, 0}, {radius}));
+  const UnitCell& cell = unitCell("octet");
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  for (int i = 0; i < 1000; ++i) {
+    const Vec3 q{u(rng), u(rng), u(rng)};
+    const double exact = 0.05 + 0.02 * q[0] - bruteForce(cell, {1, 1, 1}, {0, 0, 0}, q).struts;
+    EXPECT_NEAR(p.eval(q[0], q[1], q[2]), exact, 1e-9);
+  }
+  // thicker struts where x is larger: a cell further along x, the same place in it, 0.02 more
+  EXPECT_NEAR(p.eval(1.08, 0.5, 0.5) - p.eval(0.08, 0.5, 0.5), 0.02, 1e-12);
+}
+
+// The field's program is the struts of one small domain, whatever the cells a part spans and
+// whatever their size: nothing per cell in memory, and a few hundred instructions at most
+// (diamond the most: folded round a node in a cube cell, by translation only in a cell of
+// three sizes).
+TEST(StrutLattice, TheProgramIsSmallForAnyCell) {
+  for (const UnitCell& cell : unitCells())
+    for (double size : {1.0, 0.01, 37.0}) {
+      const std::size_t cube =
+          compile(lattice(cell.id, {size, size, size}, 0.1 * size)).instructionCount();
+      const std::size_t uneven =
+          compile(lattice(cell.id, {size, size, 0.8 * size}, 0.1 * size)).instructionCount();
+      EXPECT_LT(cube, cell.mirrorSymmetric ? 150u : 450u) << cell.id;
+      EXPECT_LT(uneven, cell.mirrorSymmetric ? 150u : 2500u) << cell.id;
+    }
+}
+
+TEST(StrutLattice, BadParametersAreNamed) {
+  try {  // a diamond cell much longer along one axis (folded by translation: too many struts)
+    compile(lattice("diamond", {1, 1, 5}, 0.1));
+    FAIL() << "no error";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("'cell'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("at most 4 times"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(compile(lattice("octet", {1, 1, 5}, 0.1)));
+  for (auto [name, value] :
+       std::vector<std::pair<std::string, ParamValue>>{{"cell", vec3Value({1, 0, 1})},
+                                                       {"radius", realValue(0)},
+                                                       {"node_radius", realValue(-1)},
+                                                       {"cell_type", textValue("hexagonal")}}) {
+    std::map<std::string, ParamValue> params = {{name, value}};
+    try {
+      compile(makeNode("strut_lattice", params, {}));
+      FAIL() << name << ": no error";
+    } catch (const ModelError& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace frep
