@@ -28,6 +28,10 @@ NodePtr lattice(const std::string& cell, Vec3 size, double radius, double nodeRa
                   std::move(inputs));
 }
 
+double kPiTimes(double r2) {
+  return 3.14159265358979323846 * r2;
+}
+
 double segmentDistance(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 e = vsub(b, a), d = vsub(p, a);
   const double l2 = vdot(e, e);
@@ -140,6 +144,58 @@ TEST(StrutLattice, TheProgramIsSmallForAnyCell) {
       EXPECT_LT(cube, cell.mirrorSymmetric ? 150u : 450u) << cell.id;
       EXPECT_LT(uneven, cell.mirrorSymmetric ? 150u : 2500u) << cell.id;
     }
+}
+
+// Infill with struts: a block with a hole through it, hollowed to a skin (round the hole too)
+// and filled with octet struts of the thickness' diameter; the inside is the strut lattice's
+// own field, and the part meshes printable.
+TEST(StrutLattice, AnInfillOfStrutsKeepsASkinRoundThePartAndItsHole) {
+  const NodePtr part = makeNode(
+      "difference", {},
+      {testing::box({0, 0, 0}, {4, 3, 2}),
+       makeNode("cylinder",
+                {{"center", vec3Value({2, 1.5, 1})}, {"radius", realValue(0.6)},
+                 {"length", realValue(3)}},
+                {})});
+  const Program infill = compile(makeNode("infill",
+                                          {{"lattice", textValue("octet_struts")},
+                                           {"wall", realValue(0.15)},
+                                           {"cell", realValue(0.5)},
+                                           {"thickness", realValue(0.08)}},
+                                          {part}));
+  const Program struts = compile(lattice("octet", {0.5, 0.5, 0.5}, 0.04));
+  const Program f = compile(part);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> x(0, 4), y(0, 3), z(0, 2);
+  int inside = 0, skin = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const Vec3 q{x(rng), y(rng), z(rng)};
+    const double depth = f.eval(q[0], q[1], q[2]), value = infill.eval(q[0], q[1], q[2]);
+    if (depth > 0.0 && depth < 0.14) {  // in the skin (the hole's too): solid
+      EXPECT_GT(value, 0.0);
+      ++skin;
+    } else if (depth > 0.16 + 0.04) {  // inside: the struts, wherever the skin is not nearer
+      EXPECT_NEAR(value, std::max(struts.eval(q[0], q[1], q[2]), 0.15 - depth), 1e-12);
+      ++inside;
+    }
+  }
+  EXPECT_GT(skin, 300);
+  EXPECT_GT(inside, 1000);
+  MeshingOptions o;
+  o.bbox = {{-0.1, -0.1, -0.1}, {4.1, 3.1, 2.1}};
+  o.resolution = 0.02;
+  const CheckReport report = checkMesh(polygonize(infill, o));
+  EXPECT_TRUE(report.printable());
+  // lighter than the block; thicker struts weigh more
+  const double solid = 4 * 3 * 2 - kPiTimes(0.36) * 2;
+  EXPECT_LT(report.volume, 0.7 * solid);
+  const Program thicker = compile(makeNode("infill",
+                                           {{"lattice", textValue("octet_struts")},
+                                            {"wall", realValue(0.15)},
+                                            {"cell", realValue(0.5)},
+                                            {"thickness", realValue(0.12)}},
+                                           {part}));
+  EXPECT_GT(checkMesh(polygonize(thicker, o)).volume, report.volume + 1.0);
 }
 
 TEST(StrutLattice, BadParametersAreNamed) {

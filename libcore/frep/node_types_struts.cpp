@@ -10,6 +10,7 @@
 #include "frep/node_helpers.h"
 #include "frep/registry.h"
 #include "frep/strut_cells.h"
+#include "frep/strut_field.h"
 #include "frep/tree.h"
 
 namespace frep {
@@ -50,34 +51,9 @@ Point3Slots foldTetrahedral(ProgramBuilder& b, const Point3Slots& w) {
 }
 
 Slot strutLattice(CompileContext& c) {
-  auto& b = c.b;
-  const UnitCell& cell = unitCell(c.param("cell_type").text);
-  const Vec3 size = c.vec3("cell"), origin = c.vec3("origin");
-  const FoldedCell folded = foldedCell(cell, size);
-  using Fold = FoldedCell::Fold;
-  const bool centred = folded.fold == Fold::Tetrahedral, mirror = folded.fold == Fold::Mirror;
-  Point3Slots q = {fold(b, c.p.x, size[0], origin[0], centred, mirror),
-                   fold(b, c.p.y, size[1], origin[1], centred, mirror),
-                   fold(b, c.p.z, size[2], origin[2], centred, mirror)};
-  if (folded.fold == Fold::Tetrahedral) q = foldTetrahedral(b, q);
-  Slot nearest = 0;
-  for (std::size_t i = 0; i < folded.pieces.size(); ++i) {
-    const StrutPiece& s = folded.pieces[i];
-    const Slot d = segmentDistance(b, q, s.a, vsub(s.b, s.a));
-    nearest = i == 0 ? d : b.min(nearest, d);
-  }
-  const Slot radius = c.inputCount() ? c.input(0) : b.constant(c.real("radius"));
-  Slot field = b.sub(radius, nearest);
-  const double nodeRadius = c.real("node_radius");
-  if (nodeRadius > 0.0 && !folded.nodes.empty()) {
-    Slot node = 0;
-    for (std::size_t i = 0; i < folded.nodes.size(); ++i) {
-      const Slot d = segmentDistance(b, q, folded.nodes[i], {0, 0, 0});
-      node = i == 0 ? d : b.min(node, d);
-    }
-    field = b.max(field, b.sub(b.constant(nodeRadius), node));
-  }
-  return field;
+  const Slot radius = c.inputCount() ? c.input(0) : c.b.constant(c.real("radius"));
+  return strutLatticeField(c.b, c.p, unitCell(c.param("cell_type").text), c.vec3("cell"),
+                           c.vec3("origin"), radius, c.real("node_radius"));
 }
 
 // A cell folded by translation only looks at the struts within the covering radius of its
@@ -97,6 +73,33 @@ std::string checkStrutLattice(const Node& node) {
 }
 
 }  // namespace
+
+Slot strutLatticeField(ProgramBuilder& b, const Point3Slots& p, const UnitCell& cell,
+                       const Vec3& size, const Vec3& origin, Slot radius, double nodeRadius) {
+  const FoldedCell folded = foldedCell(cell, size);
+  using Fold = FoldedCell::Fold;
+  const bool centred = folded.fold == Fold::Tetrahedral, mirror = folded.fold == Fold::Mirror;
+  Point3Slots q = {fold(b, p.x, size[0], origin[0], centred, mirror),
+                   fold(b, p.y, size[1], origin[1], centred, mirror),
+                   fold(b, p.z, size[2], origin[2], centred, mirror)};
+  if (folded.fold == Fold::Tetrahedral) q = foldTetrahedral(b, q);
+  Slot nearest = 0;
+  for (std::size_t i = 0; i < folded.pieces.size(); ++i) {
+    const StrutPiece& s = folded.pieces[i];
+    const Slot d = segmentDistance(b, q, s.a, vsub(s.b, s.a));
+    nearest = i == 0 ? d : b.min(nearest, d);
+  }
+  Slot field = b.sub(radius, nearest);
+  if (nodeRadius > 0.0 && !folded.nodes.empty()) {
+    Slot node = 0;
+    for (std::size_t i = 0; i < folded.nodes.size(); ++i) {
+      const Slot d = segmentDistance(b, q, folded.nodes[i], {0, 0, 0});
+      node = i == 0 ? d : b.min(node, d);
+    }
+    field = b.max(field, b.sub(b.constant(nodeRadius), node));
+  }
+  return field;
+}
 
 void registerStrutLattices(Registry& r) {
   ParamTemplate size = vec3Param("cell", {1, 1, 1}, "length",

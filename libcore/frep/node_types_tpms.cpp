@@ -9,6 +9,8 @@
 
 #include "frep/node_helpers.h"
 #include "frep/registry.h"
+#include "frep/strut_cells.h"
+#include "frep/strut_field.h"
 #include "frep/tree.h"
 
 namespace frep {
@@ -90,6 +92,20 @@ std::vector<std::string> surfaceIds() {
   return ids;
 }
 
+// An infill's lattices: the surfaces, then each strut lattice's unit cell as CELL_struts.
+constexpr const char* kStrutsSuffix = "_struts";
+std::vector<std::string> infillLatticeIds() {
+  std::vector<std::string> ids = surfaceIds();
+  for (const UnitCell& c : unitCells()) ids.push_back(c.id + kStrutsSuffix);
+  return ids;
+}
+// The unit cell of an infill's CELL_struts, else nullptr.
+const UnitCell* strutCellOf(const std::string& lattice) {
+  for (const UnitCell& c : unitCells())
+    if (lattice == c.id + kStrutsSuffix) return &c;
+  return nullptr;
+}
+
 // A part needs a few drain holes; the limit keeps the field's program small.
 constexpr std::size_t kMostDrainHoles = 100;
 
@@ -116,14 +132,16 @@ Slot drainHoles(CompileContext& c, const std::vector<Vec3>& holes) {
 
 void addInfill(Registry& r) {
   std::vector<ParamTemplate> params = {
-      choiceParam("lattice", surfaceIds(), "The lattice filling the inside."),
+      choiceParam("lattice", infillLatticeIds(),
+                  "The lattice filling the inside: a TPMS (sheet or network) or a strut lattice "
+                  "(CELL_struts: strut_lattice's unit cells, `thickness` the struts' diameter)."),
       positiveLength("wall", 0.1, "Thickness of the solid skin kept inside the surface.")};
   for (const ParamTemplate& p : latticeParams()) params.push_back(p);
   ParamTemplate thickness = realParam(
       "thickness", 0.0, "length",
       "The lattice's sheet thickness (sheet), or how far a network's surface moves out "
       "(network), in model units; it sets `level` from the surface's typical gradient. 0: "
-      "`level` as given.");
+      "`level` as given. For a strut lattice the struts' diameter (0: a fifth of the cell).");
   params.push_back(range(thickness, 0.0, kInf));
   ParamTemplate holes = pointsParam(
       "drain_holes", {}, 0, "length",
@@ -145,15 +163,25 @@ void addInfill(Registry& r) {
          "min(drain_diameter/2 - distance to its axis, wall + drain_diameter/2 - |distance "
          "along it|) (no holes: no -H);  lattice as its surface's node with level = "
          "pi thickness |grad g| / cell (sheet) or 2 pi thickness |grad g| / cell (network) when "
-         "thickness > 0",
+         "thickness > 0;  a strut lattice (CELL_struts): lattice = thickness / 2 - the distance "
+         "to the cell's struts (cubes of `cell`; radius cell / 10 when thickness = 0)",
          1, 1, params,
          [](CompileContext& c) {
            auto& b = c.b;
            const std::string& id = c.param("lattice").text;
-           const auto found = std::find_if(surfaces().begin(), surfaces().end(),
-                                           [&](const TpmsSurface& s) { return id == s.id; });
            const Slot f = c.input(0);
            const Slot skin = b.min(f, b.sub(b.constant(c.real("wall")), f));
+           const std::vector<Vec3> holes = pointsOf(c.param("drain_holes"));
+           const Slot opened = holes.empty() ? skin : b.min(skin, b.neg(drainHoles(c, holes)));
+           if (const UnitCell* cell = strutCellOf(id)) {
+             const double size = c.real("cell"), t = c.real("thickness");
+             const Slot radius = b.constant(t > 0.0 ? 0.5 * t : 0.1 * size);
+             const Slot lattice = strutLatticeField(b, c.p, *cell, {size, size, size},
+                                                    c.vec3("origin"), radius, 0.0);
+             return b.max(opened, b.min(f, lattice));
+           }
+           const auto found = std::find_if(surfaces().begin(), surfaces().end(),
+                                           [&](const TpmsSurface& s) { return id == s.id; });
            // a sheet is 2 level cell / (2 pi |grad g|) thick; a network's surface moves out
            // by level cell / (2 pi |grad g|)
            const double t = c.real("thickness");
@@ -161,8 +189,6 @@ void addInfill(Registry& r) {
            const bool sheet = c.param("kind").text == "sheet";
            const double level = t > 0.0 ? t / (sheet ? 2.0 : 1.0) / perLevel : c.real("level");
            const Slot lattice = latticeField(c, found->g, b.constant(level));
-           const std::vector<Vec3> holes = pointsOf(c.param("drain_holes"));
-           const Slot opened = holes.empty() ? skin : b.min(skin, b.neg(drainHoles(c, holes)));
            return b.max(opened, b.min(f, lattice));
          },
          [](const Node&, const std::vector<Box3>& in) { return in[0]; }});

@@ -246,3 +246,22 @@ def test_a_point_sample_lies_on_the_surface(doc):
     sample.Cells = 2
     doc.recompute()
     assert not sample.isValid() and "'Cells' = 2 is out of range" in sample.getStatusString()
+
+
+def test_partdesign_bracket_with_a_strut_infill_exports_printable(doc, tmp_path):
+    """The bracket filled with octet struts (the infill's lattice CELL_struts, sized from the
+    part as the toolbar does): a printable export lighter than the part and heavier than its
+    skin, the holes kept."""
+    body = FRepExamples.build_bracket(doc)
+    doc.recompute()
+    infill = F.make("infill", doc, inputs=[body], sized=True, lattice="octet_struts")
+    doc.recompute()
+    assert infill.isValid(), infill.getStatusString()
+    assert infill.Lattice == "octet_struts"
+    assert 0 < infill.Thickness.Value < infill.Cell.Value  # the struts' diameter, from the part
+    part = FRepTree.shape_of(infill)
+    infilled = export_volume(part, str(tmp_path / "struts.stl"), cells=128)
+    skin = export_volume(frepcore.shell(FRepTree.shape_of(body), thickness=infill.Wall.Value),
+                         str(tmp_path / "skin.stl"), cells=128)
+    assert skin * 1.05 < infilled < body.Shape.Volume, (skin, infilled, body.Shape.Volume)
+    assert part(10, 12, 5) < 0  # a hole stays a hole
