@@ -11,6 +11,8 @@
 #include "check/mesh_check.h"
 #include "frep/strut_cells.h"
 #include "frep/tree.h"
+#include "lattice/ffd_lattice.h"
+#include "lattice_samples.h"
 #include "mesh/mesher.h"
 #include "test_nodes.h"
 
@@ -150,13 +152,13 @@ TEST(StrutLattice, TheProgramIsSmallForAnyCell) {
 // and filled with octet struts of the thickness' diameter; the inside is the strut lattice's
 // own field, and the part meshes printable.
 TEST(StrutLattice, AnInfillOfStrutsKeepsASkinRoundThePartAndItsHole) {
-  const NodePtr part = makeNode(
-      "difference", {},
-      {testing::box({0, 0, 0}, {4, 3, 2}),
-       makeNode("cylinder",
-                {{"center", vec3Value({2, 1.5, 1})}, {"radius", realValue(0.6)},
-                 {"length", realValue(3)}},
-                {})});
+  const NodePtr part =
+      makeNode("difference", {},
+               {testing::box({0, 0, 0}, {4, 3, 2}), makeNode("cylinder",
+                                                             {{"center", vec3Value({2, 1.5, 1})},
+                                                              {"radius", realValue(0.6)},
+                                                              {"length", realValue(3)}},
+                                                             {})});
   const Program infill = compile(makeNode("infill",
                                           {{"lattice", textValue("octet_struts")},
                                            {"wall", realValue(0.15)},
@@ -196,6 +198,55 @@ TEST(StrutLattice, AnInfillOfStrutsKeepsASkinRoundThePartAndItsHole) {
                                             {"thickness", realValue(0.12)}},
                                            {part}));
   EXPECT_GT(checkMesh(polygonize(thicker, o)).volume, report.volume + 1.0);
+}
+
+// A conformal lattice: a beam of octet cells whose cells follow an FFD bend (the FFD node
+// over the strut lattice: struts curved with their cells), and a graded octet whose radius
+// grows along the beam; both mesh printable, and the bent one lies where the bend puts it.
+TEST(StrutLattice, ConformalThroughAnFfdBendAndGradedExportPrintable) {
+  const NodePtr beam = makeNode(
+      "intersection", {},
+      {lattice("octet", {0.5, 0.5, 0.5}, 0.05, 0.07), testing::box({-2, -0.5, -0.5}, {4, 1, 1})});
+  FfdLattice bend({{-2.05, -0.55, -0.55}, {2.05, 0.55, 0.55}}, 4, 1, 1);
+  for (int i = 0; i <= 4; ++i)
+    for (int j = 0; j <= 1; ++j)
+      for (int k = 0; k <= 1; ++k) {
+        Vec3 q = bend.point(i, j, k);
+        q[2] += 0.25 * (q[0] * q[0]);  // a parabola: the ends 1 up
+        bend.setPoint(i, j, k, q);
+      }
+  const NodePtr conformal = makeNode("ffd", testing::ffdParams(bend), {beam});
+  MeshingOptions o;
+  o.bbox = {{-2.2, -0.7, -0.7}, {2.2, 0.7, 1.8}};
+  o.resolution = 0.025;
+  const TriangleMesh bent = polygonize(compile(conformal), o);
+  const CheckReport r = checkMesh(bent);
+  EXPECT_TRUE(r.printable());
+  double top = -HUGE_VAL;
+  for (const Vec3f& v : bent.positions)
+    if (std::abs(v[0]) > 1.9) top = std::max(top, double(v[2]));
+  EXPECT_GT(top, 1.2);  // the ends bent up with their cells
+  const NodePtr radius = makeNode(
+      "formula", {{"formula", textValue("0.03 + 0.015 * (x + 2)")}, {"parameters", textValue("")}},
+      {});
+  const NodePtr graded =
+      makeNode("intersection", {},
+               {lattice("octet", {0.5, 0.5, 0.5}, 0.05, 0.0, {0, 0, 0}, {radius}),
+                testing::box({-2, -0.5, -0.5}, {4, 1, 1})});
+  o.bbox = {{-2.1, -0.6, -0.6}, {2.1, 0.6, 0.6}};
+  const TriangleMesh g = polygonize(compile(graded), o);
+  EXPECT_TRUE(checkMesh(g).printable());
+  // more material at the thick end: the solid's share of random points there
+  const Program field = compile(graded);
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> across(-0.5, 0.5), along(1.0, 2.0);
+  int thin = 0, thick = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const double x = along(rng), y = across(rng), z = across(rng);
+    thick += field.eval(x, y, z) > 0;
+    thin += field.eval(-x, y, z) > 0;
+  }
+  EXPECT_GT(thick, 1.3 * thin);
 }
 
 TEST(StrutLattice, BadParametersAreNamed) {
