@@ -30,6 +30,8 @@ expect 0 "verdict: printable" -- "$frepcad" export "$src/examples/sphere.json" -
 expect 0 "^frepcad $(sed -n 's|.*<version>\(.*\)</version>.*|\1|p' "$src/Mod/FRep/package.xml")$" -- "$frepcad" --version
 expect 0 "verdict: printable" -- "$frepcad" check "$work/s.stl"
 expect 0 '"printable": true' -- "$frepcad" check "$work/s.stl" --json
+# The strut-infilled bracket (octet struts inside a skin, two holes) exports printable.
+expect 0 "verdict: printable" -- "$frepcad" export "$src/examples/strut_bracket.json" -o "$work/struts.stl" --resolution 0.25
 expect 0 "wrote .*s.obj" -- "$frepcad" export "$src/examples/csg.json" -o "$work/s.obj" --resolution 0.1
 expect 0 "wrote .*s.ply" -- "$frepcad" export "$src/examples/csg.json" -o "$work/s.ply" --format ply --resolution 0.1
 expect 0 "verdict: printable" -- "$frepcad" check "$work/s.ply"
