@@ -34,6 +34,7 @@ struct ExportOptions {
   std::set<std::string> meshGiven;
   bool stats = false;             // --stats: the accuracy report
   bool fog = false;               // --fog: a .vdb fog volume instead of a level set
+  bool beams = false;             // --beams: a strut lattice as a 3MF beam lattice
   std::vector<std::string> sets;  // --set Object.Property=VALUE (documents only)
   bool force = false, quiet = false, help = false;
   // --bricks N: the export as N brick jobs on Dask (frepcore.distributed), on the scheduler

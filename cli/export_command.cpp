@@ -17,6 +17,7 @@
 #include "cli/terminal_progress.h"
 #include "frep/model_json.h"
 #include "frep/structural_bounds.h"
+#include "pipeline/beam_export.h"
 #include "pipeline/brick_jobs.h"
 #include "pipeline/export_pipeline.h"
 
@@ -45,6 +46,10 @@ const char* const kExportHelp =
     "other options:\n"
     "  --fog                   with OUT.vdb: a fog volume (0 outside, 1 inside, a ramp across\n"
     "                          the band inside the surface) instead of a level set\n"
+    "  --beams                 with OUT.3mf: a strut lattice's struts as a 3MF beam lattice\n"
+    "                          (beams and radii, clipped by the part's mesh; an infill's skin\n"
+    "                          as a mesh) instead of their triangles: the model's root is a\n"
+    "                          strut_lattice cut to a part, or an infill with CELL_struts\n"
     "  --stats                 measure the mesh against the exact surface: the Hausdorff\n"
     "                          distance (sampled), the volume and the crease length\n"
     "  --force                 write the mesh even when the check refuses it (exit status 1)\n"
@@ -106,6 +111,8 @@ ExportOptions parseExportOptions(const Args& args) {
       o.stats = true;
     else if (a == "--fog")
       o.fog = true;
+    else if (a == "--beams")
+      o.beams = true;
     else if (a == "--format")
       o.format = value("a format");
     else if (a == "--units")
@@ -153,6 +160,16 @@ ExportOptions parseExportOptions(const Args& args) {
   if ((!o.scheduler.empty() || !o.workDir.empty()) && !o.bricks)
     throw UsageError("--scheduler and --work-dir apply to --bricks only");
   validateMeshFlags(o.mesh);
+  if (o.beams) {
+    const std::string format = o.format.empty() ? std::string() : o.format;
+    if ((!format.empty() && format != "3mf") ||
+        (format.empty() && formatFromPath(o.output) != MeshFormat::ThreeMf))
+      throw UsageError("--beams writes a 3MF beam lattice: give OUT.3mf");
+    if (o.bricks || o.stats)
+      throw UsageError("--beams cannot be combined with --bricks or --stats");
+    if (isDocumentPath(o.input))
+      throw UsageError("--beams applies to JSON models; export the document's model first");
+  }
   if (isVdbPath(o.output) && !o.meshGiven.empty())
     throw UsageError(settingFlag(*o.meshGiven.begin()) +
                      " applies to meshes, not to a .vdb level set");
@@ -202,6 +219,38 @@ void printThinParts(const MeshingStats& stats, double cell) {
               << " grid edges: the mesh closes them there\n";
   std::cerr << "  for example at (" << p[0] << ", " << p[1] << ", " << p[2]
             << "); more cells (--cells or --resolution) keep more of the model\n";
+}
+
+// --beams: the strut lattice as a 3MF beam lattice (pipeline/beam_export.h).
+int exportBeams(const ExportOptions& opt, const Model& model, const MeshingBox& box,
+                const ThreeMfOptions& threeMf) {
+  installInterruptHandlers();
+  BeamExportResult r;
+  {
+    TerminalProgress bar(!opt.quiet && isatty(STDERR_FILENO));
+    r = exportBeamLattice(model.root, box, opt.mesh, threeMf, fs::path(opt.input).stem().string(),
+                          opt.output, opt.force,
+                          [&bar](double f) { return bar(ExportStage::Mesh, f); });
+  }
+  if (!r.clipReport.printable()) std::cout << reportToText(r.clipReport, "the part's mesh");
+  if (r.skinTriangles && !r.skinReport.printable())
+    std::cout << reportToText(r.skinReport, "the infill's skin");
+  if (!r.written) {
+    std::cerr << "frepcad: refusing to write " << opt.output
+              << ": a mesh of the beam lattice's file is not printable (see reasons above; "
+                 "--force writes it anyway)\n";
+    return 1;
+  }
+  if (!r.notes.empty() && !opt.quiet) std::cerr << "frepcad: note: " << r.notes << "\n";
+  if (!opt.quiet) {
+    const ThreeMfBeams back = read3mfBeams(opt.output);
+    std::cout << "wrote " << opt.output << " (3mf beam lattice): " << r.beams << " beams on "
+              << r.vertices << " vertices, clipped by the part's mesh (" << r.clipTriangles
+              << " triangles)";
+    if (r.skinTriangles) std::cout << ", the skin " << r.skinTriangles << " triangles";
+    std::cout << "; lib3mf reads " << back.beams << " beams back, " << r.seconds << " s\n";
+  }
+  return 0;
 }
 
 int exportModel(const ExportOptions& opt) {
@@ -259,6 +308,7 @@ int exportModel(const ExportOptions& opt) {
                 << " (HyperFun's; --bbox to choose another)\n";
   }
   if (vdb) return heavyModule().exportLevelSet(opt, program, chosen);
+  if (opt.beams) return exportBeams(opt, model, chosen, request.threeMf);
   if (opt.bricks)
     return exportDistributed(opt, chosen.box, chosen.resolution, request.threeMf.metadata);
 

@@ -5,15 +5,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <random>
 
 #include "base/errors.h"
 #include "check/mesh_check.h"
 #include "frep/strut_cells.h"
 #include "frep/tree.h"
+#include "io/mesh_3mf.h"
 #include "lattice/ffd_lattice.h"
 #include "lattice_samples.h"
 #include "mesh/mesher.h"
+#include "pipeline/beam_export.h"
 #include "test_nodes.h"
 
 namespace frep {
@@ -247,6 +251,87 @@ TEST(StrutLattice, ConformalThroughAnFfdBendAndGradedExportPrintable) {
     thin += field.eval(-x, y, z) > 0;
   }
   EXPECT_GT(thick, 1.3 * thin);
+}
+
+// The beam lattice 3MF: an octet lattice cut to a ball, its struts as beams clipped by the
+// ball's mesh, read back by lib3mf: every strut whose middle lies in the ball is there, none
+// that keeps away from it, and the file is a fraction of the meshed struts' 3MF.
+TEST(StrutLattice, BeamLatticeThreeMfReadsBackWithEveryStrut) {
+  const std::string dir = ::testing::TempDir();
+  const NodePtr ball = testing::sphere(1.5);
+  const NodePtr cut = makeNode("intersection", {}, {lattice("octet", {0.5, 0.5, 0.5}, 0.04), ball});
+  const MeshingBox box{{{-1.6, -1.6, -1.6}, {1.6, 1.6, 1.6}}, 0.02};
+  const std::string beamsPath = dir + "/beams.3mf";
+  const BeamExportResult r =
+      exportBeamLattice(cut, box, MeshSettings(), ThreeMfOptions(), "ball", beamsPath, false);
+  ASSERT_TRUE(r.written);
+  EXPECT_TRUE(r.clipReport.printable());
+  const ThreeMfBeams back = read3mfBeams(beamsPath);
+  EXPECT_EQ(back.beams, r.beams);
+  EXPECT_EQ(back.clipped, 1u);
+  // every strut of the cells round the ball, brute force: those with their middle inside must
+  // be beams, those farther than their radius and a tenth of a cell from it must not (the
+  // boxes the beams are chosen by reach a little beyond a strut)
+  std::size_t inside = 0, reaching = 0;
+  const UnitCell& cell = unitCell("octet");
+  std::vector<std::pair<Vec3, Vec3>> seen;
+  for (int i = -5; i <= 4; ++i)
+    for (int j = -5; j <= 4; ++j)
+      for (int k = -5; k <= 4; ++k)
+        for (const UnitStrut& s : cell.struts) {
+          Vec3 a = vscale(vadd(s.a, {double(i), double(j), double(k)}), 0.5);
+          Vec3 b = vscale(vadd(s.b, {double(i), double(j), double(k)}), 0.5);
+          if (b < a) std::swap(a, b);
+          const Vec3 m = vscale(vadd(a, b), 0.5);
+          if (vlength(m) < 1.5) ++inside;
+          if (segmentDistance({0, 0, 0}, a, b) < 1.5 + 0.04 + 0.05) ++reaching;
+        }
+  EXPECT_GE(r.beams, inside);
+  EXPECT_LE(r.beams, reaching);
+  EXPECT_GT(inside, 500u);
+  // the same part meshed, as a 3MF
+  MeshingOptions o;
+  o.bbox = box.box;
+  o.resolution = box.resolution;
+  const std::string meshedPath = dir + "/meshed.3mf";
+  write3mf({{"ball", polygonize(compile(cut), o)}}, meshedPath);
+  const auto beamsBytes = std::filesystem::file_size(beamsPath);
+  const auto meshedBytes = std::filesystem::file_size(meshedPath);
+  EXPECT_LT(3 * beamsBytes, meshedBytes) << beamsBytes << " against " << meshedBytes;
+  std::remove(beamsPath.c_str());
+  std::remove(meshedPath.c_str());
+}
+
+// An infill of struts: its skin a printed mesh, the struts beams clipped by the part; a model
+// that is no strut lattice is refused, naming what --beams needs.
+TEST(StrutLattice, BeamLatticeOfAnInfillAndWhatIsRefused) {
+  const std::string path = ::testing::TempDir() + "/infill.3mf";
+  const NodePtr infill = makeNode("infill",
+                                  {{"lattice", textValue("kelvin_struts")},
+                                   {"wall", realValue(0.1)},
+                                   {"cell", realValue(0.5)},
+                                   {"thickness", realValue(0.06)}},
+                                  {testing::box({0, 0, 0}, {2, 1.5, 1})});
+  const MeshingBox box{{{-0.1, -0.1, -0.1}, {2.1, 1.6, 1.1}}, 0.025};
+  const BeamExportResult r =
+      exportBeamLattice(infill, box, MeshSettings(), ThreeMfOptions(), "block", path, false);
+  ASSERT_TRUE(r.written);
+  EXPECT_TRUE(r.skinReport.printable());
+  EXPECT_GT(r.skinTriangles, 1000u);
+  EXPECT_EQ(read3mfBeams(path).beams, r.beams);
+  const ThreeMfContents contents = read3mf(path);  // the build: the skin and the struts
+  ASSERT_EQ(contents.objects.size(), 2u);
+  EXPECT_EQ(contents.objects[0].mesh.triangles.size(), r.skinTriangles);
+  EXPECT_TRUE(contents.objects[1].mesh.triangles.empty());
+  std::remove(path.c_str());
+  try {
+    exportBeamLattice(testing::sphere(1), box, MeshSettings(), ThreeMfOptions(), "ball", path,
+                      false);
+    FAIL() << "no error";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("strut_lattice"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(path));
 }
 
 TEST(StrutLattice, BadParametersAreNamed) {

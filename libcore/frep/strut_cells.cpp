@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <mutex>
 
@@ -295,6 +296,48 @@ FoldedCell foldedCell(const UnitCell& cell, const Vec3& size) {
   }
   for (const Vec3& n : nodes) f.nodes.push_back(world(n));
   return f;
+}
+
+std::vector<StrutPiece> strutsInBox(const UnitCell& cell, const Vec3& size, const Vec3& origin,
+                                    const Box3& box) {
+  std::int64_t lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) {  // the cells whose struts may reach the box (struts reach a cell)
+    lo[a] = static_cast<std::int64_t>(std::floor((box.lo[a] - origin[a]) / size[a])) - 1;
+    hi[a] = static_cast<std::int64_t>(std::floor((box.hi[a] - origin[a]) / size[a])) + 1;
+  }
+  auto world = [&](const Vec3& u, std::int64_t i, std::int64_t j, std::int64_t k) {
+    return Vec3{origin[0] + (u[0] + double(i)) * size[0], origin[1] + (u[1] + double(j)) * size[1],
+                origin[2] + (u[2] + double(k)) * size[2]};
+  };
+  // (a cell's struts may repeat another's where polyhedra share an edge: Kelvin's foam)
+  std::vector<UnitStrut> own;
+  for (const UnitStrut& s : cell.struts) {
+    UnitStrut t = s;
+    if (t.b < t.a) std::swap(t.a, t.b);
+    if (std::none_of(own.begin(), own.end(), [&](const UnitStrut& o) {
+          return samePoint(o.a, t.a, 1e-12) && samePoint(o.b, t.b, 1e-12);
+        }))
+      own.push_back(t);
+  }
+  std::vector<StrutPiece> out;
+  std::map<std::pair<Vec3, Vec3>, bool> seen;  // (copies of one strut by different cells)
+  for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
+    for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
+      for (std::int64_t i = lo[0]; i <= hi[0]; ++i)
+        for (const UnitStrut& s : own) {
+          StrutPiece p{world(s.a, i, j, k), world(s.b, i, j, k)};
+          bool meets = true;
+          for (int a = 0; a < 3; ++a)
+            meets = meets && std::min(p.a[a], p.b[a]) <= box.hi[a] &&
+                    std::max(p.a[a], p.b[a]) >= box.lo[a];
+          if (!meets) continue;
+          // the same strut from two cells (one whose end lies on a cell's face) once
+          const Vec3 ua = vadd(s.a, {double(i), double(j), double(k)});
+          const Vec3 ub = vadd(s.b, {double(i), double(j), double(k)});
+          if (!seen.emplace(std::make_pair(ua, ub), true).second) continue;
+          out.push_back(p);
+        }
+  return out;
 }
 
 }  // namespace frep

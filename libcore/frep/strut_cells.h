@@ -59,6 +59,11 @@ struct FoldedCell {
 };
 FoldedCell foldedCell(const UnitCell& cell, const Vec3& size);
 
+// Every strut of the lattice (cells of `size` from `origin`) whose segment's box meets `box`,
+// each once, unclipped: what a beam lattice file lists.
+std::vector<StrutPiece> strutsInBox(const UnitCell& cell, const Vec3& size, const Vec3& origin,
+                                    const Box3& box);
+
 // The largest distance from a point to the nearest strut of the unit cell's network (cell
 // size 1), from a fine sample and a margin for what the sample misses: how far round the cell
 // a translation-folded point must look.

@@ -373,6 +373,35 @@ void write3mf(const std::vector<NamedMesh>& objects, const std::string& path,
   file->commit();
 }
 
+ThreeMfBeams read3mfBeams(const std::string& file) {
+  requireRegularFile(file, "a 3MF file");
+  const std::string path = displayName(file);
+  if (zipUnpackedBytes(file) > kMax3mfUnpackedBytes)
+    throw FileError(path + ": the package unpacks to more than " +
+                    std::to_string(kMax3mfUnpackedBytes >> 20) + " MiB; refused before reading");
+  Handle model, reader, objects;
+  require(lib3mf_createmodel(model.out()), nullptr, path + ": cannot start a 3MF model");
+  require(lib3mf_model_queryreader(model.get(), "3mf", reader.out()), model.get(), path);
+  if (lib3mf_reader_readfromfileutf8(reader.get(), file.c_str()) != 0)
+    throw FileError(path + ": not a readable 3MF file: " + lastError(reader.get()));
+  require(lib3mf_model_getmeshobjects(model.get(), objects.out()), model.get(), path);
+  ThreeMfBeams b;
+  BOOL more = 0;
+  while (lib3mf_resourceiterator_movenext(objects.get(), &more) == 0 && more) {
+    Handle mesh;
+    require(lib3mf_resourceiterator_getcurrent(objects.get(), mesh.out()), objects.get(), path);
+    DWORD count = 0;
+    require(lib3mf_meshobject_getbeamcount(mesh.get(), &count), mesh.get(), path);
+    b.beams += count;
+    eModelBeamLatticeClipMode mode = MODELBEAMLATTICECLIPMODE_NONE;
+    DWORD id = 0;
+    if (count && lib3mf_meshobject_getbeamlattice_clipping(mesh.get(), &mode, &id) == 0 &&
+        mode != MODELBEAMLATTICECLIPMODE_NONE)
+      ++b.clipped;
+  }
+  return b;
+}
+
 ThreeMfContents read3mf(const std::string& file) {
   requireRegularFile(file, "a 3MF file");
   const std::string path = displayName(file);
@@ -383,7 +412,8 @@ ThreeMfContents read3mf(const std::string& file) {
                     " MiB a 3MF may take here; refused before reading (a zip bomb?)");
   const ThreeMfExpansion expansion = scan3mfExpansion(file, path, kMax3mfComponentDepth);
   if (expansion.triangles > double(kMax3mfTriangles))
-    throw FileError(path + ": the build holds " + std::to_string(std::llround(expansion.triangles)) +
+    throw FileError(path + ": the build holds " +
+                    std::to_string(std::llround(expansion.triangles)) +
                     " triangles once its components are expanded, more than " +
                     std::to_string(kMax3mfTriangles) + "; refused before reading");
   if (expansion.placements > double(kMax3mfPlacements))

@@ -35,6 +35,9 @@ struct ThreeMfOptions {
   // specification requires, judged by lib3mf itself before anything is written. Off where the
   // check judges (the export) and for a write the user forced after it refused the mesh.
   bool validate = true;
+  // The package uses the beam lattice extension (its namespace, required): objects may hold
+  // beams (ThreeMfStreamWriter::beams).
+  bool beamLattice = false;
 };
 
 // The 3MF writer is io/three_mf_stream.h's (lib3mf 1.8 rounds coordinates to six decimals and
@@ -72,6 +75,13 @@ constexpr std::size_t kMax3mfTriangles = std::size_t(1) << 26;
 // Objects all build items may place, counting every component reference expanded (a fan of
 // empty objects adds no triangles but costs lib3mf a visit each).
 constexpr std::size_t kMax3mfPlacements = 1000000;
+
+// The beams of every mesh object of a 3MF as lib3mf reads them (the beam lattice extension),
+// and how many of those objects clip their beams by another object's mesh. Throws FileError.
+struct ThreeMfBeams {
+  std::size_t beams = 0, clipped = 0;
+};
+ThreeMfBeams read3mfBeams(const std::string& path);
 
 // Reads every build item of a 3MF (mesh objects, and components objects flattened with their
 // transforms). Throws FileError naming the file and the problem.

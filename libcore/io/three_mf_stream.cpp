@@ -262,10 +262,16 @@ ThreeMfStreamWriter::ThreeMfStreamWriter(const std::string& path, const ThreeMfO
                               kDeflateLevel, 1, -MAX_WBITS, 8, Z_DEFAULT_STRATEGY, nullptr, 0,
                               zip64_ ? 1 : 0) != ZIP_OK)
     throw FileError(path + ": cannot write the 3MF package's model");
-  std::string head = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<model unit=\"" +
-                     std::string(lengthUnitXmlName(options.unit)) +
-                     "\" xml:lang=\"en-US\" "
-                     "xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\">\n";
+  std::string head =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<model unit=\"" +
+      std::string(lengthUnitXmlName(options.unit)) +
+      "\" xml:lang=\"en-US\" "
+      "xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\"" +
+      std::string(options.beamLattice ? " xmlns:b=\"http://schemas.microsoft.com/3dmanufacturing/"
+                                        "beamlattice/2017/02\" requiredextensions=\"b\""
+                                      : "") +
+      ">\n";
+  beamLattice_ = options.beamLattice;
   for (const auto& [key, value] : options.metadata)
     head += " <metadata name=\"" + escapeXml(key) + "\">" + escapeXml(value) + "</metadata>\n";
   head += " <resources>\n";
@@ -296,10 +302,11 @@ void ThreeMfStreamWriter::flush() {
         "estimate should have asked for");
 }
 
-void ThreeMfStreamWriter::beginObject(const std::string& name) {
+void ThreeMfStreamWriter::beginObject(const std::string& name, bool buildItem) {
   if (inObject_) throw std::logic_error("ThreeMfStreamWriter: an object is still open");
   inObject_ = true;
-  verticesClosed_ = false;
+  verticesClosed_ = trianglesOpen_ = objectBeams_ = false;
+  buildItems_.push_back(buildItem);
   objectName_ = name;
   vertices_ = spilled_ = objectTriangles_ = 0;
   ++objects_;
@@ -336,6 +343,10 @@ void ThreeMfStreamWriter::writeTriangle(const Triangle& t) {
     throw FileError("3MF object '" + objectName_ + "': a triangle names vertex " +
                     std::to_string(t[0] == t[1] ? t[0] : t[2]) +
                     " twice, which the 3MF core specification forbids");
+  if (!trianglesOpen_) {
+    text("    <triangles>\n");
+    trianglesOpen_ = true;
+  }
   char line[128];
   char* at = putLiteral(line, "<triangle v1=\"");
   at = std::to_chars(at, at + 10, t[0]).ptr;
@@ -367,7 +378,7 @@ void ThreeMfStreamWriter::triangle(const Triangle& t) {
 void ThreeMfStreamWriter::closeVertices() {
   if (verticesClosed_) return;
   verticesClosed_ = true;
-  text("    </vertices>\n    <triangles>\n");
+  text("    </vertices>\n");
   if (!spill_) return;
   // the triangles that came before the last vertex, in their order
   if (std::fflush(spill_) != 0 || std::fseek(spill_, 0, SEEK_SET) != 0)
@@ -386,11 +397,55 @@ void ThreeMfStreamWriter::closeVertices() {
   spilled_ = 0;
 }
 
+void ThreeMfStreamWriter::beams(const BeamLattice3mf& lattice) {
+  if (!inObject_) throw std::logic_error("ThreeMfStreamWriter: no object is open");
+  if (!beamLattice_) throw std::logic_error("ThreeMfStreamWriter: beams need options.beamLattice");
+  closeVertices();
+  if (trianglesOpen_) text("    </triangles>\n");
+  trianglesOpen_ = false;
+  if (!(lattice.radius > 0.0) || !std::isfinite(lattice.radius) || !(lattice.minLength > 0.0))
+    throw FileError("3MF object '" + objectName_ +
+                    "': a beam lattice needs a radius and a "
+                    "shortest beam length > 0");
+  if (lattice.clippingObject >= objects_)
+    throw FileError("3MF object '" + objectName_ +
+                    "': its beams' clipping mesh must be an "
+                    "earlier object");
+  char number[32];
+  auto real = [&](double v) {
+    return std::string(number, std::to_chars(number, number + sizeof number, v).ptr);
+  };
+  std::string head = "    <b:beamlattice radius=\"" + real(lattice.radius) + "\" minlength=\"" +
+                     real(lattice.minLength) + "\"";
+  // (the specification's draft, which lib3mf 1.8 reads, named the mode `clipping`; its
+  // release `clippingmode`: both are written)
+  if (lattice.clippingObject)
+    head += " clipping=\"inside\" clippingmode=\"inside\" clippingmesh=\"" +
+            std::to_string(lattice.clippingObject) + "\"";
+  text(head + ">\n     <b:beams>\n");
+  for (const Beam3mf& beam : lattice.beams) {
+    if (beam.v1 >= vertices_ || beam.v2 >= vertices_ || beam.v1 == beam.v2)
+      throw FileError("3MF object '" + objectName_ + "': a beam joins vertices " +
+                      std::to_string(beam.v1) + " and " + std::to_string(beam.v2) + " of " +
+                      std::to_string(vertices_));
+    std::string line =
+        "<b:beam v1=\"" + std::to_string(beam.v1) + "\" v2=\"" + std::to_string(beam.v2) + "\"";
+    if (beam.r1 > 0.0) line += " r1=\"" + real(beam.r1) + "\"";
+    if (beam.r2 > 0.0) line += " r2=\"" + real(beam.r2) + "\"";
+    text(line + "/>\n");
+  }
+  text("     </b:beams>\n    </b:beamlattice>\n");
+  objectBeams_ = !lattice.beams.empty();
+}
+
 void ThreeMfStreamWriter::endObject() {
   if (!inObject_) throw std::logic_error("ThreeMfStreamWriter: no object is open");
   closeVertices();
-  if (objectTriangles_ == 0) throw FileError("3MF object '" + objectName_ + "' has no triangles");
-  text("    </triangles>\n   </mesh>\n  </object>\n");
+  if (objectTriangles_ == 0 && !objectBeams_)
+    throw FileError("3MF object '" + objectName_ + "' has no triangles");
+  if (trianglesOpen_) text("    </triangles>\n");
+  trianglesOpen_ = false;
+  text("   </mesh>\n  </object>\n");
   inObject_ = false;
 }
 
@@ -417,7 +472,7 @@ std::unique_ptr<AtomicFile> ThreeMfStreamWriter::finish() {
   if (objects_ == 0) throw FileError("3MF: no objects to write");
   std::string tail = " </resources>\n <build>\n";
   for (std::uint32_t id = 1; id <= objects_; ++id)
-    tail += "  <item objectid=\"" + std::to_string(id) + "\"/>\n";
+    if (buildItems_[id - 1]) tail += "  <item objectid=\"" + std::to_string(id) + "\"/>\n";
   tail += " </build>\n</model>\n";
   text(tail);
   flush();

@@ -18,6 +18,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "base/atomic_file.h"
 #include "base/triangle_mesh.h"
@@ -27,6 +28,19 @@ namespace frep {
 
 // The 3MF unit attribute ("millimeter", ...) of a length unit.
 const char* lengthUnitXmlName(LengthUnit unit);
+
+// A beam of a beam lattice (the 3MF beam lattice extension): two vertices of its object and
+// the radius at each (<= 0: the lattice's radius).
+struct Beam3mf {
+  std::uint32_t v1 = 0, v2 = 0;
+  double r1 = 0.0, r2 = 0.0;
+};
+struct BeamLattice3mf {
+  double radius = 0.0;               // the beams' radius where a beam gives none (> 0)
+  double minLength = 0.0;            // beams shorter than this are dropped by a reader (> 0)
+  std::uint32_t clippingObject = 0;  // an earlier object whose mesh clips the beams (0: none)
+  std::vector<Beam3mf> beams;
+};
 
 class ThreeMfStreamWriter {
  public:
@@ -41,12 +55,18 @@ class ThreeMfStreamWriter {
 
   // An object (a mesh and a build item). Throws FileError for a finite-coordinate or index
   // rule of the specification broken, naming the object.
-  void beginObject(const std::string& name);
+  // `buildItem` false: a resource only (a clipping mesh), not printed by itself.
+  void beginObject(const std::string& name, bool buildItem = true);
+  // The id of the object begun last (what a beam lattice's clippingObject names).
+  std::uint32_t objectId() const { return objects_; }
   void vertex(const Vec3f& position);
   // Vertices are numbered from 0 within the object, in the order given.
   void triangle(const Triangle& vertices);
   // No more vertices in this object: triangles from here go straight into the XML.
   void closeVertices();
+  // The object's beams, after its vertices and triangles (an object may have beams and no
+  // triangles; the options must have asked for the beam lattice extension).
+  void beams(const BeamLattice3mf& lattice);
   void endObject();
   // A whole mesh as one object; `written(n)`, when given, hears of every n vertices or
   // triangles written (a few dozen calls for a large mesh: progress, and a cancel by throwing).
@@ -75,7 +95,9 @@ class ThreeMfStreamWriter {
   std::string buffer_;
   std::string objectName_;
   bool inObject_ = false, verticesClosed_ = false, zip64_ = false;
-  std::uint64_t written_ = 0;  // XML bytes given to the zip
+  bool trianglesOpen_ = false, objectBeams_ = false, beamLattice_ = false;
+  std::vector<bool> buildItems_;  // per object: a build item
+  std::uint64_t written_ = 0;     // XML bytes given to the zip
   std::uint32_t objects_ = 0;
   std::uint64_t vertices_ = 0, spilled_ = 0, objectTriangles_ = 0;
   std::size_t trianglesTotal_ = 0;

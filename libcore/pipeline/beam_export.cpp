@@ -1,0 +1,190 @@
+#include "pipeline/beam_export.h"
+
+#include <chrono>
+#include <map>
+
+#include "base/errors.h"
+#include "frep/interval.h"
+#include "frep/strut_cells.h"
+#include "io/three_mf_stream.h"
+#include "pipeline/finished_mesh.h"
+
+namespace frep {
+
+namespace {
+
+constexpr const char* kStrutsSuffix = "_struts";
+
+// What the beams are: the lattice's cells, radius (constant or a field) and the part that
+// clips them; for an infill the skin printed beside them.
+struct BeamSource {
+  const UnitCell* cell = nullptr;
+  Vec3 size{1, 1, 1}, origin{0, 0, 0};
+  double radius = 0.0;
+  NodePtr grading;  // the radius's field, or null
+  NodePtr part;     // clips the beams
+  NodePtr skin;     // an infill's skin, or null
+  double nodeRadius = 0.0;
+};
+
+BeamSource sourceOf(const NodePtr& root) {
+  const std::string what =
+      "--beams writes a strut lattice as 3MF beams: the model's root must be the intersection "
+      "of a strut_lattice and a part, or an infill whose lattice is a strut lattice "
+      "(CELL_struts)";
+  BeamSource s;
+  const std::string& type = root->type->id;
+  if (type == "intersection" && root->inputs.size() == 2) {
+    for (int k = 0; k < 2; ++k) {
+      const NodePtr& lattice = root->inputs[k];
+      if (lattice->type->id != "strut_lattice") continue;
+      s.cell = &unitCell(lattice->param("cell_type").text);
+      s.size = lattice->vec3("cell");
+      s.origin = lattice->vec3("origin");
+      s.radius = lattice->real("radius");
+      s.nodeRadius = lattice->real("node_radius");
+      if (!lattice->inputs.empty()) s.grading = lattice->inputs[0];
+      s.part = root->inputs[1 - k];
+      return s;
+    }
+  } else if (type == "infill") {
+    const std::string& lattice = root->param("lattice").text;
+    const std::size_t n = lattice.size(), m = std::string(kStrutsSuffix).size();
+    if (n > m && lattice.compare(n - m, m, kStrutsSuffix) == 0) {
+      s.cell = &unitCell(lattice.substr(0, n - m));
+      const double cell = root->real("cell"), t = root->real("thickness");
+      s.size = {cell, cell, cell};
+      s.origin = root->vec3("origin");
+      s.radius = t > 0.0 ? 0.5 * t : 0.1 * cell;
+      s.part = root->inputs.at(0);
+      s.skin = makeNode("shell", {{"thickness", realValue(root->real("wall"))}}, {s.part});
+      return s;
+    }
+    throw ModelError(what + "; this infill's lattice is '" + lattice + "'");
+  }
+  throw ModelError(what + "; it is " + type);
+}
+
+// Whether the part may reach within `grow` of the segment [a, b]: its interval over the
+// segment's box grown by `grow` is not all below 0, on the whole or, where undecided, on one of
+// the halves, `depth` times (a diagonal strut's box is mostly air).
+bool mayReach(const Program& part, const Vec3& a, const Vec3& b, double grow, int depth) {
+  Interval box[3];
+  for (int k = 0; k < 3; ++k)
+    box[k] = Interval(std::min(a[k], b[k]) - grow, std::max(a[k], b[k]) + grow);
+  const Interval v = part.evalInterval(box[0], box[1], box[2]);
+  if (v.hi < 0.0) return false;
+  if (v.lo >= 0.0 || depth == 0) return true;
+  const Vec3 m = vscale(vadd(a, b), 0.5);
+  return mayReach(part, a, m, grow, depth - 1) || mayReach(part, m, b, grow, depth - 1);
+}
+
+TriangleMesh meshOf(const NodePtr& node, const MeshingBox& box, const MeshSettings& settings,
+                    const std::function<bool(double)>& progress) {
+  MeshingOptions o;
+  o.bbox = box.box;
+  o.resolution = box.resolution;
+  o.settings = settings;
+  o.normals = false;
+  return meshAndFinish(compile(node), o, progress, false).mesh;
+}
+
+void addMesh(ThreeMfStreamWriter& w, const std::string& name, const TriangleMesh& mesh,
+             bool buildItem) {
+  w.beginObject(name, buildItem);
+  for (const Vec3f& p : mesh.positions) w.vertex(p);
+  w.closeVertices();
+  for (const Triangle& t : mesh.triangles) w.triangle(t);
+  w.endObject();
+}
+
+}  // namespace
+
+BeamExportResult exportBeamLattice(const NodePtr& root, const MeshingBox& box,
+                                   const MeshSettings& settings, const ThreeMfOptions& options,
+                                   const std::string& name, const std::string& path, bool force,
+                                   const std::function<bool(double)>& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  const BeamSource source = sourceOf(root);
+  BeamExportResult r;
+  auto stage = [&](double from, double to) -> std::function<bool(double)> {
+    if (!progress) return nullptr;
+    return [=](double f) { return progress(from + (to - from) * f); };
+  };
+  // The part's mesh clips the beams; the skin is printed. Both must be closed and sound.
+  const TriangleMesh clip = meshOf(source.part, box, settings, stage(0.0, 0.4));
+  r.clipTriangles = clip.triangleCount();
+  r.clipReport = checkMesh(clip);
+  TriangleMesh skin;
+  if (source.skin) {
+    skin = meshOf(source.skin, box, settings, stage(0.4, 0.8));
+    r.skinTriangles = skin.triangleCount();
+    r.skinReport = checkMesh(skin);
+  }
+  if (!force && (!r.clipReport.printable() || (source.skin && !r.skinReport.printable()))) return r;
+  if (source.nodeRadius > 0.0)
+    r.notes = "the node spheres are not written (the beam lattice has beams only)";
+
+  // The beams: every strut of the cells round the part's mesh that the part may reach (its
+  // interval over the strut's box, grown by the radius, not all below 0).
+  Box3 reach{{HUGE_VAL, HUGE_VAL, HUGE_VAL}, {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}};
+  for (const Vec3f& p : clip.positions)
+    for (int a = 0; a < 3; ++a) {
+      reach.lo[a] = std::min(reach.lo[a], double(p[a]));
+      reach.hi[a] = std::max(reach.hi[a], double(p[a]));
+    }
+  const Program part = compile(source.part);
+  const Program grading = source.grading ? compile(source.grading) : Program();
+  const double minLength = 1e-4 * std::min({source.size[0], source.size[1], source.size[2]});
+  BeamLattice3mf lattice;
+  lattice.radius = source.radius;
+  lattice.minLength = minLength;
+  std::vector<Vec3f> vertices;
+  std::map<Vec3, std::uint32_t> vertexOf;
+  auto vertex = [&](const Vec3& p) {
+    const auto [at, added] = vertexOf.emplace(p, static_cast<std::uint32_t>(vertices.size()));
+    if (added)
+      vertices.push_back(
+          {static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2])});
+    return at->second;
+  };
+  for (const StrutPiece& s : strutsInBox(*source.cell, source.size, source.origin, reach)) {
+    double r1 = 0.0, r2 = 0.0;
+    if (source.grading) {
+      r1 = grading.eval(s.a[0], s.a[1], s.a[2]);
+      r2 = grading.eval(s.b[0], s.b[1], s.b[2]);
+      if (!(r1 > 0.0) && !(r2 > 0.0)) continue;  // no strut there
+      r1 = std::max(r1, minLength);
+      r2 = std::max(r2, minLength);
+    }
+    if (!mayReach(part, s.a, s.b, std::max({source.radius, r1, r2}), 4)) continue;
+    const std::uint32_t v1 = vertex(s.a), v2 = vertex(s.b);
+    if (v1 == v2) continue;  // (a strut shorter than a float's step)
+    lattice.beams.push_back({v1, v2, r1, r2});
+  }
+  r.beams = lattice.beams.size();
+  r.vertices = vertices.size();
+  if (lattice.beams.empty())
+    throw ModelError(name + ": no strut of the lattice reaches the part; nothing to write");
+  if (progress && !progress(0.85)) throw Cancelled();
+
+  ThreeMfOptions o = options;
+  o.beamLattice = true;
+  ThreeMfStreamWriter writer(
+      path, o,
+      expectedXmlBytes(clip.positions.size() + skin.positions.size() + vertices.size(),
+                       clip.triangleCount() + skin.triangleCount() + lattice.beams.size()));
+  addMesh(writer, name + " clipping mesh", clip, false);
+  lattice.clippingObject = writer.objectId();
+  if (source.skin) addMesh(writer, name + " skin", skin, true);
+  writer.beginObject(name + " struts", true);
+  for (const Vec3f& p : vertices) writer.vertex(p);
+  writer.beams(lattice);
+  writer.endObject();
+  writer.finish()->commit();
+  r.written = true;
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return r;
+}
+
+}  // namespace frep
