@@ -297,8 +297,9 @@ FROM_SOLID = {
 
 class ExportCommand:
     ASCII_STL = "STL mesh, ASCII (*.stl)"
+    BEAMS = "3MF beam lattice, a strut lattice's struts as beams (*.3mf)"
     FILTERS = ("STL mesh (*.stl);;" + ASCII_STL + ";;3MF, each selected object its own (*.3mf);;"
-               "Wavefront OBJ (*.obj);;Stanford PLY (*.ply)")
+               + BEAMS + ";;Wavefront OBJ (*.obj);;Stanford PLY (*.ply)")
 
     def GetResources(self):
         return {"Pixmap": FRepPaths.icon("export"),
@@ -328,6 +329,8 @@ class ExportCommand:
             return
         if chosen == self.ASCII_STL:
             options["fmt"] = "stl-ascii"
+        if chosen == self.BEAMS:
+            options["fmt"] = "3mf-beams"
         try:
             result = FRepExport.export_objects(objects, filename, **options)
         except (ValueError, RuntimeError, OSError) as e:
@@ -339,6 +342,9 @@ class ExportCommand:
         written = ("Wrote %s: %d triangles, watertight (closed, manifold, outward, no "
                    "self-intersections); walls and overhangs: FRep > Printability"
                    % (filename, result["triangles"]))
+        if "beams" in result:
+            written = ("Wrote %s: %d beams, clipped by the part's checked mesh"
+                       % (filename, result["beams"]))
         QtCore.QTimer.singleShot(200, lambda: FreeCADGui.getMainWindow().statusBar()
                                  .showMessage(written, 15000))
 

@@ -154,6 +154,9 @@ def export_objects(objects, filename, progress=None, cells=None, fmt="", resolut
     Raises frepcore.NotPrintable (nothing written) when the check fails and force is not
     given, RuntimeError when cancelled (nothing written), ValueError for bad input.
     """
+    if fmt == "3mf-beams":
+        return _export_beams(objects, filename, progress, cells, resolution, bbox, force,
+                             settings, unit)
     if filename.lower().endswith(".3mf") or fmt == "3mf":
         return _export_3mf(objects, filename, progress, cells, resolution, bbox, force,
                            settings, unit)
@@ -235,6 +238,42 @@ def _export_3mf(objects, filename, progress, cells, resolution, bbox, force, set
     if progress is not None:
         return guarded(progress)
     return FRepMeshing.run_with_progress("Exporting %s" % name, guarded)
+
+
+def _export_beams(objects, filename, progress, cells, resolution, bbox, force, settings,
+                  unit="mm"):
+    """A strut lattice's struts as a 3MF beam lattice (frepcad export --beams): the one
+    selected object must be a strut lattice cut to a part or an infill with a strut lattice;
+    the part's mesh clips the beams, an infill's skin is a mesh beside them."""
+    name = os.path.basename(filename)
+    if len(objects) != 1:
+        raise ValueError("%s: a beam lattice 3MF is made of one object: select the strut "
+                         "lattice's intersection with a part, or an infill with struts" % name)
+    if not filename.lower().endswith(".3mf"):
+        raise ValueError("%s: a beam lattice is written as a .3mf" % name)
+    solid, (box, cell) = solid_and_box(objects, cells, resolution, bbox)
+    chosen = settings_for(objects[0], settings)
+
+    def work(tick):
+        try:
+            report = solid.export_beams(filename, resolution=cell, bbox=box, unit=unit,
+                                        progress=tick, force=force, settings=chosen)
+        except frepcore.Cancelled:
+            raise RuntimeError("export of %s cancelled; no file written" % name)
+        report["triangles"] = report["clip_triangles"] + report["skin_triangles"]
+        summary = ("wrote %s: %d beams on %d vertices, clipped by the part's mesh (%d "
+                   "triangles)" % (name, report["beams"], report["vertices"],
+                                   report["clip_triangles"]))
+        if report["skin_triangles"]:
+            summary += ", the skin %d triangles" % report["skin_triangles"]
+        if report["notes"]:
+            summary += "; %s" % report["notes"]
+        report["text"] = summary
+        return report
+
+    if progress is not None:
+        return work(progress)
+    return FRepMeshing.run_with_progress("Exporting %s" % name, work)
 
 
 def _export_level_set(solid, box, cell, filename, progress):

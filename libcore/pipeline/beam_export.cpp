@@ -29,7 +29,7 @@ struct BeamSource {
 
 BeamSource sourceOf(const NodePtr& root) {
   const std::string what =
-      "--beams writes a strut lattice as 3MF beams: the model's root must be the intersection "
+      "a 3MF beam lattice needs a strut lattice: the model's root must be the intersection "
       "of a strut_lattice and a part, or an infill whose lattice is a strut lattice "
       "(CELL_struts)";
   BeamSource s;

@@ -221,6 +221,19 @@ void bindMesh(py::module_& m) {
       "A 3MF file's build: dict(objects=[(name, Mesh)], unit, metadata). Hostile packages "
       "(zip bombs, deep components) are refused with OSError before they are read.");
   m.def(
+      "read_3mf_beams",
+      [](const FilePath& path) {
+        ThreeMfBeams b;
+        {
+          py::gil_scoped_release release;
+          b = read3mfBeams(path);
+        }
+        return py::dict(py::arg("beams") = b.beams, py::arg("clipped") = b.clipped);
+      },
+      py::arg("path"),
+      "The beams of a 3MF's beam lattices as lib3mf reads them: dict(beams, clipped: the "
+      "lattices clipped by a mesh).");
+  m.def(
       "write_3mf",
       [](const std::vector<std::pair<std::string, TriangleMesh>>& objects, const FilePath& path,
          const std::string& unit, const std::map<std::string, std::string>& metadata, bool force,

@@ -38,6 +38,7 @@
 #include "mesh/mesh_ffd.h"
 #include "mesh/mesher.h"
 #include "mesh/section.h"
+#include "pipeline/beam_export.h"
 #include "pipeline/brick_jobs.h"
 #include "pipeline/export_pipeline.h"
 #include "python/binding_helpers.h"
@@ -180,6 +181,47 @@ void bindNode(py::module_& m) {
           "creases give 'straightened' in the dict, a tolerance 'triangles_before_simplify' "
           "and 'largest_distance'), CGAL check, atomic write. Returns the check report dict "
           "plus 'written'; a refused mesh is not written unless force.")
+      .def(
+          "export_beams",
+          [](PyNode& n, const FilePath& path, py::object bbox, py::object resolution,
+             py::object cells, const std::string& unit, bool force, py::object progress,
+             const MeshSettings& settings) {
+            const BoxRequest request = boxRequest(bbox, resolution, cells, kPaddingCells);
+            ThreeMfOptions o;
+            o.unit = parseLengthUnit(unit);
+            o.metadata = {{"Application", "FRepCAD frepcore"}};
+            n.compiled();
+            std::shared_ptr<const Program> program = n.program;
+            const NodePtr root = n.node;
+            const std::string name = std::filesystem::path(path.value).stem().string();
+            BeamExportResult r = runWithProgress<BeamExportResult>(
+                [&](std::function<bool(double)> tick) {
+                  const MeshingBox box = chooseBox(*program, structuralBounds(root), request);
+                  return exportBeamLattice(root, box, settings, o, name, path, force, tick);
+                },
+                progress);
+            py::dict d;
+            d["written"] = r.written;
+            d["beams"] = r.beams;
+            d["vertices"] = r.vertices;
+            d["clip_triangles"] = r.clipTriangles;
+            d["skin_triangles"] = r.skinTriangles;
+            d["printable"] =
+                r.clipReport.printable() && (r.skinTriangles == 0 || r.skinReport.printable());
+            std::string text = reportToText(r.clipReport, path.value + ": the part's mesh");
+            if (r.skinTriangles) text += reportToText(r.skinReport, path.value + ": the skin");
+            d["text"] = text;
+            d["notes"] = r.notes;
+            d["seconds"] = r.seconds;
+            return d;
+          },
+          py::arg("path"), py::arg("bbox") = py::none(), py::arg("resolution") = py::none(),
+          py::arg("cells") = py::none(), py::arg("unit") = "mm", py::arg("force") = false,
+          py::arg("progress") = py::none(), py::arg("settings") = MeshSettings(),
+          "A strut lattice's struts as a 3MF beam lattice (frepcad export --beams): the shape "
+          "must be a strut_lattice cut to a part or an infill with a strut lattice. Returns "
+          "dict(written, beams, vertices, clip_triangles, skin_triangles, printable, text, "
+          "notes, seconds); ValueError for another shape.")
       .def(
           "brick_plan",
           [](PyNode& n, py::object bbox, double resolution, std::uint32_t jobs,

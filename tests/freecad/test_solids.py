@@ -265,3 +265,27 @@ def test_partdesign_bracket_with_a_strut_infill_exports_printable(doc, tmp_path)
                          str(tmp_path / "skin.stl"), cells=128)
     assert skin * 1.05 < infilled < body.Shape.Volume, (skin, infilled, body.Shape.Volume)
     assert part(10, 12, 5) < 0  # a hole stays a hole
+
+
+def test_strut_infill_exports_as_a_beam_lattice_3mf(doc, tmp_path):
+    """The Export command's beam lattice: the bracket infilled with octet struts written as
+    beams clipped by its mesh, with its skin, read back by lib3mf with the same beam count; a
+    solid that is no strut lattice is refused and leaves no file."""
+    import FRepExport
+    body = FRepExamples.build_bracket(doc)
+    doc.recompute()
+    infill = F.make("infill", doc, inputs=[body], sized=True, lattice="octet_struts")
+    doc.recompute()
+    path = str(tmp_path / "bracket_beams.3mf")
+    report = FRepExport.export_objects([infill], path, cells=128, fmt="3mf-beams")
+    assert report["written"] and report["printable"], report["text"]
+    assert report["beams"] > 100 and report["skin_triangles"] > 0
+    back = frepcore.read_3mf_beams(path)
+    assert back == {"beams": report["beams"], "clipped": 1}
+    meshed = str(tmp_path / "bracket.3mf")
+    FRepExport.export_objects([infill], meshed, cells=128)
+    assert os.path.getsize(path) < os.path.getsize(meshed)
+    other = str(tmp_path / "body.3mf")
+    with pytest.raises(ValueError, match="strut lattice"):
+        FRepExport.export_objects([F.make("sphere", doc)], other, cells=32, fmt="3mf-beams")
+    assert not os.path.exists(other)

@@ -26,7 +26,7 @@ from ._frepcore import parse_hyperfun
 from ._frepcore import check_param, node_reference_markdown
 from ._frepcore import mesh_field, vdb_grids, vdb_to_mesh, vdb_reader
 from ._frepcore import Lattice, deform_mesh, deform_vdb, read_lattice, parse_lattice
-from ._frepcore import read_3mf, write_3mf, materials
+from ._frepcore import read_3mf, read_3mf_beams, write_3mf, materials
 from ._frepcore import HSpline, parse_hs, read_hs, read_step_summary, attach_cylinder, envelope
 from ._frepcore import set_threads, use_one_job_memory_policy
 from ._frepcore import MeshSettings, mesh_settings_table
@@ -36,7 +36,7 @@ from ._frepcore import DEFAULT_CELLS  # cells along the longest side when no res
 __all__ = ["Cancelled", "EmptySolid", "Mesh", "MeshSettings", "mesh_settings_table", "Node", "Shape", "node_types", "parse_model", "parse_hyperfun", "read_mesh",
            "load", "automatic_box", "NotPrintable", "from_mesh", "from_vdb", "vdb_grids",
            "vdb_to_mesh", "vdb_reader", "Lattice", "deform_mesh", "deform_vdb", "read_lattice",
-           "parse_lattice", "read_3mf", "write_3mf", "materials", "HSpline", "parse_hs",
+           "parse_lattice", "read_3mf", "read_3mf_beams", "write_3mf", "materials", "HSpline", "parse_hs",
            "read_hs", "read_step_summary", "attach_cylinder", "envelope", "mesh_settings", "EXIT_STATUS",
            "exit_status_of", "progress_part"]
 
@@ -248,6 +248,25 @@ class Shape:
             raise NotPrintable("%s: not written, the mesh is not printable: %s"
                                % (path, "; ".join(report["reasons"])), report)
         return report if check else None
+
+    def export_beams(self, path, resolution=None, bbox=None, cells=None, unit="mm",
+                     progress=None, force=False, settings=None, **options):
+        """A strut lattice's struts as a 3MF beam lattice (`frepcad export --beams`): this
+        shape must be a strut lattice cut to a part, or an infill with a strut lattice
+        (lattice CELL_struts). The part's mesh clips the beams, an infill's skin is a mesh
+        beside them. Returns dict(written, beams, vertices, clip_triangles, skin_triangles,
+        printable, text, notes, seconds).
+
+        Raises NotPrintable (nothing written) when a mesh of the file fails the check and
+        force is not given, ValueError for a shape that is no strut lattice.
+        """
+        report = self.node.export_beams(path, bbox=bbox, resolution=resolution, cells=cells,
+                                        unit=unit, force=force, progress=progress,
+                                        settings=mesh_settings(settings, **options))
+        if not report["written"]:
+            raise NotPrintable("%s: not written, a mesh of the beam lattice's file is not "
+                               "printable" % path, report)
+        return report
 
     def deform(self, lattice):
         """This solid bent by a Lattice: the ffd node with the lattice's box, divisions and
