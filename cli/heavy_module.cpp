@@ -60,7 +60,7 @@ const HeavyModule& heavyModule() {
 }
 
 void registerLazyVolumeSources() {
-  for (const char* type : {"mesh_sdf", "vdb_grid"})
+  for (const char* type : {"mesh_sdf", "vdb_grid", "voronoi_foam"})
     setFieldSourceLoader(type, [](const Node& node) {
       heavyModule().registerVolumeSources();  // replaces these stand-ins
       return loadFieldSource(node);

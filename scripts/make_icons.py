@@ -617,6 +617,18 @@ def strut_lattice():
     return svg(body + centres(front + back + [centre], STROKE, 3.5))
 
 
+def voronoi_foam():
+    """Voronoi foam: an irregular network of thick struts meeting by threes at round nodes."""
+    nodes = [(10, 14), (28, 6), (48, 12), (58, 30), (40, 28), (22, 30), (8, 42), (26, 50),
+             (46, 48), (56, 58)]
+    edges = [(0, 1), (1, 2), (2, 3), (2, 4), (4, 5), (5, 0), (5, 6), (6, 7), (7, 8), (8, 4),
+             (8, 9), (3, 9), (1, 4)]
+    body = "".join('<line x1="%g" y1="%g" x2="%g" y2="%g" stroke="%s" stroke-width="5.5" '
+                   'stroke-linecap="round"/>\n' % (nodes[a] + nodes[b] + (BLUE[1],))
+                   for a, b in edges)
+    return svg(body + centres(nodes, STROKE, 3.5))
+
+
 # -- meshing and printing -------------------------------------------------------------------
 def solid_tolerance():
     """The solid input tolerance: an arc and the facets that stand for it, the gap marked."""
@@ -821,6 +833,7 @@ ICONS = {
     "lidinoid": lidinoid,
     "infill": infill,
     "strut_lattice": strut_lattice,
+    "voronoi_foam": voronoi_foam,
     "lattice": lattice_net,
     "deform": deform,
     "solid_tolerance": solid_tolerance,

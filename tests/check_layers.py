@@ -51,7 +51,7 @@ LIBRARIES = {
     "CGAL/": {"check/mesh_check.cpp", "check/face_pair_test.cpp", "check/cgal_surface.cpp",
               "check/volume_nesting.cpp",
               "check/mesh_deviation.cpp", "check/printability.cpp", "repair/cgal_repair.cpp",
-              "volume/mesh_distance.cpp"},
+              "volume/mesh_distance.cpp", "volume/voronoi_foam.cpp"},
     "openvdb/": {"volume"},
     "OpenMesh/": {"mesh/openmesh_bridge.h", "mesh/openmesh_bridge.cpp",
                   "hspline/hspline_attach.cpp"},

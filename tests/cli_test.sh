@@ -35,7 +35,7 @@ expect 0 "verdict: printable" -- "$frepcad" export "$src/examples/strut_bracket.
 # ... and as a 3MF beam lattice, read back by lib3mf; --beams wants a 3MF and a strut lattice
 expect 0 "lib3mf reads [1-9][0-9]* beams back" -- "$frepcad" export "$src/examples/strut_bracket.json" -o "$work/struts.3mf" --beams --resolution 0.25
 expect 2 "give OUT.3mf" -- "$frepcad" export "$src/examples/strut_bracket.json" -o "$work/struts2.stl" --beams
-expect 2 "root must be the intersection of a strut_lattice and a part" -- "$frepcad" export "$src/examples/csg.json" -o "$work/csg_beams.3mf" --beams
+expect 2 "root must be the intersection of a strut_lattice or voronoi_foam and a part" -- "$frepcad" export "$src/examples/csg.json" -o "$work/csg_beams.3mf" --beams
 expect 0 "wrote .*s.obj" -- "$frepcad" export "$src/examples/csg.json" -o "$work/s.obj" --resolution 0.1
 expect 0 "wrote .*s.ply" -- "$frepcad" export "$src/examples/csg.json" -o "$work/s.ply" --format ply --resolution 0.1
 expect 0 "verdict: printable" -- "$frepcad" check "$work/s.ply"

@@ -93,6 +93,7 @@ ParamValue randomValue(const ParamTemplate& p, RandomTrees& r, bool wide = false
 // with bounded inputs on the second half of the attempts.
 NodePtr randomInstance(const NodeType& type, RandomTrees& r, bool wide = false,
                        const std::function<NodePtr()>& input = nullptr) {
+  registerVolumeSources();  // the loaders of the file-backed types and the Voronoi foam
   for (int attempt = 0;; ++attempt) {
     std::map<std::string, ParamValue> params;
     for (const auto& p : type.params) params[p.name] = randomValue(p, r, wide);
@@ -108,6 +109,14 @@ NodePtr randomInstance(const NodeType& type, RandomTrees& r, bool wide = false,
                                                    r.uniform(0, 1.5), r.uniform(0, 0.25),
                                                    unsigned(r.integer(0, 1000)), rest);
       for (auto& kv : testing::ffdParams(lattice)) params[kv.first] = kv.second;
+    }
+    // A foam's set-up grows with its period's seeds (test_voronoi_foam.cpp tries longer ones).
+    if (type.id == "voronoi_foam") params["tile"] = realValue(4);
+    // A lattice's blend is at most half its cell (and 0, sharp joints, a third of the time).
+    if (type.id == "voronoi_foam" || type.id == "strut_lattice") {
+      const std::vector<double>& cell = params["cell"].numbers;
+      const double shortest = std::min({cell[0], cell[1], cell[2]});
+      params["blend"] = realValue(r.integer(0, 2) ? r.uniform(0.0, 0.5) * shortest : 0.0);
     }
     if (type.findParam("voxel")) params["voxel"] = realValue(r.integer(0, 1) ? r.uniform(0.05, 0.3) : 0.0);
     std::vector<NodePtr> inputs;

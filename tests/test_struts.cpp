@@ -4,10 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <random>
+#include <set>
 
 #include "base/errors.h"
 #include "check/mesh_check.h"
@@ -93,6 +95,89 @@ TEST(StrutLattice, TheDistanceToTheNearestStrutAtTenThousandPoints) {
       EXPECT_LT(worst, 1e-9) << cell.id << (variant ? ", cell of three sizes, node spheres" : "");
     }
   }
+}
+
+// Smooth joints: at random points the field is radius - the smooth minimum (m - k/2 +
+// k / (2 sum max(0, 1 - (d - m) / k)^2)) of the distances to every strut of the cells round
+// the point, brute force; exact where no other strut is within the blend of the nearest, and
+// a blended lattice meshes printable with more solid at its joints.
+TEST(StrutLattice, SmoothJointsAreTheSmoothMinimumOfEveryStrut) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  const double radius = 0.06, blend = 0.08;
+  for (const UnitCell& cell : unitCells()) {
+    const Vec3 size = cell.id == "diamond" ? Vec3{1, 1, 1} : Vec3{0.9, 1.0, 1.2};
+    const Program p = compile(makeNode("strut_lattice",
+                                       {{"cell_type", textValue(cell.id)},
+                                        {"cell", vec3Value(size)},
+                                        {"radius", realValue(radius)},
+                                        {"blend", realValue(blend)}},
+                                       {}));
+    double worst = 0.0;
+    int exactPoints = 0, blendedPoints = 0;
+    for (int i = 0; i < 1500; ++i) {
+      const Vec3 q{u(rng), u(rng), u(rng)};
+      // every strut once (a cell's list may repeat a strut its neighbour lists: Kelvin's)
+      std::set<std::array<long long, 6>> seen;
+      std::vector<double> d;
+      int own[3];
+      for (int a = 0; a < 3; ++a) own[a] = int(std::floor(q[a] / size[a]));
+      for (int x = own[0] - 2; x <= own[0] + 2; ++x)
+        for (int y = own[1] - 2; y <= own[1] + 2; ++y)
+          for (int z = own[2] - 2; z <= own[2] + 2; ++z)
+            for (const UnitStrut& s : cell.struts) {
+              auto key = [&](const Vec3& c) {  // in 1e-9 of a cell
+                return std::array<long long, 3>{std::llround((c[0] + x) * 1e9),
+                                                std::llround((c[1] + y) * 1e9),
+                                                std::llround((c[2] + z) * 1e9)};
+              };
+              std::array<long long, 3> ka = key(s.a), kb = key(s.b);
+              if (kb < ka) std::swap(ka, kb);
+              if (!seen.insert({ka[0], ka[1], ka[2], kb[0], kb[1], kb[2]}).second) continue;
+              auto world = [&](const Vec3& c) {
+                return Vec3{(c[0] + x) * size[0], (c[1] + y) * size[1], (c[2] + z) * size[2]};
+              };
+              d.push_back(segmentDistance(q, world(s.a), world(s.b)));
+            }
+      std::sort(d.begin(), d.end());
+      const double m = d[0];
+      double sum = 0.0;
+      for (double di : d) sum += std::pow(std::max(0.0, 1.0 - (di - m) / blend), 2);
+      const double smooth = m - 0.5 * blend + 0.5 * blend / sum;
+      const double value = p.eval(q[0], q[1], q[2]);
+      worst = std::max(worst, std::abs(value - (radius - smooth)));
+      if (d.size() > 1 && d[1] - m >= blend) {
+        EXPECT_NEAR(value, radius - m, 1e-9) << cell.id << ": not exact away from the joints";
+        ++exactPoints;
+      } else if (d[1] - m < 0.5 * blend) {  // a joint's fillet: more solid
+        EXPECT_GT(value, radius - m + 1e-4) << cell.id;
+        ++blendedPoints;
+      }
+    }
+    EXPECT_LT(worst, 1e-9) << cell.id;
+    EXPECT_GT(exactPoints, 100) << cell.id;
+    EXPECT_GT(blendedPoints, 50) << cell.id;
+  }
+  // printable, and the joints' fillets add solid
+  double volumes[2];
+  for (int blended = 0; blended < 2; ++blended) {
+    const NodePtr part = makeNode(
+        "intersection", {},
+        {makeNode("strut_lattice",
+                  {{"cell_type", textValue("octet")},
+                   {"cell", vec3Value({1, 1, 1})},
+                   {"radius", realValue(0.06)},
+                   {"blend", realValue(blended ? 0.1 : 0.0)}},
+                  {}),
+         testing::box({-0.9, -0.9, -0.9}, {2.0, 2.0, 2.0})});
+    MeshingOptions o;
+    o.bbox = {{-1.0, -1.0, -1.0}, {1.2, 1.2, 1.2}};
+    o.resolution = 0.03;
+    const CheckReport report = checkMesh(polygonize(compile(part), o));
+    EXPECT_TRUE(report.printable()) << (blended ? "blended" : "sharp");
+    volumes[blended] = report.volume;
+  }
+  EXPECT_GT(volumes[1], 1.02 * volumes[0]);
 }
 
 // Each unit cell meshes printable at three resolutions, cut to a block of 2 x 2 x 2 cells, with

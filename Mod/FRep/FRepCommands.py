@@ -55,7 +55,9 @@ LAYOUT = (
          "Triply periodic surfaces as sheets or networks: gyroid, Schwarz P and D, diamond, "
          "Neovius, lidinoid", ("gyroid", "schwarz_p", "schwarz_d", "diamond", "neovius",
                                "lidinoid")),
-        "strut_lattice", "infill")),
+        ("FRep_Struts", "Strut lattices", "Beams between the nodes of a unit cell, or a random "
+         "Voronoi foam", ("strut_lattice", "voronoi_foam")),
+        "infill")),
     ("FRep lattice", ("FRep_Lattice", "FRep_Deform", "ffd")),
     ("FRep hspline", (
         ("FRep_HSplineNew", "New hspline", "A new hspline: a plane, a cylinder, a torus or "

@@ -5,9 +5,14 @@
 // A point is folded into one small domain and meets only the struts there (strut_cells.h):
 // no list of every strut, so the field's program is the same size for any number of cells.
 #include <algorithm>
+#include <cmath>
+#include <sstream>
 #include <string>
 
+#include "base/errors.h"
+#include "frep/field_sources.h"
 #include "frep/node_helpers.h"
+#include "frep/periodic_segments.h"
 #include "frep/registry.h"
 #include "frep/strut_cells.h"
 #include "frep/strut_field.h"
@@ -16,6 +21,14 @@
 namespace frep {
 
 namespace {
+
+// A length as a user typed it: 1.5, not 1.500000.
+std::string number(double v) {
+  std::ostringstream os;
+  os.precision(6);
+  os << v;
+  return os.str();
+}
 
 std::vector<std::string> cellIds() {
   std::vector<std::string> ids;
@@ -53,30 +66,66 @@ Point3Slots foldTetrahedral(ProgramBuilder& b, const Point3Slots& w) {
 Slot strutLattice(CompileContext& c) {
   const Slot radius = c.inputCount() ? c.input(0) : c.b.constant(c.real("radius"));
   return strutLatticeField(c.b, c.p, unitCell(c.param("cell_type").text), c.vec3("cell"),
-                           c.vec3("origin"), radius, c.real("node_radius"));
+                           c.vec3("origin"), radius, c.real("node_radius"), c.real("blend"));
 }
 
 // A cell folded by translation only looks at the struts within the covering radius of its
 // longest side round the cell: along a much shorter side that is many cells (and many struts).
 constexpr double kMostUnevenCell = 4.0;
 
-std::string checkStrutLattice(const Node& node) {
-  if (unitCell(node.param("cell_type").text).mirrorSymmetric) return "";
+std::string checkCellRatio(const Node& node, const std::string& what) {
   const Vec3 size = node.vec3("cell");
   const double ratio =
       std::max({size[0], size[1], size[2]}) / std::min({size[0], size[1], size[2]});
   if (ratio <= kMostUnevenCell) return "";
-  return "parameter 'cell' = (" + std::to_string(size[0]) + ", " + std::to_string(size[1]) + ", " +
-         std::to_string(size[2]) + ") is " + std::to_string(ratio) +
-         " times longer along one axis than another; a " + node.param("cell_type").text +
-         " cell allows at most " + std::to_string(int(kMostUnevenCell)) + " times";
+  return "parameter 'cell' = (" + number(size[0]) + ", " + number(size[1]) + ", " +
+         number(size[2]) + ") is " + number(ratio) + " times longer along one axis than another; " +
+         what + " allows at most " + std::to_string(int(kMostUnevenCell)) + " times";
+}
+
+// A blend reaches past the struts within it of the nearest: beyond half a cell it would
+// reach across cells (and make every strut of many cells count).
+std::string checkBlend(const Node& node) {
+  const Vec3 size = node.vec3("cell");
+  const double most = 0.5 * std::min({size[0], size[1], size[2]}), blend = node.real("blend");
+  if (blend <= most) return "";
+  return "parameter 'blend' = " + number(blend) + " is more than half the cell's " +
+         "shortest side (" + number(most) + ")";
+}
+
+std::string checkStrutLattice(const Node& node) {
+  if (std::string blend = checkBlend(node); !blend.empty()) return blend;
+  // (a blend needs every strut near the cell: the cell is then folded by translation only)
+  if (unitCell(node.param("cell_type").text).mirrorSymmetric && node.real("blend") == 0.0)
+    return "";
+  return checkCellRatio(node, "a " + node.param("cell_type").text + " cell");
+}
+
+Slot voronoiFoam(CompileContext& c) {
+  const Slot radius = c.inputCount() ? c.input(0) : c.b.constant(c.real("radius"));
+  return voronoiFoamField(c.b, c.p, c.node(), radius, c.real("node_radius"));
+}
+
+std::string checkVoronoiFoam(const Node& node) {
+  if (std::string blend = checkBlend(node); !blend.empty()) return blend;
+  const std::string uneven = checkCellRatio(node, "a foam's cell");
+  if (!uneven.empty()) return uneven;
+  const std::array<int, 3> cells = foamCellsPerPeriod(node.vec3("cell"), int(node.real("tile")));
+  const long seeds = long(cells[0]) * cells[1] * cells[2];
+  if (seeds <= kMostFoamSeeds) return "";
+  return "parameter 'tile' = " + std::to_string(int(node.real("tile"))) +
+         " with this 'cell' makes " + std::to_string(cells[0]) + " x " + std::to_string(cells[1]) +
+         " x " + std::to_string(cells[2]) + " = " + std::to_string(seeds) +
+         " seeds a period; at most " + std::to_string(kMostFoamSeeds) +
+         " (a smaller tile or a more even cell)";
 }
 
 }  // namespace
 
 Slot strutLatticeField(ProgramBuilder& b, const Point3Slots& p, const UnitCell& cell,
-                       const Vec3& size, const Vec3& origin, Slot radius, double nodeRadius) {
-  const FoldedCell folded = foldedCell(cell, size);
+                       const Vec3& size, const Vec3& origin, Slot radius, double nodeRadius,
+                       double blend) {
+  const FoldedCell folded = foldedCell(cell, size, blend);
   using Fold = FoldedCell::Fold;
   const bool centred = folded.fold == Fold::Tetrahedral, mirror = folded.fold == Fold::Mirror;
   Point3Slots q = {fold(b, p.x, size[0], origin[0], centred, mirror),
@@ -84,10 +133,26 @@ Slot strutLatticeField(ProgramBuilder& b, const Point3Slots& p, const UnitCell& 
                    fold(b, p.z, size[2], origin[2], centred, mirror)};
   if (folded.fold == Fold::Tetrahedral) q = foldTetrahedral(b, q);
   Slot nearest = 0;
+  std::vector<Slot> distances;
   for (std::size_t i = 0; i < folded.pieces.size(); ++i) {
     const StrutPiece& s = folded.pieces[i];
     const Slot d = segmentDistance(b, q, s.a, vsub(s.b, s.a));
     nearest = i == 0 ? d : b.min(nearest, d);
+    distances.push_back(d);
+  }
+  if (blend > 0.0) {
+    // The smooth minimum of every strut's distance (PeriodicSegmentsField has the formula):
+    // symmetric in the struts, so the same on both sides of a cell's face whatever order the
+    // folded pieces come in.
+    Slot sum = 0;
+    for (std::size_t i = 0; i < distances.size(); ++i) {
+      const Slot t =
+          b.max(b.affine(distances[i], nearest, nearest, -1.0 / blend, 1.0 / blend, 0.0, 1.0),
+                b.constant(0.0));
+      sum = i == 0 ? b.sqr(t) : b.add(sum, b.sqr(t));
+    }
+    nearest = b.add(b.affine(nearest, nearest, nearest, 1.0, 0.0, 0.0, -0.5 * blend),
+                    b.emit(Op::Div, b.constant(0.5 * blend), sum));
   }
   Slot field = b.sub(radius, nearest);
   if (nodeRadius > 0.0 && !folded.nodes.empty()) {
@@ -101,6 +166,30 @@ Slot strutLatticeField(ProgramBuilder& b, const Point3Slots& p, const UnitCell& 
   return field;
 }
 
+// The foam's edges and nodes come from its loader (volume/voronoi_foam.h: CGAL's Delaunay
+// triangulation), as one periodic network field each.
+Slot voronoiFoamField(ProgramBuilder& b, const Point3Slots& p, const Node& foam, Slot radius,
+                      double nodeRadius) {
+  const auto net = std::dynamic_pointer_cast<const PeriodicNetworkField>(loadFieldSource(foam));
+  if (!net) throw ModelError("voronoi_foam: its loader made no strut network");
+  Slot field = b.sub(radius, b.external(net, p.x, p.y, p.z));
+  if (nodeRadius > 0.0)
+    field = b.max(field, b.sub(b.constant(nodeRadius), b.external(net->nodes(), p.x, p.y, p.z)));
+  return field;
+}
+
+std::array<int, 3> foamCellsPerPeriod(const Vec3& cell, int tile) {
+  const double longest = std::max({cell[0], cell[1], cell[2]});
+  std::array<int, 3> cells{};
+  for (int a = 0; a < 3; ++a) cells[a] = int(std::ceil(tile * longest / cell[a] - 1e-9));
+  return cells;
+}
+
+NodePtr infillFoam(double cell, const Vec3& origin) {
+  return makeNode("voronoi_foam",
+                  {{"cell", vec3Value({cell, cell, cell})}, {"origin", vec3Value(origin)}}, {});
+}
+
 void registerStrutLattices(Registry& r) {
   ParamTemplate size = vec3Param("cell", {1, 1, 1}, "length",
                                  "The unit cell's size along x, y and z (the lattice's period).");
@@ -110,6 +199,12 @@ void registerStrutLattices(Registry& r) {
                 "Radius of a sphere at every node where struts meet (0: none; a sphere larger "
                 "than the struts rounds and strengthens the joints).");
   range(nodeRadius, 0.0, kInf);
+  ParamTemplate blend = realParam(
+      "blend", 0.0, "length",
+      "Smooth joints: how far from a joint the struts' surfaces are rounded into each other "
+      "(0: sharp joints, the exact distance everywhere; with a blend the field is exact "
+      "wherever no other strut is within `blend` of the nearest, and evaluates more struts).");
+  range(blend, 0.0, kInf);
   r.add({"strut_lattice",
          "microstructure",
          "A strut (beam) lattice: the struts of a unit cell repeated along x, y and z, each a "
@@ -122,15 +217,52 @@ void registerStrutLattices(Registry& r) {
          "[0, cell / 2]^3 (diamond in a cube cell: into x >= y >= |z| round a node);  F = radius - "
          "min over the struts s near q of "
          "dist(q, s);  with node spheres F = max(F, node_radius - min over the nodes n of "
-         "|q - n|)  (radius = input's value when given)",
+         "|q - n|)  (radius = input's value when given; with a blend k the min over the struts is "
+         "m - k/2 + k / (2 sum over s of max(0, 1 - (dist(q, s) - m) / k)^2), m the min)",
          0,
          1,
          {choiceParam("cell_type", cellIds(), "The unit cell."), size,
-          positiveLength("radius", 0.1, "Radius of every strut."), nodeRadius,
+          positiveLength("radius", 0.1, "Radius of every strut."), nodeRadius, blend,
           vec3Param("origin", {0, 0, 0}, "length", "Where a cell starts (shifts the lattice).")},
          strutLattice,
          nullptr,
          checkStrutLattice});
+
+  ParamTemplate seed = intParam("seed", 1,
+                                "Which random foam: the same seed gives the same "
+                                "foam on every machine.");
+  range(seed, 0.0, 1e9);
+  ParamTemplate jitter = realParam("jitter", 1.0, "",
+                                   "How far a seed may stray from its cell's centre: 0 keeps it "
+                                   "there (a regular foam), 1 lets it lie anywhere in its cell.");
+  range(jitter, 0.0, 1.0);
+  ParamTemplate tile = intParam("tile", 5,
+                                "The foam repeats every `tile` times the cell's longest side "
+                                "along each axis (more: a longer period, more memory).");
+  range(tile, 4.0, 8.0);
+  ParamTemplate spacing = size;
+  spacing.doc =
+      "The mean cell size along x, y and z: one seed per cell-sized box (the foam's "
+      "density).";
+  r.add(
+      {"voronoi_foam",
+       "microstructure",
+       "A stochastic open-cell foam: the edges of the Voronoi diagram of random seeds, one "
+       "seed jittered in each cell of a grid, each edge a capsule of the given radius (like "
+       "bone or a metal foam). The seeds repeat every `tile` cells, so the foam's memory "
+       "does not grow with its extent. Optional input: a field whose value replaces `radius` "
+       "point by point (graded struts). Unbounded: intersect it with a part.",
+       "F = radius - min over the Voronoi edges e of dist(p, e);  with node spheres "
+       "F = max(F, node_radius - min over the Voronoi vertices v of |p - v|)  (radius = "
+       "input's value when given; edges from CGAL's Delaunay triangulation of the seeds; "
+       "with a blend the min is smooth, as strut_lattice's)",
+       0,
+       1,
+       {spacing, positiveLength("radius", 0.08, "Radius of every strut."), nodeRadius, blend, seed,
+        jitter, tile, vec3Param("origin", {0, 0, 0}, "length", "Where the seeds' grid starts.")},
+       voronoiFoam,
+       nullptr,
+       checkVoronoiFoam});
 }
 
 }  // namespace frep

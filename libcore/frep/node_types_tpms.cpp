@@ -92,11 +92,14 @@ std::vector<std::string> surfaceIds() {
   return ids;
 }
 
-// An infill's lattices: the surfaces, then each strut lattice's unit cell as CELL_struts.
+// An infill's lattices: the surfaces, then each strut lattice's unit cell as CELL_struts, then
+// the Voronoi foam.
 constexpr const char* kStrutsSuffix = "_struts";
+constexpr const char* kFoam = "voronoi_struts";
 std::vector<std::string> infillLatticeIds() {
   std::vector<std::string> ids = surfaceIds();
   for (const UnitCell& c : unitCells()) ids.push_back(c.id + kStrutsSuffix);
+  ids.push_back(kFoam);
   return ids;
 }
 // The unit cell of an infill's CELL_struts, else nullptr.
@@ -132,9 +135,11 @@ Slot drainHoles(CompileContext& c, const std::vector<Vec3>& holes) {
 
 void addInfill(Registry& r) {
   std::vector<ParamTemplate> params = {
-      choiceParam("lattice", infillLatticeIds(),
-                  "The lattice filling the inside: a TPMS (sheet or network) or a strut lattice "
-                  "(CELL_struts: strut_lattice's unit cells, `thickness` the struts' diameter)."),
+      choiceParam(
+          "lattice", infillLatticeIds(),
+          "The lattice filling the inside: a TPMS (sheet or network) or a strut lattice "
+          "(CELL_struts: strut_lattice's unit cells, `thickness` the struts' diameter) or a "
+          "Voronoi foam (voronoi_struts: voronoi_foam's, seeds in cubes of `cell`)."),
       positiveLength("wall", 0.1, "Thickness of the solid skin kept inside the surface.")};
   for (const ParamTemplate& p : latticeParams()) params.push_back(p);
   ParamTemplate thickness = realParam(
@@ -164,7 +169,8 @@ void addInfill(Registry& r) {
          "along it|) (no holes: no -H);  lattice as its surface's node with level = "
          "pi thickness |grad g| / cell (sheet) or 2 pi thickness |grad g| / cell (network) when "
          "thickness > 0;  a strut lattice (CELL_struts): lattice = thickness / 2 - the distance "
-         "to the cell's struts (cubes of `cell`; radius cell / 10 when thickness = 0)",
+         "to the cell's struts (cubes of `cell`; radius cell / 10 when thickness = 0), or to the "
+         "edges of voronoi_foam's foam (voronoi_struts: seeds in cubes of `cell`)",
          1, 1, params,
          [](CompileContext& c) {
            auto& b = c.b;
@@ -173,18 +179,22 @@ void addInfill(Registry& r) {
            const Slot skin = b.min(f, b.sub(b.constant(c.real("wall")), f));
            const std::vector<Vec3> holes = pointsOf(c.param("drain_holes"));
            const Slot opened = holes.empty() ? skin : b.min(skin, b.neg(drainHoles(c, holes)));
+           const double size = c.real("cell"), t = c.real("thickness");
+           const Slot radius = b.constant(t > 0.0 ? 0.5 * t : 0.1 * size);
            if (const UnitCell* cell = strutCellOf(id)) {
-             const double size = c.real("cell"), t = c.real("thickness");
-             const Slot radius = b.constant(t > 0.0 ? 0.5 * t : 0.1 * size);
              const Slot lattice = strutLatticeField(b, c.p, *cell, {size, size, size},
                                                     c.vec3("origin"), radius, 0.0);
+             return b.max(opened, b.min(f, lattice));
+           }
+           if (id == kFoam) {
+             const Slot lattice =
+                 voronoiFoamField(b, c.p, *infillFoam(size, c.vec3("origin")), radius, 0.0);
              return b.max(opened, b.min(f, lattice));
            }
            const auto found = std::find_if(surfaces().begin(), surfaces().end(),
                                            [&](const TpmsSurface& s) { return id == s.id; });
            // a sheet is 2 level cell / (2 pi |grad g|) thick; a network's surface moves out
            // by level cell / (2 pi |grad g|)
-           const double t = c.real("thickness");
            const double perLevel = c.real("cell") / (2.0 * kPi * found->gradient);
            const bool sheet = c.param("kind").text == "sheet";
            const double level = t > 0.0 ? t / (sheet ? 2.0 : 1.0) / perLevel : c.real("level");

@@ -233,19 +233,22 @@ double coveringRadius(const UnitCell& cell) {
   return found->second;
 }
 
-FoldedCell foldedCell(const UnitCell& cell, const Vec3& size) {
+FoldedCell foldedCell(const UnitCell& cell, const Vec3& size, double blend) {
   FoldedCell f;
   using Fold = FoldedCell::Fold;
   const bool cube = size[0] == size[1] && size[1] == size[2];
-  f.fold = cell.mirrorSymmetric ? Fold::Mirror
-                                : (cell.tetrahedral && cube ? Fold::Tetrahedral : Fold::Translate);
+  f.fold = blend > 0.0 ? Fold::Translate
+           : cell.mirrorSymmetric
+               ? Fold::Mirror
+               : (cell.tetrahedral && cube ? Fold::Tetrahedral : Fold::Translate);
   // In cell coordinates (a clip to a box commutes with scaling the axes), so that the pieces
   // are the same for every cell size: the domain [0, 1/2]^3, or the cell grown by the
-  // covering radius (in world units, so per axis in cell units), cut to x >= y >= |z| when
-  // folded by the tetrahedral mirrors too.
+  // covering radius (and the blend; in world units, so per axis in cell units), cut to
+  // x >= y >= |z| when folded by the tetrahedral mirrors too.
   Vec3 lo{0, 0, 0}, hi{0, 0, 0};
-  const double margin =
-      f.fold == Fold::Mirror ? 0.0 : coveringRadius(cell) * std::max({size[0], size[1], size[2]});
+  const double margin = f.fold == Fold::Mirror
+                            ? 0.0
+                            : coveringRadius(cell) * std::max({size[0], size[1], size[2]}) + blend;
   const double start = f.fold == Fold::Tetrahedral ? -0.5 : 0.0;
   std::vector<Vec3> halfSpaces;
   if (f.fold == Fold::Tetrahedral) halfSpaces = {{1, -1, 0}, {0, 1, -1}, {0, 1, 1}};

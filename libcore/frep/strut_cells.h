@@ -45,7 +45,9 @@ struct StrutPiece {
 };
 
 // What a point of the lattice with this cell (sizes per axis) needs, in the coordinates of its
-// folded point: the pieces of struts in the fold domain and the nodes there.
+// folded point: the pieces of struts in the fold domain and the nodes there. With blend > 0
+// (smooth joints) every strut within the covering radius plus the blend of the cell, folded
+// by translation only: a smooth minimum needs each strut near the point, not its nearest.
 struct FoldedCell {
   enum class Fold {
     Mirror,       // into [0, c / 2] by the axes' mirrors
@@ -57,7 +59,7 @@ struct FoldedCell {
   std::vector<StrutPiece> pieces;
   std::vector<Vec3> nodes;
 };
-FoldedCell foldedCell(const UnitCell& cell, const Vec3& size);
+FoldedCell foldedCell(const UnitCell& cell, const Vec3& size, double blend = 0.0);
 
 // Every strut of the lattice (cells of `size` from `origin`) whose segment's box meets `box`,
 // each once, unclipped: what a beam lattice file lists.

@@ -1,11 +1,18 @@
 #include "pipeline/beam_export.h"
 
+#include <algorithm>
+#include <array>
 #include <chrono>
+#include <cmath>
+#include <functional>
 #include <map>
 
 #include "base/errors.h"
+#include "frep/field_sources.h"
 #include "frep/interval.h"
+#include "frep/periodic_segments.h"
 #include "frep/strut_cells.h"
+#include "frep/strut_field.h"
 #include "io/three_mf_stream.h"
 #include "pipeline/finished_mesh.h"
 
@@ -18,8 +25,8 @@ constexpr const char* kStrutsSuffix = "_struts";
 // What the beams are: the lattice's cells, radius (constant or a field) and the part that
 // clips them; for an infill the skin printed beside them.
 struct BeamSource {
-  const UnitCell* cell = nullptr;
-  Vec3 size{1, 1, 1}, origin{0, 0, 0};
+  std::function<std::vector<StrutPiece>(const Box3&)> strutsIn;  // each strut meeting a box once
+  double smallestCell = 1.0;
   double radius = 0.0;
   NodePtr grading;  // the radius's field, or null
   NodePtr part;     // clips the beams
@@ -27,20 +34,39 @@ struct BeamSource {
   double nodeRadius = 0.0;
 };
 
+void setCells(BeamSource& s, const UnitCell& cell, const Vec3& size, const Vec3& origin) {
+  s.strutsIn = [&cell, size, origin](const Box3& box) {
+    return strutsInBox(cell, size, origin, box);
+  };
+  s.smallestCell = std::min({size[0], size[1], size[2]});
+}
+
+void setFoam(BeamSource& s, const Node& foam) {
+  const auto net = std::dynamic_pointer_cast<const PeriodicSegmentsField>(loadFieldSource(foam));
+  if (!net) throw ModelError("voronoi_foam: its loader made no strut network");
+  s.strutsIn = [net](const Box3& box) { return net->segmentsInBox(box); };
+  const Vec3 size = foam.vec3("cell");
+  s.smallestCell = std::min({size[0], size[1], size[2]});
+}
+
 BeamSource sourceOf(const NodePtr& root) {
   const std::string what =
       "a 3MF beam lattice needs a strut lattice: the model's root must be the intersection "
-      "of a strut_lattice and a part, or an infill whose lattice is a strut lattice "
-      "(CELL_struts)";
+      "of a strut_lattice or voronoi_foam and a part, or an infill whose lattice is a strut "
+      "lattice (CELL_struts or voronoi_struts)";
   BeamSource s;
   const std::string& type = root->type->id;
   if (type == "intersection" && root->inputs.size() == 2) {
     for (int k = 0; k < 2; ++k) {
       const NodePtr& lattice = root->inputs[k];
-      if (lattice->type->id != "strut_lattice") continue;
-      s.cell = &unitCell(lattice->param("cell_type").text);
-      s.size = lattice->vec3("cell");
-      s.origin = lattice->vec3("origin");
+      const std::string& id = lattice->type->id;
+      if (id == "strut_lattice")
+        setCells(s, unitCell(lattice->param("cell_type").text), lattice->vec3("cell"),
+                 lattice->vec3("origin"));
+      else if (id == "voronoi_foam")
+        setFoam(s, *lattice);
+      else
+        continue;
       s.radius = lattice->real("radius");
       s.nodeRadius = lattice->real("node_radius");
       if (!lattice->inputs.empty()) s.grading = lattice->inputs[0];
@@ -51,10 +77,11 @@ BeamSource sourceOf(const NodePtr& root) {
     const std::string& lattice = root->param("lattice").text;
     const std::size_t n = lattice.size(), m = std::string(kStrutsSuffix).size();
     if (n > m && lattice.compare(n - m, m, kStrutsSuffix) == 0) {
-      s.cell = &unitCell(lattice.substr(0, n - m));
       const double cell = root->real("cell"), t = root->real("thickness");
-      s.size = {cell, cell, cell};
-      s.origin = root->vec3("origin");
+      if (lattice == "voronoi_struts")
+        setFoam(s, *infillFoam(cell, root->vec3("origin")));
+      else
+        setCells(s, unitCell(lattice.substr(0, n - m)), {cell, cell, cell}, root->vec3("origin"));
       s.radius = t > 0.0 ? 0.5 * t : 0.1 * cell;
       s.part = root->inputs.at(0);
       s.skin = makeNode("shell", {{"thickness", realValue(root->real("wall"))}}, {s.part});
@@ -135,20 +162,25 @@ BeamExportResult exportBeamLattice(const NodePtr& root, const MeshingBox& box,
     }
   const Program part = compile(source.part);
   const Program grading = source.grading ? compile(source.grading) : Program();
-  const double minLength = 1e-4 * std::min({source.size[0], source.size[1], source.size[2]});
+  const double minLength = 1e-4 * source.smallestCell;
   BeamLattice3mf lattice;
   lattice.radius = source.radius;
   lattice.minLength = minLength;
   std::vector<Vec3f> vertices;
-  std::map<Vec3, std::uint32_t> vertexOf;
+  // Struts meeting at a node share its vertex: their ends, rounded to a millionth of a cell,
+  // are equal (a foam's copies of a node moved by its period differ in the last bits).
+  std::map<std::array<long long, 3>, std::uint32_t> vertexOf;
+  const double snap = 1e-6 * source.smallestCell;
   auto vertex = [&](const Vec3& p) {
-    const auto [at, added] = vertexOf.emplace(p, static_cast<std::uint32_t>(vertices.size()));
+    const std::array<long long, 3> key{std::llround(p[0] / snap), std::llround(p[1] / snap),
+                                       std::llround(p[2] / snap)};
+    const auto [at, added] = vertexOf.emplace(key, static_cast<std::uint32_t>(vertices.size()));
     if (added)
       vertices.push_back(
           {static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2])});
     return at->second;
   };
-  for (const StrutPiece& s : strutsInBox(*source.cell, source.size, source.origin, reach)) {
+  for (const StrutPiece& s : source.strutsIn(reach)) {
     double r1 = 0.0, r2 = 0.0;
     if (source.grading) {
       r1 = grading.eval(s.a[0], s.a[1], s.a[2]);

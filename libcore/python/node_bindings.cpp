@@ -219,7 +219,8 @@ void bindNode(py::module_& m) {
           py::arg("cells") = py::none(), py::arg("unit") = "mm", py::arg("force") = false,
           py::arg("progress") = py::none(), py::arg("settings") = MeshSettings(),
           "A strut lattice's struts as a 3MF beam lattice (frepcad export --beams): the shape "
-          "must be a strut_lattice cut to a part or an infill with a strut lattice. Returns "
+          "must be a strut_lattice or voronoi_foam cut to a part or an infill with a strut "
+          "lattice. Returns "
           "dict(written, beams, vertices, clip_triangles, skin_triangles, printable, text, "
           "notes, seconds); ValueError for another shape.")
       .def(

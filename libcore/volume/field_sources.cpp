@@ -19,6 +19,7 @@
 #include "volume/grid_field.h"
 #include "volume/level_sets.h"
 #include "volume/mesh_distance.h"
+#include "volume/voronoi_foam.h"
 
 namespace frep {
 
@@ -135,6 +136,7 @@ void registerVolumeSources() {
   std::call_once(once, [] {
     setFieldSourceLoader("mesh_sdf", loadMeshSdf);
     setFieldSourceLoader("vdb_grid", loadVdbGrid);
+    setFieldSourceLoader("voronoi_foam", loadVoronoiFoam);
   });
 }
 

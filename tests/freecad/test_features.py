@@ -476,3 +476,42 @@ def test_strut_lattice_in_a_part_saves_reopens_and_changes_cell(doc, tmp_path):
         assert mesh_signature(again.Mesh) == before
     finally:
         FreeCAD.closeDocument(reopened.Name)
+
+
+def test_voronoi_foam_in_a_part_changes_with_seed_and_blend_and_reopens(doc, tmp_path):
+    """A Voronoi foam cut to a block: a closed preview; another seed gives another foam, a
+    blend adds solid at the joints, a bad blend fails with one line naming it; the document
+    saves and reopens with the same preview."""
+    foam = F.make("voronoi_foam", doc, cell=(2.0, 2.0, 2.0), radius=0.25, seed=3)
+    block = F.make("box", doc, corner=(0, 0, 0), size=(8.0, 6.0, 4.0))
+    part = F.make("intersection", doc, inputs=[foam, block])
+    doc.recompute()
+    assert part.isValid(), part.getStatusString()
+    first = mesh_signature(part.Mesh)
+    assert part.Mesh.CountFacets > 1000 and part.Mesh.isSolid()
+    assert not part.Mesh.hasNonManifolds()
+    foam.Seed = 4
+    doc.recompute()
+    assert part.isValid() and mesh_signature(part.Mesh) != first
+    volume = part.Mesh.Volume
+    foam.Blend = 0.2
+    doc.recompute()
+    assert part.isValid() and part.Mesh.Volume > 1.02 * volume
+    foam.Blend = 1.5  # more than half the 2 mm cell
+    doc.recompute()
+    assert not foam.isValid()
+    assert "property 'Blend' = 1.5 is more than half" in foam.getStatusString()
+    foam.Blend = 0.2
+    doc.recompute()
+    assert part.isValid()
+    before = mesh_signature(part.Mesh)
+    path = str(tmp_path / "foam.FCStd")
+    doc.saveAs(path)
+    reopened = FreeCAD.openDocument(path)
+    try:
+        again = reopened.getObject(part.Name)
+        assert reopened.getObject(foam.Name).Seed == 4
+        reopened.recompute()
+        assert mesh_signature(again.Mesh) == before
+    finally:
+        FreeCAD.closeDocument(reopened.Name)
