@@ -232,7 +232,8 @@ int exportBeams(const ExportOptions& opt, const Model& model, const MeshingBox& 
                           opt.output, opt.force,
                           [&bar](double f) { return bar(ExportStage::Mesh, f); });
   }
-  if (!r.clipReport.printable()) std::cout << reportToText(r.clipReport, "the part's mesh");
+  if (r.clipped && !r.clipReport.printable())
+    std::cout << reportToText(r.clipReport, "the part's mesh");
   if (r.skinTriangles && !r.skinReport.printable())
     std::cout << reportToText(r.skinReport, "the infill's skin");
   if (!r.written) {
@@ -244,11 +245,8 @@ int exportBeams(const ExportOptions& opt, const Model& model, const MeshingBox& 
   if (!r.notes.empty() && !opt.quiet) std::cerr << "frepcad: note: " << r.notes << "\n";
   if (!opt.quiet) {
     const ThreeMfBeams back = read3mfBeams(opt.output);
-    std::cout << "wrote " << opt.output << " (3mf beam lattice): " << r.beams << " beams on "
-              << r.vertices << " vertices, clipped by the part's mesh (" << r.clipTriangles
-              << " triangles)";
-    if (r.skinTriangles) std::cout << ", the skin " << r.skinTriangles << " triangles";
-    std::cout << "; lib3mf reads " << back.beams << " beams back, " << r.seconds << " s\n";
+    std::cout << "wrote " << opt.output << " (3mf beam lattice): " << beamExportSummary(r)
+              << "; lib3mf reads " << back.beams << " beams back, " << r.seconds << " s\n";
   }
   return 0;
 }

@@ -387,8 +387,9 @@ TEST(StrutLattice, BeamLatticeThreeMfReadsBackWithEveryStrut) {
   std::remove(meshedPath.c_str());
 }
 
-// An infill of struts: its skin a printed mesh, the struts beams clipped by the part; a model
-// that is no strut lattice is refused, naming what --beams needs.
+// An infill of struts: its skin a printed mesh, the struts beams ending in the middle of the
+// skin (no clipping mesh), covering every strut inside; a model that is no strut lattice is
+// refused, naming what --beams needs.
 TEST(StrutLattice, BeamLatticeOfAnInfillAndWhatIsRefused) {
   const std::string path = ::testing::TempDir() + "/infill.3mf";
   const NodePtr infill = makeNode("infill",
@@ -403,7 +404,34 @@ TEST(StrutLattice, BeamLatticeOfAnInfillAndWhatIsRefused) {
   ASSERT_TRUE(r.written);
   EXPECT_TRUE(r.skinReport.printable());
   EXPECT_GT(r.skinTriangles, 1000u);
-  EXPECT_EQ(read3mfBeams(path).beams, r.beams);
+  const ThreeMfBeams back = read3mfBeams(path);
+  EXPECT_EQ(back.beams, r.beams);
+  EXPECT_FALSE(r.clipped);
+  EXPECT_EQ(back.clipped, 0u);
+  EXPECT_EQ(r.clipTriangles, 0u);
+  // every beam's ends at least half the skin (0.05) deep in the block: caps of radius 0.03 in
+  // the skin
+  auto depth = [](const Vec3& p) {
+    return std::min({p[0], 2 - p[0], p[1], 1.5 - p[1], p[2], 1 - p[2]});
+  };
+  for (const auto& ends : back.ends)
+    for (const Vec3f& e : ends) EXPECT_GT(depth({e[0], e[1], e[2]}), 0.05 - 1e-5);
+  // and the beams hold every strut deeper in: a point inside a strut is inside a beam
+  const Program struts = compile(lattice("kelvin", {0.5, 0.5, 0.5}, 0.03));
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> x(0, 2), y(0, 1.5), z(0, 1);
+  int covered = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const Vec3 q{x(rng), y(rng), z(rng)};
+    if (depth(q) < 0.1 || struts.eval(q[0], q[1], q[2]) < 1e-4) continue;
+    double nearest = HUGE_VAL;
+    for (const auto& ends : back.ends)
+      nearest = std::min(nearest, segmentDistance(q, {ends[0][0], ends[0][1], ends[0][2]},
+                                                  {ends[1][0], ends[1][1], ends[1][2]}));
+    EXPECT_LT(nearest, 0.03 + 1e-5) << q[0] << "," << q[1] << "," << q[2];
+    ++covered;
+  }
+  EXPECT_GT(covered, 20);
   const ThreeMfContents contents = read3mf(path);  // the build: the skin and the struts
   ASSERT_EQ(contents.objects.size(), 2u);
   EXPECT_EQ(contents.objects[0].mesh.triangles.size(), r.skinTriangles);

@@ -345,8 +345,7 @@ class ExportCommand:
                    "self-intersections); walls and overhangs: FRep > Printability"
                    % (filename, result["triangles"]))
         if "beams" in result:
-            written = ("Wrote %s: %d beams, clipped by the part's checked mesh"
-                       % (filename, result["beams"]))
+            written = "Wrote %s: %s" % (filename, result["summary"])
         QtCore.QTimer.singleShot(200, lambda: FreeCADGui.getMainWindow().statusBar()
                                  .showMessage(written, 15000))
 

@@ -244,7 +244,8 @@ def _export_beams(objects, filename, progress, cells, resolution, bbox, force, s
                   unit="mm"):
     """A strut lattice's struts as a 3MF beam lattice (frepcad export --beams): the one
     selected object must be a strut lattice cut to a part or an infill with a strut lattice;
-    the part's mesh clips the beams, an infill's skin is a mesh beside them."""
+    the part's mesh clips the beams; an infill's skin is a mesh beside them, its beams ending
+    in the skin."""
     name = os.path.basename(filename)
     if len(objects) != 1:
         raise ValueError("%s: a beam lattice 3MF is made of one object: select the strut "
@@ -261,11 +262,7 @@ def _export_beams(objects, filename, progress, cells, resolution, bbox, force, s
         except frepcore.Cancelled:
             raise RuntimeError("export of %s cancelled; no file written" % name)
         report["triangles"] = report["clip_triangles"] + report["skin_triangles"]
-        summary = ("wrote %s: %d beams on %d vertices, clipped by the part's mesh (%d "
-                   "triangles)" % (name, report["beams"], report["vertices"],
-                                   report["clip_triangles"]))
-        if report["skin_triangles"]:
-            summary += ", the skin %d triangles" % report["skin_triangles"]
+        summary = "wrote %s: %s" % (name, report["summary"])
         if report["notes"]:
             summary += "; %s" % report["notes"]
         report["text"] = summary

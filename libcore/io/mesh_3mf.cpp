@@ -393,6 +393,22 @@ ThreeMfBeams read3mfBeams(const std::string& file) {
     DWORD count = 0;
     require(lib3mf_meshobject_getbeamcount(mesh.get(), &count), mesh.get(), path);
     b.beams += count;
+    if (count) {
+      DWORD nv = 0, got = 0;
+      require(lib3mf_meshobject_getvertexcount(mesh.get(), &nv), mesh.get(), path);
+      std::vector<MODELMESHVERTEX> v(nv);
+      if (nv) require(lib3mf_meshobject_getvertices(mesh.get(), v.data(), nv, &got), mesh.get(), path);
+      std::vector<MODELMESHBEAM> beams(count);
+      require(lib3mf_meshobject_getbeamindices(mesh.get(), beams.data(), count, &got), mesh.get(),
+              path);
+      auto at = [&](DWORD i) {
+        if (i >= nv) throw FileError(path + ": a beam names vertex " + std::to_string(i) +
+                                     " of " + std::to_string(nv));
+        return Vec3f{v[i].m_fPosition[0], v[i].m_fPosition[1], v[i].m_fPosition[2]};
+      };
+      for (const MODELMESHBEAM& beam : beams)
+        b.ends.push_back({at(beam.m_nIndices[0]), at(beam.m_nIndices[1])});
+    }
     eModelBeamLatticeClipMode mode = MODELBEAMLATTICECLIPMODE_NONE;
     DWORD id = 0;
     if (count && lib3mf_meshobject_getbeamlattice_clipping(mesh.get(), &mode, &id) == 0 &&

@@ -3,6 +3,7 @@
 // only in mesh_3mf.cpp (its headers define Windows types that must not leak).
 #pragma once
 
+#include <array>
 #include <memory>
 #include <string>
 #include <utility>
@@ -80,6 +81,7 @@ constexpr std::size_t kMax3mfPlacements = 1000000;
 // and how many of those objects clip their beams by another object's mesh. Throws FileError.
 struct ThreeMfBeams {
   std::size_t beams = 0, clipped = 0;
+  std::vector<std::array<Vec3f, 2>> ends;  // every beam's two vertices, in the object's frame
 };
 ThreeMfBeams read3mfBeams(const std::string& path);
 

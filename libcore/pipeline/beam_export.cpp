@@ -31,6 +31,7 @@ struct BeamSource {
   NodePtr grading;  // the radius's field, or null
   NodePtr part;     // clips the beams
   NodePtr skin;     // an infill's skin, or null
+  double wall = 0.0;  // the skin's thickness
   double nodeRadius = 0.0;
 };
 
@@ -84,7 +85,8 @@ BeamSource sourceOf(const NodePtr& root) {
         setCells(s, unitCell(lattice.substr(0, n - m)), {cell, cell, cell}, root->vec3("origin"));
       s.radius = t > 0.0 ? 0.5 * t : 0.1 * cell;
       s.part = root->inputs.at(0);
-      s.skin = makeNode("shell", {{"thickness", realValue(root->real("wall"))}}, {s.part});
+      s.wall = root->real("wall");
+      s.skin = makeNode("shell", {{"thickness", realValue(s.wall)}}, {s.part});
       return s;
     }
     throw ModelError(what + "; this infill's lattice is '" + lattice + "'");
@@ -116,6 +118,41 @@ TriangleMesh meshOf(const NodePtr& node, const MeshingBox& box, const MeshSettin
   return meshAndFinish(compile(node), o, progress, false).mesh;
 }
 
+// The runs of the strut [a, b] where `inside` >= 0, sampled every `step` along it, each end at
+// a crossing found by bisection: where an infill's struts lie deep enough in the part that
+// their caps stay in the skin.
+std::vector<StrutPiece> insideRuns(const Program& part, double depth, const Vec3& a,
+                                   const Vec3& b, double step) {
+  auto at = [&](double t) { return vadd(a, vscale(vsub(b, a), t)); };
+  auto inside = [&](double t) {
+    const Vec3 p = at(t);
+    return part.eval(p[0], p[1], p[2]) - depth >= 0.0;
+  };
+  auto crossing = [&](double in, double out) {  // inside(in), !inside(out)
+    for (int k = 0; k < 40; ++k) {
+      const double m = 0.5 * (in + out);
+      (inside(m) ? in : out) = m;
+    }
+    return in;
+  };
+  const int n = std::max(1, int(std::ceil(vlength(vsub(b, a)) / step)));
+  std::vector<StrutPiece> runs;
+  bool was = inside(0.0);
+  double from = 0.0;
+  for (int i = 1; i <= n; ++i) {
+    const double t = double(i) / n;
+    const bool is = inside(t);
+    if (is && !was) from = crossing(t, double(i - 1) / n);
+    if (!is && was) {
+      const double to = crossing(double(i - 1) / n, t);
+      if (to > from) runs.push_back({at(from), at(to)});
+    }
+    was = is;
+  }
+  if (was) runs.push_back({at(from), b});
+  return runs;
+}
+
 void addMesh(ThreeMfStreamWriter& w, const std::string& name, const TriangleMesh& mesh,
              bool buildItem) {
   w.beginObject(name, buildItem);
@@ -138,24 +175,28 @@ BeamExportResult exportBeamLattice(const NodePtr& root, const MeshingBox& box,
     if (!progress) return nullptr;
     return [=](double f) { return progress(from + (to - from) * f); };
   };
-  // The part's mesh clips the beams; the skin is printed. Both must be closed and sound.
-  const TriangleMesh clip = meshOf(source.part, box, settings, stage(0.0, 0.4));
-  r.clipTriangles = clip.triangleCount();
-  r.clipReport = checkMesh(clip);
-  TriangleMesh skin;
+  // The part's mesh clips the beams, or, for an infill, the beams end in the middle of its
+  // skin (printed beside them), so that no clipping mesh is needed. Both must be sound.
+  TriangleMesh clip, skin;
   if (source.skin) {
-    skin = meshOf(source.skin, box, settings, stage(0.4, 0.8));
+    skin = meshOf(source.skin, box, settings, stage(0.0, 0.8));
     r.skinTriangles = skin.triangleCount();
     r.skinReport = checkMesh(skin);
+  } else {
+    clip = meshOf(source.part, box, settings, stage(0.0, 0.8));
+    r.clipped = true;
+    r.clipTriangles = clip.triangleCount();
+    r.clipReport = checkMesh(clip);
   }
-  if (!force && (!r.clipReport.printable() || (source.skin && !r.skinReport.printable()))) return r;
+  const CheckReport& judged = source.skin ? r.skinReport : r.clipReport;
+  if (!force && !judged.printable()) return r;
   if (source.nodeRadius > 0.0)
     r.notes = "the node spheres are not written (the beam lattice has beams only)";
 
   // The beams: every strut of the cells round the part's mesh that the part may reach (its
   // interval over the strut's box, grown by the radius, not all below 0).
   Box3 reach{{HUGE_VAL, HUGE_VAL, HUGE_VAL}, {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}};
-  for (const Vec3f& p : clip.positions)
+  for (const Vec3f& p : (source.skin ? skin : clip).positions)
     for (int a = 0; a < 3; ++a) {
       reach.lo[a] = std::min(reach.lo[a], double(p[a]));
       reach.hi[a] = std::max(reach.hi[a], double(p[a]));
@@ -180,7 +221,20 @@ BeamExportResult exportBeamLattice(const NodePtr& root, const MeshingBox& box,
           {static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2])});
     return at->second;
   };
+  // An infill's beams: the runs deeper in the part than half the skin (and than the radius),
+  // so that a beam's end and its round cap lie in the skin.
+  const double depth = std::max(0.5 * source.wall, 1.01 * source.radius);
+  std::vector<StrutPiece> struts;
   for (const StrutPiece& s : source.strutsIn(reach)) {
+    if (!source.skin) {
+      struts.push_back(s);
+      continue;
+    }
+    if (!mayReach(part, s.a, s.b, 0.0, 4)) continue;
+    for (const StrutPiece& run : insideRuns(part, depth, s.a, s.b, 0.25 * source.wall))
+      struts.push_back(run);
+  }
+  for (const StrutPiece& s : struts) {
     double r1 = 0.0, r2 = 0.0;
     if (source.grading) {
       r1 = grading.eval(s.a[0], s.a[1], s.a[2]);
@@ -206,8 +260,10 @@ BeamExportResult exportBeamLattice(const NodePtr& root, const MeshingBox& box,
       path, o,
       expectedXmlBytes(clip.positions.size() + skin.positions.size() + vertices.size(),
                        clip.triangleCount() + skin.triangleCount() + lattice.beams.size()));
-  addMesh(writer, name + " clipping mesh", clip, false);
-  lattice.clippingObject = writer.objectId();
+  if (r.clipped) {
+    addMesh(writer, name + " clipping mesh", clip, false);
+    lattice.clippingObject = writer.objectId();
+  }
   if (source.skin) addMesh(writer, name + " skin", skin, true);
   writer.beginObject(name + " struts", true);
   for (const Vec3f& p : vertices) writer.vertex(p);
@@ -217,6 +273,16 @@ BeamExportResult exportBeamLattice(const NodePtr& root, const MeshingBox& box,
   r.written = true;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
+}
+
+std::string beamExportSummary(const BeamExportResult& r) {
+  std::string text =
+      std::to_string(r.beams) + " beams on " + std::to_string(r.vertices) + " vertices, ";
+  if (r.clipped)
+    return text + "clipped by the part's mesh (" + std::to_string(r.clipTriangles) +
+           " triangles)";
+  return text + "ending in the middle of the skin (" + std::to_string(r.skinTriangles) +
+         " triangles)";
 }
 
 }  // namespace frep

@@ -206,10 +206,12 @@ void bindNode(py::module_& m) {
             d["vertices"] = r.vertices;
             d["clip_triangles"] = r.clipTriangles;
             d["skin_triangles"] = r.skinTriangles;
-            d["printable"] =
-                r.clipReport.printable() && (r.skinTriangles == 0 || r.skinReport.printable());
-            std::string text = reportToText(r.clipReport, path.value + ": the part's mesh");
-            if (r.skinTriangles) text += reportToText(r.skinReport, path.value + ": the skin");
+            d["clipped"] = r.clipped;
+            d["summary"] = beamExportSummary(r);
+            d["printable"] = r.clipped ? r.clipReport.printable() : r.skinReport.printable();
+            const std::string text =
+                r.clipped ? reportToText(r.clipReport, path.value + ": the part's mesh")
+                          : reportToText(r.skinReport, path.value + ": the skin");
             d["text"] = text;
             d["notes"] = r.notes;
             d["seconds"] = r.seconds;
@@ -221,8 +223,8 @@ void bindNode(py::module_& m) {
           "A strut lattice's struts as a 3MF beam lattice (frepcad export --beams): the shape "
           "must be a strut_lattice or voronoi_foam cut to a part or an infill with a strut "
           "lattice. Returns "
-          "dict(written, beams, vertices, clip_triangles, skin_triangles, printable, text, "
-          "notes, seconds); ValueError for another shape.")
+          "dict(written, beams, vertices, clipped, clip_triangles, skin_triangles, printable, "
+          "summary, text, notes, seconds); ValueError for another shape.")
       .def(
           "brick_plan",
           [](PyNode& n, py::object bbox, double resolution, std::uint32_t jobs,
