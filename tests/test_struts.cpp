@@ -13,6 +13,7 @@
 
 #include "base/errors.h"
 #include "check/mesh_check.h"
+#include "frep/node_helpers.h"
 #include "frep/strut_cells.h"
 #include "frep/tree.h"
 #include "io/mesh_3mf.h"
@@ -178,6 +179,85 @@ TEST(StrutLattice, SmoothJointsAreTheSmoothMinimumOfEveryStrut) {
     volumes[blended] = report.volume;
   }
   EXPECT_GT(volumes[1], 1.02 * volumes[0]);
+}
+
+// Cells that follow a cylinder: a turn of the axis by one cell's angle leaves the lattice as it
+// was, the angle's cut is seamless, the nodes lie where the cylinder's coordinates put them, a
+// tube meshes printable, and a beam 3MF (straight beams) is refused naming why.
+TEST(StrutLattice, ConformalToACylinder) {
+  const Vec3 axis = vscale(Vec3{1, 2, 2}, 1.0 / 3.0), origin{0.5, -1, 2};
+  const int around = 10;
+  auto conformal = [&](const std::string& cell) {
+    return makeNode("strut_lattice",
+                    {{"cell_type", textValue(cell)},
+                     {"cell", vec3Value({1, 1.2, 0.8})},
+                     {"radius", realValue(0.08)},
+                     {"origin", vec3Value(origin)},
+                     {"conform", textValue("cylinder")},
+                     {"axis", vec3Value(axis)},
+                     {"around", realValue(around)}},
+                    {});
+  };
+  // the node's frame round the axis (u, v across it; angles from u)
+  const Frame frame = frameAlong(axis);
+  const Vec3 u = frame.u, v = frame.v;
+  auto at = [&](double rho, double angle, double h) {
+    return vadd(origin, vadd(vscale(u, rho * std::cos(angle)),
+                             vadd(vscale(v, rho * std::sin(angle)), vscale(axis, h))));
+  };
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> rho(0.3, 4), angle(-3.2, 3.2), h(-2, 2);
+  for (const std::string& cell : {"octet", "simple_cubic"}) {
+    const Program p = compile(conformal(cell));
+    double turned = 0.0;
+    for (int i = 0; i < 2000; ++i) {
+      const double r = rho(rng), a = angle(rng), z = h(rng);
+      const Vec3 q = at(r, a, z), w = at(r, a + 2 * 3.14159265358979323846 / around, z);
+      turned = std::max(turned, std::abs(p.eval(q[0], q[1], q[2]) - p.eval(w[0], w[1], w[2])));
+    }
+    EXPECT_LT(turned, 1e-9) << cell;
+    // across the angle's cut (the far side from u): no seam
+    double seam = 0.0;
+    for (int i = 0; i < 200; ++i) {
+      const double r = rho(rng), z = h(rng);
+      const Vec3 q = at(r, 3.14159265358979323846 - 1e-9, z), w = at(r, -3.14159265358979323846 + 1e-9, z);
+      seam = std::max(seam, std::abs(p.eval(q[0], q[1], q[2]) - p.eval(w[0], w[1], w[2])));
+    }
+    EXPECT_LT(seam, 1e-6) << cell;
+  }
+  // simple cubic: the radial strut 3 cells round and 1 cell up runs straight out from the
+  // axis (on it, the field is the radius); half a cell round beside it, nothing
+  const Program cubic = compile(conformal("simple_cubic"));
+  const double cellAngle = 2 * 3.14159265358979323846 / around;
+  for (double r : {1.3, 2.5, 3.7}) {
+    const Vec3 on = at(r, 3 * cellAngle, 0.8), off = at(r, 3.5 * cellAngle, 0.8);
+    EXPECT_NEAR(cubic.eval(on[0], on[1], on[2]), 0.08, 1e-9) << r;
+    EXPECT_LT(cubic.eval(off[0], off[1], off[2]), 0.0) << r;
+  }
+  // a tube of it meshes printable
+  const NodePtr tube = makeNode(
+      "intersection", {},
+      {makeNode("strut_lattice",
+                {{"cell_type", textValue("octet")},
+                 {"cell", vec3Value({1, 1, 1})},
+                 {"radius", realValue(0.08)},
+                 {"conform", textValue("cylinder")},
+                 {"around", realValue(12)}},
+                {}),
+       makeNode("difference", {},
+                {makeNode("cylinder", {{"radius", realValue(3.0)}, {"length", realValue(2.0)}}, {}),
+                 makeNode("cylinder", {{"radius", realValue(1.5)}, {"length", realValue(3.0)}}, {})})});
+  MeshingOptions o;
+  o.bbox = {{-3.2, -3.2, -1.2}, {3.2, 3.2, 1.2}};
+  o.resolution = 0.03;
+  EXPECT_TRUE(checkMesh(polygonize(compile(tube), o)).printable());
+  try {
+    exportBeamLattice(tube, {o.bbox, 0.05}, MeshSettings(), ThreeMfOptions(), "tube",
+                      ::testing::TempDir() + "/tube.3mf", false);
+    FAIL() << "no error";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("conform"), std::string::npos) << e.what();
+  }
 }
 
 // Each unit cell meshes printable at three resolutions, cut to a block of 2 x 2 x 2 cells, with

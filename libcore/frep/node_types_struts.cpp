@@ -63,10 +63,29 @@ Point3Slots foldTetrahedral(ProgramBuilder& b, const Point3Slots& w) {
   return {largest, middle, b.emit(Op::Select, parity, smallest, b.emit(Op::Neg, smallest))};
 }
 
+// Cells that follow a cylinder: the point's distance from the axis, its arc round the axis
+// (at the radius where `around` cells make a turn) and its height along the axis are the
+// lattice's x, y and z, so the struts curve with the cylinder and a turn holds whole cells
+// (the fold along y meets itself across the angle's cut).
+Point3Slots cylinderCoordinates(CompileContext& c, double arcPerRadian) {
+  ProgramBuilder& b = c.b;
+  const Point3Slots q = localCoordinates(b, c.p, c.vec3("origin"), frameAlong(c.vec3("axis")));
+  const Slot across = b.sqrt(b.add(b.sqr(q.x), b.sqr(q.y)));
+  const Slot angle = b.emit(Op::Atan2, q.y, q.x);
+  return {across, b.affine(angle, angle, angle, arcPerRadian, 0.0, 0.0, 0.0), q.z};
+}
+
 Slot strutLattice(CompileContext& c) {
   const Slot radius = c.inputCount() ? c.input(0) : c.b.constant(c.real("radius"));
-  return strutLatticeField(c.b, c.p, unitCell(c.param("cell_type").text), c.vec3("cell"),
-                           c.vec3("origin"), radius, c.real("node_radius"), c.real("blend"));
+  const UnitCell& cell = unitCell(c.param("cell_type").text);
+  const Vec3 size = c.vec3("cell");
+  if (c.param("conform").text == "cylinder") {
+    const double arcPerRadian = c.real("around") * size[1] / (2.0 * kPi);
+    return strutLatticeField(c.b, cylinderCoordinates(c, arcPerRadian), cell, size, {0, 0, 0},
+                             radius, c.real("node_radius"), c.real("blend"));
+  }
+  return strutLatticeField(c.b, c.p, cell, size, c.vec3("origin"), radius, c.real("node_radius"),
+                           c.real("blend"));
 }
 
 // A cell folded by translation only looks at the struts within the covering radius of its
@@ -205,6 +224,13 @@ void registerStrutLattices(Registry& r) {
       "(0: sharp joints, the exact distance everywhere; with a blend the field is exact "
       "wherever no other strut is within `blend` of the nearest, and evaluates more struts).");
   range(blend, 0.0, kInf);
+  ParamTemplate axis = axisParam("The cylinder's axis, with conform = cylinder.");
+  ParamTemplate around = intParam(
+      "around", 12,
+      "With conform = cylinder, the cells round the axis in one turn: a cell's y side is its "
+      "arc at the radius where `around` cells of that side make a turn (narrower nearer the "
+      "axis, wider beyond).");
+  range(around, 3.0, 1000.0);
   r.add({"strut_lattice",
          "microstructure",
          "A strut (beam) lattice: the struts of a unit cell repeated along x, y and z, each a "
@@ -218,12 +244,22 @@ void registerStrutLattices(Registry& r) {
          "min over the struts s near q of "
          "dist(q, s);  with node spheres F = max(F, node_radius - min over the nodes n of "
          "|q - n|)  (radius = input's value when given; with a blend k the min over the struts is "
-         "m - k/2 + k / (2 sum over s of max(0, 1 - (dist(q, s) - m) / k)^2), m the min)",
+         "m - k/2 + k / (2 sum over s of max(0, 1 - (dist(q, s) - m) / k)^2), m the min; with "
+         "conform = cylinder, q is (distance from the axis, angle round it times around * "
+         "cell_y / 2 pi, height along it) before the folds)",
          0,
          1,
          {choiceParam("cell_type", cellIds(), "The unit cell."), size,
           positiveLength("radius", 0.1, "Radius of every strut."), nodeRadius, blend,
-          vec3Param("origin", {0, 0, 0}, "length", "Where a cell starts (shifts the lattice).")},
+          vec3Param("origin", {0, 0, 0}, "length",
+                    "Where a cell starts (shifts the lattice); with conform = cylinder a point "
+                    "of the cylinder's axis."),
+          choiceParam("conform", {"none", "cylinder"},
+                      "'none': cells are boxes along x, y and z; 'cylinder': cells follow a "
+                      "cylinder round `axis` through `origin` (a tube, a bone, a pipe): the "
+                      "cell's x runs out from the axis, y round it and z along it, the struts "
+                      "curving with it."),
+          axis, around},
          strutLattice,
          nullptr,
          checkStrutLattice});

@@ -61,6 +61,10 @@ BeamSource sourceOf(const NodePtr& root) {
     for (int k = 0; k < 2; ++k) {
       const NodePtr& lattice = root->inputs[k];
       const std::string& id = lattice->type->id;
+      if (id == "strut_lattice" && lattice->param("conform").text != "none")
+        throw ModelError(
+            "a 3MF beam lattice holds straight beams: this strut_lattice's cells follow a " +
+            lattice->param("conform").text + " (conform), so its struts curve; export it meshed");
       if (id == "strut_lattice")
         setCells(s, unitCell(lattice->param("cell_type").text), lattice->vec3("cell"),
                  lattice->vec3("origin"));
