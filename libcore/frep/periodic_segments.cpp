@@ -10,16 +10,22 @@ namespace frep {
 
 namespace {
 
-// |p - s| for the segment from a along e, and the offset from p to its closest point.
-inline double segmentOffset(const double p[3], const double a[3], const double e[3],
-                            double inverseLength2, double offset[3]) {
+// |p - s|^2 for the segment from a along e, and the offset from p to its closest point.
+inline double segmentOffset2(const double p[3], const double a[3], const double e[3],
+                             double inverseLength2, double offset[3]) {
   const double d[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
   double t = (d[0] * e[0] + d[1] * e[1] + d[2] * e[2]) * inverseLength2;
   t = std::min(std::max(t, 0.0), 1.0);
   offset[0] = a[0] + t * e[0] - p[0];
   offset[1] = a[1] + t * e[1] - p[1];
   offset[2] = a[2] + t * e[2] - p[2];
-  return std::sqrt(offset[0] * offset[0] + offset[1] * offset[1] + offset[2] * offset[2]);
+  return offset[0] * offset[0] + offset[1] * offset[1] + offset[2] * offset[2];
+}
+
+// |p - s| (the same rounding as the square root of segmentOffset2).
+inline double segmentOffset(const double p[3], const double a[3], const double e[3],
+                            double inverseLength2, double offset[3]) {
+  return std::sqrt(segmentOffset2(p, a, e, inverseLength2, offset));
 }
 
 double segmentDistance(const Vec3& p, const StrutPiece& s) {
@@ -171,21 +177,24 @@ PeriodicSegmentsField::Located PeriodicSegmentsField::locate(double x, double y,
 }
 
 double PeriodicSegmentsField::nearest(const Located& at, double offset[3]) const {
-  double best = std::numeric_limits<double>::infinity(), o[3];
+  // Squared distances while scanning (a square root only when the nearest so far improves,
+  // for the stop test), the offset once for the winner.
+  double best = std::numeric_limits<double>::infinity();
+  double best2 = best, o[3];
+  const Segment* winner = nullptr;
   const double step = binStep_[at.bin];
   for (std::uint32_t c = binStart_[at.bin]; c < binStart_[at.bin + 1]; ++c) {
     const Candidate k = candidates_[c];
     if ((k & 255u) * step - at.r > best) break;  // this and every later one are farther
     const Segment& s = segments_[k >> 8];
-    const double d = segmentOffset(at.q, s.a, s.e, s.inverseLength2, o);
-    if (d < best) {
-      best = d;
-      offset[0] = o[0];
-      offset[1] = o[1];
-      offset[2] = o[2];
+    const double d2 = segmentOffset2(at.q, s.a, s.e, s.inverseLength2, o);
+    if (d2 < best2) {
+      best2 = d2;
+      best = std::sqrt(d2);
+      winner = &s;
     }
   }
-  return best;
+  return winner ? segmentOffset(at.q, winner->a, winner->e, winner->inverseLength2, offset) : best;
 }
 
 double PeriodicSegmentsField::value(double x, double y, double z, double gradient[3]) const {
