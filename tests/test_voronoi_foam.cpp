@@ -12,6 +12,8 @@
 
 #include "base/errors.h"
 #include "check/mesh_check.h"
+#include "frep/field_sources.h"
+#include "frep/periodic_segments.h"
 #include "frep/tree.h"
 #include "io/mesh_3mf.h"
 #include "mesh/mesher.h"
@@ -247,7 +249,7 @@ TEST(VoronoiFoam, AFieldInputGradesTheRadiusAndTheMemoryIsOneTiles) {
     EXPECT_NEAR(graded.eval(x, 0.2, 0.1), plain.eval(x, 0.2, 0.1) - 0.3 + 0.05 + 0.02 * x, 1e-12);
   VoronoiFoamSettings s;  // the node's defaults
   const auto field = std::dynamic_pointer_cast<const PeriodicSegmentsField>(
-      loadVoronoiFoam(*foam(s.cell, 0.1, 0.0, int(s.seed), s.tile)));
+      loadFieldSource(*foam(s.cell, 0.1, 0.0, int(s.seed), s.tile)));
   ASSERT_TRUE(field);
   EXPECT_LT(field->memoryBytes(), 1u << 20);
 }

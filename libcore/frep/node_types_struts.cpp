@@ -6,7 +6,6 @@
 // no list of every strut, so the field's program is the same size for any number of cells.
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <string>
 
 #include "base/errors.h"
@@ -21,14 +20,6 @@
 namespace frep {
 
 namespace {
-
-// A length as a user typed it: 1.5, not 1.500000.
-std::string number(double v) {
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
 
 std::vector<std::string> cellIds() {
   std::vector<std::string> ids;
@@ -97,9 +88,10 @@ std::string checkCellRatio(const Node& node, const std::string& what) {
   const double ratio =
       std::max({size[0], size[1], size[2]}) / std::min({size[0], size[1], size[2]});
   if (ratio <= kMostUnevenCell) return "";
-  return "parameter 'cell' = (" + number(size[0]) + ", " + number(size[1]) + ", " +
-         number(size[2]) + ") is " + number(ratio) + " times longer along one axis than another; " +
-         what + " allows at most " + std::to_string(int(kMostUnevenCell)) + " times";
+  return "parameter 'cell' = (" + numberText(size[0]) + ", " + numberText(size[1]) + ", " +
+         numberText(size[2]) + ") is " + numberText(ratio) +
+         " times longer along one axis than another; " + what + " allows at most " +
+         std::to_string(int(kMostUnevenCell)) + " times";
 }
 
 // A blend reaches past the struts within it of the nearest: beyond half a cell it would
@@ -108,8 +100,8 @@ std::string checkBlend(const Node& node) {
   const Vec3 size = node.vec3("cell");
   const double most = 0.5 * std::min({size[0], size[1], size[2]}), blend = node.real("blend");
   if (blend <= most) return "";
-  return "parameter 'blend' = " + number(blend) + " is more than half the cell's " +
-         "shortest side (" + number(most) + ")";
+  return "parameter 'blend' = " + numberText(blend) + " is more than half the cell's " +
+         "shortest side (" + numberText(most) + ")";
 }
 
 std::string checkStrutLattice(const Node& node) {

@@ -34,14 +34,15 @@ const char* paramTypeName(ParamType t) {
   return "?";
 }
 
-namespace {
-std::string number(double v) {
+std::string numberText(double v) {
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
   std::ostringstream os;
   os.precision(10);
   os << v;
   return os.str();
 }
+
+namespace {
 
 ParamTemplate base(std::string name, ParamType type, std::string unit, std::string doc) {
   ParamTemplate p;
@@ -163,8 +164,8 @@ std::string ParamTemplate::rangeText() const {
       break;
   }
   // an infinite bound is never attained: always shown open
-  std::string s = (minExclusive || std::isinf(min) ? "(" : "[") + number(min) + ", " + number(max) +
-                  (maxExclusive || std::isinf(max) ? ")" : "]");
+  std::string s = (minExclusive || std::isinf(min) ? "(" : "[") + numberText(min) + ", " +
+                  numberText(max) + (maxExclusive || std::isinf(max) ? ")" : "]");
   if (type == ParamType::Integer) s = "an integer in " + s;
   if (type == ParamType::Vector3) {
     s = "3 numbers, each in " + s;
@@ -176,9 +177,10 @@ std::string ParamTemplate::rangeText() const {
 std::string ParamTemplate::valueText(const ParamValue& v) const {
   if (type == ParamType::Choice || type == ParamType::Text) return "\"" + v.text + "\"";
   if (type == ParamType::Boolean && v.numbers.size() == 1) return v.numbers[0] ? "true" : "false";
-  if (v.numbers.size() == 1) return number(v.numbers[0]);
+  if (v.numbers.size() == 1) return numberText(v.numbers[0]);
   std::string s = "[";
-  for (std::size_t i = 0; i < v.numbers.size(); ++i) s += (i ? ", " : "") + number(v.numbers[i]);
+  for (std::size_t i = 0; i < v.numbers.size(); ++i)
+    s += (i ? ", " : "") + numberText(v.numbers[i]);
   return s + "]";
 }
 

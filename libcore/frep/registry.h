@@ -61,6 +61,9 @@ struct ParamTemplate {
   std::string valueText(const ParamValue& v) const;
 };
 
+// A number as a user typed it (1.5, not 1.500000; inf): what messages about values show.
+std::string numberText(double v);
+
 // Parameter template constructors, chained with the setters below.
 ParamTemplate realParam(std::string name, double def, std::string unit, std::string doc);
 ParamTemplate intParam(std::string name, int def, std::string doc);

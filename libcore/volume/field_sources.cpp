@@ -1,4 +1,5 @@
-// Loads mesh_sdf and vdb_grid nodes' files into fields, once per file version: a loaded field
+// Loads mesh_sdf and vdb_grid nodes' files into fields, once per file version, and builds
+// voronoi_foam nodes' networks, once per parameters: a loaded field
 // is kept while anything uses it and the last few stay cached, keyed by the path, the file's
 // size and modification time and the node's parameters, so compiling a tree and bounding it
 // (and recomputing a document) reads a file once.
@@ -64,20 +65,35 @@ FieldCache& cache() {
   return c;
 }
 
+// The node's type and every parameter's value, exactly.
+std::string paramsKey(const Node& n) {
+  std::ostringstream key;
+  key.precision(17);
+  key << n.type->id;
+  for (const auto& [name, v] : n.params) {
+    key << '\n' << name << '=' << v.text;
+    for (double x : v.numbers) key << ' ' << x;
+  }
+  return key.str();
+}
+
+// ... and the file's version.
 std::string fileKey(const Node& n) {
   const std::string& path = n.param("path").text;
   requireRegularFile(path, n.type->id == "vdb_grid" ? "the OpenVDB file" : "the mesh file");
   struct stat st {};
   ::stat(path.c_str(), &st);
   std::ostringstream key;
-  key.precision(17);
-  key << n.type->id << '\n' << path << '\n' << st.st_size << '\n' << st.st_mtim.tv_sec << '.'
-      << st.st_mtim.tv_nsec;
-  for (const auto& [name, v] : n.params) {
-    key << '\n' << name << '=' << v.text;
-    for (double x : v.numbers) key << ' ' << x;
-  }
+  key << paramsKey(n) << '\n'
+      << st.st_size << '\n'
+      << st.st_mtim.tv_sec << '.' << st.st_mtim.tv_nsec;
   return key.str();
+}
+
+// A foam is built once per parameters: compiling a tree and bounding it, and every recompute
+// of a document, find it here.
+std::shared_ptr<const Field> loadVoronoiFoam(const Node& n) {
+  return cache().get(paramsKey(n), [&] { return makeVoronoiFoam(voronoiFoamSettings(n)); });
 }
 
 std::shared_ptr<const Field> loadMeshSdf(const Node& n) {

@@ -6,9 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
-#include <mutex>
-#include <sstream>
 #include <stdexcept>
 
 #include "base/errors.h"
@@ -103,37 +100,17 @@ VoronoiFoamSettings voronoiFoamSettings(const Node& node) {
   return s;
 }
 
-std::shared_ptr<const Field> loadVoronoiFoam(const Node& node) {
-  const VoronoiFoamSettings s = voronoiFoamSettings(node);
-  std::ostringstream key;
-  key.precision(17);
-  key << s.cell[0] << ' ' << s.cell[1] << ' ' << s.cell[2] << ' ' << s.origin[0] << ' '
-      << s.origin[1] << ' ' << s.origin[2] << ' ' << s.seed << ' ' << s.jitter << ' ' << s.tile
-      << ' ' << s.blend;
-  // A few recent foams stay: compiling a tree and bounding it, and every recompute of a
-  // document, build the same one.
-  static std::mutex m;
-  static std::map<std::string, std::shared_ptr<const Field>> recent;
-  {
-    std::lock_guard<std::mutex> lock(m);
-    auto it = recent.find(key.str());
-    if (it != recent.end()) return it->second;
-  }
+std::shared_ptr<const Field> makeVoronoiFoam(const VoronoiFoamSettings& s) {
   const VoronoiFoamNetwork net = voronoiFoamNetwork(s);
   // Bins of half a cell: a point then meets the struts within about a cell of it.
   const std::array<int, 3> bins{2 * net.cells[0], 2 * net.cells[1], 2 * net.cells[2]};
-  std::shared_ptr<const Field> field;
   try {
-    field = std::make_shared<PeriodicNetworkField>(net.edges, net.nodes, net.period, s.origin, bins,
-                                                   s.blend);
+    return std::make_shared<PeriodicNetworkField>(net.edges, net.nodes, net.period, s.origin, bins,
+                                                  s.blend);
   } catch (const std::invalid_argument&) {
     throw ModelError("voronoi_foam: parameter 'tile' = " + std::to_string(s.tile) +
                      " cells is too short a period for this foam's struts; use more");
   }
-  std::lock_guard<std::mutex> lock(m);
-  if (recent.size() >= 8) recent.clear();
-  recent[key.str()] = field;
-  return field;
 }
 
 }  // namespace frep

@@ -37,8 +37,10 @@ struct VoronoiFoamNetwork {
 // standard library's distribution).
 VoronoiFoamNetwork voronoiFoamNetwork(const VoronoiFoamSettings& s);
 
-// The voronoi_foam node's settings, and its network as a field (cached per settings).
+// The voronoi_foam node's settings, and its network as a field (a PeriodicNetworkField; the
+// node's loader, volume/field_sources.cpp, keeps the recent ones). Throws ModelError naming
+// 'tile' when the period is too short for the foam's struts.
 VoronoiFoamSettings voronoiFoamSettings(const Node& node);
-std::shared_ptr<const Field> loadVoronoiFoam(const Node& node);
+std::shared_ptr<const Field> makeVoronoiFoam(const VoronoiFoamSettings& s);
 
 }  // namespace frep
