@@ -162,15 +162,14 @@ TEST(StrutLattice, SmoothJointsAreTheSmoothMinimumOfEveryStrut) {
   // printable, and the joints' fillets add solid
   double volumes[2];
   for (int blended = 0; blended < 2; ++blended) {
-    const NodePtr part = makeNode(
-        "intersection", {},
-        {makeNode("strut_lattice",
-                  {{"cell_type", textValue("octet")},
-                   {"cell", vec3Value({1, 1, 1})},
-                   {"radius", realValue(0.06)},
-                   {"blend", realValue(blended ? 0.1 : 0.0)}},
-                  {}),
-         testing::box({-0.9, -0.9, -0.9}, {2.0, 2.0, 2.0})});
+    const NodePtr part = makeNode("intersection", {},
+                                  {makeNode("strut_lattice",
+                                            {{"cell_type", textValue("octet")},
+                                             {"cell", vec3Value({1, 1, 1})},
+                                             {"radius", realValue(0.06)},
+                                             {"blend", realValue(blended ? 0.1 : 0.0)}},
+                                            {}),
+                                   testing::box({-0.9, -0.9, -0.9}, {2.0, 2.0, 2.0})});
     MeshingOptions o;
     o.bbox = {{-1.0, -1.0, -1.0}, {1.2, 1.2, 1.2}};
     o.resolution = 0.03;
@@ -207,7 +206,7 @@ TEST(StrutLattice, ConformalToACylinder) {
   };
   std::mt19937 rng(8);
   std::uniform_real_distribution<double> rho(0.3, 4), angle(-3.2, 3.2), h(-2, 2);
-  for (const std::string& cell : {"octet", "simple_cubic"}) {
+  for (const char* cell : {"octet", "simple_cubic"}) {
     const Program p = compile(conformal(cell));
     double turned = 0.0;
     for (int i = 0; i < 2000; ++i) {
@@ -220,7 +219,8 @@ TEST(StrutLattice, ConformalToACylinder) {
     double seam = 0.0;
     for (int i = 0; i < 200; ++i) {
       const double r = rho(rng), z = h(rng);
-      const Vec3 q = at(r, 3.14159265358979323846 - 1e-9, z), w = at(r, -3.14159265358979323846 + 1e-9, z);
+      const Vec3 q = at(r, 3.14159265358979323846 - 1e-9, z),
+                 w = at(r, -3.14159265358979323846 + 1e-9, z);
       seam = std::max(seam, std::abs(p.eval(q[0], q[1], q[2]) - p.eval(w[0], w[1], w[2])));
     }
     EXPECT_LT(seam, 1e-6) << cell;
@@ -244,9 +244,10 @@ TEST(StrutLattice, ConformalToACylinder) {
                  {"conform", textValue("cylinder")},
                  {"around", realValue(12)}},
                 {}),
-       makeNode("difference", {},
-                {makeNode("cylinder", {{"radius", realValue(3.0)}, {"length", realValue(2.0)}}, {}),
-                 makeNode("cylinder", {{"radius", realValue(1.5)}, {"length", realValue(3.0)}}, {})})});
+       makeNode(
+           "difference", {},
+           {makeNode("cylinder", {{"radius", realValue(3.0)}, {"length", realValue(2.0)}}, {}),
+            makeNode("cylinder", {{"radius", realValue(1.5)}, {"length", realValue(3.0)}}, {})})});
   MeshingOptions o;
   o.bbox = {{-3.2, -3.2, -1.2}, {3.2, 3.2, 1.2}};
   o.resolution = 0.03;
@@ -258,6 +259,78 @@ TEST(StrutLattice, ConformalToACylinder) {
   } catch (const ModelError& e) {
     EXPECT_NE(std::string(e.what()).find("conform"), std::string::npos) << e.what();
   }
+}
+
+TEST(StrutLattice, ConformalToASphere) {
+  const double pi = 3.14159265358979323846;
+  const Vec3 axis = vscale(Vec3{2, -1, 2}, 1.0 / 3.0), origin{0.5, -1, 2};
+  const int around = 16;
+  auto conformal = [&](const std::string& cell) {
+    return makeNode("strut_lattice",
+                    {{"cell_type", textValue(cell)},
+                     {"cell", vec3Value({1, 1.2, 0.8})},
+                     {"radius", realValue(0.08)},
+                     {"origin", vec3Value(origin)},
+                     {"conform", textValue("sphere")},
+                     {"axis", vec3Value(axis)},
+                     {"around", realValue(around)}},
+                    {});
+  };
+  // the node's frame round the polar axis (u, v across it; longitudes from u)
+  const Frame frame = frameAlong(axis);
+  auto at = [&](double r, double longitude, double fromPole) {
+    const double across = r * std::sin(fromPole);
+    return vadd(origin, vadd(vscale(frame.u, across * std::cos(longitude)),
+                             vadd(vscale(frame.v, across * std::sin(longitude)),
+                                  vscale(axis, r * std::cos(fromPole)))));
+  };
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> radius(0.5, 4), longitude(-3.2, 3.2), polar(0.2, 2.9);
+  for (const char* cell : {"octet", "simple_cubic"}) {
+    const Program p = compile(conformal(cell));
+    double turned = 0.0, seam = 0.0;
+    for (int i = 0; i < 2000; ++i) {
+      const double r = radius(rng), a = longitude(rng), t = polar(rng);
+      const Vec3 q = at(r, a, t), w = at(r, a + 2 * pi / around, t);
+      turned = std::max(turned, std::abs(p.eval(q[0], q[1], q[2]) - p.eval(w[0], w[1], w[2])));
+    }
+    for (int i = 0; i < 200; ++i) {  // across the longitude's cut: no seam
+      const double r = radius(rng), t = polar(rng);
+      const Vec3 q = at(r, pi - 1e-9, t), w = at(r, -pi + 1e-9, t);
+      seam = std::max(seam, std::abs(p.eval(q[0], q[1], q[2]) - p.eval(w[0], w[1], w[2])));
+    }
+    EXPECT_LT(turned, 1e-9) << cell;
+    EXPECT_LT(seam, 1e-6) << cell;
+  }
+  // simple cubic: a strut runs straight out from the centre at every whole cell of longitude
+  // and of latitude (on it, the field is the radius); half a cell of latitude beside it, none
+  const Program cubic = compile(conformal("simple_cubic"));
+  const double cellAngle = 2 * pi / around;  // a cell's arc, in both directions, in radians
+  for (double r : {1.3, 2.5, 3.7}) {
+    const Vec3 on = at(r, 3 * cellAngle, 2 * cellAngle),
+               off = at(r, 3 * cellAngle, 2.5 * cellAngle);
+    EXPECT_NEAR(cubic.eval(on[0], on[1], on[2]), 0.08, 1e-9) << r;
+    EXPECT_LT(cubic.eval(off[0], off[1], off[2]), 0.0) << r;
+  }
+  // a spherical shell of it meshes printable
+  const NodePtr shell =
+      makeNode("intersection", {},
+               {makeNode("strut_lattice",
+                         {{"cell_type", textValue("octet")},
+                          {"cell", vec3Value({1, 1, 1})},
+                          {"radius", realValue(0.08)},
+                          {"conform", textValue("sphere")},
+                          {"around", realValue(16)}},
+                         {}),
+                makeNode("difference", {},
+                         {makeNode("sphere", {{"radius", realValue(3.0)}}, {}),
+                          makeNode("sphere", {{"radius", realValue(2.0)}}, {})})});
+  MeshingOptions o;
+  o.bbox = {{-3.2, -3.2, -3.2}, {3.2, 3.2, 3.2}};
+  o.resolution = 0.04;
+  const TriangleMesh mesh = polygonize(compile(shell), o);
+  EXPECT_GT(mesh.triangleCount(), 10000u);
+  EXPECT_TRUE(checkMesh(mesh).printable());
 }
 
 // Each unit cell meshes printable at three resolutions, cut to a block of 2 x 2 x 2 cells, with
@@ -484,6 +557,30 @@ TEST(StrutLattice, BeamLatticeOfAnInfillAndWhatIsRefused) {
   ASSERT_TRUE(r.written);
   EXPECT_TRUE(r.skinReport.printable());
   EXPECT_GT(r.skinTriangles, 1000u);
+  // the skin simplified within a tenth of a cell unless a tolerance is given: a fraction of
+  // the mesher's triangles for the block's walls
+  EXPECT_DOUBLE_EQ(r.meshTolerance, 0.0025);
+  EXPECT_NE(beamExportSummary(r).find("simplified within 0.0025"), std::string::npos)
+      << beamExportSummary(r);
+  MeshingOptions walls;
+  walls.bbox = box.box;
+  walls.resolution = box.resolution;
+  const std::size_t meshers =
+      polygonize(compile(makeNode("difference", {},
+                                  {testing::box({0, 0, 0}, {2, 1.5, 1}),
+                                   testing::box({0.1, 0.1, 0.1}, {1.9, 1.4, 0.9})})),
+                 walls)
+          .triangleCount();
+  EXPECT_LT(r.skinTriangles, meshers / 4) << meshers;
+  MeshSettings fine;
+  fine.tolerance = 0.0002;
+  const BeamExportResult finer =
+      exportBeamLattice(infill, box, fine, ThreeMfOptions(), "block", path, false);
+  EXPECT_DOUBLE_EQ(finer.meshTolerance, 0.0002);
+  EXPECT_EQ(finer.beams, r.beams);
+  const BeamExportResult again =
+      exportBeamLattice(infill, box, MeshSettings(), ThreeMfOptions(), "block", path, false);
+  EXPECT_EQ(again.skinTriangles, r.skinTriangles);
   const ThreeMfBeams back = read3mfBeams(path);
   EXPECT_EQ(back.beams, r.beams);
   EXPECT_FALSE(r.clipped);

@@ -66,14 +66,33 @@ Point3Slots cylinderCoordinates(CompileContext& c, double arcPerRadian) {
   return {across, b.affine(angle, angle, angle, arcPerRadian, 0.0, 0.0, 0.0), q.z};
 }
 
+// Cells that follow a sphere round `origin`: the point's distance from the centre, its arc
+// round the axis (longitude) and its arc from the axis' pole (latitude), each arc at the radius
+// where `around` cells make a turn, are the lattice's x, y and z. A turn of longitude holds
+// whole cells; the cells narrow towards the poles, as a globe's do.
+Point3Slots sphereCoordinates(CompileContext& c, double arcPerRadianY, double arcPerRadianZ) {
+  ProgramBuilder& b = c.b;
+  const Point3Slots q = localCoordinates(b, c.p, c.vec3("origin"), frameAlong(c.vec3("axis")));
+  const Slot across = b.sqrt(b.add(b.sqr(q.x), b.sqr(q.y)));
+  const Slot distance = b.sqrt(b.add(b.add(b.sqr(q.x), b.sqr(q.y)), b.sqr(q.z)));
+  const Slot longitude = b.emit(Op::Atan2, q.y, q.x);
+  const Slot fromPole = b.emit(Op::Atan2, across, q.z);
+  return {distance, b.affine(longitude, longitude, longitude, arcPerRadianY, 0.0, 0.0, 0.0),
+          b.affine(fromPole, fromPole, fromPole, arcPerRadianZ, 0.0, 0.0, 0.0)};
+}
+
 Slot strutLattice(CompileContext& c) {
   const Slot radius = c.inputCount() ? c.input(0) : c.b.constant(c.real("radius"));
   const UnitCell& cell = unitCell(c.param("cell_type").text);
   const Vec3 size = c.vec3("cell");
-  if (c.param("conform").text == "cylinder") {
-    const double arcPerRadian = c.real("around") * size[1] / (2.0 * kPi);
-    return strutLatticeField(c.b, cylinderCoordinates(c, arcPerRadian), cell, size, {0, 0, 0},
-                             radius, c.real("node_radius"), c.real("blend"));
+  const std::string& conform = c.param("conform").text;
+  if (conform == "cylinder" || conform == "sphere") {
+    const double perTurn = c.real("around") / (2.0 * kPi);
+    const Point3Slots q = conform == "cylinder"
+                              ? cylinderCoordinates(c, perTurn * size[1])
+                              : sphereCoordinates(c, perTurn * size[1], perTurn * size[2]);
+    return strutLatticeField(c.b, q, cell, size, {0, 0, 0}, radius, c.real("node_radius"),
+                             c.real("blend"));
   }
   return strutLatticeField(c.b, c.p, cell, size, c.vec3("origin"), radius, c.real("node_radius"),
                            c.real("blend"));
@@ -216,12 +235,14 @@ void registerStrutLattices(Registry& r) {
       "(0: sharp joints, the exact distance everywhere; with a blend the field is exact "
       "wherever no other strut is within `blend` of the nearest, and evaluates more struts).");
   range(blend, 0.0, kInf);
-  ParamTemplate axis = axisParam("The cylinder's axis, with conform = cylinder.");
+  ParamTemplate axis = axisParam(
+      "The cylinder's axis, with conform = cylinder; the sphere's polar axis, with conform = "
+      "sphere.");
   ParamTemplate around = intParam(
       "around", 12,
-      "With conform = cylinder, the cells round the axis in one turn: a cell's y side is its "
-      "arc at the radius where `around` cells of that side make a turn (narrower nearer the "
-      "axis, wider beyond).");
+      "With conform = cylinder or sphere, the cells round the axis in one turn: a cell's y side "
+      "is its arc at the radius where `around` cells of that side make a turn (narrower nearer "
+      "the axis, wider beyond); on a sphere its z side is likewise an arc from pole to pole.");
   range(around, 3.0, 1000.0);
   r.add({"strut_lattice",
          "microstructure",
@@ -238,19 +259,24 @@ void registerStrutLattices(Registry& r) {
          "|q - n|)  (radius = input's value when given; with a blend k the min over the struts is "
          "m - k/2 + k / (2 sum over s of max(0, 1 - (dist(q, s) - m) / k)^2), m the min; with "
          "conform = cylinder, q is (distance from the axis, angle round it times around * "
-         "cell_y / 2 pi, height along it) before the folds)",
+         "cell_y / 2 pi, height along it) before the folds; with conform = sphere (distance from "
+         "origin, angle round the axis times around * cell_y / 2 pi, angle from the axis times "
+         "around * cell_z / 2 pi))",
          0,
          1,
          {choiceParam("cell_type", cellIds(), "The unit cell."), size,
           positiveLength("radius", 0.1, "Radius of every strut."), nodeRadius, blend,
           vec3Param("origin", {0, 0, 0}, "length",
                     "Where a cell starts (shifts the lattice); with conform = cylinder a point "
-                    "of the cylinder's axis."),
-          choiceParam("conform", {"none", "cylinder"},
+                    "of the cylinder's axis, with conform = sphere its centre."),
+          choiceParam("conform", {"none", "cylinder", "sphere"},
                       "'none': cells are boxes along x, y and z; 'cylinder': cells follow a "
                       "cylinder round `axis` through `origin` (a tube, a bone, a pipe): the "
                       "cell's x runs out from the axis, y round it and z along it, the struts "
-                      "curving with it."),
+                      "curving with it; 'sphere': cells follow spheres round `origin` (a ball, a "
+                      "dome, a shell): x runs out from the centre, y round `axis` (longitude) "
+                      "and z from its pole to the other (latitude), the cells narrowing towards "
+                      "the poles."),
           axis, around},
          strutLattice,
          nullptr,

@@ -11,6 +11,7 @@
 #include "frep/field_sources.h"
 #include "frep/interval.h"
 #include "frep/periodic_segments.h"
+#include "frep/registry.h"
 #include "frep/strut_cells.h"
 #include "frep/strut_field.h"
 #include "io/three_mf_stream.h"
@@ -28,9 +29,9 @@ struct BeamSource {
   std::function<std::vector<StrutPiece>(const Box3&)> strutsIn;  // each strut meeting a box once
   double smallestCell = 1.0;
   double radius = 0.0;
-  NodePtr grading;  // the radius's field, or null
-  NodePtr part;     // clips the beams
-  NodePtr skin;     // an infill's skin, or null
+  NodePtr grading;    // the radius's field, or null
+  NodePtr part;       // clips the beams
+  NodePtr skin;       // an infill's skin, or null
   double wall = 0.0;  // the skin's thickness
   double nodeRadius = 0.0;
 };
@@ -112,21 +113,38 @@ bool mayReach(const Program& part, const Vec3& a, const Vec3& b, double grow, in
   return mayReach(part, a, m, grow, depth - 1) || mayReach(part, m, b, grow, depth - 1);
 }
 
+// The part's mesh or an infill's skin. Unless the settings give a tolerance, it is simplified
+// within a tenth of a cell: a beam file exists to be small, and the mesher's mesh of a plain
+// skin at the export's resolution is most of it (docs/struts.md). Where the simplified mesh is
+// not printable, the mesher's own mesh is written.
 TriangleMesh meshOf(const NodePtr& node, const MeshingBox& box, const MeshSettings& settings,
-                    const std::function<bool(double)>& progress) {
+                    const std::function<bool(double)>& progress, double& tolerance,
+                    CheckReport& report) {
   MeshingOptions o;
   o.bbox = box.box;
   o.resolution = box.resolution;
   o.settings = settings;
+  if (!o.settings.tolerance) o.settings.tolerance = 0.1 * box.resolution;
   o.normals = false;
-  return meshAndFinish(compile(node), o, progress, false).mesh;
+  FinishedMesh finished = meshAndFinish(compile(node), o, progress, true);
+  report = checkMesh(finished.mesh);
+  tolerance = finished.simplified ? *o.settings.tolerance : 0.0;
+  if (finished.simplified && !report.printable()) {
+    const CheckReport meshers = checkMesh(finished.meshers);
+    if (meshers.printable()) {
+      report = meshers;
+      tolerance = 0.0;
+      return std::move(finished.meshers);
+    }
+  }
+  return std::move(finished.mesh);
 }
 
 // The runs of the strut [a, b] where `inside` >= 0, sampled every `step` along it, each end at
 // a crossing found by bisection: where an infill's struts lie deep enough in the part that
 // their caps stay in the skin.
-std::vector<StrutPiece> insideRuns(const Program& part, double depth, const Vec3& a,
-                                   const Vec3& b, double step) {
+std::vector<StrutPiece> insideRuns(const Program& part, double depth, const Vec3& a, const Vec3& b,
+                                   double step) {
   auto at = [&](double t) { return vadd(a, vscale(vsub(b, a), t)); };
   auto inside = [&](double t) {
     const Vec3 p = at(t);
@@ -183,14 +201,12 @@ BeamExportResult exportBeamLattice(const NodePtr& root, const MeshingBox& box,
   // skin (printed beside them), so that no clipping mesh is needed. Both must be sound.
   TriangleMesh clip, skin;
   if (source.skin) {
-    skin = meshOf(source.skin, box, settings, stage(0.0, 0.8));
+    skin = meshOf(source.skin, box, settings, stage(0.0, 0.8), r.meshTolerance, r.skinReport);
     r.skinTriangles = skin.triangleCount();
-    r.skinReport = checkMesh(skin);
   } else {
-    clip = meshOf(source.part, box, settings, stage(0.0, 0.8));
+    clip = meshOf(source.part, box, settings, stage(0.0, 0.8), r.meshTolerance, r.clipReport);
     r.clipped = true;
     r.clipTriangles = clip.triangleCount();
-    r.clipReport = checkMesh(clip);
   }
   const CheckReport& judged = source.skin ? r.skinReport : r.clipReport;
   if (!force && !judged.printable()) return r;
@@ -282,11 +298,13 @@ BeamExportResult exportBeamLattice(const NodePtr& root, const MeshingBox& box,
 std::string beamExportSummary(const BeamExportResult& r) {
   std::string text =
       std::to_string(r.beams) + " beams on " + std::to_string(r.vertices) + " vertices, ";
+  const std::string within =
+      r.meshTolerance > 0.0 ? ", simplified within " + numberText(r.meshTolerance) : "";
   if (r.clipped)
-    return text + "clipped by the part's mesh (" + std::to_string(r.clipTriangles) +
-           " triangles)";
+    return text + "clipped by the part's mesh (" + std::to_string(r.clipTriangles) + " triangles" +
+           within + ")";
   return text + "ending in the middle of the skin (" + std::to_string(r.skinTriangles) +
-         " triangles)";
+         " triangles" + within + ")";
 }
 
 }  // namespace frep

@@ -23,13 +23,17 @@ struct BeamExportResult {
   bool clipped = false;  // the beams are clipped by the part's mesh (not for an infill)
   std::size_t clipTriangles = 0, skinTriangles = 0;  // the part's mesh; an infill's skin
   CheckReport clipReport, skinReport;                // their checks, where they are written
+  // The distance from the surface the written mesh was simplified within (the settings'
+  // tolerance, else a tenth of a cell); 0: the mesher's own mesh.
+  double meshTolerance = 0.0;
   bool written = false;  // false: a mesh the check refused (and force was not given)
   std::string notes;     // what the file leaves out (node spheres), one line; empty if nothing
   double seconds = 0.0;
 };
 
 // Writes `root`'s strut lattice as beams into the 3MF `path` (atomically), with the part's mesh
-// (meshed in `box` with `settings`, checked) as the beams' clipping mesh; for an infill its
+// (meshed in `box` with `settings`, simplified within their tolerance or else a tenth of a cell,
+// checked) as the beams' clipping mesh; for an infill its
 // skin as a printed mesh instead, and each beam cut where it leaves the part's inside deeper
 // than half the skin (its end and cap in the skin: no clipping mesh, a much smaller file).
 // Throws ModelError naming what the root must be, FileError, Cancelled.

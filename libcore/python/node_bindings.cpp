@@ -207,6 +207,7 @@ void bindNode(py::module_& m) {
             d["clip_triangles"] = r.clipTriangles;
             d["skin_triangles"] = r.skinTriangles;
             d["clipped"] = r.clipped;
+            d["mesh_tolerance"] = r.meshTolerance;
             d["summary"] = beamExportSummary(r);
             d["printable"] = r.clipped ? r.clipReport.printable() : r.skinReport.printable();
             const std::string text =
@@ -223,8 +224,10 @@ void bindNode(py::module_& m) {
           "A strut lattice's struts as a 3MF beam lattice (frepcad export --beams): the shape "
           "must be a strut_lattice or voronoi_foam cut to a part or an infill with a strut "
           "lattice. Returns "
-          "dict(written, beams, vertices, clipped, clip_triangles, skin_triangles, printable, "
-          "summary, text, notes, seconds); ValueError for another shape.")
+          "dict(written, beams, vertices, clipped, clip_triangles, skin_triangles, "
+          "mesh_tolerance (the skin or the part's mesh simplified within it: the settings' "
+          "tolerance, else a tenth of a cell; 0: not simplified), printable, summary, text, "
+          "notes, seconds); ValueError for another shape.")
       .def(
           "brick_plan",
           [](PyNode& n, py::object bbox, double resolution, std::uint32_t jobs,

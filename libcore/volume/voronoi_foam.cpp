@@ -3,8 +3,10 @@
 
 #include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/hilbert_sort.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -74,18 +76,39 @@ VoronoiFoamNetwork voronoiFoamNetwork(const VoronoiFoamSettings& s) {
         for (const Vec3& p : net.seeds)
           points.emplace_back(p[0] + i * net.period[0], p[1] + j * net.period[1],
                               p[2] + k * net.period[2]);
-  const Delaunay dt(points.begin(), points.end());
+  // Inserted one by one in an order of their own (a Hilbert curve's, by medians) rather than
+  // shuffled with CGAL's default random numbers, which are seeded from the clock.
+  CGAL::hilbert_sort(points.begin(), points.end());
+  Delaunay dt;
+  Delaunay::Vertex_handle last;
+  for (const Kernel::Point_3& p : points)
+    last = dt.insert(p, last == Delaunay::Vertex_handle() ? Delaunay::Cell_handle() : last->cell());
+  // The foam must not depend on how the triangulation stores its cells (their order and each
+  // cell's order of vertices change from run to run): each Voronoi vertex is the circumcentre
+  // of its four seeds taken in sorted order, and the edges and vertices are listed sorted.
+  auto centre = [](const Delaunay::Cell_handle& c) {
+    std::array<Kernel::Point_3, 4> p{c->vertex(0)->point(), c->vertex(1)->point(),
+                                     c->vertex(2)->point(), c->vertex(3)->point()};
+    std::sort(p.begin(), p.end());
+    return toVec(CGAL::circumcenter(p[0], p[1], p[2], p[3]));
+  };
   for (auto f = dt.finite_facets_begin(); f != dt.finite_facets_end(); ++f) {
     const Delaunay::Cell_handle c = f->first, n = c->neighbor(f->second);
     if (dt.is_infinite(c) || dt.is_infinite(n)) continue;
-    const Vec3 a = toVec(dt.dual(c)), b = toVec(dt.dual(n));
+    Vec3 a = centre(c), b = centre(n);
     const Vec3 middle{0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])};
-    if (inTile(middle, s.origin, net.period)) net.edges.push_back({a, b});
+    if (!inTile(middle, s.origin, net.period)) continue;
+    if (b < a) std::swap(a, b);
+    net.edges.push_back({a, b});
   }
   for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
-    const Vec3 v = toVec(dt.dual(c));
+    const Vec3 v = centre(c);
     if (inTile(v, s.origin, net.period)) net.nodes.push_back(v);
   }
+  std::sort(net.edges.begin(), net.edges.end(), [](const StrutPiece& u, const StrutPiece& w) {
+    return u.a != w.a ? u.a < w.a : u.b < w.b;
+  });
+  std::sort(net.nodes.begin(), net.nodes.end());
   return net;
 }
 

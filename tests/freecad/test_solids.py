@@ -283,6 +283,7 @@ def test_strut_infill_exports_as_a_beam_lattice_3mf(doc, tmp_path):
     back = frepcore.read_3mf_beams(path)
     assert back == {"beams": report["beams"], "clipped": 0}  # (they end in the skin)
     assert not report["clipped"] and "ending in the middle of the skin" in report["summary"]
+    assert report["mesh_tolerance"] > 0 and "simplified within" in report["summary"]
     meshed = str(tmp_path / "bracket.3mf")
     FRepExport.export_objects([infill], meshed, cells=128)
     assert os.path.getsize(path) < os.path.getsize(meshed)
