@@ -183,6 +183,53 @@ TEST(StrutLattice, SmoothJointsAreTheSmoothMinimumOfEveryStrut) {
 // Cells that follow a cylinder: a turn of the axis by one cell's angle leaves the lattice as it
 // was, the angle's cut is seamless, the nodes lie where the cylinder's coordinates put them, a
 // tube meshes printable, and a beam 3MF (straight beams) is refused naming why.
+// A conformal lattice's beam 3MF (`lattice` round the z axis, cut to `part`): read back by lib3mf
+// with the beam count written; every beam's ends on a strut's curved axis (the lattice's field
+// there its radius) and its middle within the chain's tolerance of it; and every point of a strut
+// deep in the part within `widest` (the struts' widest world radius, cells being wider away from
+// the axis) and the chain's tolerance of a beam.
+void expectBeamsFollowTheCurvedStruts(const NodePtr& lattice, const NodePtr& part, const Box3& box,
+                                      double radius, double widest, double farthestMiddle) {
+  const std::string path = ::testing::TempDir() + "/conformal.3mf";
+  const NodePtr cut = makeNode("intersection", {}, {lattice, part});
+  const BeamExportResult r = exportBeamLattice(cut, {box, 0.05}, MeshSettings(), ThreeMfOptions(),
+                                               "conformal", path, false);
+  ASSERT_TRUE(r.written);
+  const ThreeMfBeams back = read3mfBeams(path);
+  EXPECT_EQ(back.beams, r.beams);
+  EXPECT_GT(back.beams, 500u);
+  const Program struts = compile(lattice), inside = compile(part);
+  // (on the z axis, where the cells meet in a line, the field sees only the cell of angle 0,
+  // and near it the cells are narrow round it: points within a cell of it are left out)
+  auto field = [&](const Vec3& p) {
+    return std::hypot(p[0], p[1]) < 1.0 ? HUGE_VAL : struts.eval(p[0], p[1], p[2]);
+  };
+  double lowestEnd = HUGE_VAL, lowestMiddle = HUGE_VAL;
+  for (const auto& e : back.ends) {
+    const Vec3 a{e[0][0], e[0][1], e[0][2]}, b{e[1][0], e[1][1], e[1][2]};
+    lowestEnd = std::min({lowestEnd, field(a), field(b)});
+    lowestMiddle = std::min(lowestMiddle, field(vscale(vadd(a, b), 0.5)));
+  }
+  EXPECT_GT(lowestEnd, radius - 1e-4);
+  EXPECT_GT(lowestMiddle, radius - farthestMiddle);
+  std::mt19937 rng(14);
+  std::uniform_real_distribution<double> x(box.lo[0], box.hi[0]), y(box.lo[1], box.hi[1]),
+      z(box.lo[2], box.hi[2]);
+  int covered = 0;
+  for (int i = 0; i < 4000 && covered < 300; ++i) {
+    const Vec3 q{x(rng), y(rng), z(rng)};
+    if (inside.eval(q[0], q[1], q[2]) < 2 * widest || struts.eval(q[0], q[1], q[2]) < 0.0) continue;
+    double nearest = HUGE_VAL;
+    for (const auto& e : back.ends)
+      nearest = std::min(
+          nearest, segmentDistance(q, {e[0][0], e[0][1], e[0][2]}, {e[1][0], e[1][1], e[1][2]}));
+    EXPECT_LT(nearest, widest + 0.1 * radius + 1e-5) << q[0] << "," << q[1] << "," << q[2];
+    ++covered;
+  }
+  EXPECT_GT(covered, 50);
+  std::remove(path.c_str());
+}
+
 TEST(StrutLattice, ConformalToACylinder) {
   const Vec3 axis = vscale(Vec3{1, 2, 2}, 1.0 / 3.0), origin{0.5, -1, 2};
   const int around = 10;
@@ -234,31 +281,27 @@ TEST(StrutLattice, ConformalToACylinder) {
     EXPECT_NEAR(cubic.eval(on[0], on[1], on[2]), 0.08, 1e-9) << r;
     EXPECT_LT(cubic.eval(off[0], off[1], off[2]), 0.0) << r;
   }
-  // a tube of it meshes printable
-  const NodePtr tube = makeNode(
-      "intersection", {},
-      {makeNode("strut_lattice",
-                {{"cell_type", textValue("octet")},
-                 {"cell", vec3Value({1, 1, 1})},
-                 {"radius", realValue(0.08)},
-                 {"conform", textValue("cylinder")},
-                 {"around", realValue(12)}},
-                {}),
-       makeNode(
-           "difference", {},
-           {makeNode("cylinder", {{"radius", realValue(3.0)}, {"length", realValue(2.0)}}, {}),
-            makeNode("cylinder", {{"radius", realValue(1.5)}, {"length", realValue(3.0)}}, {})})});
+  // a tube of it meshes printable, and its beam 3MF follows the curved struts: a cell's y
+  // side is its arc at 12 / (2 pi) = 1.91 from the axis, so a strut is up to 3 / 1.91 times
+  // wider at the tube's outside (radius 3)
+  const NodePtr round = makeNode("strut_lattice",
+                                 {{"cell_type", textValue("octet")},
+                                  {"cell", vec3Value({1, 1, 1})},
+                                  {"radius", realValue(0.08)},
+                                  {"conform", textValue("cylinder")},
+                                  {"around", realValue(12)}},
+                                 {});
+  const NodePtr ring = makeNode(
+      "difference", {},
+      {makeNode("cylinder", {{"radius", realValue(3.0)}, {"length", realValue(2.0)}}, {}),
+       makeNode("cylinder", {{"radius", realValue(1.5)}, {"length", realValue(3.0)}}, {})});
   MeshingOptions o;
   o.bbox = {{-3.2, -3.2, -1.2}, {3.2, 3.2, 1.2}};
   o.resolution = 0.03;
-  EXPECT_TRUE(checkMesh(polygonize(compile(tube), o)).printable());
-  try {
-    exportBeamLattice(tube, {o.bbox, 0.05}, MeshSettings(), ThreeMfOptions(), "tube",
-                      ::testing::TempDir() + "/tube.3mf", false);
-    FAIL() << "no error";
-  } catch (const ModelError& e) {
-    EXPECT_NE(std::string(e.what()).find("conform"), std::string::npos) << e.what();
-  }
+  EXPECT_TRUE(
+      checkMesh(polygonize(compile(makeNode("intersection", {}, {round, ring})), o)).printable());
+  const double scale = 12 / (2 * 3.14159265358979323846);
+  expectBeamsFollowTheCurvedStruts(round, ring, o.bbox, 0.08, 0.08 * 3 / scale, 0.1 * 0.08 * scale);
 }
 
 TEST(StrutLattice, ConformalToASphere) {
@@ -331,6 +374,10 @@ TEST(StrutLattice, ConformalToASphere) {
   const TriangleMesh mesh = polygonize(compile(shell), o);
   EXPECT_GT(mesh.triangleCount(), 10000u);
   EXPECT_TRUE(checkMesh(mesh).printable());
+  // its beam 3MF follows the curved struts (a cell's sides are arcs at 16 / (2 pi) = 2.55)
+  const double scale = 16 / (2 * pi);
+  expectBeamsFollowTheCurvedStruts(shell->inputs[0], shell->inputs[1], o.bbox, 0.08,
+                                   0.08 * 3 / scale, 0.1 * 0.08 * scale);
 }
 
 // Each unit cell meshes printable at three resolutions, cut to a block of 2 x 2 x 2 cells, with

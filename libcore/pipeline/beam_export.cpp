@@ -10,6 +10,7 @@
 #include "base/errors.h"
 #include "frep/field_sources.h"
 #include "frep/interval.h"
+#include "frep/node_helpers.h"
 #include "frep/periodic_segments.h"
 #include "frep/registry.h"
 #include "frep/strut_cells.h"
@@ -27,6 +28,10 @@ constexpr const char* kStrutsSuffix = "_struts";
 // clips them; for an infill the skin printed beside them.
 struct BeamSource {
   std::function<std::vector<StrutPiece>(const Box3&)> strutsIn;  // each strut meeting a box once
+  // Conformal cells: strutsIn gives the struts in the lattice's coordinates and this maps
+  // those to the world (each strut then curves and is written as a chain of straight beams);
+  // null: the struts are straight and in world coordinates.
+  std::function<Vec3(const Vec3&)> toWorld;
   double smallestCell = 1.0;
   double radius = 0.0;
   NodePtr grading;    // the radius's field, or null
@@ -51,6 +56,93 @@ void setFoam(BeamSource& s, const Node& foam) {
   s.smallestCell = std::min({size[0], size[1], size[2]});
 }
 
+// The lattice's coordinates of a strut_lattice that follows a cylinder or a sphere (as
+// strutLattice in node_types_struts.cpp computes them) and back: strutsIn takes a world box to
+// the coordinates' box that holds it (a whole turn round the axis, pole to pole) and keeps each
+// strut once across the angle's cut (by its middle) and, on a sphere, the part of it between
+// the poles.
+void setConformal(BeamSource& s, const Node& lattice) {
+  const UnitCell& cell = unitCell(lattice.param("cell_type").text);
+  const Vec3 size = lattice.vec3("cell"), origin = lattice.vec3("origin");
+  const Frame f = frameAlong(lattice.vec3("axis"));
+  const bool sphere = lattice.param("conform").text == "sphere";
+  const double perTurn = lattice.real("around") / (2.0 * kPi);
+  const double alongY = perTurn * size[1], alongZ = perTurn * size[2];  // arc per radian
+  const double halfTurn = kPi * alongY, pole = kPi * alongZ;
+  s.smallestCell = std::min({size[0], size[1], size[2]});
+  s.toWorld = [=](const Vec3& q) {
+    const double angle = q[1] / alongY;
+    Vec3 local;
+    if (sphere) {
+      const double fromPole = q[2] / alongZ;
+      local = {q[0] * std::sin(fromPole) * std::cos(angle),
+               q[0] * std::sin(fromPole) * std::sin(angle), q[0] * std::cos(fromPole)};
+    } else {
+      local = {q[0] * std::cos(angle), q[0] * std::sin(angle), q[2]};
+    }
+    return vadd(origin,
+                vadd(vscale(f.u, local[0]), vadd(vscale(f.v, local[1]), vscale(f.w, local[2]))));
+  };
+  s.strutsIn = [=, &cell](const Box3& world) {
+    double farthest = 0.0, lowest = HUGE_VAL, highest = -HUGE_VAL;
+    for (int corner = 0; corner < 8; ++corner) {
+      const Vec3 p{corner & 1 ? world.hi[0] : world.lo[0], corner & 2 ? world.hi[1] : world.lo[1],
+                   corner & 4 ? world.hi[2] : world.lo[2]};
+      const Vec3 d = vsub(p, origin);
+      const double u = vdot(d, f.u), v = vdot(d, f.v), w = vdot(d, f.w);
+      farthest = std::max(farthest, std::sqrt(u * u + v * v + (sphere ? w * w : 0.0)));
+      lowest = std::min(lowest, w);
+      highest = std::max(highest, w);
+    }
+    const Box3 coordinates{{0.0, -halfTurn, sphere ? 0.0 : lowest},
+                           {farthest, halfTurn, sphere ? pole : highest}};
+    std::vector<StrutPiece> kept;
+    for (StrutPiece p : strutsInBox(cell, size, {0, 0, 0}, coordinates)) {
+      const double middle = 0.5 * (p.a[1] + p.b[1]);
+      if (middle < -halfTurn || middle >= halfTurn) continue;  // its copy a turn away is kept
+      if (sphere) {  // the part between the poles (the field's latitude is in [0, pole])
+        double t0 = 0.0, t1 = 1.0;
+        const double za = p.a[2], dz = p.b[2] - p.a[2];
+        for (const double limit : {0.0, pole}) {
+          if (dz == 0.0) continue;
+          const double t = (limit - za) / dz;
+          if ((dz > 0.0) == (limit == 0.0))
+            t0 = std::max(t0, t);
+          else
+            t1 = std::min(t1, t);
+        }
+        if ((dz == 0.0 && (za < 0.0 || za > pole)) || t1 <= t0) continue;
+        const Vec3 a = p.a, d = vsub(p.b, p.a);
+        p = {vadd(a, vscale(d, t0)), vadd(a, vscale(d, t1))};
+      }
+      kept.push_back(p);
+    }
+    return kept;
+  };
+}
+
+double distanceToSegment(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 d = vsub(b, a);
+  const double length2 = vdot(d, d);
+  const double t = length2 > 0.0 ? std::clamp(vdot(vsub(p, a), d) / length2, 0.0, 1.0) : 0.0;
+  return vlength(vsub(p, vadd(a, vscale(d, t))));
+}
+
+// A strut of conformal cells (a, b in the lattice's coordinates) as world segments whose chain
+// stays within `tolerance` of its curve: halved where the curve's middle is farther than that
+// from the chord, at most 5 times.
+void curveAsSegments(const std::function<Vec3(const Vec3&)>& toWorld, const Vec3& a, const Vec3& b,
+                     const Vec3& wa, const Vec3& wb, double tolerance, int depth,
+                     std::vector<StrutPiece>& out) {
+  const Vec3 m = vscale(vadd(a, b), 0.5), wm = toWorld(m);
+  if (depth > 0 && distanceToSegment(wm, wa, wb) > tolerance) {
+    curveAsSegments(toWorld, a, m, wa, wm, tolerance, depth - 1, out);
+    curveAsSegments(toWorld, m, b, wm, wb, tolerance, depth - 1, out);
+    return;
+  }
+  out.push_back({wa, wb});
+}
+
 BeamSource sourceOf(const NodePtr& root) {
   const std::string what =
       "a 3MF beam lattice needs a strut lattice: the model's root must be the intersection "
@@ -63,10 +155,8 @@ BeamSource sourceOf(const NodePtr& root) {
       const NodePtr& lattice = root->inputs[k];
       const std::string& id = lattice->type->id;
       if (id == "strut_lattice" && lattice->param("conform").text != "none")
-        throw ModelError(
-            "a 3MF beam lattice holds straight beams: this strut_lattice's cells follow a " +
-            lattice->param("conform").text + " (conform), so its struts curve; export it meshed");
-      if (id == "strut_lattice")
+        setConformal(s, *lattice);
+      else if (id == "strut_lattice")
         setCells(s, unitCell(lattice->param("cell_type").text), lattice->vec3("cell"),
                  lattice->vec3("origin"));
       else if (id == "voronoi_foam")
@@ -244,8 +334,20 @@ BeamExportResult exportBeamLattice(const NodePtr& root, const MeshingBox& box,
   // An infill's beams: the runs deeper in the part than half the skin (and than the radius),
   // so that a beam's end and its round cap lie in the skin.
   const double depth = std::max(0.5 * source.wall, 1.01 * source.radius);
+  // Conformal cells' struts curve: each is a chain of straight beams, within a tenth of the
+  // radius of its curve.
+  std::vector<StrutPiece> pieces;
+  const double curveTolerance =
+      source.radius > 0.0 ? 0.1 * source.radius : 0.01 * source.smallestCell;
+  for (const StrutPiece& c : source.strutsIn(reach)) {
+    if (source.toWorld)
+      curveAsSegments(source.toWorld, c.a, c.b, source.toWorld(c.a), source.toWorld(c.b),
+                      curveTolerance, 5, pieces);
+    else
+      pieces.push_back(c);
+  }
   std::vector<StrutPiece> struts;
-  for (const StrutPiece& s : source.strutsIn(reach)) {
+  for (const StrutPiece& s : pieces) {
     if (!source.skin) {
       struts.push_back(s);
       continue;
