@@ -230,19 +230,25 @@ void expectBeamsFollowTheCurvedStruts(const NodePtr& lattice, const NodePtr& par
   std::remove(path.c_str());
 }
 
+// A lattice of cells of (1, 1.2, 0.8) and struts of 0.08 following a cylinder or a sphere.
+NodePtr conformalLattice(const std::string& cell, const std::string& conform, const Vec3& origin,
+                         const Vec3& axis, int around) {
+  return makeNode("strut_lattice",
+                  {{"cell_type", textValue(cell)},
+                   {"cell", vec3Value({1, 1.2, 0.8})},
+                   {"radius", realValue(0.08)},
+                   {"origin", vec3Value(origin)},
+                   {"conform", textValue(conform)},
+                   {"axis", vec3Value(axis)},
+                   {"around", realValue(around)}},
+                  {});
+}
+
 TEST(StrutLattice, ConformalToACylinder) {
   const Vec3 axis = vscale(Vec3{1, 2, 2}, 1.0 / 3.0), origin{0.5, -1, 2};
   const int around = 10;
   auto conformal = [&](const std::string& cell) {
-    return makeNode("strut_lattice",
-                    {{"cell_type", textValue(cell)},
-                     {"cell", vec3Value({1, 1.2, 0.8})},
-                     {"radius", realValue(0.08)},
-                     {"origin", vec3Value(origin)},
-                     {"conform", textValue("cylinder")},
-                     {"axis", vec3Value(axis)},
-                     {"around", realValue(around)}},
-                    {});
+    return conformalLattice(cell, "cylinder", origin, axis, around);
   };
   // the node's frame round the axis (u, v across it; angles from u)
   const Frame frame = frameAlong(axis);
@@ -309,15 +315,7 @@ TEST(StrutLattice, ConformalToASphere) {
   const Vec3 axis = vscale(Vec3{2, -1, 2}, 1.0 / 3.0), origin{0.5, -1, 2};
   const int around = 16;
   auto conformal = [&](const std::string& cell) {
-    return makeNode("strut_lattice",
-                    {{"cell_type", textValue(cell)},
-                     {"cell", vec3Value({1, 1.2, 0.8})},
-                     {"radius", realValue(0.08)},
-                     {"origin", vec3Value(origin)},
-                     {"conform", textValue("sphere")},
-                     {"axis", vec3Value(axis)},
-                     {"around", realValue(around)}},
-                    {});
+    return conformalLattice(cell, "sphere", origin, axis, around);
   };
   // the node's frame round the polar axis (u, v across it; longitudes from u)
   const Frame frame = frameAlong(axis);
