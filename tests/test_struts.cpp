@@ -183,15 +183,18 @@ TEST(StrutLattice, SmoothJointsAreTheSmoothMinimumOfEveryStrut) {
 // Cells that follow a cylinder: a turn of the axis by one cell's angle leaves the lattice as it
 // was, the angle's cut is seamless, the nodes lie where the cylinder's coordinates put them, a
 // tube meshes printable, and a beam 3MF (straight beams) is refused naming why.
-// A conformal lattice's beam 3MF (`lattice` round the z axis, cut to `part`): read back by lib3mf
-// with the beam count written; every beam's ends on a strut's curved axis (the lattice's field
-// there its radius) and its middle within the chain's tolerance of it; and every point of a strut
-// deep in the part within `widest` (the struts' widest world radius, cells being wider away from
-// the axis) and the chain's tolerance of a beam.
-void expectBeamsFollowTheCurvedStruts(const NodePtr& lattice, const NodePtr& part, const Box3& box,
-                                      double radius, double widest, double farthestMiddle) {
+// A conformal lattice's beam 3MF (`model`: the struts' field `lattice` cut to `part`): read
+// back by lib3mf with the beam count written; every beam's ends on a strut's curved axis (the
+// lattice's field there its radius) and its middle within `farthestMiddle` of it in the field
+// (the chain keeps within a tenth of the radius of the curve in the world; the field's
+// coordinates stretch that); and every point of a strut deep in the part within `widest` (the
+// struts' widest world radius) and the chain's tolerance of a beam. Points within `nearAxis`
+// of the z axis are left out (round it cells meet in a line and narrow).
+void expectBeamsFollowTheCurvedStruts(const NodePtr& model, const NodePtr& lattice,
+                                      const NodePtr& part, const Box3& box, double radius,
+                                      double widest, double farthestMiddle, double nearAxis) {
   const std::string path = ::testing::TempDir() + "/conformal.3mf";
-  const NodePtr cut = makeNode("intersection", {}, {lattice, part});
+  const NodePtr& cut = model;
   const BeamExportResult r = exportBeamLattice(cut, {box, 0.05}, MeshSettings(), ThreeMfOptions(),
                                                "conformal", path, false);
   ASSERT_TRUE(r.written);
@@ -199,18 +202,20 @@ void expectBeamsFollowTheCurvedStruts(const NodePtr& lattice, const NodePtr& par
   EXPECT_EQ(back.beams, r.beams);
   EXPECT_GT(back.beams, 500u);
   const Program struts = compile(lattice), inside = compile(part);
-  // (on the z axis, where the cells meet in a line, the field sees only the cell of angle 0,
-  // and near it the cells are narrow round it: points within a cell of it are left out)
   auto field = [&](const Vec3& p) {
-    return std::hypot(p[0], p[1]) < 1.0 ? HUGE_VAL : struts.eval(p[0], p[1], p[2]);
+    return std::hypot(p[0], p[1]) < nearAxis ? HUGE_VAL : struts.eval(p[0], p[1], p[2]);
   };
   double lowestEnd = HUGE_VAL, lowestMiddle = HUGE_VAL;
   for (const auto& e : back.ends) {
     const Vec3 a{e[0][0], e[0][1], e[0][2]}, b{e[1][0], e[1][1], e[1][2]};
-    lowestEnd = std::min({lowestEnd, field(a), field(b)});
+    // (a thousandth of the beam in from its ends: a bent strut's piece ends on the bent
+    // lattice's boundary, where the field may take the point as outside it)
+    const Vec3 d = vsub(b, a);
+    lowestEnd =
+        std::min({lowestEnd, field(vadd(a, vscale(d, 1e-3))), field(vadd(a, vscale(d, 1 - 1e-3)))});
     lowestMiddle = std::min(lowestMiddle, field(vscale(vadd(a, b), 0.5)));
   }
-  EXPECT_GT(lowestEnd, radius - 1e-4);
+  EXPECT_GT(lowestEnd, radius - 1e-3);
   EXPECT_GT(lowestMiddle, radius - farthestMiddle);
   std::mt19937 rng(14);
   std::uniform_real_distribution<double> x(box.lo[0], box.hi[0]), y(box.lo[1], box.hi[1]),
@@ -307,7 +312,8 @@ TEST(StrutLattice, ConformalToACylinder) {
   EXPECT_TRUE(
       checkMesh(polygonize(compile(makeNode("intersection", {}, {round, ring})), o)).printable());
   const double scale = 12 / (2 * 3.14159265358979323846);
-  expectBeamsFollowTheCurvedStruts(round, ring, o.bbox, 0.08, 0.08 * 3 / scale, 0.1 * 0.08 * scale);
+  expectBeamsFollowTheCurvedStruts(makeNode("intersection", {}, {round, ring}), round, ring, o.bbox,
+                                   0.08, 0.08 * 3 / scale, 0.1 * 0.08 * scale, 1.0);
 }
 
 TEST(StrutLattice, ConformalToASphere) {
@@ -374,8 +380,8 @@ TEST(StrutLattice, ConformalToASphere) {
   EXPECT_TRUE(checkMesh(mesh).printable());
   // its beam 3MF follows the curved struts (a cell's sides are arcs at 16 / (2 pi) = 2.55)
   const double scale = 16 / (2 * pi);
-  expectBeamsFollowTheCurvedStruts(shell->inputs[0], shell->inputs[1], o.bbox, 0.08,
-                                   0.08 * 3 / scale, 0.1 * 0.08 * scale);
+  expectBeamsFollowTheCurvedStruts(shell, shell->inputs[0], shell->inputs[1], o.bbox, 0.08,
+                                   0.08 * 3 / scale, 0.1 * 0.08 * scale, 1.0);
 }
 
 // Each unit cell meshes printable at three resolutions, cut to a block of 2 x 2 x 2 cells, with
@@ -513,6 +519,16 @@ TEST(StrutLattice, ConformalThroughAnFfdBendAndGradedExportPrintable) {
   for (const Vec3f& v : bent.positions)
     if (std::abs(v[0]) > 1.9) top = std::max(top, double(v[2]));
   EXPECT_GT(top, 1.2);  // the ends bent up with their cells
+  // as a beam 3MF, the bent beam's struts chains of beams along their curves, whether the
+  // ffd bends the lattice cut to the part or the lattice alone, cut to a part
+  const NodePtr bentStruts =
+      makeNode("ffd", testing::ffdParams(bend), {lattice("octet", {0.5, 0.5, 0.5}, 0.05, 0.07)});
+  const NodePtr bentPart =
+      makeNode("ffd", testing::ffdParams(bend), {testing::box({-2, -0.5, -0.5}, {4, 1, 1})});
+  expectBeamsFollowTheCurvedStruts(conformal, bentStruts, bentPart, o.bbox, 0.05, 0.05 * 1.5, 0.02,
+                                   0.0);
+  expectBeamsFollowTheCurvedStruts(makeNode("intersection", {}, {bentStruts, bentPart}), bentStruts,
+                                   bentPart, o.bbox, 0.05, 0.05 * 1.5, 0.02, 0.0);
   const NodePtr radius = makeNode(
       "formula", {{"formula", textValue("0.03 + 0.015 * (x + 2)")}, {"parameters", textValue("")}},
       {});
@@ -520,6 +536,16 @@ TEST(StrutLattice, ConformalThroughAnFfdBendAndGradedExportPrintable) {
       makeNode("intersection", {},
                {lattice("octet", {0.5, 0.5, 0.5}, 0.05, 0.0, {0, 0, 0}, {radius}),
                 testing::box({-2, -0.5, -0.5}, {4, 1, 1})});
+  try {  // a graded lattice under an ffd: its radius's field would be read where struts were
+    exportBeamLattice(
+        makeNode("intersection", {},
+                 {makeNode("ffd", testing::ffdParams(bend), {graded->inputs[0]}), bentPart}),
+        {o.bbox, 0.05}, MeshSettings(), ThreeMfOptions(), "graded",
+        ::testing::TempDir() + "/graded.3mf", false);
+    FAIL() << "no error";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("constant radius"), std::string::npos) << e.what();
+  }
   o.bbox = {{-2.1, -0.6, -0.6}, {2.1, 0.6, 0.6}};
   const TriangleMesh g = polygonize(compile(graded), o);
   EXPECT_TRUE(checkMesh(g).printable());

@@ -21,7 +21,9 @@
 
 namespace frep {
 
+class FfdLattice;
 class FfdMap;
+struct Node;
 
 class FfdField final : public Field {
  public:
@@ -50,5 +52,8 @@ class FfdField final : public Field {
 // Where the deformed solid can be, given the box `input` the input's solid lies in: the image
 // of its part in the rest box, and its part outside (untouched).
 Box3 deformedBounds(const FfdMap& map, const Box3& input);
+
+// The lattice of an `ffd` node (its rest box, divisions and points; lattice/ffd_lattice.h).
+FfdLattice ffdLatticeOf(const Node& ffd);
 
 }  // namespace frep

@@ -24,16 +24,8 @@ std::size_t controlPointCount(const Node& n) {
   return std::size_t(divisionsOf(n, 0) + 1) * (divisionsOf(n, 1) + 1) * (divisionsOf(n, 2) + 1);
 }
 
-FfdLattice latticeOf(const Node& n) {
-  FfdLattice lattice({n.vec3("rest_min"), n.vec3("rest_max")}, divisionsOf(n, 0), divisionsOf(n, 1),
-                     divisionsOf(n, 2));
-  const std::vector<Vec3> points = pointsOf(n.param("points"));
-  if (!points.empty()) lattice.setPoints(points);
-  return lattice;
-}
-
 bool isUndeformed(const Node& n) {
-  return n.param("points").numbers.empty() || latticeOf(n).isUndeformed();
+  return n.param("points").numbers.empty() || ffdLatticeOf(n).isUndeformed();
 }
 
 // The map of the last lattice asked for: the bounds rule and the compiler both need it, and
@@ -51,7 +43,7 @@ std::shared_ptr<const FfdMap> mapOf(const Node& n) {
   }
   std::lock_guard<std::mutex> lock(mutex);
   if (!last || key != lastKey) {
-    last = std::make_shared<const FfdMap>(latticeOf(n));
+    last = std::make_shared<const FfdMap>(ffdLatticeOf(n));
     lastKey = std::move(key);
   }
   return last;
@@ -76,6 +68,14 @@ std::string checkFfd(const Node& n) {
 }
 
 }  // namespace
+
+FfdLattice ffdLatticeOf(const Node& n) {
+  FfdLattice lattice({n.vec3("rest_min"), n.vec3("rest_max")}, divisionsOf(n, 0), divisionsOf(n, 1),
+                     divisionsOf(n, 2));
+  const std::vector<Vec3> points = pointsOf(n.param("points"));
+  if (!points.empty()) lattice.setPoints(points);
+  return lattice;
+}
 
 void registerLattices(Registry& r) {
   std::vector<ParamTemplate> params;

@@ -8,6 +8,7 @@
 #include <map>
 
 #include "base/errors.h"
+#include "frep/ffd_field.h"
 #include "frep/field_sources.h"
 #include "frep/interval.h"
 #include "frep/node_helpers.h"
@@ -16,6 +17,7 @@
 #include "frep/strut_cells.h"
 #include "frep/strut_field.h"
 #include "io/three_mf_stream.h"
+#include "lattice/ffd_lattice.h"
 #include "pipeline/finished_mesh.h"
 
 namespace frep {
@@ -128,6 +130,39 @@ double distanceToSegment(const Vec3& p, const Vec3& a, const Vec3& b) {
   return vlength(vsub(p, vadd(a, vscale(d, t))));
 }
 
+// A strut lattice (or foam) bent by an ffd node: the struts `s` already gives in the rest
+// box, each cut to it and mapped by the lattice's deformation. Those outside are left out:
+// where the bent lattice covers them the field shows the bent struts instead, and a part the
+// beams serve lies in the bent lattice (docs/struts.md).
+void setBent(BeamSource& s, const Node& ffd) {
+  const auto bend = std::make_shared<const FfdLattice>(ffdLatticeOf(ffd));
+  const Box3 rest = bend->rest();
+  s.toWorld = [bend](const Vec3& q) { return bend->deform(q); };
+  s.strutsIn = [rest, unbent = s.strutsIn](const Box3&) {
+    std::vector<StrutPiece> pieces;
+    for (const StrutPiece& p : unbent(rest)) {
+      double t0 = 0.0, t1 = 1.0;  // the part of p in the rest box
+      const Vec3 d = vsub(p.b, p.a);
+      for (int a = 0; a < 3; ++a) {
+        if (d[a] == 0.0) {
+          if (p.a[a] < rest.lo[a] || p.a[a] > rest.hi[a]) t1 = -1.0;
+          continue;
+        }
+        const double u = (rest.lo[a] - p.a[a]) / d[a], w = (rest.hi[a] - p.a[a]) / d[a];
+        t0 = std::max(t0, std::min(u, w));
+        t1 = std::min(t1, std::max(u, w));
+      }
+      if (t1 > t0) pieces.push_back({vadd(p.a, vscale(d, t0)), vadd(p.a, vscale(d, t1))});
+    }
+    return pieces;
+  };
+}
+
+const char* const kBentNeedsPlainStruts =
+    "a 3MF beam lattice of struts bent by an ffd takes a strut_lattice with conform = none, or "
+    "a voronoi_foam, of a constant radius (the radius's field would be read where the struts "
+    "were); export this one meshed";
+
 // A strut of conformal cells (a, b in the lattice's coordinates) as world segments whose chain
 // stays within `tolerance` of its curve: halved where the curve's middle is farther than that
 // from the chord, at most 5 times.
@@ -146,14 +181,23 @@ void curveAsSegments(const std::function<Vec3(const Vec3&)>& toWorld, const Vec3
 BeamSource sourceOf(const NodePtr& root) {
   const std::string what =
       "a 3MF beam lattice needs a strut lattice: the model's root must be the intersection "
-      "of a strut_lattice or voronoi_foam and a part, or an infill whose lattice is a strut "
-      "lattice (CELL_struts or voronoi_struts)";
+      "of a strut_lattice or voronoi_foam and a part (the strut_lattice may be bent by an "
+      "ffd), or an infill whose lattice is a strut lattice (CELL_struts or voronoi_struts)";
   BeamSource s;
   const std::string& type = root->type->id;
   if (type == "intersection" && root->inputs.size() == 2) {
     for (int k = 0; k < 2; ++k) {
-      const NodePtr& lattice = root->inputs[k];
+      NodePtr lattice = root->inputs[k];
+      NodePtr bent;  // an ffd node bending the lattice, or null
+      if (lattice->type->id == "ffd" && lattice->inputs.size() == 1) {
+        bent = lattice;
+        lattice = lattice->inputs[0];
+      }
       const std::string& id = lattice->type->id;
+      if (bent && (id == "strut_lattice" || id == "voronoi_foam") &&
+          ((id == "strut_lattice" && lattice->param("conform").text != "none") ||
+           !lattice->inputs.empty()))
+        throw ModelError(kBentNeedsPlainStruts);
       if (id == "strut_lattice" && lattice->param("conform").text != "none")
         setConformal(s, *lattice);
       else if (id == "strut_lattice")
@@ -163,12 +207,21 @@ BeamSource sourceOf(const NodePtr& root) {
         setFoam(s, *lattice);
       else
         continue;
+      if (bent) setBent(s, *bent);
       s.radius = lattice->real("radius");
       s.nodeRadius = lattice->real("node_radius");
       if (!lattice->inputs.empty()) s.grading = lattice->inputs[0];
       s.part = root->inputs[1 - k];
       return s;
     }
+  } else if (type == "ffd" && root->inputs.size() == 1 &&
+             root->inputs[0]->type->id == "intersection") {
+    // the lattice cut to a part, both bent: the bent part clips the bent struts
+    BeamSource s = sourceOf(root->inputs[0]);
+    if (s.toWorld || s.grading) throw ModelError(kBentNeedsPlainStruts);
+    setBent(s, *root);
+    s.part = makeNode("ffd", root->params, {s.part});
+    return s;
   } else if (type == "infill") {
     const std::string& lattice = root->param("lattice").text;
     const std::size_t n = lattice.size(), m = std::string(kStrutsSuffix).size();
