@@ -192,7 +192,7 @@ struct DoubleSlots {
 
 struct DualSlots {
   using Value = Dual;
-  static constexpr std::size_t kStride = Program::kBatchSize;  // between a slot's arrays
+  static constexpr std::size_t kStride = Program::kDualBatchSize;  // between a slot's arrays
   static constexpr std::size_t kWidth = 4 * kStride;
   static Dual load(const double* p, std::size_t j) {
     return Dual(p[j], p[kStride + j], p[2 * kStride + j], p[3 * kStride + j]);
@@ -243,7 +243,7 @@ struct DualSlots {
 // per point, which kept the compiler from vectorising those kernels (gradients of a strut
 // lattice, all mins and clamps, ran at a tenth of its values' rate).
 struct DualPicks {
-  static constexpr std::size_t S = Program::kBatchSize;
+  static constexpr std::size_t S = Program::kDualBatchSize;
   using Mask = std::int64_t;  // (as wide as a double: the picks vectorise)
   // o = take ? b : sign * a, the first component deciding; o may be a or b.
   static void pick(const Mask* take, const double* a, const double* b, double sign, std::size_t n,
@@ -273,6 +273,20 @@ struct DualPicks {
     for (std::size_t j = 0; j < n; ++j) take[j] = a[j] >= 0.0;
     pick(take, c, b, 1.0, n, o);
   }
+  // sqrt(A): the value and the slope (0.5 / value where it is > 0, else 0) as Dual's sqrt,
+  // the quotient taken for every point and then chosen (inside the choice the compiler kept
+  // the division there, one point at a time); o may be a.
+  static void sqrt(const double* a, std::size_t n, double* o) {
+    alignas(32) double value[S], slope[S];
+    for (std::size_t j = 0; j < n; ++j) {
+      value[j] = std::sqrt(a[j]);
+      slope[j] = 0.5 / value[j];
+    }
+    for (std::size_t j = 0; j < n; ++j) slope[j] = value[j] > 0.0 ? slope[j] : 0.0;
+    for (int k = 1; k < 4; ++k)
+      for (std::size_t j = 0; j < n; ++j) o[k * S + j] = a[k * S + j] * slope[j];
+    for (std::size_t j = 0; j < n; ++j) o[j] = value[j];
+  }
   static void floor(const double* a, std::size_t n, double* o) {
     for (std::size_t j = 0; j < n; ++j) o[j] = std::floor(a[j]);
     for (int k = 1; k < 4; ++k)
@@ -292,7 +306,6 @@ __attribute__((always_inline)) inline void runPlan(const Step* plan, std::size_t
   using V = typename Slots::Value;
   constexpr std::size_t W = Slots::kWidth;
   constexpr bool kDuals = std::is_same_v<Slots, DualSlots>;
-  alignas(32) double scratch[kDuals ? DualSlots::kWidth : 1];
   for (std::size_t s = 0; s < steps; ++s) {
     const Step& in = plan[s];
     double* o = slots + in.out * W;
@@ -300,22 +313,24 @@ __attribute__((always_inline)) inline void runPlan(const Step* plan, std::size_t
     const double* b = slots + in.b * W;
     const double* c = slots + in.c * W;
     const double* k = kbase + in.k;
-// (Duals are written to a scratch first and copied: with the output apart from the inputs,
-// the compiler vectorises the kernel; written in place it had to check twelve arrays against
-// four for overlap and ran one point at a time.)
-#define FREP_KERNEL(expr)                                                                 \
-  {                                                                                       \
-    double* const out = kDuals ? scratch : o;                                             \
-    for (std::size_t j = 0; j < n; ++j) {                                                 \
-      [[maybe_unused]] const V A = Slots::load(a, j), B = Slots::load(b, j),              \
-                               C = Slots::load(c, j);                                     \
-      Slots::store(out, j, (expr));                                                       \
-    }                                                                                     \
-    if (kDuals)                                                                           \
-      for (int q = 0; q < 4; ++q)                                                         \
-        std::copy(scratch + q * DualSlots::kStride, scratch + q * DualSlots::kStride + n, \
-                  o + q * DualSlots::kStride);                                            \
-  }                                                                                       \
+// (The plan never gives an instruction an output slot that is one of its inputs: for duals,
+// ivdep tells the compiler so, and it vectorises their kernels instead of checking twelve
+// arrays against four for overlap and running one point at a time. The kernels on doubles
+// are faster left as the compiler makes them.)
+#define FREP_KERNEL_LOOP(expr)                                               \
+  for (std::size_t j = 0; j < n; ++j) {                                      \
+    [[maybe_unused]] const V A = Slots::load(a, j), B = Slots::load(b, j),   \
+                             C = Slots::load(c, j);                          \
+    Slots::store(o, j, (expr));                                              \
+  }
+#define FREP_KERNEL(expr)                                                    \
+  {                                                                          \
+    if constexpr (kDuals) {                                                  \
+      _Pragma("GCC ivdep") FREP_KERNEL_LOOP(expr)                            \
+    } else {                                                                 \
+      FREP_KERNEL_LOOP(expr)                                                 \
+    }                                                                        \
+  }                                                                          \
   break
     switch (in.op) {
       case Op::Const:
@@ -333,6 +348,10 @@ __attribute__((always_inline)) inline void runPlan(const Step* plan, std::size_t
       case Op::Sqr:
         FREP_KERNEL(sqr(A));
       case Op::Sqrt:
+        if constexpr (kDuals) {
+          DualPicks::sqrt(a, n, o);
+          break;
+        }
         FREP_KERNEL(sqrt(A));
       case Op::Abs:
         if constexpr (kDuals) {
@@ -407,6 +426,7 @@ __attribute__((always_inline)) inline void runPlan(const Step* plan, std::size_t
         break;
     }
 #undef FREP_KERNEL
+#undef FREP_KERNEL_LOOP
   }
 }
 
@@ -449,7 +469,7 @@ void Program::evalChunk(const double* x, const double* y, const double* z, std::
 
 void Program::evalDualChunk(const Dual* x, const Dual* y, const Dual* z, std::size_t n, Dual* out,
                             double* slots) const {
-  constexpr std::size_t W = 4 * kBatchSize;
+  constexpr std::size_t W = 4 * kDualBatchSize;
   for (std::size_t j = 0; j < n; ++j) {
     DualSlots::store(slots + kSlotX * W, j, x[j]);
     DualSlots::store(slots + kSlotY * W, j, y[j]);
@@ -471,9 +491,9 @@ void Program::evalBatch(const double* x, const double* y, const double* z, std::
 
 void Program::evalGradientBatch(const Dual* x, const Dual* y, const Dual* z, std::size_t n,
                                 Dual* out) const {
-  Scratch<double> slots(planSlots_ * 4 * kBatchSize);
-  for (std::size_t start = 0; start < n; start += kBatchSize) {
-    const std::size_t m = std::min(kBatchSize, n - start);
+  Scratch<double> slots(planSlots_ * 4 * kDualBatchSize);
+  for (std::size_t start = 0; start < n; start += kDualBatchSize) {
+    const std::size_t m = std::min(kDualBatchSize, n - start);
     evalDualChunk(x + start, y + start, z + start, m, out + start, slots.data());
   }
 }

@@ -33,6 +33,9 @@ class Program final : public Field {
  public:
   // Number of points a batch call evaluates at once internally.
   static constexpr std::size_t kBatchSize = 256;
+  // The same for gradients: four arrays a slot, so fewer points keep a program's slots in the
+  // first-level cache (docs/struts.md, "Measured").
+  static constexpr std::size_t kDualBatchSize = 64;
 
   Program() = default;
   Program(std::vector<Instruction> code, std::vector<double> constants, Slot result,
