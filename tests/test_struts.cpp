@@ -194,8 +194,7 @@ void expectBeamsFollowTheCurvedStruts(const NodePtr& model, const NodePtr& latti
                                       const NodePtr& part, const Box3& box, double radius,
                                       double widest, double farthestMiddle, double nearAxis) {
   const std::string path = ::testing::TempDir() + "/conformal.3mf";
-  const NodePtr& cut = model;
-  const BeamExportResult r = exportBeamLattice(cut, {box, 0.05}, MeshSettings(), ThreeMfOptions(),
+  const BeamExportResult r = exportBeamLattice(model, {box, 0.05}, MeshSettings(), ThreeMfOptions(),
                                                "conformal", path, false);
   ASSERT_TRUE(r.written);
   const ThreeMfBeams back = read3mfBeams(path);

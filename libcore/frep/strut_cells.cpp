@@ -130,10 +130,10 @@ UnitCell diamond() {
   return c;
 }
 
-// The part of [a, b] in the closed box [lo, hi] and the half-spaces n . p >= 0 (Liang and
-// Barsky); false where none.
+}  // namespace
+
 bool clip(const Vec3& a, const Vec3& b, const Vec3& lo, const Vec3& hi, StrutPiece* piece,
-          const std::vector<Vec3>& halfSpaces = {}) {
+          const std::vector<Vec3>& halfSpaces) {
   double t0 = 0.0, t1 = 1.0;
   const Vec3 d = vsub(b, a);
   for (const Vec3& n : halfSpaces) {  // n . (a + t d) >= 0
@@ -172,6 +172,8 @@ double distanceToSegment(const Vec3& p, const Vec3& a, const Vec3& b) {
   const double t = l2 > 0.0 ? std::clamp(vdot(d, e) / l2, 0.0, 1.0) : 0.0;
   return vlength(vsub(d, vscale(e, t)));
 }
+
+namespace {
 
 bool samePoint(const Vec3& p, const Vec3& q, double tolerance) {
   return std::abs(p[0] - q[0]) <= tolerance && std::abs(p[1] - q[1]) <= tolerance &&

@@ -66,6 +66,15 @@ FoldedCell foldedCell(const UnitCell& cell, const Vec3& size, double blend = 0.0
 std::vector<StrutPiece> strutsInBox(const UnitCell& cell, const Vec3& size, const Vec3& origin,
                                     const Box3& box);
 
+// The part of [a, b] in the closed box [lo, hi] (bounds may be infinite) and the half-spaces
+// n . p >= 0 (Liang and Barsky), its ends a and b themselves where they are in; false where
+// none.
+bool clip(const Vec3& a, const Vec3& b, const Vec3& lo, const Vec3& hi, StrutPiece* piece,
+          const std::vector<Vec3>& halfSpaces = {});
+
+// The distance from p to the segment [a, b].
+double distanceToSegment(const Vec3& p, const Vec3& a, const Vec3& b);
+
 // The largest distance from a point to the nearest strut of the unit cell's network (cell
 // size 1), from a fine sample and a margin for what the sample misses: how far round the cell
 // a translation-folded point must look.

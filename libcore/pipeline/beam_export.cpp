@@ -99,35 +99,18 @@ void setConformal(BeamSource& s, const Node& lattice) {
     const Box3 coordinates{{0.0, -halfTurn, sphere ? 0.0 : lowest},
                            {farthest, halfTurn, sphere ? pole : highest}};
     std::vector<StrutPiece> kept;
-    for (StrutPiece p : strutsInBox(cell, size, {0, 0, 0}, coordinates)) {
+    for (const StrutPiece& p : strutsInBox(cell, size, {0, 0, 0}, coordinates)) {
       const double middle = 0.5 * (p.a[1] + p.b[1]);
       if (middle < -halfTurn || middle >= halfTurn) continue;  // its copy a turn away is kept
-      if (sphere) {  // the part between the poles (the field's latitude is in [0, pole])
-        double t0 = 0.0, t1 = 1.0;
-        const double za = p.a[2], dz = p.b[2] - p.a[2];
-        for (const double limit : {0.0, pole}) {
-          if (dz == 0.0) continue;
-          const double t = (limit - za) / dz;
-          if ((dz > 0.0) == (limit == 0.0))
-            t0 = std::max(t0, t);
-          else
-            t1 = std::min(t1, t);
-        }
-        if ((dz == 0.0 && (za < 0.0 || za > pole)) || t1 <= t0) continue;
-        const Vec3 a = p.a, d = vsub(p.b, p.a);
-        p = {vadd(a, vscale(d, t0)), vadd(a, vscale(d, t1))};
-      }
-      kept.push_back(p);
+      // on a sphere, the part between the poles (the field's latitude is in [0, pole])
+      StrutPiece piece = p;
+      if (sphere &&
+          !clip(p.a, p.b, {-HUGE_VAL, -HUGE_VAL, 0.0}, {HUGE_VAL, HUGE_VAL, pole}, &piece))
+        continue;
+      kept.push_back(piece);
     }
     return kept;
   };
-}
-
-double distanceToSegment(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 d = vsub(b, a);
-  const double length2 = vdot(d, d);
-  const double t = length2 > 0.0 ? std::clamp(vdot(vsub(p, a), d) / length2, 0.0, 1.0) : 0.0;
-  return vlength(vsub(p, vadd(a, vscale(d, t))));
 }
 
 // A strut lattice (or foam) bent by an ffd node: the struts `s` already gives in the rest
@@ -140,20 +123,9 @@ void setBent(BeamSource& s, const Node& ffd) {
   s.toWorld = [bend](const Vec3& q) { return bend->deform(q); };
   s.strutsIn = [rest, unbent = s.strutsIn](const Box3&) {
     std::vector<StrutPiece> pieces;
-    for (const StrutPiece& p : unbent(rest)) {
-      double t0 = 0.0, t1 = 1.0;  // the part of p in the rest box
-      const Vec3 d = vsub(p.b, p.a);
-      for (int a = 0; a < 3; ++a) {
-        if (d[a] == 0.0) {
-          if (p.a[a] < rest.lo[a] || p.a[a] > rest.hi[a]) t1 = -1.0;
-          continue;
-        }
-        const double u = (rest.lo[a] - p.a[a]) / d[a], w = (rest.hi[a] - p.a[a]) / d[a];
-        t0 = std::max(t0, std::min(u, w));
-        t1 = std::min(t1, std::max(u, w));
-      }
-      if (t1 > t0) pieces.push_back({vadd(p.a, vscale(d, t0)), vadd(p.a, vscale(d, t1))});
-    }
+    StrutPiece piece;
+    for (const StrutPiece& p : unbent(rest))
+      if (clip(p.a, p.b, rest.lo, rest.hi, &piece)) pieces.push_back(piece);
     return pieces;
   };
 }
