@@ -381,7 +381,8 @@ TEST(IntervalSoundness, EveryInstructionOnExtremeOperands) {
     const Op o = static_cast<Op>(op);
     if (o == Op::External) continue;
     for (int trial = 0; trial < 400; ++trial) {
-      double k[4] = {r.uniform(-2, 2), r.uniform(-2, 2), r.uniform(-2, 2), r.uniform(-2, 2)};
+      double k[7];
+      for (double& kj : k) kj = r.uniform(-2, 2);
       if (o == Op::RUnion || o == Op::RIntersect) k[0] = r.uniform(-0.99, 1.0);
       if (o == Op::BlendBump) k[1] = r.uniform(0.01, 2), k[2] = r.uniform(0.01, 2);
       if (o == Op::PowAbs) k[0] = r.uniform(0.05, 30);

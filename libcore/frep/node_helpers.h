@@ -106,4 +106,13 @@ inline Slot segmentDistance(ProgramBuilder& b, const Point3Slots& p, const Vec3&
   return b.length3(ox, oy, oz);
 }
 
+// The squared distance from p to the segment from a along e (to the point a where e is
+// zero): one instruction.
+inline Slot segmentDistanceSquared(ProgramBuilder& b, const Point3Slots& p, const Vec3& a,
+                                   const Vec3& e) {
+  const double l2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+  return b.emit(Op::SegmentSq, p.x, p.y, p.z,
+                {a[0], a[1], a[2], e[0], e[1], e[2], l2 > 0.0 ? 1.0 / l2 : 0.0});
+}
+
 }  // namespace frep

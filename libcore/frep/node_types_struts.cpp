@@ -162,14 +162,19 @@ Slot strutLatticeField(ProgramBuilder& b, const Point3Slots& p, const UnitCell& 
                    fold(b, p.y, size[1], origin[1], centred, mirror),
                    fold(b, p.z, size[2], origin[2], centred, mirror)};
   if (folded.fold == Fold::Tetrahedral) q = foldTetrahedral(b, q);
+  // Without a blend, the nearest strut's distance is the square root of the least squared
+  // distance (the same bits as the least of the roots: sqrt is monotone and correctly
+  // rounded), one root a point instead of one a strut.
   Slot nearest = 0;
   std::vector<Slot> distances;
   for (std::size_t i = 0; i < folded.pieces.size(); ++i) {
     const StrutPiece& s = folded.pieces[i];
-    const Slot d = segmentDistance(b, q, s.a, vsub(s.b, s.a));
+    Slot d = segmentDistanceSquared(b, q, s.a, vsub(s.b, s.a));
+    if (blend > 0.0) d = b.sqrt(d);
     nearest = i == 0 ? d : b.min(nearest, d);
     distances.push_back(d);
   }
+  if (blend == 0.0) nearest = b.sqrt(nearest);
   if (blend > 0.0) {
     // The smooth minimum of every strut's distance (PeriodicSegmentsField has the formula):
     // symmetric in the struts, so the same on both sides of a cell's face whatever order the
@@ -188,10 +193,10 @@ Slot strutLatticeField(ProgramBuilder& b, const Point3Slots& p, const UnitCell& 
   if (nodeRadius > 0.0 && !folded.nodes.empty()) {
     Slot node = 0;
     for (std::size_t i = 0; i < folded.nodes.size(); ++i) {
-      const Slot d = segmentDistance(b, q, folded.nodes[i], {0, 0, 0});
+      const Slot d = segmentDistanceSquared(b, q, folded.nodes[i], {0, 0, 0});
       node = i == 0 ? d : b.min(node, d);
     }
-    field = b.max(field, b.sub(b.constant(nodeRadius), node));
+    field = b.max(field, b.sub(b.constant(nodeRadius), b.sqrt(node)));
   }
   return field;
 }

@@ -25,7 +25,8 @@ constexpr OpInfo kOpInfo[] = {
     {"runion", 2, 1, true},    {"rintersect", 2, 1, true}, {"blendbump", 2, 3, false},
     {"atan2", 2, 0, false},    {"powabs", 1, 1, false},    {"floor", 1, 0, false},
     {"tan", 1, 0, false},      {"atan", 1, 0, false},      {"log", 1, 0, false},
-    {"powconst", 1, 1, false}, {"select", 3, 0, false},    {"external", 3, 1, false},
+    {"powconst", 1, 1, false}, {"select", 3, 0, false},    {"segsq", 3, 7, false},
+    {"external", 3, 1, false},
 };
 static_assert(sizeof(kOpInfo) / sizeof(kOpInfo[0]) == static_cast<int>(Op::Count_),
               "every op needs an entry");
@@ -238,6 +239,26 @@ struct DualSlots {
   }
 };
 
+// segmentSq's value (and r, when asked) at n <= S points, the same bits as the point function:
+// first t at every point, then the rest (in one loop the compiler does not vectorise the
+// clamp). The constants are copied: it cannot tell that o is not them, and would read them
+// again at every point.
+template <std::size_t S, bool kWithR>
+void segmentSqMany(const double* x, const double* y, const double* z, const double* k,
+                   std::size_t n, double* o, double (*r)[S]) {
+  double kk[7];
+  std::copy(k, k + 7, kk);
+  alignas(32) double t[S];
+  for (std::size_t j = 0; j < n; ++j)
+    t[j] = segmentAlong(x[j] - kk[0], y[j] - kk[1], z[j] - kk[2], kk);
+  for (std::size_t j = 0; j < n; ++j) {
+    const double rx = (x[j] - kk[0]) - t[j] * kk[3], ry = (y[j] - kk[1]) - t[j] * kk[4],
+                 rz = (z[j] - kk[2]) - t[j] * kk[5];
+    o[j] = sqr(rx) + sqr(ry) + sqr(rz);
+    if constexpr (kWithR) r[0][j] = rx, r[1][j] = ry, r[2][j] = rz;
+  }
+}
+
 // The choices of min, max, abs, select and floor on duals, component array by component
 // array: the same picks as Dual's own functions (so the same bits), without copying a Dual
 // per point, which kept the compiler from vectorising those kernels (gradients of a strut
@@ -286,6 +307,18 @@ struct DualPicks {
     for (int k = 1; k < 4; ++k)
       for (std::size_t j = 0; j < n; ++j) o[k * S + j] = a[k * S + j] * slope[j];
     for (std::size_t j = 0; j < n; ++j) o[j] = value[j];
+  }
+  // segmentSq(A, B, C): the value and r at every point, then each derivative as
+  // segmentSqSlope; o is none of a, b, c.
+  static void segmentSq(const double* a, const double* b, const double* c, const double* k,
+                        std::size_t n, double* o) {
+    alignas(32) double r[3][S];
+    segmentSqMany<S, true>(a, b, c, k, n, o, r);
+    for (int d = 1; d < 4; ++d)
+      for (std::size_t j = 0; j < n; ++j) {
+        const double rj[3] = {r[0][j], r[1][j], r[2][j]};
+        o[d * S + j] = segmentSqSlope(rj, a[d * S + j], b[d * S + j], c[d * S + j]);
+      }
   }
   static void floor(const double* a, std::size_t n, double* o) {
     for (std::size_t j = 0; j < n; ++j) o[j] = std::floor(a[j]);
@@ -419,6 +452,12 @@ __attribute__((always_inline)) inline void runPlan(const Step* plan, std::size_t
           break;
         }
         FREP_KERNEL(select(A, B, C));
+      case Op::SegmentSq:
+        if constexpr (kDuals)
+          DualPicks::segmentSq(a, b, c, k, n, o);
+        else
+          segmentSqMany<Program::kBatchSize, false>(a, b, c, k, n, o, nullptr);
+        break;
       case Op::External:
         Slots::external(*externals[static_cast<std::size_t>(k[0])], a, b, c, n, o);
         break;

@@ -406,8 +406,10 @@ ThreeMfBeams read3mfBeams(const std::string& file) {
                                      " of " + std::to_string(nv));
         return Vec3f{v[i].m_fPosition[0], v[i].m_fPosition[1], v[i].m_fPosition[2]};
       };
-      for (const MODELMESHBEAM& beam : beams)
+      for (const MODELMESHBEAM& beam : beams) {
         b.ends.push_back({at(beam.m_nIndices[0]), at(beam.m_nIndices[1])});
+        b.radii.push_back({beam.m_dRadius[0], beam.m_dRadius[1]});
+      }
     }
     eModelBeamLatticeClipMode mode = MODELBEAMLATTICECLIPMODE_NONE;
     DWORD id = 0;

@@ -81,7 +81,8 @@ constexpr std::size_t kMax3mfPlacements = 1000000;
 // and how many of those objects clip their beams by another object's mesh. Throws FileError.
 struct ThreeMfBeams {
   std::size_t beams = 0, clipped = 0;
-  std::vector<std::array<Vec3f, 2>> ends;  // every beam's two vertices, in the object's frame
+  std::vector<std::array<Vec3f, 2>> ends;    // every beam's two vertices, in the object's frame
+  std::vector<std::array<double, 2>> radii;  // and its radius at each
 };
 ThreeMfBeams read3mfBeams(const std::string& path);
 

@@ -34,6 +34,9 @@ struct BeamSource {
   // those to the world (each strut then curves and is written as a chain of straight beams);
   // null: the struts are straight and in world coordinates.
   std::function<Vec3(const Vec3&)> toWorld;
+  // Bent by an ffd: the lattice's own space is the rest box, where its radius's field is read
+  // (at the struts' ends before toWorld); otherwise at their ends in the world.
+  bool bent = false;
   double smallestCell = 1.0;
   double radius = 0.0;
   NodePtr grading;    // the radius's field, or null
@@ -121,6 +124,7 @@ void setBent(BeamSource& s, const Node& ffd) {
   const auto bend = std::make_shared<const FfdLattice>(ffdLatticeOf(ffd));
   const Box3 rest = bend->rest();
   s.toWorld = [bend](const Vec3& q) { return bend->deform(q); };
+  s.bent = true;
   s.strutsIn = [rest, unbent = s.strutsIn](const Box3&) {
     std::vector<StrutPiece> pieces;
     StrutPiece piece;
@@ -132,22 +136,28 @@ void setBent(BeamSource& s, const Node& ffd) {
 
 const char* const kBentNeedsPlainStruts =
     "a 3MF beam lattice of struts bent by an ffd takes a strut_lattice with conform = none, or "
-    "a voronoi_foam, of a constant radius (the radius's field would be read where the struts "
-    "were); export this one meshed";
+    "a voronoi_foam (cells already conformal to a cylinder or sphere and then bent are not "
+    "written as beams); export this one meshed";
+
+// A beam: its ends in the world, and where the radius's field is read for each.
+struct Beam {
+  StrutPiece world, radiusAt;
+};
 
 // A strut of conformal cells (a, b in the lattice's coordinates) as world segments whose chain
 // stays within `tolerance` of its curve: halved where the curve's middle is farther than that
-// from the chord, at most 5 times.
+// from the chord, at most 5 times. Each piece's ends in the lattice's coordinates go with it
+// (a bent lattice's radius is read there).
 void curveAsSegments(const std::function<Vec3(const Vec3&)>& toWorld, const Vec3& a, const Vec3& b,
                      const Vec3& wa, const Vec3& wb, double tolerance, int depth,
-                     std::vector<StrutPiece>& out) {
+                     std::vector<Beam>& out) {
   const Vec3 m = vscale(vadd(a, b), 0.5), wm = toWorld(m);
   if (depth > 0 && distanceToSegment(wm, wa, wb) > tolerance) {
     curveAsSegments(toWorld, a, m, wa, wm, tolerance, depth - 1, out);
     curveAsSegments(toWorld, m, b, wm, wb, tolerance, depth - 1, out);
     return;
   }
-  out.push_back({wa, wb});
+  out.push_back({{wa, wb}, {a, b}});
 }
 
 BeamSource sourceOf(const NodePtr& root) {
@@ -166,9 +176,7 @@ BeamSource sourceOf(const NodePtr& root) {
         lattice = lattice->inputs[0];
       }
       const std::string& id = lattice->type->id;
-      if (bent && (id == "strut_lattice" || id == "voronoi_foam") &&
-          ((id == "strut_lattice" && lattice->param("conform").text != "none") ||
-           !lattice->inputs.empty()))
+      if (bent && id == "strut_lattice" && lattice->param("conform").text != "none")
         throw ModelError(kBentNeedsPlainStruts);
       if (id == "strut_lattice" && lattice->param("conform").text != "none")
         setConformal(s, *lattice);
@@ -190,7 +198,7 @@ BeamSource sourceOf(const NodePtr& root) {
              root->inputs[0]->type->id == "intersection") {
     // the lattice cut to a part, both bent: the bent part clips the bent struts
     BeamSource s = sourceOf(root->inputs[0]);
-    if (s.toWorld || s.grading) throw ModelError(kBentNeedsPlainStruts);
+    if (s.toWorld) throw ModelError(kBentNeedsPlainStruts);
     setBent(s, *root);
     s.part = makeNode("ffd", root->params, {s.part});
     return s;
@@ -361,7 +369,7 @@ BeamExportResult exportBeamLattice(const NodePtr& root, const MeshingBox& box,
   const double depth = std::max(0.5 * source.wall, 1.01 * source.radius);
   // Conformal cells' struts curve: each is a chain of straight beams, within a tenth of the
   // radius of its curve.
-  std::vector<StrutPiece> pieces;
+  std::vector<Beam> pieces;
   const double curveTolerance =
       source.radius > 0.0 ? 0.1 * source.radius : 0.01 * source.smallestCell;
   for (const StrutPiece& c : source.strutsIn(reach)) {
@@ -369,23 +377,28 @@ BeamExportResult exportBeamLattice(const NodePtr& root, const MeshingBox& box,
       curveAsSegments(source.toWorld, c.a, c.b, source.toWorld(c.a), source.toWorld(c.b),
                       curveTolerance, 5, pieces);
     else
-      pieces.push_back(c);
+      pieces.push_back({c, c});
   }
-  std::vector<StrutPiece> struts;
-  for (const StrutPiece& s : pieces) {
+  std::vector<Beam> struts;
+  for (Beam b : pieces) {
+    if (!source.bent) b.radiusAt = b.world;
     if (!source.skin) {
-      struts.push_back(s);
+      struts.push_back(b);
       continue;
     }
+    // (an infill's struts: straight, in the world, of one radius)
+    const StrutPiece& s = b.world;
     if (!mayReach(part, s.a, s.b, 0.0, 4)) continue;
     for (const StrutPiece& run : insideRuns(part, depth, s.a, s.b, 0.25 * source.wall))
-      struts.push_back(run);
+      struts.push_back({run, run});
   }
-  for (const StrutPiece& s : struts) {
+  for (const Beam& b : struts) {
+    const StrutPiece& s = b.world;
     double r1 = 0.0, r2 = 0.0;
     if (source.grading) {
-      r1 = grading.eval(s.a[0], s.a[1], s.a[2]);
-      r2 = grading.eval(s.b[0], s.b[1], s.b[2]);
+      const StrutPiece& at = b.radiusAt;
+      r1 = grading.eval(at.a[0], at.a[1], at.a[2]);
+      r2 = grading.eval(at.b[0], at.b[1], at.b[2]);
       if (!(r1 > 0.0) && !(r2 > 0.0)) continue;  // no strut there
       r1 = std::max(r1, minLength);
       r2 = std::max(r2, minLength);
