@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <random>
 #include <set>
 
@@ -185,14 +186,17 @@ TEST(StrutLattice, SmoothJointsAreTheSmoothMinimumOfEveryStrut) {
 // tube meshes printable, and a beam 3MF (straight beams) is refused naming why.
 // A conformal lattice's beam 3MF (`model`: the struts' field `lattice` cut to `part`): read
 // back by lib3mf with the beam count written; every beam's ends on a strut's curved axis (the
-// lattice's field there its radius) and its middle within `farthestMiddle` of it in the field
+// lattice's field there its radius, within `farthestEnd`: more where a chain is chained again)
+// and its middle within `farthestMiddle` of it in the field
 // (the chain keeps within a tenth of the radius of the curve in the world; the field's
 // coordinates stretch that); and every point of a strut deep in the part within `widest` (the
-// struts' widest world radius) and the chain's tolerance of a beam. Points within `nearAxis`
-// of the z axis are left out (round it cells meet in a line and narrow).
+// struts' widest world radius) and the chain's tolerance of a beam. Points `nearAxis` gives
+// are left out (round a cylinder's axis cells meet in a line and narrow).
 void expectBeamsFollowTheCurvedStruts(const NodePtr& model, const NodePtr& lattice,
                                       const NodePtr& part, const Box3& box, double radius,
-                                      double widest, double farthestMiddle, double nearAxis) {
+                                      double widest, double farthestMiddle,
+                                      const std::function<bool(const Vec3&)>& nearAxis,
+                                      double farthestEnd = 1e-3) {
   const std::string path = ::testing::TempDir() + "/conformal.3mf";
   const BeamExportResult r = exportBeamLattice(model, {box, 0.05}, MeshSettings(), ThreeMfOptions(),
                                                "conformal", path, false);
@@ -202,7 +206,7 @@ void expectBeamsFollowTheCurvedStruts(const NodePtr& model, const NodePtr& latti
   EXPECT_GT(back.beams, 500u);
   const Program struts = compile(lattice), inside = compile(part);
   auto field = [&](const Vec3& p) {
-    return std::hypot(p[0], p[1]) < nearAxis ? HUGE_VAL : struts.eval(p[0], p[1], p[2]);
+    return nearAxis(p) ? HUGE_VAL : struts.eval(p[0], p[1], p[2]);
   };
   double lowestEnd = HUGE_VAL, lowestMiddle = HUGE_VAL;
   for (const auto& e : back.ends) {
@@ -214,7 +218,7 @@ void expectBeamsFollowTheCurvedStruts(const NodePtr& model, const NodePtr& latti
         std::min({lowestEnd, field(vadd(a, vscale(d, 1e-3))), field(vadd(a, vscale(d, 1 - 1e-3)))});
     lowestMiddle = std::min(lowestMiddle, field(vscale(vadd(a, b), 0.5)));
   }
-  EXPECT_GT(lowestEnd, radius - 1e-3);
+  EXPECT_GT(lowestEnd, radius - farthestEnd);
   EXPECT_GT(lowestMiddle, radius - farthestMiddle);
   std::mt19937 rng(14);
   std::uniform_real_distribution<double> x(box.lo[0], box.hi[0]), y(box.lo[1], box.hi[1]),
@@ -312,7 +316,8 @@ TEST(StrutLattice, ConformalToACylinder) {
       checkMesh(polygonize(compile(makeNode("intersection", {}, {round, ring})), o)).printable());
   const double scale = 12 / (2 * 3.14159265358979323846);
   expectBeamsFollowTheCurvedStruts(makeNode("intersection", {}, {round, ring}), round, ring, o.bbox,
-                                   0.08, 0.08 * 3 / scale, 0.1 * 0.08 * scale, 1.0);
+                                   0.08, 0.08 * 3 / scale, 0.1 * 0.08 * scale,
+                                   [](const Vec3& p) { return std::hypot(p[0], p[1]) < 1.0; });
 }
 
 TEST(StrutLattice, ConformalToASphere) {
@@ -380,7 +385,8 @@ TEST(StrutLattice, ConformalToASphere) {
   // its beam 3MF follows the curved struts (a cell's sides are arcs at 16 / (2 pi) = 2.55)
   const double scale = 16 / (2 * pi);
   expectBeamsFollowTheCurvedStruts(shell, shell->inputs[0], shell->inputs[1], o.bbox, 0.08,
-                                   0.08 * 3 / scale, 0.1 * 0.08 * scale, 1.0);
+                                   0.08 * 3 / scale, 0.1 * 0.08 * scale,
+                                   [](const Vec3& p) { return std::hypot(p[0], p[1]) < 1.0; });
 }
 
 // Each unit cell meshes printable at three resolutions, cut to a block of 2 x 2 x 2 cells, with
@@ -508,6 +514,7 @@ TEST(StrutLattice, ConformalThroughAnFfdBendAndGradedExportPrintable) {
         bend.setPoint(i, j, k, q);
       }
   const NodePtr conformal = makeNode("ffd", testing::ffdParams(bend), {beam});
+  auto nowhere = [](const Vec3&) { return false; };
   MeshingOptions o;
   o.bbox = {{-2.2, -0.7, -0.7}, {2.2, 0.7, 1.8}};
   o.resolution = 0.025;
@@ -525,9 +532,9 @@ TEST(StrutLattice, ConformalThroughAnFfdBendAndGradedExportPrintable) {
   const NodePtr bentPart =
       makeNode("ffd", testing::ffdParams(bend), {testing::box({-2, -0.5, -0.5}, {4, 1, 1})});
   expectBeamsFollowTheCurvedStruts(conformal, bentStruts, bentPart, o.bbox, 0.05, 0.05 * 1.5, 0.02,
-                                   0.0);
+                                   nowhere);
   expectBeamsFollowTheCurvedStruts(makeNode("intersection", {}, {bentStruts, bentPart}), bentStruts,
-                                   bentPart, o.bbox, 0.05, 0.05 * 1.5, 0.02, 0.0);
+                                   bentPart, o.bbox, 0.05, 0.05 * 1.5, 0.02, nowhere);
   const NodePtr radius = makeNode(
       "formula", {{"formula", textValue("0.03 + 0.015 * (x + 2)")}, {"parameters", textValue("")}},
       {});
@@ -561,18 +568,6 @@ TEST(StrutLattice, ConformalThroughAnFfdBendAndGradedExportPrintable) {
       exportBeamLattice(makeNode("ffd", testing::ffdParams(bend), {graded}), {o.bbox, 0.05},
                         MeshSettings(), ThreeMfOptions(), "graded", gradedPath, false);
   EXPECT_EQ(gb2.beams, gb.beams);
-  try {  // cells conformal to a cylinder, then bent: refused with what to do
-    exportBeamLattice(
-        makeNode("intersection", {},
-                 {makeNode("ffd", testing::ffdParams(bend),
-                           {conformalLattice("octet", "cylinder", {0, 0, 0}, {1, 0, 0}, 12)}),
-                  bentPart}),
-        {o.bbox, 0.05}, MeshSettings(), ThreeMfOptions(), "bent",
-        ::testing::TempDir() + "/bent.3mf", false);
-    FAIL() << "no error";
-  } catch (const ModelError& e) {
-    EXPECT_NE(std::string(e.what()).find("export this one meshed"), std::string::npos) << e.what();
-  }
   o.bbox = {{-2.1, -0.6, -0.6}, {2.1, 0.6, 0.6}};
   const TriangleMesh g = polygonize(compile(graded), o);
   EXPECT_TRUE(checkMesh(g).printable());
@@ -587,6 +582,53 @@ TEST(StrutLattice, ConformalThroughAnFfdBendAndGradedExportPrintable) {
     thin += field.eval(-x, y, z) > 0;
   }
   EXPECT_GT(thick, 1.3 * thin);
+}
+
+// Cells conformal to a cylinder and then bent by an FFD: a tube of octet cells round the x
+// axis, lifted along a parabola. As beams, each strut is chained twice (round the cylinder,
+// then through the bend), and the beams follow the twice-curved struts.
+TEST(StrutLattice, CellsConformalToACylinderAndBentExportAsBeams) {
+  FfdLattice bend({{-2.1, -1.1, -1.1}, {2.1, 1.1, 1.1}}, 4, 1, 1);
+  for (int i = 0; i <= 4; ++i)
+    for (int j = 0; j <= 1; ++j)
+      for (int k = 0; k <= 1; ++k) {
+        Vec3 q = bend.point(i, j, k);
+        q[2] += 0.25 * (q[0] * q[0]);
+        bend.setPoint(i, j, k, q);
+      }
+  const NodePtr tube = makeNode(
+      "difference", {},
+      {makeNode(
+           "cylinder",
+           {{"axis", vec3Value({1, 0, 0})}, {"radius", realValue(1.0)}, {"length", realValue(4.0)}},
+           {}),
+       makeNode(
+           "cylinder",
+           {{"axis", vec3Value({1, 0, 0})}, {"radius", realValue(0.6)}, {"length", realValue(4.2)}},
+           {})});
+  const NodePtr cells = makeNode("strut_lattice",
+                                 {{"cell_type", textValue("octet")},
+                                  {"cell", vec3Value({0.3, 0.3, 0.3})},
+                                  {"radius", realValue(0.03)},
+                                  {"conform", textValue("cylinder")},
+                                  {"axis", vec3Value({1, 0, 0})},
+                                  {"around", realValue(20)}},
+                                 {});
+  const NodePtr bentCells = makeNode("ffd", testing::ffdParams(bend), {cells});
+  const NodePtr bentTube = makeNode("ffd", testing::ffdParams(bend), {tube});
+  const Box3 box{{-2.2, -1.2, -1.2}, {2.2, 1.2, 2.3}};
+  // (the axis bent along about the parabola; the tube's hole is 0.6 round it)
+  auto nearBentAxis = [](const Vec3& p) {
+    return std::hypot(p[1], p[2] - 0.25 * p[0] * p[0]) < 0.45;
+  };
+  // the bend's chains run between points of the cylinder's chains, each within half the
+  // tolerance (a twentieth of the radius) of its strut, stretched by the bend
+  const double endsOff = 0.05 * 0.03 * 1.6;
+  expectBeamsFollowTheCurvedStruts(makeNode("intersection", {}, {bentCells, bentTube}), bentCells,
+                                   bentTube, box, 0.03, 0.03 * 1.6, 0.012, nearBentAxis, endsOff);
+  expectBeamsFollowTheCurvedStruts(
+      makeNode("ffd", testing::ffdParams(bend), {makeNode("intersection", {}, {cells, tube})}),
+      bentCells, bentTube, box, 0.03, 0.03 * 1.6, 0.012, nearBentAxis, endsOff);
 }
 
 // The beam lattice 3MF: an octet lattice cut to a ball, its struts as beams clipped by the

@@ -37,6 +37,9 @@ struct BeamSource {
   // Bent by an ffd: the lattice's own space is the rest box, where its radius's field is read
   // (at the struts' ends before toWorld); otherwise at their ends in the world.
   bool bent = false;
+  // The share of chainTolerance the chains of toWorld take (conformal cells bent by an ffd
+  // are chained twice).
+  double chainShare = 1.0;
   double smallestCell = 1.0;
   double radius = 0.0;
   NodePtr grading;    // the radius's field, or null
@@ -116,29 +119,6 @@ void setConformal(BeamSource& s, const Node& lattice) {
   };
 }
 
-// A strut lattice (or foam) bent by an ffd node: the struts `s` already gives in the rest
-// box, each cut to it and mapped by the lattice's deformation. Those outside are left out:
-// where the bent lattice covers them the field shows the bent struts instead, and a part the
-// beams serve lies in the bent lattice (docs/struts.md).
-void setBent(BeamSource& s, const Node& ffd) {
-  const auto bend = std::make_shared<const FfdLattice>(ffdLatticeOf(ffd));
-  const Box3 rest = bend->rest();
-  s.toWorld = [bend](const Vec3& q) { return bend->deform(q); };
-  s.bent = true;
-  s.strutsIn = [rest, unbent = s.strutsIn](const Box3&) {
-    std::vector<StrutPiece> pieces;
-    StrutPiece piece;
-    for (const StrutPiece& p : unbent(rest))
-      if (clip(p.a, p.b, rest.lo, rest.hi, &piece)) pieces.push_back(piece);
-    return pieces;
-  };
-}
-
-const char* const kBentNeedsPlainStruts =
-    "a 3MF beam lattice of struts bent by an ffd takes a strut_lattice with conform = none, or "
-    "a voronoi_foam (cells already conformal to a cylinder or sphere and then bent are not "
-    "written as beams); export this one meshed";
-
 // A beam: its ends in the world, and where the radius's field is read for each.
 struct Beam {
   StrutPiece world, radiusAt;
@@ -160,6 +140,42 @@ void curveAsSegments(const std::function<Vec3(const Vec3&)>& toWorld, const Vec3
   out.push_back({{wa, wb}, {a, b}});
 }
 
+// The chains' tolerance: a tenth of the strut radius (a hundredth of a cell for struts of a
+// field's radius).
+double chainTolerance(const BeamSource& s) {
+  return s.radius > 0.0 ? 0.1 * s.radius : 0.01 * s.smallestCell;
+}
+
+// A strut lattice (or foam) bent by an ffd node: the struts `s` already gives in the rest
+// box, each cut to it and mapped by the lattice's deformation. Those outside are left out:
+// where the bent lattice covers them the field shows the bent struts instead, and a part the
+// beams serve lies in the bent lattice (docs/struts.md). Cells conformal to a cylinder or
+// sphere curve first: each strut becomes a chain in the lattice's own space (within half the
+// tolerance, the bend's chains taking the other half), whose pieces are cut to the rest box.
+void setBent(BeamSource& s, const Node& ffd) {
+  const auto bend = std::make_shared<const FfdLattice>(ffdLatticeOf(ffd));
+  const Box3 rest = bend->rest();
+  const double half = 0.5 * chainTolerance(s);
+  s.strutsIn = [rest, unbent = s.strutsIn, conformal = s.toWorld, half](const Box3&) {
+    std::vector<StrutPiece> pieces;
+    std::vector<Beam> chain;
+    StrutPiece piece;
+    for (const StrutPiece& p : unbent(rest)) {
+      chain.clear();
+      if (conformal)
+        curveAsSegments(conformal, p.a, p.b, conformal(p.a), conformal(p.b), half, 5, chain);
+      else
+        chain.push_back({p, p});
+      for (const Beam& c : chain)
+        if (clip(c.world.a, c.world.b, rest.lo, rest.hi, &piece)) pieces.push_back(piece);
+    }
+    return pieces;
+  };
+  if (s.toWorld) s.chainShare = 0.5;
+  s.toWorld = [bend](const Vec3& q) { return bend->deform(q); };
+  s.bent = true;
+}
+
 BeamSource sourceOf(const NodePtr& root) {
   const std::string what =
       "a 3MF beam lattice needs a strut lattice: the model's root must be the intersection "
@@ -176,8 +192,6 @@ BeamSource sourceOf(const NodePtr& root) {
         lattice = lattice->inputs[0];
       }
       const std::string& id = lattice->type->id;
-      if (bent && id == "strut_lattice" && lattice->param("conform").text != "none")
-        throw ModelError(kBentNeedsPlainStruts);
       if (id == "strut_lattice" && lattice->param("conform").text != "none")
         setConformal(s, *lattice);
       else if (id == "strut_lattice")
@@ -187,10 +201,10 @@ BeamSource sourceOf(const NodePtr& root) {
         setFoam(s, *lattice);
       else
         continue;
-      if (bent) setBent(s, *bent);
       s.radius = lattice->real("radius");
       s.nodeRadius = lattice->real("node_radius");
       if (!lattice->inputs.empty()) s.grading = lattice->inputs[0];
+      if (bent) setBent(s, *bent);
       s.part = root->inputs[1 - k];
       return s;
     }
@@ -198,7 +212,6 @@ BeamSource sourceOf(const NodePtr& root) {
              root->inputs[0]->type->id == "intersection") {
     // the lattice cut to a part, both bent: the bent part clips the bent struts
     BeamSource s = sourceOf(root->inputs[0]);
-    if (s.toWorld) throw ModelError(kBentNeedsPlainStruts);
     setBent(s, *root);
     s.part = makeNode("ffd", root->params, {s.part});
     return s;
@@ -370,8 +383,7 @@ BeamExportResult exportBeamLattice(const NodePtr& root, const MeshingBox& box,
   // Conformal cells' struts curve: each is a chain of straight beams, within a tenth of the
   // radius of its curve.
   std::vector<Beam> pieces;
-  const double curveTolerance =
-      source.radius > 0.0 ? 0.1 * source.radius : 0.01 * source.smallestCell;
+  const double curveTolerance = source.chainShare * chainTolerance(source);
   for (const StrutPiece& c : source.strutsIn(reach)) {
     if (source.toWorld)
       curveAsSegments(source.toWorld, c.a, c.b, source.toWorld(c.a), source.toWorld(c.b),
