@@ -1,6 +1,7 @@
 // frepcad hspline: hierarchical B-spline surfaces from the command line (docs/hsplines.md):
-// make one, look at it, refine, move, zero offsets, unrefine, and export it as STEP, as a
-// checked mesh or as an (optimised) .hs file. Every write is atomic.
+// make one, look at it, refine, move, zero offsets, unrefine, export it as STEP, as a checked
+// mesh or as an (optimised) .hs file, and fill a shell along it with a strut lattice. Every
+// write is atomic.
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,9 +10,14 @@
 #include <set>
 #include <sstream>
 
+#include "base/atomic_file.h"
 #include "base/errors.h"
 #include "check/mesh_check.h"
 #include "cli/commands.h"
+#include "frep/ffd_field.h"
+#include "frep/model_json.h"
+#include "frep/registry.h"
+#include "frep/tree.h"
 #include "hspline/hs_file.h"
 #include "hspline/hspline_flatten.h"
 #include "hspline/hspline_select.h"
@@ -19,6 +25,7 @@
 #include "hspline/hspline_tessellate.h"
 #include "hspline/occt/occ_hspline.h"
 #include "io/mesh_io.h"
+#include "lattice/surface_lattice.h"
 
 namespace frep::cli {
 
@@ -34,7 +41,9 @@ const char* const kHsplineHelp =
     "       frepcad hspline zero IN.hs -o OUT.hs (--cv L I J ... | --level L)\n"
     "       frepcad hspline unrefine IN.hs -o OUT.hs\n"
     "       frepcad hspline export IN.hs -o OUT.step|OUT.stl|OUT.3mf|OUT.obj|OUT.ply|OUT.hs\n"
-    "                          [--tolerance D] [--optimised] [--force] [--quiet]\n\n"
+    "                          [--tolerance D] [--optimised] [--force] [--quiet]\n"
+    "       frepcad hspline lattice IN.hs -o OUT.json --thickness T [--divisions L M]\n"
+    "                          [--cell-type octet] [--cell C] [--radius R] [--quiet]\n\n"
     "Hierarchical B-spline surfaces (.hs files, docs/file-formats.md):\n"
     "  new        level 0 of a plane (default 8 x 8 CVs, 100 x 100), a cylinder (8 x 8,\n"
     "             r 20, 60 high) or a torus (10 x 8, radii 30 and 10)\n"
@@ -46,6 +55,11 @@ const char* const kHsplineHelp =
     "  export     .step through OpenCASCADE (a solid when the hspline is closed); a mesh\n"
     "             within --tolerance (default 0.01) of the surface, checked, written only\n"
     "             when printable (or --force); .hs again, --optimised leaves unused CVs out\n"
+    "  lattice    a model (JSON) of a strut lattice whose cells follow the surface: a\n"
+    "             shell --thickness thick, cells of C (default half the thickness) along\n"
+    "             the surface's parameters, struts of R (default a tenth of a cell); an FFD\n"
+    "             lattice of L x M divisions (default level 0's CVs less one, at most 24)\n"
+    "             fitted to the surface carries them; export it meshed or --beams\n"
     "exit status: 0 done, 1 the mesh is not printable (nothing written without --force),\n"
     "2 bad input\n";
 
@@ -54,7 +68,9 @@ struct Options {
   std::vector<std::vector<double>> cvs;  // --cv values, as given
   std::vector<double> region, to, by, size, counts;
   std::optional<int> level;
-  std::optional<double> radius, height, tube, tolerance;
+  std::optional<double> radius, height, tube, tolerance, thickness, cell;
+  std::vector<double> divisions;
+  std::string cellType = "octet";
   bool all = false, json = false, optimised = false, force = false, quiet = false;
 };
 
@@ -80,14 +96,15 @@ int whole(double x, const std::string& what) {
 Options parse(const Args& args) {
   Options o;
   if (args.empty())
-    throw UsageError("hspline needs a verb: new, info, refine, move, zero, unrefine, export");
+    throw UsageError(
+        "hspline needs a verb: new, info, refine, move, zero, unrefine, export, lattice");
   o.verb = args[0];
   static const std::set<std::string> verbs{"new",  "info",     "refine", "move",
-                                           "zero", "unrefine", "export"};
+                                           "zero", "unrefine", "export", "lattice"};
   if (o.verb == "-h" || o.verb == "--help") return o;
   if (!verbs.count(o.verb))
     throw UsageError("unknown hspline verb '" + o.verb +
-                     "'; verbs: new, info, refine, move, zero, unrefine, export");
+                     "'; verbs: new, info, refine, move, zero, unrefine, export, lattice");
   // The options each verb uses: another verb's option is refused, not silently ignored
   // (`unrefine --level 2` would otherwise unrefine every level).
   static const std::map<std::string, std::string> verbOptions{
@@ -98,7 +115,8 @@ Options parse(const Args& args) {
       {"move", "-o --output --cv --to --by --optimised --optimized --force --quiet"},
       {"zero", "-o --output --cv --level --optimised --optimized --force --quiet"},
       {"unrefine", "-o --output --optimised --optimized --force --quiet"},
-      {"export", "-o --output --tolerance --optimised --optimized --force --quiet"}};
+      {"export", "-o --output --tolerance --optimised --optimized --force --quiet"},
+      {"lattice", "-o --output --thickness --divisions --cell-type --cell --radius --quiet"}};
   const std::string& mine = verbOptions.at(o.verb);
   auto takes = [&](const std::string& opt) {
     return (" " + mine + " ").find(" " + opt + " ") != std::string::npos;
@@ -140,7 +158,16 @@ Options parse(const Args& args) {
       o.tube = one();
     else if (a == "--tolerance")
       o.tolerance = one();
-    else if (a == "--all")
+    else if (a == "--thickness")
+      o.thickness = one();
+    else if (a == "--cell")
+      o.cell = one();
+    else if (a == "--divisions")
+      o.divisions = numbers(args, i, 2, a);
+    else if (a == "--cell-type") {
+      if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
+      o.cellType = args[++i];
+    } else if (a == "--all")
       o.all = true;
     else if (a == "--json")
       o.json = true;
@@ -257,6 +284,68 @@ int exportHs(const HSpline& h, const Options& o) {
   return report.printable() ? 0 : 1;
 }
 
+// The surface's length along one parameter at the middle of the other (a polyline of 64).
+double lengthAlong(const SurfaceSampler& surface, bool alongS) {
+  double length = 0.0;
+  Vec3 last = surface(alongS ? 0.0 : 0.5, alongS ? 0.5 : 0.0).point;
+  for (int k = 1; k <= 64; ++k) {
+    const double x = k / 64.0;
+    const Vec3 p = surface(alongS ? x : 0.5, alongS ? 0.5 : x).point;
+    length += vlength(vsub(p, last));
+    last = p;
+  }
+  return length;
+}
+
+// A strut lattice in a shell along the surface: the lattice cut to the rest box, bent by an
+// FFD lattice fitted to the surface (lattice/surface_lattice.h).
+int latticeAlongHspline(const HSpline& h, const Options& o) {
+  if (!o.thickness) throw UsageError("hspline lattice needs --thickness T, the shell's thickness");
+  checkOutputPath(o.output, o.input);
+  const HsLevel& base = h.level(0);
+  const SurfaceSampler surface = [&h, &base](double s, double t) {
+    const HsSurfacePoint p = h.evaluate(base.u.lo() + s * (base.u.hi() - base.u.lo()),
+                                        base.v.lo() + t * (base.v.hi() - base.v.lo()));
+    return SurfaceSample{p.position, p.normal()};
+  };
+  const int l = o.divisions.empty() ? std::min(base.u.count() - 1, kMaxSurfaceDivisions)
+                                    : whole(o.divisions[0], "--divisions");
+  const int m = o.divisions.empty() ? std::min(base.v.count() - 1, kMaxSurfaceDivisions)
+                                    : whole(o.divisions[1], "--divisions");
+  const double thickness = *o.thickness;
+  if (!(thickness > 0.0)) throw UsageError("--thickness must be a positive length");
+  const Vec3 size{lengthAlong(surface, true), lengthAlong(surface, false), thickness};
+  const SurfaceLattice fit = latticeAlongSurface(surface, size, std::max(l, 1), std::max(m, 1));
+  const double cell = o.cell.value_or(0.5 * thickness);
+  const NodePtr struts = makeNode("strut_lattice",
+                                  {{"cell_type", textValue(o.cellType)},
+                                   {"cell", vec3Value({cell, cell, cell})},
+                                   {"radius", realValue(o.radius.value_or(0.1 * cell))}},
+                                  {});
+  const NodePtr shell = makeNode("box", {{"size", vec3Value(size)}}, {});
+  Model model;
+  model.root =
+      makeNode("ffd", ffdParams(fit.lattice), {makeNode("intersection", {}, {struts, shell})});
+  model.description = "a strut lattice of " + o.cellType + " cells along " + o.input +
+                      ", a shell " + numberText(thickness) + " thick (frepcad hspline lattice)";
+  const std::string json = modelToJson(model);
+  AtomicFile file(o.output);
+  file.write(json.data(), json.size());
+  file.commit();
+  if (!o.quiet)
+    std::cout << "wrote " << o.output << ": " << o.cellType << " cells of " << numberText(cell)
+              << " in a shell " << numberText(thickness) << " thick along " << o.input << " ("
+              << numberText(size[0]) << " x " << numberText(size[1])
+              << " along its parameters); the FFD lattice of " << fit.lattice.divisions(0) << " x "
+              << fit.lattice.divisions(1) << " divisions follows it within "
+              << numberText(fit.deviation)
+              << (fit.deviation > 0.05 * thickness
+                      ? "; more --divisions follow it closer (and take longer to mesh)"
+                      : "")
+              << "\n";
+  return 0;
+}
+
 }  // namespace
 
 int hsplineCommand(const Args& args) {
@@ -269,6 +358,7 @@ int hsplineCommand(const Args& args) {
   HSpline h = readHsFile(o.input);
   if (o.verb == "info") return info(h, o);
   if (o.verb == "export") return exportHs(h, o);
+  if (o.verb == "lattice") return latticeAlongHspline(h, o);
   if (o.verb == "refine") {
     if (!o.level) throw UsageError("hspline refine needs --level L, the level whose CVs to refine");
     std::vector<std::pair<int, int>> cvs;

@@ -65,7 +65,7 @@ LIBRARIES = {
     "nlohmann/": {"frep", "check", "lattice/lattice_file.cpp"},
     "nanoflann": {"frep/instances.cpp"},
     "Model/COM/": {"io/mesh_3mf.cpp"},  # lib3mf
-    "Eigen/": {"base/affine.cpp", "base/qef.cpp"},
+    "Eigen/": {"base/affine.cpp", "base/qef.cpp", "lattice/surface_lattice.cpp"},
     ".hxx": {"hspline/occt/occ_hspline.cpp"},  # OpenCASCADE (its headers have no folder)
     "pybind11/": {"python"},
     "Python.h": {"python"},

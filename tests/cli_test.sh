@@ -511,6 +511,12 @@ expect 0 "unrefine removed 63 CVs" -- sh -c "\"$frepcad\" hspline zero \"$work/t
 cmp -s "$work/t.hs" "$work/t4.hs" || { echo "FAIL: zero offsets + unrefine did not give back the torus"; failures=$((failures + 1)); }
 expect 1 "an open hspline is a sheet" -- sh -c "\"$frepcad\" hspline new plane -o \"$work/p.hs\" --quiet && \"$frepcad\" hspline export \"$work/p.hs\" -o \"$work/p.stl\""
 [ ! -e "$work/p.stl" ] || { echo "FAIL: a sheet was written as an STL without --force"; failures=$((failures + 1)); }
+# a strut lattice in a shell along an hspline: the model, its beams, what is refused
+expect 0 "follows it within" -- sh -c "\"$frepcad\" hspline new plane -o \"$work/pl.hs\" --size 30 20 --quiet && \"$frepcad\" hspline move \"$work/pl.hs\" -o \"$work/pl2.hs\" --cv 0 3 3 --by 0 0 4 --quiet && \"$frepcad\" hspline lattice \"$work/pl2.hs\" -o \"$work/shell.json\" --thickness 3 --cell 3"
+expect 0 "lib3mf reads [0-9]+ beams back" -- "$frepcad" export "$work/shell.json" -o "$work/shell.3mf" --beams --resolution 0.5
+expect 2 "hspline lattice needs --thickness T" -- "$frepcad" hspline lattice "$work/pl2.hs" -o "$work/x.json"
+expect 2 "30 divisions along the surface; allowed 1 to 24" -- "$frepcad" hspline lattice "$work/pl2.hs" -o "$work/x.json" --thickness 3 --divisions 30 30
+[ ! -e "$work/x.json" ] || { echo "FAIL: a refused hspline lattice left x.json"; failures=$((failures + 1)); }
 printf 'hspline 2\n' > "$work/bad.hs"
 expect 2 "bad.hs, line 1: version 2 is not known" -- "$frepcad" hspline info "$work/bad.hs"
 expect 2 "unknown hspline verb 'grow'" -- "$frepcad" hspline grow "$work/t.hs"

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "frep/ffd_field.h"
 #include "frep/registry.h"
 #include "lattice/ffd_lattice.h"
 
@@ -38,21 +39,7 @@ inline FfdLattice twistedLattice(int l, int m, int n, double turns, double jitte
 
 // The ffd node's parameters for a lattice.
 inline std::map<std::string, ParamValue> ffdParams(const FfdLattice& lattice) {
-  std::map<std::string, ParamValue> p;
-  p["rest_min"] =
-      ParamValue{{lattice.rest().lo[0], lattice.rest().lo[1], lattice.rest().lo[2]}, ""};
-  p["rest_max"] =
-      ParamValue{{lattice.rest().hi[0], lattice.rest().hi[1], lattice.rest().hi[2]}, ""};
-  p["divisions_x"] = ParamValue{{double(lattice.divisions(0))}, ""};
-  p["divisions_y"] = ParamValue{{double(lattice.divisions(1))}, ""};
-  p["divisions_z"] = ParamValue{{double(lattice.divisions(2))}, ""};
-  ParamValue points;
-  for (int i = 0; i <= lattice.divisions(0); ++i)
-    for (int j = 0; j <= lattice.divisions(1); ++j)
-      for (int k = 0; k <= lattice.divisions(2); ++k)
-        for (double c : lattice.point(i, j, k)) points.numbers.push_back(c);
-  p["points"] = points;
-  return p;
+  return frep::ffdParams(lattice);
 }
 
 }  // namespace frep::testing

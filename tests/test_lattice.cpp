@@ -1,4 +1,5 @@
-// lattice/: the Sederberg-Parry lattice's forward map, Jacobian, inverse and fold detection.
+// lattice/: the Sederberg-Parry lattice's forward map, Jacobian, inverse and fold detection,
+// and a lattice fitted to follow a surface.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -6,6 +7,7 @@
 
 #include "base/errors.h"
 #include "lattice/ffd_lattice.h"
+#include "lattice/surface_lattice.h"
 #include "lattice_samples.h"
 
 namespace frep {
@@ -120,6 +122,63 @@ TEST(Lattice, BadParametersAreRefusedWithWhatIsAllowed) {
   FfdLattice lattice(kRest, 2, 2, 2);
   EXPECT_THROW(lattice.setPoint(3, 0, 0, {0, 0, 0}), ModelError);
   EXPECT_THROW(lattice.setPoint(0, 0, 0, {NAN, 0, 0}), ModelError);
+}
+
+// A lattice fitted to a surface: a plane exactly (Bernstein volumes reproduce linear maps), a
+// quarter of a cylinder (radius 20, 30 high, a shell 2 thick) within a hundredth of the
+// thickness at random points of the shell, checked against the cylinder itself; bad input
+// named.
+TEST(SurfaceLattice, FollowsAPlaneExactlyAndACylinderPatchClosely) {
+  const Vec3 du{40, 10, 0}, dv{0, 20, 5};
+  Vec3 n{du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2],
+         du[0] * dv[1] - du[1] * dv[0]};
+  n = vscale(n, 1.0 / vlength(n));
+  const SurfaceSampler flat = [&](double s, double t) {
+    return SurfaceSample{vadd(vadd({10, 5, 3}, vscale(du, s)), vscale(dv, t)), n};
+  };
+  const SurfaceLattice p = latticeAlongSurface(flat, {41, 21, 2}, 3, 2);
+  EXPECT_LT(p.deviation, 1e-9);
+  const double radius = 20, height = 30, thickness = 2, quarter = 0.5 * 3.14159265358979323846;
+  auto cylinder = [&](double s, double t) {
+    const double a = quarter * s;
+    return SurfaceSample{{radius * std::cos(a), radius * std::sin(a), height * t},
+                         {std::cos(a), std::sin(a), 0.0}};
+  };
+  const SurfaceLattice c =
+      latticeAlongSurface(cylinder, {radius * quarter, height, thickness}, 6, 2);
+  EXPECT_EQ(c.lattice.divisions(0), 6);
+  EXPECT_EQ(c.lattice.divisions(2), 1);
+  EXPECT_LT(c.deviation, 0.01 * thickness);
+  std::mt19937 rng(5);
+  double worst = 0.0;
+  for (int k = 0; k < 2000; ++k) {
+    const Vec3 stu = randomLocal(rng);
+    const SurfaceSample q = cylinder(stu[0], stu[1]);
+    const Vec3 want = vadd(q.point, vscale(q.normal, (stu[2] - 0.5) * thickness));
+    worst = std::max(worst, distance(c.lattice.forward(stu), want));
+  }
+  EXPECT_LT(worst, 0.01 * thickness);
+  EXPECT_GT(worst, 0.0);
+  // the rest box's corner cells: a lattice cell at the rest box's origin lies on the surface's
+  // corner, half the thickness inside
+  EXPECT_LT(distance(c.lattice.deform({0, 0, 0}), {radius - 0.5 * thickness, 0, 0}),
+            0.01 * thickness);
+  auto refused = [&](const SurfaceSampler& s, const Vec3& size, int l, int m, const char* what) {
+    try {
+      latticeAlongSurface(s, size, l, m);
+      ADD_FAILURE() << "no error for " << what;
+    } catch (const ModelError& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  refused(cylinder, {1, 1, 1}, 0, 2, "allowed 1 to 24");
+  refused(cylinder, {1, 1, 1}, 2, 25, "allowed 1 to 24");
+  refused(cylinder, {1, -1, 1}, 2, 2, "along y");
+  refused(
+      [](double, double) {
+        return SurfaceSample{{NAN, 0, 0}, {0, 0, 1}};
+      },
+      {1, 1, 1}, 2, 2, "not finite");
 }
 
 }  // namespace

@@ -14,16 +14,18 @@
 // rest-space box they come from.
 #pragma once
 
+#include <map>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "frep/field.h"
+#include "frep/tree.h"
 
 namespace frep {
 
 class FfdLattice;
 class FfdMap;
-struct Node;
 
 class FfdField final : public Field {
  public:
@@ -55,5 +57,7 @@ Box3 deformedBounds(const FfdMap& map, const Box3& input);
 
 // The lattice of an `ffd` node (its rest box, divisions and points; lattice/ffd_lattice.h).
 FfdLattice ffdLatticeOf(const Node& ffd);
+// An `ffd` node's parameters for a lattice (what ffdLatticeOf reads back).
+std::map<std::string, ParamValue> ffdParams(const FfdLattice& lattice);
 
 }  // namespace frep

@@ -77,6 +77,19 @@ FfdLattice ffdLatticeOf(const Node& n) {
   return lattice;
 }
 
+std::map<std::string, ParamValue> ffdParams(const FfdLattice& lattice) {
+  std::map<std::string, ParamValue> p;
+  p["rest_min"] = vec3Value(lattice.rest().lo);
+  p["rest_max"] = vec3Value(lattice.rest().hi);
+  for (int a = 0; a < 3; ++a)
+    p[std::string("divisions_") + "xyz"[a]] = realValue(double(lattice.divisions(a)));
+  ParamValue points;
+  for (const Vec3& q : lattice.points())
+    points.numbers.insert(points.numbers.end(), q.begin(), q.end());
+  p["points"] = points;
+  return p;
+}
+
 void registerLattices(Registry& r) {
   std::vector<ParamTemplate> params;
   params.push_back(vec3Param("rest_min", {-1, -1, -1}, "length",

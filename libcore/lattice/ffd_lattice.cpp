@@ -12,9 +12,6 @@
 
 namespace frep {
 
-namespace {
-
-// Bernstein basis of degree d at t and its derivative: b[i] = C(d,i) t^i (1-t)^(d-i).
 void bernstein(int d, double t, double* b, double* db) {
   // Degree d-1 first (for the derivative), then one more step.
   std::fill(b, b + d + 1, 0.0);
@@ -32,6 +29,8 @@ void bernstein(int d, double t, double* b, double* db) {
   for (int i = d; i > 0; --i) b[i] = s * b[i] + t * b[i - 1];
   b[0] *= s;
 }
+
+namespace {
 
 Vec3 solve(const Mat3& a, const Vec3& r, bool* ok) {
   const double det = determinant(a);

@@ -18,6 +18,10 @@ namespace frep {
 
 using Mat3 = std::array<std::array<double, 3>, 3>;  // row r, column c: d x_r / d stu_c
 
+// The Bernstein basis of degree d >= 1 at t and its derivative: b[i] = C(d,i) t^i (1-t)^(d-i),
+// i = 0..d (both arrays d + 1 long).
+void bernstein(int d, double t, double* b, double* db);
+
 // At most this many divisions along an axis (Blender allows 64 points an axis; the issue asks
 // for at least 64 divisions).
 constexpr int kMaxLatticeDivisions = 64;
