@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <map>
 #include <set>
@@ -317,9 +318,15 @@ int latticeAlongHspline(const HSpline& h, const Options& o) {
   const Vec3 size{lengthAlong(surface, true), lengthAlong(surface, false), thickness};
   const SurfaceLattice fit = latticeAlongSurface(surface, size, std::max(l, 1), std::max(m, 1));
   const double cell = o.cell.value_or(0.5 * thickness);
+  // Round a closed surface (a periodic parameter) whole cells make a turn, so the cells meet
+  // across the seam as everywhere else.
+  Vec3 cells{cell, cell, cell};
+  const bool closed[2] = {base.u.isPeriodic(), base.v.isPeriodic()};
+  for (int a = 0; a < 2; ++a)
+    if (closed[a]) cells[a] = size[a] / std::max(1.0, std::round(size[a] / cell));
   const NodePtr struts = makeNode("strut_lattice",
                                   {{"cell_type", textValue(o.cellType)},
-                                   {"cell", vec3Value({cell, cell, cell})},
+                                   {"cell", vec3Value(cells)},
                                    {"radius", realValue(o.radius.value_or(0.1 * cell))}},
                                   {});
   const NodePtr shell = makeNode("box", {{"size", vec3Value(size)}}, {});
@@ -333,12 +340,12 @@ int latticeAlongHspline(const HSpline& h, const Options& o) {
   file.write(json.data(), json.size());
   file.commit();
   if (!o.quiet)
-    std::cout << "wrote " << o.output << ": " << o.cellType << " cells of " << numberText(cell)
-              << " in a shell " << numberText(thickness) << " thick along " << o.input << " ("
-              << numberText(size[0]) << " x " << numberText(size[1])
-              << " along its parameters); the FFD lattice of " << fit.lattice.divisions(0) << " x "
-              << fit.lattice.divisions(1) << " divisions follows it within "
-              << numberText(fit.deviation)
+    std::cout << "wrote " << o.output << ": " << o.cellType << " cells of " << numberText(cells[0])
+              << " x " << numberText(cells[1]) << " x " << numberText(cells[2]) << " in a shell "
+              << numberText(thickness) << " thick along " << o.input << " (" << numberText(size[0])
+              << " x " << numberText(size[1]) << " along its parameters); the FFD lattice of "
+              << fit.lattice.divisions(0) << " x " << fit.lattice.divisions(1)
+              << " divisions follows it within " << numberText(fit.deviation)
               << (fit.deviation > 0.05 * thickness
                       ? "; more --divisions follow it closer (and take longer to mesh)"
                       : "")

@@ -517,6 +517,13 @@ expect 0 "lib3mf reads [0-9]+ beams back" -- "$frepcad" export "$work/shell.json
 expect 2 "hspline lattice needs --thickness T" -- "$frepcad" hspline lattice "$work/pl2.hs" -o "$work/x.json"
 expect 2 "30 divisions along the surface; allowed 1 to 24" -- "$frepcad" hspline lattice "$work/pl2.hs" -o "$work/x.json" --thickness 3 --divisions 30 30
 [ ! -e "$work/x.json" ] || { echo "FAIL: a refused hspline lattice left x.json"; failures=$((failures + 1)); }
+# round a closed surface whole cells make a turn: the cell along it divides its length
+out=$("$frepcad" hspline new cylinder -o "$work/cyl.hs" --quiet && "$frepcad" hspline lattice "$work/cyl.hs" -o "$work/cyl.json" --thickness 3)
+if python3 -c "import re,sys; m=re.search(r'cells of ([0-9.]+) x .* \(([0-9.]+) x', sys.argv[1]); c,l=float(m.group(1)),float(m.group(2)); sys.exit(not (abs(c-1.5)<0.1 and abs(l/c-round(l/c))<1e-6))" "$out"; then
+  passes=$((passes + 1))
+else
+  echo "FAIL: a closed hspline's cells do not make whole turns: $out"; failures=$((failures + 1))
+fi
 printf 'hspline 2\n' > "$work/bad.hs"
 expect 2 "bad.hs, line 1: version 2 is not known" -- "$frepcad" hspline info "$work/bad.hs"
 expect 2 "unknown hspline verb 'grow'" -- "$frepcad" hspline grow "$work/t.hs"
