@@ -5,7 +5,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cmath>
 #include <iostream>
 #include <map>
 #include <set>
@@ -15,10 +14,8 @@
 #include "base/errors.h"
 #include "check/mesh_check.h"
 #include "cli/commands.h"
-#include "frep/ffd_field.h"
 #include "frep/model_json.h"
 #include "frep/registry.h"
-#include "frep/tree.h"
 #include "hspline/hs_file.h"
 #include "hspline/hspline_flatten.h"
 #include "hspline/hspline_select.h"
@@ -26,7 +23,7 @@
 #include "hspline/hspline_tessellate.h"
 #include "hspline/occt/occ_hspline.h"
 #include "io/mesh_io.h"
-#include "lattice/surface_lattice.h"
+#include "pipeline/hspline_shell.h"
 
 namespace frep::cli {
 
@@ -285,68 +282,33 @@ int exportHs(const HSpline& h, const Options& o) {
   return report.printable() ? 0 : 1;
 }
 
-// The surface's length along one parameter at the middle of the other (a polyline of 64).
-double lengthAlong(const SurfaceSampler& surface, bool alongS) {
-  double length = 0.0;
-  Vec3 last = surface(alongS ? 0.0 : 0.5, alongS ? 0.5 : 0.0).point;
-  for (int k = 1; k <= 64; ++k) {
-    const double x = k / 64.0;
-    const Vec3 p = surface(alongS ? x : 0.5, alongS ? 0.5 : x).point;
-    length += vlength(vsub(p, last));
-    last = p;
-  }
-  return length;
-}
-
-// A strut lattice in a shell along the surface: the lattice cut to the rest box, bent by an
-// FFD lattice fitted to the surface (lattice/surface_lattice.h).
+// A strut lattice in a shell along the surface (pipeline/hspline_shell.h).
 int latticeAlongHspline(const HSpline& h, const Options& o) {
   if (!o.thickness) throw UsageError("hspline lattice needs --thickness T, the shell's thickness");
   checkOutputPath(o.output, o.input);
-  const HsLevel& base = h.level(0);
-  const SurfaceSampler surface = [&h, &base](double s, double t) {
-    const HsSurfacePoint p = h.evaluate(base.u.lo() + s * (base.u.hi() - base.u.lo()),
-                                        base.v.lo() + t * (base.v.hi() - base.v.lo()));
-    return SurfaceSample{p.position, p.normal()};
-  };
-  const int l = o.divisions.empty() ? std::min(base.u.count() - 1, kMaxSurfaceDivisions)
-                                    : whole(o.divisions[0], "--divisions");
-  const int m = o.divisions.empty() ? std::min(base.v.count() - 1, kMaxSurfaceDivisions)
-                                    : whole(o.divisions[1], "--divisions");
-  const double thickness = *o.thickness;
-  if (!(thickness > 0.0)) throw UsageError("--thickness must be a positive length");
-  const Vec3 size{lengthAlong(surface, true), lengthAlong(surface, false), thickness};
-  const SurfaceLattice fit = latticeAlongSurface(surface, size, std::max(l, 1), std::max(m, 1));
-  const double cell = o.cell.value_or(0.5 * thickness);
-  // Round a closed surface (a periodic parameter) whole cells make a turn, so the cells meet
-  // across the seam as everywhere else.
-  Vec3 cells{cell, cell, cell};
-  const bool closed[2] = {base.u.isPeriodic(), base.v.isPeriodic()};
-  for (int a = 0; a < 2; ++a)
-    if (closed[a]) cells[a] = size[a] / std::max(1.0, std::round(size[a] / cell));
-  const NodePtr struts = makeNode("strut_lattice",
-                                  {{"cell_type", textValue(o.cellType)},
-                                   {"cell", vec3Value(cells)},
-                                   {"radius", realValue(o.radius.value_or(0.1 * cell))}},
-                                  {});
-  const NodePtr shell = makeNode("box", {{"size", vec3Value(size)}}, {});
-  Model model;
-  model.root =
-      makeNode("ffd", ffdParams(fit.lattice), {makeNode("intersection", {}, {struts, shell})});
-  model.description = "a strut lattice of " + o.cellType + " cells along " + o.input +
-                      ", a shell " + numberText(thickness) + " thick (frepcad hspline lattice)";
-  const std::string json = modelToJson(model);
+  HsplineShellSettings settings;
+  settings.thickness = *o.thickness;
+  settings.cell = o.cell.value_or(0.0);
+  settings.cellType = o.cellType;
+  settings.radius = o.radius.value_or(0.0);
+  if (!o.divisions.empty()) {
+    settings.divisionsU = whole(o.divisions[0], "--divisions");
+    settings.divisionsV = whole(o.divisions[1], "--divisions");
+  }
+  const HsplineShell shell = hsplineShellLattice(h, settings, o.input);
+  const std::string json = modelToJson(shell.model);
   AtomicFile file(o.output);
   file.write(json.data(), json.size());
   file.commit();
   if (!o.quiet)
-    std::cout << "wrote " << o.output << ": " << o.cellType << " cells of " << numberText(cells[0])
-              << " x " << numberText(cells[1]) << " x " << numberText(cells[2]) << " in a shell "
-              << numberText(thickness) << " thick along " << o.input << " (" << numberText(size[0])
-              << " x " << numberText(size[1]) << " along its parameters); the FFD lattice of "
-              << fit.lattice.divisions(0) << " x " << fit.lattice.divisions(1)
-              << " divisions follows it within " << numberText(fit.deviation)
-              << (fit.deviation > 0.05 * thickness
+    std::cout << "wrote " << o.output << ": " << o.cellType << " cells of "
+              << numberText(shell.cells[0]) << " x " << numberText(shell.cells[1]) << " x "
+              << numberText(shell.cells[2]) << " in a shell " << numberText(settings.thickness)
+              << " thick along " << o.input << " (" << numberText(shell.size[0]) << " x "
+              << numberText(shell.size[1]) << " along its parameters); the FFD lattice of "
+              << shell.divisions[0] << " x " << shell.divisions[1]
+              << " divisions follows it within " << numberText(shell.deviation)
+              << (shell.deviation > 0.05 * settings.thickness
                       ? "; more --divisions follow it closer (and take longer to mesh)"
                       : "")
               << "\n";

@@ -752,6 +752,17 @@ def hspline_attach():
     return svg(body + centres([(22, 38), (34, 42), (46, 38), (34, 34)], CV_GREEN, 3))
 
 
+def hspline_struts():
+    """Struts along an hspline: a curved sheet filled with a zig-zag of struts."""
+    body = ('<path d="M4,30 C20,14 44,14 60,30 L60,48 C44,32 20,32 4,48 Z" fill="%s" '
+            'stroke="%s" stroke-width="2"/>\n' % (TAN, TAN_EDGE))
+    body += ('<path d="M8,40 L16,26 L24,35 L32,22 L40,35 L48,26 L56,40" fill="none" '
+             'stroke="#333333" stroke-width="3" stroke-linecap="round" '
+             'stroke-linejoin="round"/>\n')
+    return svg(body + centres([(8, 40), (16, 26), (24, 35), (32, 22), (40, 35), (48, 26),
+                               (56, 40)], CV_RED, 3))
+
+
 def file_page(extra):
     return ('<path d="M14,4 L42,4 L52,14 L52,60 L14,60 Z" fill="#ffffff" %s/>\n'
             '<path d="M42,4 L42,14 L52,14" fill="none" %s/>\n'
@@ -852,6 +863,7 @@ ICONS = {
     "hspline_export": hspline_export,
     "hspline_envelope": hspline_envelope,
     "hspline_attach": hspline_attach,
+    "hspline_struts": hspline_struts,
     # Fallbacks for node types added without their own icon, by registry category.
     "category-primitive": lambda: svg(sphere(), radial("b", BLUE)),
     "category-transform": transform,

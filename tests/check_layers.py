@@ -42,7 +42,7 @@ ALLOWED = {
     "hspline": {"base", "hspline"},
     "repair": {"base", "lattice", "frep", "mesh", "io", "check", "volume", "simplify", "repair"},
     "pipeline": {"base", "frep", "mesh", "io", "check", "simplify", "volume", "lattice",
-                 "repair", "pipeline"},
+                 "repair", "hspline", "pipeline"},
     "python": {"base", "frep", "mesh", "io", "check", "simplify", "volume", "lattice",
                "repair", "pipeline", "hspline", "python"},
 }

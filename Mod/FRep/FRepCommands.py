@@ -65,9 +65,9 @@ LAYOUT = (
                                   "FRep_HSplineTorus", "FRep_HSplineFromFace")),
         "FRep_HSplineRefine", "FRep_HSplineZeroOffsets", "FRep_HSplineUnrefine",
         "FRep_HSplineToSolid",
-        ("FRep_HSplineCompose", "Attach and envelope", "Join a cylinder to an hspline through a "
-         "seam; bind an hspline to skeleton segments that bend it",
-         ("FRep_HSplineAttach", "FRep_HSplineEnvelope")),
+        ("FRep_HSplineCompose", "Attach, envelope, struts", "Join a cylinder to an hspline "
+         "through a seam; bind an hspline to skeleton segments that bend it; fill a shell along "
+         "it with struts", ("FRep_HSplineAttach", "FRep_HSplineEnvelope", "FRep_HSplineStruts")),
         ("FRep_HSplineFiles", "Hspline files", "Import or export .hs, STEP or a checked STL",
          ("FRep_HSplineImport", "FRep_HSplineExport")))),
     ("FRep mesh", (

@@ -1,7 +1,7 @@
 """The hspline commands (FRep > HSpline): new hsplines from a plane, a cylinder, a torus or a
 selected B-spline face; Refine, Zero Offsets and Unrefine on the tagged CVs; To Solid; import
-and export of .hs files, and export as STEP or as a checked mesh. Each works inside one undo
-transaction and reports a refusal in a dialog with the reason."""
+and export of .hs files, and export as STEP or as a checked mesh; struts in a shell along one.
+Each works inside one undo transaction and reports a refusal in a dialog with the reason."""
 
 import FreeCAD
 import FreeCADGui
@@ -274,6 +274,46 @@ class ExportCommand:
         FreeCADGui.getMainWindow().statusBar().showMessage("Wrote %s" % path, 10000)
 
 
+class StrutsCommand:
+    def GetResources(self):
+        return {"Pixmap": FRepPaths.icon("hspline_struts"), "MenuText": "Struts along hspline...",
+                "ToolTip": "Fills a shell along the selected hspline with a strut lattice whose "
+                           "cells follow the surface's parameters (octet cells of half the "
+                           "thickness; edit the lattice's cell type, cell and radius after)."}
+
+    def IsActive(self):
+        return len(_selected_hsplines()) == 1
+
+    def Activated(self):
+        from PySide import QtGui
+        import FRepHSpline
+        obj = _selected_hsplines()[0]
+        doc = obj.Document
+        try:
+            default = FRepHSpline.default_shell_thickness(obj)
+        except ValueError as e:
+            report("FRep hspline", str(e))
+            return
+        thickness, ok = QtGui.QInputDialog.getDouble(
+            FreeCADGui.getMainWindow(), "Struts along hspline",
+            "Shell thickness (mm) along %s:" % obj.Label, default, 0.001, 1e6, 3)
+        if not ok:
+            return
+        try:
+            with Transaction(doc, "Struts along %s" % obj.Label):
+                top, result = FRepHSpline.struts_along(obj, thickness)
+                add_to_active_container(top)
+                doc.recompute()
+        except ValueError as e:
+            report("FRep hspline", str(e))
+            return
+        _select(top)
+        FreeCAD.Console.PrintMessage(
+            "%s: the FFD lattice of %d x %d divisions follows %s within %.3g mm\n" % (
+                top.Label, result["divisions"][0], result["divisions"][1], obj.Label,
+                result["deviation"]))
+
+
 def commands():
     """The hspline commands by name (FRepCommands registers them)."""
     made = {"FRep_HSpline" + shape.capitalize(): NewHSplineCommand(shape)
@@ -286,4 +326,5 @@ def commands():
     made["FRep_HSplineEnvelope"] = EnvelopeCommand()
     made["FRep_HSplineImport"] = ImportCommand()
     made["FRep_HSplineExport"] = ExportCommand()
+    made["FRep_HSplineStruts"] = StrutsCommand()
     return made

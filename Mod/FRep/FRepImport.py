@@ -43,6 +43,12 @@ def import_model(path, doc):
         model = frepcore.parse_hyperfun(text, os.path.basename(path))
     else:
         model = frepcore.parse_model(text, path, os.path.dirname(os.path.abspath(path)))
+    return add_model(model, doc, os.path.splitext(os.path.basename(path))[0])
+
+
+def add_model(model, doc, label):
+    """Adds a parsed model (frepcore.parse_model's dict) to doc as features; returns the
+    feature of its root, labelled `label`."""
     made = {}  # a node shared by several parents (the format allows it) becomes one feature
     labels = model.get("labels", {})  # a HyperFun program's names for its values
 
@@ -56,7 +62,7 @@ def import_model(path, doc):
         return made[key]
 
     top = feature(model["root"])
-    top.Label = os.path.splitext(os.path.basename(path))[0]
+    top.Label = label
     if model.get("description") and not doc.Comment:
         doc.Comment = model["description"]
     return top

@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "base/errors.h"
+#include "frep/model_json.h"
 #include "hspline/hs_file.h"
 #include "hspline/hspline.h"
 #include "hspline/hspline_attach.h"
@@ -15,6 +16,7 @@
 #include "hspline/hspline_shapes.h"
 #include "hspline/hspline_tessellate.h"
 #include "hspline/occt/occ_hspline.h"
+#include "pipeline/hspline_shell.h"
 #include "python/binding_helpers.h"
 #include "python/bindings.h"
 
@@ -433,6 +435,33 @@ void bindHSpline(py::module_& m) {
       "blend the rotations of a joint's two segments within joint_reach of it (0: sized from "
       "the control net); refine_joints refines level 0 there first. dict(hspline, "
       "bound_per_segment, bound_per_level, blended, joints, joint_reach).");
+  m.def(
+      "hspline_shell_lattice",
+      [](const HSpline& h, double thickness, double cell, const std::string& cellType,
+         double radius, std::pair<int, int> divisions, const std::string& source) {
+        HsplineShellSettings settings;
+        settings.thickness = thickness, settings.cell = cell, settings.cellType = cellType;
+        settings.radius = radius;
+        settings.divisionsU = divisions.first, settings.divisionsV = divisions.second;
+        HsplineShell shell;
+        {
+          py::gil_scoped_release release;
+          shell = hsplineShellLattice(h, settings, source);
+        }
+        py::dict d;
+        d["model"] = modelToJson(shell.model), d["size"] = shell.size, d["cells"] = shell.cells;
+        d["divisions"] = py::make_tuple(shell.divisions[0], shell.divisions[1]);
+        d["deviation"] = shell.deviation;
+        return d;
+      },
+      py::arg("hspline"), py::arg("thickness"), py::arg("cell") = 0.0,
+      py::arg("cell_type") = "octet", py::arg("radius") = 0.0,
+      py::arg("divisions") = std::pair<int, int>{0, 0}, py::arg("source") = "the hspline",
+      "A strut lattice in a shell `thickness` thick along the hspline, its cells following the "
+      "surface's parameters through an FFD lattice fitted to it (`frepcad hspline lattice`; "
+      "cell 0: half the thickness, radius 0: a tenth of a cell, divisions 0: level 0's CVs "
+      "less one). dict(model (JSON text), size, cells, divisions, deviation: how closely the "
+      "lattice follows the surface).");
   m.def("parse_hs", &parseHs, py::arg("text"), py::arg("source") = "<text>");
   m.def(
       "read_hs", [](const FilePath& path) { return readHsFile(path); }, py::arg("path"));

@@ -391,3 +391,34 @@ def test_the_rectangle_comes_from_the_tagged_cvs_of_the_shown_level(doc):
     doc.recompute()
     assert joint.isValid(), joint.getStatusString()
     assert joint.SeamLevel == 1 and H._shared(limb).grid_size(0)[0] == 2 * 5 + 2 * 6
+
+
+def test_struts_along_an_arched_hspline_follow_it(doc):
+    import FRepMeshing
+    obj = H.make_plane(doc, 6, 5, 30.0, 20.0)
+    doc.recompute()
+    for i, dz in ((1, 5.0), (2, 9.0), (3, 9.0), (4, 5.0)):  # an arch along u
+        H.nudge_cvs(obj, [(0, i, j) for j in range(5)], delta=(0, 0, dz))
+    doc.recompute()
+    assert H.default_shell_thickness(obj) == pytest.approx(1.5)  # a twentieth of 30
+    FRepMeshing.set_preview_cells(doc, 160)
+    top, result = H.struts_along(obj, 3.0, cell=1.5)
+    doc.recompute()
+    assert top.isValid(), top.getStatusString()
+    assert top.Label == "Struts along " + obj.Label
+    assert result["divisions"] == (5, 4)
+    assert result["deviation"] < 0.05 * 3.0
+    assert result["size"][0] > 31.0  # the arch is longer than the plane it was
+    assert top.Mesh.CountFacets > 10000
+    # every vertex lies in the shell: within half the thickness of the surface (and the fit's
+    # deviation and a preview cell)
+    face = obj.Shape.Faces[0]
+    cell = 36.0 / 160
+    points = top.Mesh.Points
+    for p in points[::max(1, len(points) // 150)]:
+        d = face.distToShape(Part.Vertex(p.Vector))[0]
+        assert d < 1.5 + result["deviation"] + cell, (p.Vector, d)
+    # the arch's top: the shell reaches above the surface's highest point
+    assert top.Mesh.BoundBox.ZMax > obj.Shape.BoundBox.ZMax + 0.5
+    with pytest.raises(ValueError, match="thickness"):
+        H.struts_along(obj, 0.0)

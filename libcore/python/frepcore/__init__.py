@@ -28,6 +28,7 @@ from ._frepcore import mesh_field, vdb_grids, vdb_to_mesh, vdb_reader
 from ._frepcore import Lattice, deform_mesh, deform_vdb, read_lattice, parse_lattice
 from ._frepcore import read_3mf, read_3mf_beams, write_3mf, materials
 from ._frepcore import HSpline, parse_hs, read_hs, read_step_summary, attach_cylinder, envelope
+from ._frepcore import hspline_shell_lattice
 from ._frepcore import set_threads, use_one_job_memory_policy
 from ._frepcore import MeshSettings, mesh_settings_table
 from ._frepcore import EXIT_STATUS, __version__
@@ -37,7 +38,8 @@ __all__ = ["Cancelled", "EmptySolid", "Mesh", "MeshSettings", "mesh_settings_tab
            "load", "automatic_box", "NotPrintable", "from_mesh", "from_vdb", "vdb_grids",
            "vdb_to_mesh", "vdb_reader", "Lattice", "deform_mesh", "deform_vdb", "read_lattice",
            "parse_lattice", "read_3mf", "read_3mf_beams", "write_3mf", "materials", "HSpline", "parse_hs",
-           "read_hs", "read_step_summary", "attach_cylinder", "envelope", "mesh_settings", "EXIT_STATUS",
+           "read_hs", "read_step_summary", "attach_cylinder", "envelope", "hspline_shell_lattice",
+           "mesh_settings", "EXIT_STATUS",
            "exit_status_of", "progress_part"]
 
 # Positional order of the parameters of the primitive functions, where the registry's order
