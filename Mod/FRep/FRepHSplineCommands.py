@@ -21,6 +21,23 @@ def _select(obj):
     FreeCADGui.Selection.addSelection(obj)
 
 
+def _add_in_one_step(doc, title, make):
+    """Runs make() in one undo transaction: it returns the new feature (or the feature and
+    more), which goes into the active container, is recomputed and selected. A refusal goes to
+    a dialog and None is returned; otherwise make()'s result."""
+    try:
+        with Transaction(doc, title):
+            result = make()
+            obj = result[0] if isinstance(result, tuple) else result
+            add_to_active_container(obj)
+            doc.recompute()
+    except ValueError as e:
+        report("FRep hspline", str(e))
+        return None
+    _select(obj)
+    return result
+
+
 class NewHSplineCommand:
     SHAPES = {
         "plane": ("New hspline plane", "An hspline from a plane of 8 x 8 CVs, 100 mm square."),
@@ -76,15 +93,8 @@ class FromFaceCommand:
                    "Part > Convert to NURBS makes one of most faces)")
             return
         source, face = faces[0]
-        try:
-            with Transaction(doc, "Hspline from face"):
-                obj = FRepHSpline.make_from_face(doc, face, label="%s's face" % source.Label)
-                add_to_active_container(obj)
-                doc.recompute()
-        except ValueError as e:
-            report("FRep hspline", str(e))
-            return
-        _select(obj)
+        _add_in_one_step(doc, "Hspline from face", lambda: FRepHSpline.make_from_face(
+            doc, face, label="%s's face" % source.Label))
 
 
 class EditCommand:
@@ -299,15 +309,11 @@ class StrutsCommand:
             "Shell thickness (mm) along %s:" % obj.Label, default, 0.001, 1e6, 3)
         if not ok:
             return
-        try:
-            with Transaction(doc, "Struts along %s" % obj.Label):
-                top, result = FRepHSpline.struts_along(obj, thickness)
-                add_to_active_container(top)
-                doc.recompute()
-        except ValueError as e:
-            report("FRep hspline", str(e))
+        made = _add_in_one_step(doc, "Struts along %s" % obj.Label,
+                                lambda: FRepHSpline.struts_along(obj, thickness))
+        if made is None:
             return
-        _select(top)
+        top, result = made
         FreeCAD.Console.PrintMessage(
             "%s: the FFD lattice of %d x %d divisions follows %s within %.3g mm\n" % (
                 top.Label, result["divisions"][0], result["divisions"][1], obj.Label,
