@@ -173,12 +173,12 @@ TEST(SurfaceLattice, FollowsAPlaneExactlyAndACylinderPatchClosely) {
   };
   refused(cylinder, {1, 1, 1}, 0, 2, "allowed 1 to 24");
   refused(cylinder, {1, 1, 1}, 2, 25, "allowed 1 to 24");
-  refused(cylinder, {1, -1, 1}, 2, 2, "along y");
+  refused(cylinder, {1, -1, 1}, 2, 2, "along y is -1;");
   refused(
       [](double, double) {
         return SurfaceSample{{NAN, 0, 0}, {0, 0, 1}};
       },
-      {1, 1, 1}, 2, 2, "not finite");
+      {1, 1, 1}, 2, 2, "not finite at parameters (0, 0)");
 }
 
 }  // namespace

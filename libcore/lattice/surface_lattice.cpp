@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -15,9 +16,11 @@ namespace {
 // Samples per division along each parameter for the fit (and the check between them).
 constexpr int kSamplesPerDivision = 3;
 
+// A number as a stream writes it (1, 0.5, 1e-07), as ffd_lattice.cpp's messages do.
 std::string text(double x) {
-  std::string s = std::to_string(x);
-  return s.substr(0, s.find_last_not_of('0') + 1);
+  std::ostringstream o;
+  o << x;
+  return o.str();
 }
 
 SurfaceSample sampleAt(const SurfaceSampler& surface, double s, double t) {
