@@ -7,14 +7,24 @@
 //                       Counter `bytes`: the field's program (instructions and constants)
 //                       and, for the foam, its network's bins: the field's whole memory, the
 //                       same for any number of cells.
+//   BM_BentLatticeEval/s/g  the same for octet cells of 1 in a beam of 20 x 4 x 4 cells bent
+//                       along a parabola by an ffd node (4 x 1 x 1 divisions, the middle 5
+//                       up), at points of the bent beam: s = 0 the struts curved with their
+//                       cells (each point pulled back through the lattice's inverse), 1 kept
+//                       straight between their ends' images (the struts binned in the world).
+//                       Counter `bytes`: the straight struts' bins.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <random>
 
+#include "frep/ffd_field.h"
 #include "frep/field_sources.h"
 #include "frep/periodic_segments.h"
+#include "frep/straight_struts.h"
 #include "frep/strut_cells.h"
 #include "frep/tree.h"
+#include "lattice/ffd_lattice.h"
 #include "volume/field_sources.h"
 
 namespace frep {
@@ -75,6 +85,52 @@ void BM_LatticeEval(benchmark::State& state) {
 
 BENCHMARK(BM_LatticeEval)
     ->ArgsProduct({{0, 1, 2, 3, 4, 5, 6, 7}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+void BM_BentLatticeEval(benchmark::State& state) {
+  const bool straight = state.range(0) != 0, gradient = state.range(1) != 0;
+  FfdLattice bend({{-10.5, -2.5, -2.5}, {10.5, 2.5, 2.5}}, 4, 1, 1);
+  for (int i = 0; i <= 4; ++i)
+    for (int j = 0; j <= 1; ++j)
+      for (int k = 0; k <= 1; ++k) {
+        Vec3 q = bend.point(i, j, k);
+        q[2] += 5.0 * (1.0 - std::pow((i - 2) / 2.0, 2));
+        bend.setPoint(i, j, k, q);
+      }
+  const NodePtr octet = makeNode("strut_lattice",
+                                 {{"cell_type", textValue("octet")},
+                                  {"cell", vec3Value({1, 1, 1})},
+                                  {"radius", realValue(0.1)}},
+                                 {});
+  auto params = ffdParams(bend);
+  params["struts"] = textValue(straight ? "straight" : "curved");
+  const Program p = compile(makeNode("ffd", params, {octet}));
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> along(-10.0, 10.0), across(-2.0, 2.0);
+  const std::size_t n = 100000;
+  std::vector<double> x(n), y(n), z(n), out(n);
+  std::vector<Dual> dx(n), dy(n), dz(n), dout(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 q = bend.deform({along(rng), across(rng), across(rng)});
+    x[i] = q[0], y[i] = q[1], z[i] = q[2];
+    dx[i] = Dual(x[i], 1, 0, 0), dy[i] = Dual(y[i], 0, 1, 0), dz[i] = Dual(z[i], 0, 0, 1);
+  }
+  for (auto _ : state) {
+    if (gradient)
+      p.evalGradientBatch(dx.data(), dy.data(), dz.data(), n, dout.data());
+    else
+      p.evalBatch(x.data(), y.data(), z.data(), n, out.data());
+  }
+  state.SetLabel(straight ? "straight" : "curved");
+  state.counters["points/s"] =
+      benchmark::Counter(double(n), benchmark::Counter::kIsIterationInvariantRate);
+  if (straight)
+    state.counters["bytes"] = double(straightStrutFields(*octet, bend).struts->memoryBytes());
+}
+
+BENCHMARK(BM_BentLatticeEval)
+    ->ArgsProduct({{0, 1}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -41,7 +41,8 @@ const char* const kHsplineHelp =
     "       frepcad hspline export IN.hs -o OUT.step|OUT.stl|OUT.3mf|OUT.obj|OUT.ply|OUT.hs\n"
     "                          [--tolerance D] [--optimised] [--force] [--quiet]\n"
     "       frepcad hspline lattice IN.hs -o OUT.json --thickness T [--divisions L M]\n"
-    "                          [--cell-type octet] [--cell C] [--radius R] [--quiet]\n\n"
+    "                          [--cell-type octet] [--cell C] [--radius R] [--straight]\n"
+    "                          [--quiet]\n\n"
     "Hierarchical B-spline surfaces (.hs files, docs/file-formats.md):\n"
     "  new        level 0 of a plane (default 8 x 8 CVs, 100 x 100), a cylinder (8 x 8,\n"
     "             r 20, 60 high) or a torus (10 x 8, radii 30 and 10)\n"
@@ -57,7 +58,8 @@ const char* const kHsplineHelp =
     "             shell --thickness thick, cells of C (default half the thickness) along\n"
     "             the surface's parameters, struts of R (default a tenth of a cell); an FFD\n"
     "             lattice of L x M divisions (default level 0's CVs less one, at most 24)\n"
-    "             fitted to the surface carries them; export it meshed or --beams\n"
+    "             fitted to the surface carries them (the struts curving with it, or\n"
+    "             --straight between their ends); export it meshed or --beams\n"
     "exit status: 0 done, 1 the mesh is not printable (nothing written without --force),\n"
     "2 bad input\n";
 
@@ -70,6 +72,7 @@ struct Options {
   std::vector<double> divisions;
   std::string cellType = "octet";
   bool all = false, json = false, optimised = false, force = false, quiet = false;
+  bool straight = false;
 };
 
 std::vector<double> numbers(const Args& args, std::size_t& i, std::size_t n,
@@ -114,7 +117,8 @@ Options parse(const Args& args) {
       {"zero", "-o --output --cv --level --optimised --optimized --force --quiet"},
       {"unrefine", "-o --output --optimised --optimized --force --quiet"},
       {"export", "-o --output --tolerance --optimised --optimized --force --quiet"},
-      {"lattice", "-o --output --thickness --divisions --cell-type --cell --radius --quiet"}};
+      {"lattice",
+       "-o --output --thickness --divisions --cell-type --cell --radius --straight --quiet"}};
   const std::string& mine = verbOptions.at(o.verb);
   auto takes = [&](const std::string& opt) {
     return (" " + mine + " ").find(" " + opt + " ") != std::string::npos;
@@ -167,6 +171,8 @@ Options parse(const Args& args) {
       o.cellType = args[++i];
     } else if (a == "--all")
       o.all = true;
+    else if (a == "--straight")
+      o.straight = true;
     else if (a == "--json")
       o.json = true;
     else if (a == "--optimised" || a == "--optimized")
@@ -291,6 +297,7 @@ int latticeAlongHspline(const HSpline& h, const Options& o) {
   settings.cell = o.cell.value_or(0.0);
   settings.cellType = o.cellType;
   settings.radius = o.radius.value_or(0.0);
+  settings.straight = o.straight;
   if (!o.divisions.empty()) {
     settings.divisionsU = whole(o.divisions[0], "--divisions");
     settings.divisionsV = whole(o.divisions[1], "--divisions");

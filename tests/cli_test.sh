@@ -514,6 +514,15 @@ expect 1 "an open hspline is a sheet" -- sh -c "\"$frepcad\" hspline new plane -
 # a strut lattice in a shell along an hspline: the model, its beams, what is refused
 expect 0 "follows it within" -- sh -c "\"$frepcad\" hspline new plane -o \"$work/pl.hs\" --size 30 20 --quiet && \"$frepcad\" hspline move \"$work/pl.hs\" -o \"$work/pl2.hs\" --cv 0 3 3 --by 0 0 4 --quiet && \"$frepcad\" hspline lattice \"$work/pl2.hs\" -o \"$work/shell.json\" --thickness 3 --cell 3"
 expect 0 "lib3mf reads [0-9]+ beams back" -- "$frepcad" export "$work/shell.json" -o "$work/shell.3mf" --beams --resolution 0.5
+# --straight: the ffd keeps the struts straight, one beam a strut (fewer than the chains above)
+expect 0 "follows it within" -- "$frepcad" hspline lattice "$work/pl2.hs" -o "$work/straight.json" --thickness 3 --cell 3 --straight
+beams() { "$frepcad" export "$1" -o "$work/beams.3mf" --beams --resolution 0.5 | sed -n 's/.*wrote.*: \([0-9]*\) beams on.*/\1/p'; }
+curved_beams=$(beams "$work/shell.json"); straight_beams=$(beams "$work/straight.json")
+if grep -q '"struts": "straight"' "$work/straight.json" && [ -n "$straight_beams" ] && [ "$straight_beams" -gt 0 ] && [ "$straight_beams" -le "$curved_beams" ]; then
+  passes=$((passes + 1))
+else
+  echo "FAIL: hspline lattice --straight: straight $straight_beams beams, curved $curved_beams"; failures=$((failures + 1))
+fi
 expect 2 "hspline lattice needs --thickness T" -- "$frepcad" hspline lattice "$work/pl2.hs" -o "$work/x.json"
 expect 2 "30 divisions along the surface; allowed 1 to 24" -- "$frepcad" hspline lattice "$work/pl2.hs" -o "$work/x.json" --thickness 3 --divisions 30 30
 [ ! -e "$work/x.json" ] || { echo "FAIL: a refused hspline lattice left x.json"; failures=$((failures + 1)); }

@@ -282,6 +282,47 @@ TEST_P(Conformance, AllFourModesAgree) {
   EXPECT_GT(count.intervalChecks, 0);
 }
 
+// Strut lattices and foams straightened through random twisted lattices (the ffd's struts =
+// straight): alone or cut to a primitive, with node spheres, a blend or a graded radius.
+TEST(Conformance, StraightStrutsThroughRandomLattices) {
+  registerVolumeSources();
+  RandomTrees r(97531);
+  ModeChecks count;
+  const char* types[] = {"octet", "kelvin", "diamond", "bcc", "simple_cubic", "fcc"};
+  for (int instance = 0; instance < 12; ++instance) {
+    const Vec3 cell{r.uniform(0.3, 0.5), r.uniform(0.3, 0.5), r.uniform(0.3, 0.5)};
+    std::map<std::string, ParamValue> p{{"cell", vec3Value(cell)},
+                                        {"radius", realValue(r.uniform(0.02, 0.08))},
+                                        {"node_radius", realValue(r.integer(0, 2) ? 0.0 : 0.09)},
+                                        {"blend", realValue(r.integer(0, 2) ? 0.0 : 0.05)}};
+    std::vector<NodePtr> grading;
+    if (instance % 4 == 1) grading.push_back(r.primitive());
+    NodePtr network;
+    if (instance % 6 == 5) {
+      p.erase("node_radius");
+      p["tile"] = realValue(4);
+      network = makeNode("voronoi_foam", p, grading);
+    } else {
+      p["cell_type"] = textValue(types[instance % 6]);
+      network = makeNode("strut_lattice", p, grading);
+    }
+    const NodePtr input =
+        r.integer(0, 1) ? network : makeNode("intersection", {}, {network, r.primitive()});
+    const Vec3 lo{r.uniform(-1.5, -0.3), r.uniform(-1.5, -0.3), r.uniform(-1.5, -0.3)};
+    const Box3 rest{
+        lo, {lo[0] + r.uniform(1, 2.5), lo[1] + r.uniform(1, 2.5), lo[2] + r.uniform(1, 2.5)}};
+    const auto lattice = testing::twistedLattice(r.integer(1, 3), r.integer(1, 3), r.integer(1, 4),
+                                                 r.uniform(0, 1.5), r.uniform(0, 0.25),
+                                                 unsigned(r.integer(0, 1000)), rest);
+    auto params = testing::ffdParams(lattice);
+    params["struts"] = textValue("straight");
+    const std::string what = "straight struts " + std::to_string(instance);
+    checkModesAgree(compile(makeNode("ffd", params, {input})), what, r, count);
+    if (HasFatalFailure()) return;
+  }
+  EXPECT_GT(count.gradientChecks, count.gradientPoints / 2);
+}
+
 // Every formula function and operator through the four modes (the formula node's own
 // conformance run above uses its default formula). Domains are kept where the functions are
 // finite on the sampled cube [-2, 2]^3.

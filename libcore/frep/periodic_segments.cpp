@@ -41,7 +41,25 @@ double segmentDistance(const Vec3& p, const StrutPiece& s) {
 PeriodicSegmentsField::PeriodicSegmentsField(const std::vector<StrutPiece>& segments,
                                              const Vec3& period, const Vec3& origin,
                                              const std::array<int, 3>& bins, double blend)
-    : tile_(segments), period_(period), origin_(origin), bins_(bins), blend_(blend) {
+    : PeriodicSegmentsField(segments, period, origin, bins, blend, true, 0.0) {}
+
+std::shared_ptr<const PeriodicSegmentsField> PeriodicSegmentsField::unrepeated(
+    const std::vector<StrutPiece>& segments, const Box3& box, const std::array<int, 3>& bins,
+    double exactWithin, double blend) {
+  return std::shared_ptr<const PeriodicSegmentsField>(new PeriodicSegmentsField(
+      segments, vsub(box.hi, box.lo), box.lo, bins, blend, false, exactWithin));
+}
+
+PeriodicSegmentsField::PeriodicSegmentsField(const std::vector<StrutPiece>& segments,
+                                             const Vec3& period, const Vec3& origin,
+                                             const std::array<int, 3>& bins, double blend,
+                                             bool repeated, double exactWithin)
+    : tile_(segments),
+      period_(period),
+      origin_(origin),
+      bins_(bins),
+      blend_(blend),
+      repeated_(repeated) {
   if (segments.empty()) throw std::invalid_argument("a periodic network needs a segment");
   double longest = 0.0;
   for (const StrutPiece& s : segments) longest = std::max(longest, vlength(vsub(s.b, s.a)));
@@ -51,18 +69,22 @@ PeriodicSegmentsField::PeriodicSegmentsField(const std::vector<StrutPiece>& segm
   const double largestBin = std::max({binSize_[0], binSize_[1], binSize_[2]});
   const double shortestPeriod = std::min({period[0], period[1], period[2]});
 
-  // The copies in the tile and the 26 round it, each filed in the cells (bin-sized, over
-  // those 27 tiles) its box meets, so that a bin looks only at the copies near it.
+  // The copies in the tile and the 26 round it (unrepeated: the segments), each filed in the
+  // cells (bin-sized, over those 27 tiles) its box meets, so that a bin looks only at the
+  // copies near it.
   std::vector<StrutPiece> copies;
-  for (int i = -1; i <= 1; ++i)
-    for (int j = -1; j <= 1; ++j)
-      for (int k = -1; k <= 1; ++k) {
+  const int tiles = repeated ? 1 : 0;  // tiles each side of the bins' own
+  for (int i = -tiles; i <= tiles; ++i)
+    for (int j = -tiles; j <= tiles; ++j)
+      for (int k = -tiles; k <= tiles; ++k) {
         const Vec3 shift{i * period[0], j * period[1], k * period[2]};
         for (const StrutPiece& s : segments) copies.push_back({vadd(s.a, shift), vadd(s.b, shift)});
       }
-  const int cells[3] = {3 * bins[0], 3 * bins[1], 3 * bins[2]};
+  const int span = 2 * tiles + 1;
+  const int cells[3] = {span * bins[0], span * bins[1], span * bins[2]};
+  const int offset[3] = {tiles * bins[0], tiles * bins[1], tiles * bins[2]};  // the bins' own
   auto cellOf = [&](double v, int a) {
-    const int i = int(std::floor((v - origin[a] + period[a]) / binSize_[a]));
+    const int i = int(std::floor((v - origin[a] + tiles * period[a]) / binSize_[a]));
     return std::min(std::max(i, 0), cells[a] - 1);
   };
   std::vector<std::vector<std::uint32_t>> filed(std::size_t(cells[0]) * cells[1] * cells[2]);
@@ -96,10 +118,12 @@ PeriodicSegmentsField::PeriodicSegmentsField(const std::vector<StrutPiece>& segm
           ++visit;
           near.clear();
           int from[3], to[3];
+          bool everyCell = true;  // unrepeated: then every segment was seen
           for (int a = 0; a < 3; ++a) {
             const int r = int(std::ceil(reach / binSize_[a] - 0.5));
-            from[a] = std::max(0, b[a] + bins[a] - r);
-            to[a] = std::min(cells[a] - 1, b[a] + bins[a] + r);
+            from[a] = std::max(0, b[a] + offset[a] - r);
+            to[a] = std::min(cells[a] - 1, b[a] + offset[a] + r);
+            everyCell = everyCell && from[a] == 0 && to[a] == cells[a] - 1;
           }
           double least = std::numeric_limits<double>::infinity();
           for (int z = from[2]; z <= to[2]; ++z)
@@ -115,14 +139,21 @@ PeriodicSegmentsField::PeriodicSegmentsField(const std::vector<StrutPiece>& segm
           // A point of the bin is within least + h of some copy, so its nearest copy is
           // within least + 2h of the centre, and a copy the blend reaches within `blend`
           // more; the margin covers rounding.
-          const double keep =
-              least + 2.0 * halfDiagonal + blend + 1e-9 * (least + halfDiagonal + blend);
+          // Unrepeated, a point farther than exactWithin from every segment needs no exact
+          // distance: its nearest is then farther than exactWithin + h from the centre (the
+          // bin keeps at least the centre's nearest, for a finite upper bound).
+          double keep = least + 2.0 * halfDiagonal + blend;
+          if (!repeated) keep = std::min(keep, std::max(least, exactWithin + halfDiagonal + blend));
+          keep += 1e-9 * (least + halfDiagonal + blend);
           // Only copies in the tiles next to the bin's are filed: a copy two tiles away has
           // its middle more than a period from the centre.
-          if (keep > shortestPeriod - 0.5 * longest)
+          if (repeated && keep > shortestPeriod - 0.5 * longest)
             throw std::invalid_argument("the period is too short for the network's segments");
-          if (keep >= reach) {  // again with a box that reaches `keep`
-            reach = std::max(keep * (1.0 + 1e-9), reach + smallestBin);
+          if (keep >= reach && !(everyCell && !repeated)) {  // again, reaching `keep`
+            // (unrepeated, twice as far at least: segments may lie far beyond the bins)
+            reach = repeated
+                        ? std::max(keep * (1.0 + 1e-9), reach + smallestBin)
+                        : std::max(std::isfinite(keep) ? keep * (1.0 + 1e-9) : 0.0, 2.0 * reach);
             continue;
           }
           farthest_ = std::max(farthest_, least + halfDiagonal);
@@ -155,7 +186,12 @@ PeriodicSegmentsField::PeriodicSegmentsField(const std::vector<StrutPiece>& segm
         }
         binStart_.push_back(std::uint32_t(candidates_.size()));
       }
-  farthest_ *= 1.0 + 1e-9;
+  farthest_ = repeated ? farthest_ * (1.0 + 1e-9) : std::numeric_limits<double>::infinity();
+  if (!repeated) {
+    std::vector<StrutPiece>().swap(tile_);  // (its bins keep what they need)
+    exact_ = exactWithin;
+    cap_ = exactWithin - 0.5 * blend;
+  }
 }
 
 PeriodicSegmentsField::Located PeriodicSegmentsField::locate(double x, double y, double z) const {
@@ -165,8 +201,9 @@ PeriodicSegmentsField::Located PeriodicSegmentsField::locate(double x, double y,
   int bin[3];
   for (int a = 0; a < 3; ++a) {
     const double u = p[a] - origin_[a];
-    const double w = u - period_[a] * std::floor(u / period_[a]);  // in [0, period] (rounding)
-    bin[a] = std::min(std::max(int(w / binSize_[a]), 0), bins_[a] - 1);
+    // in [0, period] (rounding); unrepeated, the point itself in its nearest bin
+    const double w = repeated_ ? u - period_[a] * std::floor(u / period_[a]) : u;
+    bin[a] = std::min(std::max(int(std::floor(w / binSize_[a])), 0), bins_[a] - 1);
     at.q[a] = w + origin_[a];
     const double fromCentre = w - (bin[a] + 0.5) * binSize_[a];
     r2 += fromCentre * fromCentre;
@@ -201,6 +238,10 @@ double PeriodicSegmentsField::value(double x, double y, double z, double gradien
   const Located at = locate(x, y, z);
   double offset[3];
   const double m = nearest(at, offset);
+  if (!(m < exact_)) {  // unrepeated, farther than exactWithin from every segment
+    if (gradient) gradient[0] = gradient[1] = gradient[2] = 0.0;
+    return cap_;
+  }
   // The distance grows away from the closest point: its gradient is -offset / d.
   double gm[3] = {0.0, 0.0, 0.0};
   if (m > 0.0)
@@ -224,9 +265,14 @@ double PeriodicSegmentsField::value(double x, double y, double z, double gradien
     if (gradient && d > 0.0)
       for (int a = 0; a < 3; ++a) sum[a] += t * (-o[a] / d - gm[a]);
   }
+  const double blended = m - 0.5 * blend_ + 0.5 * blend_ / s;
+  if (!(blended < cap_)) {
+    if (gradient) gradient[0] = gradient[1] = gradient[2] = 0.0;
+    return cap_;
+  }
   if (gradient)
     for (int a = 0; a < 3; ++a) gradient[a] = gm[a] + sum[a] / (s * s);
-  return m - 0.5 * blend_ + 0.5 * blend_ / s;
+  return blended;
 }
 
 double PeriodicSegmentsField::eval(double x, double y, double z) const {
@@ -264,8 +310,11 @@ Interval PeriodicSegmentsField::evalInterval(const Interval& x, const Interval& 
   double offset[3];
   const double v = nearest(locate(centre[0], centre[1], centre[2]), offset);
   const double margin = 1e-12 * (v + half + blend_) + 1e-13 * largest;
-  return {std::max(least, v - half - 0.5 * blend_ - margin),
-          std::min(farthest_, v + half + margin)};
+  // Unrepeated, the distance is capped: at least exact_ at the centre where v is (and at most
+  // cap_ anywhere); repeated, both are infinite.
+  const double m = std::min(v, exact_);
+  return {std::min(std::max(least, m - half - 0.5 * blend_ - margin), cap_),
+          v < exact_ ? std::min({farthest_, v + half + margin, cap_}) : cap_};
 }
 
 std::vector<StrutPiece> PeriodicSegmentsField::segmentsInBox(const Box3& box) const {

@@ -3,10 +3,17 @@
 // and their copies by the period. The tile is cut into bins; each bin keeps only the copies
 // that can be nearest to some point in it, so a point meets a few dozen segments whatever the
 // tile holds and the field's memory does not grow with the lattice's extent.
+//
+// Unrepeated, the same field holds one finite set of segments (a strut lattice's struts mapped
+// straight through a deformation): the bins then cover a box round them, and each keeps only
+// the segments that can be nearest to a point of it within a given distance E, so that a bin
+// in empty space costs little. The field is then min(distance, E) (less half the blend): exact
+// within E of a segment, E beyond, so still 1-Lipschitz and its intervals still rigorous.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -30,6 +37,13 @@ class PeriodicSegmentsField : public Field {
   PeriodicSegmentsField(const std::vector<StrutPiece>& segments, const Vec3& period,
                         const Vec3& origin, const std::array<int, 3>& bins, double blend = 0.0);
 
+  // The segments once, not repeated: the bins cut `box`; the distance is min(its own,
+  // exactWithin) less half the blend at every point of the box, and everywhere when the box
+  // holds every segment grown by exactWithin (segments outside the box count all the same).
+  static std::shared_ptr<const PeriodicSegmentsField> unrepeated(
+      const std::vector<StrutPiece>& segments, const Box3& box, const std::array<int, 3>& bins,
+      double exactWithin, double blend = 0.0);
+
   // The distance to the nearest segment of the network, smoothed by the blend (NaN where a
   // coordinate is).
   double eval(double x, double y, double z) const override;
@@ -38,12 +52,15 @@ class PeriodicSegmentsField : public Field {
   using Field::evalGradient;
 
   // Every copy of the tile's segments whose box meets `box`, each once (what a beam lattice
-  // file lists).
+  // file lists; none when unrepeated).
   std::vector<StrutPiece> segmentsInBox(const Box3& box) const;
   std::size_t memoryBytes() const;
   std::size_t tileSegmentCount() const { return tile_.size(); }
 
  private:
+  PeriodicSegmentsField(const std::vector<StrutPiece>& segments, const Vec3& size,
+                        const Vec3& origin, const std::array<int, 3>& bins, double blend,
+                        bool repeated, double exactWithin);
   struct Segment {
     double a[3], e[3];
     double inverseLength2;  // 0 for a point
@@ -72,8 +89,13 @@ class PeriodicSegmentsField : public Field {
   std::vector<std::uint32_t> binStart_;  // candidates of bin i: [binStart_[i], binStart_[i+1])
   std::vector<Candidate> candidates_;
   std::vector<double> binStep_;  // the unit of the candidates' distances in each bin
-  double farthest_ = 0.0;        // an upper bound of the distance anywhere
+  double farthest_ = 0.0;        // an upper bound of the distance anywhere (repeated)
   double blend_ = 0.0;
+  bool repeated_ = true;
+  // Unrepeated: the distance is min(the blended distance, cap_), exact where the nearest
+  // segment is within exact_ (infinite when repeated).
+  double exact_ = std::numeric_limits<double>::infinity();
+  double cap_ = std::numeric_limits<double>::infinity();
 };
 
 // A strut network's edges and its nodes (where edges meet), both periodic: what the

@@ -40,6 +40,9 @@ struct BeamSource {
   // The share of chainTolerance the chains of toWorld take (conformal cells bent by an ffd
   // are chained twice).
   double chainShare = 1.0;
+  // How many times a strut may be halved into a chain (0: every strut one beam; an ffd's
+  // straight struts are straight from one end's image to the other's).
+  int chainDepth = 5;
   double smallestCell = 1.0;
   double radius = 0.0;
   NodePtr grading;    // the radius's field, or null
@@ -156,14 +159,15 @@ void setBent(BeamSource& s, const Node& ffd) {
   const auto bend = std::make_shared<const FfdLattice>(ffdLatticeOf(ffd));
   const Box3 rest = bend->rest();
   const double half = 0.5 * chainTolerance(s);
-  s.strutsIn = [rest, unbent = s.strutsIn, conformal = s.toWorld, half](const Box3&) {
+  s.strutsIn = [rest, unbent = s.strutsIn, conformal = s.toWorld, half,
+                depth = s.chainDepth](const Box3&) {
     std::vector<StrutPiece> pieces;
     std::vector<Beam> chain;
     StrutPiece piece;
     for (const StrutPiece& p : unbent(rest)) {
       chain.clear();
       if (conformal)
-        curveAsSegments(conformal, p.a, p.b, conformal(p.a), conformal(p.b), half, 5, chain);
+        curveAsSegments(conformal, p.a, p.b, conformal(p.a), conformal(p.b), half, depth, chain);
       else
         chain.push_back({p, p});
       for (const Beam& c : chain)
@@ -172,6 +176,7 @@ void setBent(BeamSource& s, const Node& ffd) {
     return pieces;
   };
   if (s.toWorld) s.chainShare = 0.5;
+  s.chainDepth = ffd.param("struts").text == "straight" ? 0 : 5;  // (cells as boxes: checked)
   s.toWorld = [bend](const Vec3& q) { return bend->deform(q); };
   s.bent = true;
 }
@@ -387,7 +392,7 @@ BeamExportResult exportBeamLattice(const NodePtr& root, const MeshingBox& box,
   for (const StrutPiece& c : source.strutsIn(reach)) {
     if (source.toWorld)
       curveAsSegments(source.toWorld, c.a, c.b, source.toWorld(c.a), source.toWorld(c.b),
-                      curveTolerance, 5, pieces);
+                      curveTolerance, source.chainDepth, pieces);
     else
       pieces.push_back({c, c});
   }

@@ -63,8 +63,9 @@ HsplineShell hsplineShellLattice(const HSpline& h, const HsplineShellSettings& s
                 {"radius", realValue(settings.radius > 0.0 ? settings.radius : 0.1 * cell)}},
                {});
   const NodePtr shell = makeNode("box", {{"size", vec3Value(out.size)}}, {});
-  out.model.root =
-      makeNode("ffd", ffdParams(fit.lattice), {makeNode("intersection", {}, {struts, shell})});
+  auto bend = ffdParams(fit.lattice);
+  bend["struts"] = textValue(settings.straight ? "straight" : "curved");
+  out.model.root = makeNode("ffd", bend, {makeNode("intersection", {}, {struts, shell})});
   out.model.description = "a strut lattice of " + settings.cellType + " cells along " + source +
                           ", a shell " + numberText(thickness) + " thick (hspline lattice)";
   return out;

@@ -17,6 +17,9 @@ struct HsplineShellSettings {
   double radius = 0.0;  // the struts'; 0: a tenth of a cell
   // The fitted lattice's divisions along u and v; 0: level 0's CVs less one (at most 24).
   int divisionsU = 0, divisionsV = 0;
+  // Struts straight between their ends' images (the ffd node's struts = straight) rather than
+  // curved with the surface.
+  bool straight = false;
 };
 
 struct HsplineShell {

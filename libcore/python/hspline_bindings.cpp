@@ -438,8 +438,9 @@ void bindHSpline(py::module_& m) {
   m.def(
       "hspline_shell_lattice",
       [](const HSpline& h, double thickness, double cell, const std::string& cellType,
-         double radius, std::pair<int, int> divisions, const std::string& source) {
+         double radius, std::pair<int, int> divisions, const std::string& source, bool straight) {
         HsplineShellSettings settings;
+        settings.straight = straight;
         settings.thickness = thickness, settings.cell = cell, settings.cellType = cellType;
         settings.radius = radius;
         settings.divisionsU = divisions.first, settings.divisionsV = divisions.second;
@@ -457,10 +458,12 @@ void bindHSpline(py::module_& m) {
       py::arg("hspline"), py::arg("thickness"), py::arg("cell") = 0.0,
       py::arg("cell_type") = "octet", py::arg("radius") = 0.0,
       py::arg("divisions") = std::pair<int, int>{0, 0}, py::arg("source") = "the hspline",
+      py::arg("straight") = false,
       "A strut lattice in a shell `thickness` thick along the hspline, its cells following the "
       "surface's parameters through an FFD lattice fitted to it (`frepcad hspline lattice`; "
       "cell 0: half the thickness, radius 0: a tenth of a cell, divisions 0: level 0's CVs "
-      "less one). dict(model (JSON text), size, cells, divisions, deviation: how closely the "
+      "less one; straight: each strut straight between its ends' images, not curved with the "
+      "surface). dict(model (JSON text), size, cells, divisions, deviation: how closely the "
       "lattice follows the surface).");
   m.def("parse_hs", &parseHs, py::arg("text"), py::arg("source") = "<text>");
   m.def(

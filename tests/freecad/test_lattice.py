@@ -185,3 +185,55 @@ def test_an_exposed_control_point_is_driven_by_an_expression(doc):
     lattice.setExpression("Point_1_0_1.z", None)
     FRepLattice.move_point(lattice, (1, 0, 1), (0, 0, 2))
     assert lattice.Point_1_0_1.z == 2
+
+
+def test_straight_struts_follow_the_lattice_and_export_one_beam_a_strut(doc, tmp_path):
+    """A beam of octet struts bent by a Lattice: Struts 'straight' keeps each strut straight
+    from one end's image to the other's (the field is the radius at the middle of that chord;
+    curved, the strut bows away from it), writes one beam a strut into a beam 3MF (fewer than
+    the curved struts' chains) and saves and reopens."""
+    import FRepExport
+    cells = F.make("strut_lattice", doc, cell_type="octet", cell=(2.0, 2.0, 2.0), radius=0.1)
+    block = F.make("box", doc, corner=(-10, -2, -2), size=(20, 4, 4))
+    part = F.make("intersection", doc, inputs=[cells, block])
+    lattice = FRepLattice.make_lattice(doc, target=part, divisions=(2, 1, 1))
+    bent = FRepLattice.make_deform(doc, part, lattice)
+    for j in (0, 1):
+        for k in (0, 1):
+            FRepLattice.move_point(lattice, (1, j, k), (0, 0, 6))
+    doc.recompute()
+    assert bent.isValid(), bent.getStatusString()
+    assert bent.Struts == "curved"
+    curved_facets = bent.Mesh.CountFacets
+    # a strut across the cells' faces near the middle: from node (0, 0, 0) to (2, 0, 2)
+    bend = lattice.Proxy.lattice(lattice)
+    a, b = bend.deform((0.0, 0.0, 0.0)), bend.deform((2.0, 0.0, 2.0))
+    middle = [(a[i] + b[i]) / 2 for i in range(3)]
+    assert FRepTree.shape_of(bent)(*middle) < 0.1 - 0.01  # curved: the chord misses its axis
+    bent.Struts = "straight"
+    doc.recompute()
+    assert bent.isValid(), bent.getStatusString()
+    assert bent.Mesh.CountFacets != curved_facets
+    assert FRepTree.shape_of(bent)(*middle) == pytest.approx(0.1, abs=1e-9)
+    straight = FRepExport.export_objects([bent], str(tmp_path / "straight.3mf"), cells=96,
+                                         fmt="3mf-beams")
+    assert straight["written"], straight["text"]
+    assert frepcore.read_3mf_beams(str(tmp_path / "straight.3mf"))["beams"] == straight["beams"]
+    bent.Struts = "curved"
+    doc.recompute()
+    curved = FRepExport.export_objects([bent], str(tmp_path / "curved.3mf"), cells=96,
+                                       fmt="3mf-beams")
+    assert 100 < straight["beams"] < curved["beams"]
+    bent.Struts = "straight"
+    doc.recompute()
+    path = str(tmp_path / "straight.FCStd")
+    name = bent.Name
+    doc.saveAs(path)
+    again = FreeCAD.openDocument(path)
+    try:
+        again.recompute()
+        reopened = again.getObject(name)
+        assert reopened.Struts == "straight" and reopened.isValid()
+        assert FRepTree.shape_of(reopened)(*middle) == pytest.approx(0.1, abs=1e-9)
+    finally:
+        FreeCAD.closeDocument(again.Name)

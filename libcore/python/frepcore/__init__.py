@@ -270,13 +270,14 @@ class Shape:
                                "printable" % path, report)
         return report
 
-    def deform(self, lattice):
+    def deform(self, lattice, struts="curved"):
         """This solid bent by a Lattice: the ffd node with the lattice's box, divisions and
-        points (pulled back through the lattice's inverse, so it has no gaps)."""
+        points (pulled back through the lattice's inverse, so it has no gaps). struts:
+        "straight" keeps a strut lattice's struts straight between their ends' images."""
         d = lattice.divisions
         return Shape(Node("ffd", {"rest_min": lattice.rest_min, "rest_max": lattice.rest_max,
                                   "divisions_x": d[0], "divisions_y": d[1], "divisions_z": d[2],
-                                  "points": lattice.points}, [self.node]))
+                                  "points": lattice.points, "struts": struts}, [self.node]))
 
     def to_json(self, bbox=None, resolution=None, description=""):
         return self.node.to_json(bbox, resolution, description)
