@@ -37,6 +37,20 @@ inline FfdLattice twistedLattice(int l, int m, int n, double turns, double jitte
   return lattice;
 }
 
+// A lattice of 4 x 1 x 1 divisions over `rest` (centred on x = 0) whose points are lifted along
+// the parabola z += x^2 / 4: a beam bent upwards at its ends.
+inline FfdLattice parabolaLattice(const Box3& rest) {
+  FfdLattice lattice(rest, 4, 1, 1);
+  for (int i = 0; i <= 4; ++i)
+    for (int j = 0; j <= 1; ++j)
+      for (int k = 0; k <= 1; ++k) {
+        Vec3 q = lattice.point(i, j, k);
+        q[2] += 0.25 * (q[0] * q[0]);
+        lattice.setPoint(i, j, k, q);
+      }
+  return lattice;
+}
+
 // The ffd node's parameters for a lattice.
 inline std::map<std::string, ParamValue> ffdParams(const FfdLattice& lattice) {
   return frep::ffdParams(lattice);

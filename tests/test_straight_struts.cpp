@@ -80,15 +80,7 @@ std::vector<StrutPiece> mappedStruts(const UnitCell& cell, const Vec3& size, con
 
 // The bent beam of the curved struts' test: 4 x 1 x 1 divisions lifted along a parabola.
 FfdLattice parabola() {
-  FfdLattice bend({{-2.05, -0.55, -0.55}, {2.05, 0.55, 0.55}}, 4, 1, 1);
-  for (int i = 0; i <= 4; ++i)
-    for (int j = 0; j <= 1; ++j)
-      for (int k = 0; k <= 1; ++k) {
-        Vec3 q = bend.point(i, j, k);
-        q[2] += 0.25 * (q[0] * q[0]);
-        bend.setPoint(i, j, k, q);
-      }
-  return bend;
+  return testing::parabolaLattice({{-2.05, -0.55, -0.55}, {2.05, 0.55, 0.55}});
 }
 
 // The field is radius minus the distance to the nearest mapped strut within 1e-9 at 10,000

@@ -505,14 +505,8 @@ TEST(StrutLattice, ConformalThroughAnFfdBendAndGradedExportPrintable) {
   const NodePtr beam = makeNode(
       "intersection", {},
       {lattice("octet", {0.5, 0.5, 0.5}, 0.05, 0.07), testing::box({-2, -0.5, -0.5}, {4, 1, 1})});
-  FfdLattice bend({{-2.05, -0.55, -0.55}, {2.05, 0.55, 0.55}}, 4, 1, 1);
-  for (int i = 0; i <= 4; ++i)
-    for (int j = 0; j <= 1; ++j)
-      for (int k = 0; k <= 1; ++k) {
-        Vec3 q = bend.point(i, j, k);
-        q[2] += 0.25 * (q[0] * q[0]);  // a parabola: the ends 1 up
-        bend.setPoint(i, j, k, q);
-      }
+  // a parabola: the ends 1 up
+  const FfdLattice bend = testing::parabolaLattice({{-2.05, -0.55, -0.55}, {2.05, 0.55, 0.55}});
   const NodePtr conformal = makeNode("ffd", testing::ffdParams(bend), {beam});
   auto nowhere = [](const Vec3&) { return false; };
   MeshingOptions o;
@@ -588,14 +582,7 @@ TEST(StrutLattice, ConformalThroughAnFfdBendAndGradedExportPrintable) {
 // axis, lifted along a parabola. As beams, each strut is chained twice (round the cylinder,
 // then through the bend), and the beams follow the twice-curved struts.
 TEST(StrutLattice, CellsConformalToACylinderAndBentExportAsBeams) {
-  FfdLattice bend({{-2.1, -1.1, -1.1}, {2.1, 1.1, 1.1}}, 4, 1, 1);
-  for (int i = 0; i <= 4; ++i)
-    for (int j = 0; j <= 1; ++j)
-      for (int k = 0; k <= 1; ++k) {
-        Vec3 q = bend.point(i, j, k);
-        q[2] += 0.25 * (q[0] * q[0]);
-        bend.setPoint(i, j, k, q);
-      }
+  const FfdLattice bend = testing::parabolaLattice({{-2.1, -1.1, -1.1}, {2.1, 1.1, 1.1}});
   const NodePtr tube = makeNode(
       "difference", {},
       {makeNode(
