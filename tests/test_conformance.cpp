@@ -323,6 +323,39 @@ TEST(Conformance, StraightStrutsThroughRandomLattices) {
   EXPECT_GT(count.gradientChecks, count.gradientPoints / 2);
 }
 
+// Straight struts of cells round a cylinder or a sphere (the chords of each layer, filed per
+// layer as points ask for them) through the four modes, round random slanted axes.
+TEST(Conformance, StraightConformalStrutsRoundRandomAxes) {
+  RandomTrees r(86420);
+  ModeChecks count;
+  const char* types[] = {"octet", "kelvin", "diamond", "bcc", "simple_cubic", "fcc"};
+  for (int instance = 0; instance < 12; ++instance) {
+    const bool sphere = instance % 2 == 1;
+    std::map<std::string, ParamValue> p{
+        {"cell_type", textValue(types[instance % 6])},
+        {"cell", vec3Value({r.uniform(0.3, 0.6), r.uniform(0.3, 0.6), r.uniform(0.3, 0.6)})},
+        {"radius", realValue(r.uniform(0.02, 0.08))},
+        {"node_radius", realValue(r.integer(0, 2) ? 0.0 : 0.09)},
+        {"blend", realValue(r.integer(0, 2) ? 0.0 : 0.05)},
+        {"origin", vec3Value({r.uniform(-1, 1), r.uniform(-1, 1), r.uniform(-1, 1)})},
+        {"axis", vec3Value({r.uniform(-1, 1), r.uniform(-1, 1), r.uniform(0.2, 1)})},
+        {"conform", textValue(sphere ? "sphere" : "cylinder")},
+        {"around", realValue(r.integer(6, 24))},
+        {"struts", textValue("straight")}};
+    std::vector<NodePtr> grading;
+    if (instance % 4 == 1) grading.push_back(r.primitive());
+    const NodePtr network = makeNode("strut_lattice", p, grading);
+    const NodePtr input =
+        r.integer(0, 1) ? network : makeNode("intersection", {}, {network, r.primitive()});
+    checkModesAgree(
+        compile(input),
+        std::string("straight ") + (sphere ? "sphere " : "cylinder ") + std::to_string(instance), r,
+        count);
+    if (HasFatalFailure()) return;
+  }
+  EXPECT_GT(count.gradientChecks, count.gradientPoints / 2);
+}
+
 // Every formula function and operator through the four modes (the formula node's own
 // conformance run above uses its default formula). Domains are kept where the functions are
 // finite on the sampled cube [-2, 2]^3.

@@ -11,7 +11,9 @@
 
 #include "base/errors.h"
 #include "check/mesh_check.h"
+#include "frep/bounds.h"
 #include "frep/field_sources.h"
+#include "frep/node_helpers.h"
 #include "frep/periodic_segments.h"
 #include "frep/strut_cells.h"
 #include "frep/tree.h"
@@ -262,6 +264,135 @@ TEST(StraightStruts, WhatIsRefusedIsNamed) {
   const Program plain = compile(straight(bend, testing::sphere(0.5)));
   const Program curved = compile(straight(bend, testing::sphere(0.5), "curved"));
   for (double x : {-0.4, 0.0, 0.3}) EXPECT_EQ(plain.eval(x, 0.1, 0.2), curved.eval(x, 0.1, 0.2));
+}
+
+// Cells conformal to a cylinder or a sphere with straight struts: the field is radius minus the
+// distance to every strut's chord (its ends mapped round the axis), capped at the field's
+// exact reach, at 3,000 random points round a slanted axis; the chords' middles are on the
+// struts (curved, they are not); a tube and a shell mesh printable and export one beam a
+// strut, every beam on a chord.
+TEST(StraightStruts, CellsRoundACylinderOrASphereHaveChordsForStruts) {
+  const Vec3 origin{0.1, -0.2, 0.3}, axis{0.3, 0.2, 1.0};
+  const Frame f = frameAlong(axis);
+  for (const bool sphere : {false, true}) {
+    const Vec3 size = sphere ? Vec3{0.5, 0.5, 0.5} : Vec3{0.5, 0.6, 0.4};
+    const int around = sphere ? 12 : 16;
+    auto conformal = [&](const std::string& struts) {
+      return makeNode("strut_lattice",
+                      {{"cell_type", textValue("octet")},
+                       {"cell", vec3Value(size)},
+                       {"radius", realValue(0.06)},
+                       {"origin", vec3Value(origin)},
+                       {"axis", vec3Value(axis)},
+                       {"conform", textValue(sphere ? "sphere" : "cylinder")},
+                       {"around", realValue(around)},
+                       {"struts", textValue(struts)}},
+                      {});
+    };
+    // the map from the lattice's coordinates, written out here
+    const double alongY = around / (2 * kPi) * size[1], alongZ = around / (2 * kPi) * size[2];
+    auto world = [&](const Vec3& q) {
+      const double t = q[1] / alongY, phi = q[2] / alongZ;
+      const Vec3 l = sphere ? Vec3{q[0] * std::sin(phi) * std::cos(t),
+                                   q[0] * std::sin(phi) * std::sin(t), q[0] * std::cos(phi)}
+                            : Vec3{q[0] * std::cos(t), q[0] * std::sin(t), q[2]};
+      return vadd(origin, vadd(vscale(f.u, l[0]), vadd(vscale(f.v, l[1]), vscale(f.w, l[2]))));
+    };
+    // every strut of a turn's cells out to 3.5 from the axis (or centre), each once (by its
+    // middle's angle), cut at the axis and the poles
+    const double halfTurn = kPi * alongY, pole = kPi * alongZ;
+    std::vector<StrutPiece> chords;
+    StrutPiece piece;
+    for (const StrutPiece& s : strutsInBox(
+             unitCell("octet"), size, {0, 0, 0},
+             {{0, -halfTurn - 1, sphere ? 0.0 : -2.5}, {3.5, halfTurn + 1, sphere ? pole : 2.5}})) {
+      const double middle = 0.5 * (s.a[1] + s.b[1]);
+      if (middle < -halfTurn || middle >= halfTurn) continue;
+      if (clip(s.a, s.b, {0, -HUGE_VAL, sphere ? 0.0 : -HUGE_VAL},
+               {HUGE_VAL, HUGE_VAL, sphere ? pole : HUGE_VAL}, &piece))
+        chords.push_back({world(piece.a), world(piece.b)});
+    }
+    const Program field = compile(conformal("straight"));
+    const Program curved = compile(conformal("curved"));
+    const double reach = 0.5 * std::min({size[0], size[1], size[2]});
+    std::mt19937 rng(sphere ? 9 : 8);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    double worst = 0.0;
+    for (int i = 0; i < 3000; ++i) {
+      Vec3 l{2.5 * u(rng), 2.5 * u(rng), 2.5 * u(rng)};
+      // within 2.5 of the axis (and 1.5 along it) or of the centre
+      if (std::hypot(l[0], l[1], sphere ? l[2] : 0.0) > 2.5) continue;
+      if (!sphere) l[2] *= 0.6;
+      const Vec3 p =
+          vadd(origin, vadd(vscale(f.u, l[0]), vadd(vscale(f.v, l[1]), vscale(f.w, l[2]))));
+      double d = HUGE_VAL;
+      for (const StrutPiece& s : chords) d = std::min(d, distanceToSegment3(p, s.a, s.b));
+      worst = std::max(worst, std::abs(field.eval(p[0], p[1], p[2]) - (0.06 - std::min(d, reach))));
+    }
+    EXPECT_LT(worst, 1e-9) << (sphere ? "sphere" : "cylinder");
+    double onAxis = 0.0, bowed = 0.0;
+    for (const StrutPiece& s : chords) {
+      const Vec3 m = vscale(vadd(s.a, s.b), 0.5);
+      if (vlength(vsub(m, origin)) > 2.5) continue;
+      onAxis = std::max(onAxis, std::abs(field.eval(m[0], m[1], m[2]) - 0.06));
+      bowed = std::max(bowed, 0.06 - curved.eval(m[0], m[1], m[2]));
+    }
+    EXPECT_LT(onAxis, 1e-9);
+    EXPECT_GT(bowed, 0.006);  // round the axis a strut's chord misses its curve
+    // a tube (a shell) of straight struts meshes printable and is one beam a strut
+    const NodePtr part =
+        sphere
+            ? makeNode("difference", {},
+                       {makeNode("sphere",
+                                 {{"center", vec3Value(origin)}, {"radius", realValue(2.0)}}, {}),
+                        makeNode("sphere",
+                                 {{"center", vec3Value(origin)}, {"radius", realValue(1.2)}}, {})})
+            : makeNode("difference", {},
+                       {makeNode("cylinder",
+                                 {{"center", vec3Value(origin)},
+                                  {"axis", vec3Value(axis)},
+                                  {"radius", realValue(2.0)},
+                                  {"length", realValue(1.4)}},
+                                 {}),
+                        makeNode("cylinder",
+                                 {{"center", vec3Value(origin)},
+                                  {"axis", vec3Value(axis)},
+                                  {"radius", realValue(1.2)},
+                                  {"length", realValue(1.8)}},
+                                 {})});
+    const NodePtr model = makeNode("intersection", {}, {conformal("straight"), part});
+    MeshingOptions o;
+    o.bbox = {vsub(origin, {2.2, 2.2, 2.2}), vadd(origin, {2.2, 2.2, 2.2})};
+    o.resolution = 0.04;
+    EXPECT_TRUE(checkMesh(polygonize(compile(model), o)).printable()) << sphere;
+    const std::string path = ::testing::TempDir() + "/chords.3mf";
+    const BeamExportResult r = exportBeamLattice(model, {o.bbox, 0.06}, MeshSettings(),
+                                                 ThreeMfOptions(), "c", path, false);
+    ASSERT_TRUE(r.written);
+    const ThreeMfBeams back = read3mfBeams(path);
+    ASSERT_GT(back.beams, 200u);
+    double off = 0.0;
+    for (const auto& e : back.ends)
+      for (double t : {0.0, 0.5, 1.0}) {
+        const Vec3 a{e[0][0], e[0][1], e[0][2]}, b{e[1][0], e[1][1], e[1][2]};
+        const Vec3 p = vadd(a, vscale(vsub(b, a), t));
+        off = std::max(off, std::abs(field.eval(p[0], p[1], p[2]) - 0.06));
+      }
+    EXPECT_LT(off, 2e-6) << sphere;
+    const BeamExportResult chained =
+        exportBeamLattice(makeNode("intersection", {}, {conformal("curved"), part}), {o.bbox, 0.06},
+                          MeshSettings(), ThreeMfOptions(), "c", path, false);
+    EXPECT_LT(r.beams, chained.beams) << sphere;
+    // The lattice alone fills space: the bounds search reaches a million out, where a wedge's
+    // cell is long round the axis and thin across, and finds it unbounded (its layers there
+    // made in few bins, each of few chords).
+    const SolidBounds everywhere = findBounds(field);
+    EXPECT_FALSE(everywhere.bounded()) << sphere;
+    EXPECT_FALSE(everywhere.empty) << sphere;
+    const Vec3 far = vadd(origin, vscale(f.u, 5e5));
+    EXPECT_LE(field.eval(far[0], far[1], far[2]), 0.06) << sphere;
+    std::remove(path.c_str());
+  }
 }
 
 }  // namespace

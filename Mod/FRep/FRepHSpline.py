@@ -470,27 +470,3 @@ def export_mesh(obj, path, tolerance=0.01, force=False):
             obj.Label, report["text"]))
     mesh.write(path)
     return report
-
-
-def default_shell_thickness(obj):
-    """A shell thickness sized from the hspline: a twentieth of its bounding box's longest
-    side, rounded to two significant digits."""
-    box = obj.Shape.BoundBox if not obj.Shape.isNull() else None
-    longest = max(box.XLength, box.YLength, box.ZLength) if box else 0.0
-    if not longest > 0:
-        raise ValueError("%s: the surface has no extent to size a shell from" % obj.Label)
-    return float("%.2g" % (longest / 20.0))
-
-
-def struts_along(obj, thickness, cell=0.0, cell_type="octet", divisions=(0, 0)):
-    """A strut lattice in a shell `thickness` thick along the hspline: features (a strut
-    lattice cut to a box, bent by an FFD lattice fitted to the surface) whose cells follow its
-    parameters, as `frepcad hspline lattice` writes them (docs/struts.md). Returns the top
-    feature and frepcore.hspline_shell_lattice's dict (deviation: how closely it follows)."""
-    import FRepImport
-    result = frepcore.hspline_shell_lattice(_shared(obj), thickness, cell=cell,
-                                            cell_type=cell_type, divisions=tuple(divisions),
-                                            source=obj.Label)
-    model = frepcore.parse_model(result["model"], obj.Label)
-    top = FRepImport.add_model(model, obj.Document, "Struts along " + obj.Label)
-    return top, result

@@ -296,11 +296,11 @@ class StrutsCommand:
 
     def Activated(self):
         from PySide import QtGui
-        import FRepHSpline
+        import FRepHSplineStruts
         obj = _selected_hsplines()[0]
         doc = obj.Document
         try:
-            default = FRepHSpline.default_shell_thickness(obj)
+            default = FRepHSplineStruts.default_shell_thickness(obj)
         except ValueError as e:
             report("FRep hspline", str(e))
             return
@@ -310,7 +310,7 @@ class StrutsCommand:
         if not ok:
             return
         made = _add_in_one_step(doc, "Struts along %s" % obj.Label,
-                                lambda: FRepHSpline.struts_along(obj, thickness))
+                                lambda: FRepHSplineStruts.struts_along(obj, thickness))
         if made is None:
             return
         top, result = made

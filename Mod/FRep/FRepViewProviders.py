@@ -68,6 +68,13 @@ class ViewProviderAttachment(ViewProviderFRep):
         return True
 
 
+class ViewProviderStrutsAlong(ViewProviderFRep):
+    """Struts along an hspline: its own icon; the surface stays where it is in the tree."""
+
+    def getIcon(self):
+        return FRepPaths.icon("hspline_struts")
+
+
 class ViewProviderSection(ViewProviderFRep):
     """A section's wires: drawn thick and orange over the solid they cut."""
 

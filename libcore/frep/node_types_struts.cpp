@@ -9,6 +9,7 @@
 #include <string>
 
 #include "base/errors.h"
+#include "frep/conformal_chords.h"
 #include "frep/field_sources.h"
 #include "frep/node_helpers.h"
 #include "frep/periodic_segments.h"
@@ -81,11 +82,37 @@ Point3Slots sphereCoordinates(CompileContext& c, double arcPerRadianY, double ar
           b.affine(fromPole, fromPole, fromPole, arcPerRadianZ, 0.0, 0.0, 0.0)};
 }
 
+// Straight struts of conformal cells: radius - the distance to the chords (exact within half
+// the cell's shortest side, the blend, and twice the radius and node radius; no surface lies
+// farther out), and the node spheres at the nodes' images.
+Slot straightConformal(CompileContext& c, const UnitCell& cell, Slot radius) {
+  ConformalCells cells;
+  cells.cell = &cell;
+  cells.size = c.vec3("cell");
+  cells.origin = c.vec3("origin");
+  cells.axis = c.vec3("axis");
+  cells.sphere = c.param("conform").text == "sphere";
+  cells.around = int(c.real("around"));
+  cells.blend = c.real("blend");
+  const double nodeRadius = c.real("node_radius");
+  const double exact = conformalExactWithin(cells.size, cells.blend, c.real("radius"), nodeRadius);
+  ProgramBuilder& b = c.b;
+  const auto chords = std::make_shared<const ConformalChordsField>(cells, exact, false);
+  Slot field = b.sub(radius, b.external(chords, c.p.x, c.p.y, c.p.z));
+  if (nodeRadius > 0.0 && !cell.nodes.empty()) {
+    const auto nodes = std::make_shared<const ConformalChordsField>(cells, exact, true);
+    field = b.max(field, b.sub(b.constant(nodeRadius), b.external(nodes, c.p.x, c.p.y, c.p.z)));
+  }
+  return field;
+}
+
 Slot strutLattice(CompileContext& c) {
   const Slot radius = c.inputCount() ? c.input(0) : c.b.constant(c.real("radius"));
   const UnitCell& cell = unitCell(c.param("cell_type").text);
   const Vec3 size = c.vec3("cell");
   const std::string& conform = c.param("conform").text;
+  if ((conform == "cylinder" || conform == "sphere") && c.param("struts").text == "straight")
+    return straightConformal(c, cell, radius);
   if (conform == "cylinder" || conform == "sphere") {
     const double perTurn = c.real("around") / (2.0 * kPi);
     const Point3Slots q = conform == "cylinder"
@@ -123,8 +150,28 @@ std::string checkBlend(const Node& node) {
          "shortest side (" + numberText(most) + ")";
 }
 
+// Straight conformal struts gather a layer's struts (a whole turn of them next to the axis).
+std::string checkStraightConformal(const Node& node) {
+  const std::string& conform = node.param("conform").text;
+  if (conform == "none" || node.param("struts").text != "straight") return "";
+  ConformalCells cells;
+  cells.cell = &unitCell(node.param("cell_type").text);
+  cells.size = node.vec3("cell");
+  cells.sphere = conform == "sphere";
+  cells.around = int(node.real("around"));
+  const double gathered = largestLayerStruts(
+      cells, conformalExactWithin(cells.size, node.real("blend"), node.real("radius"),
+                                  node.real("node_radius")));
+  if (gathered <= kMostLayerStruts) return "";
+  return "parameter 'struts' = 'straight' with this 'cell' and 'around' gathers about " +
+         numberText(std::round(gathered)) + " struts for a turn of cells next to the " +
+         (cells.sphere ? "centre" : "axis") + "; at most " + numberText(kMostLayerStruts) +
+         " (fewer cells around, a cell less uneven, or a thinner radius)";
+}
+
 std::string checkStrutLattice(const Node& node) {
   if (std::string blend = checkBlend(node); !blend.empty()) return blend;
+  if (std::string straight = checkStraightConformal(node); !straight.empty()) return straight;
   // (a blend needs every strut near the cell: the cell is then folded by translation only)
   if (unitCell(node.param("cell_type").text).mirrorSymmetric && node.real("blend") == 0.0)
     return "";
@@ -266,7 +313,8 @@ void registerStrutLattices(Registry& r) {
          "conform = cylinder, q is (distance from the axis, angle round it times around * "
          "cell_y / 2 pi, height along it) before the folds; with conform = sphere (distance from "
          "origin, angle round the axis times around * cell_y / 2 pi, angle from the axis times "
-         "around * cell_z / 2 pi))",
+         "around * cell_z / 2 pi); with struts = straight, dist(p, [X(a), X(b)]) in the world "
+         "for each strut [a, b], X the map from q back to the world)",
          0,
          1,
          {choiceParam("cell_type", cellIds(), "The unit cell."), size,
@@ -282,7 +330,13 @@ void registerStrutLattices(Registry& r) {
                       "dome, a shell): x runs out from the centre, y round `axis` (longitude) "
                       "and z from its pole to the other (latitude), the cells narrowing towards "
                       "the poles."),
-          axis, around},
+          axis, around,
+          choiceParam("struts", {"curved", "straight"},
+                      "With conform = cylinder or sphere: 'curved' bends each strut with its "
+                      "cell; 'straight' keeps it straight from the image of one end to the "
+                      "image of the other (a chord: straight beams print stiffer and go into a "
+                      "3MF beam lattice one beam a strut). Cells as boxes have straight struts "
+                      "either way.")},
          strutLattice,
          nullptr,
          checkStrutLattice});

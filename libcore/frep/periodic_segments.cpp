@@ -63,7 +63,12 @@ PeriodicSegmentsField::PeriodicSegmentsField(const std::vector<StrutPiece>& segm
   if (segments.empty()) throw std::invalid_argument("a periodic network needs a segment");
   double longest = 0.0;
   for (const StrutPiece& s : segments) longest = std::max(longest, vlength(vsub(s.b, s.a)));
-  for (int a = 0; a < 3; ++a) binSize_[a] = period[a] / bins[a];
+  for (int a = 0; a < 3; ++a) {
+    binSize_[a] = period[a] / bins[a];
+    // (a bin of no size would never reach its neighbours' segments)
+    if (!(binSize_[a] > 0.0) || !std::isfinite(binSize_[a]) || bins[a] < 1)
+      throw std::invalid_argument("a segment network's bins need a positive finite size");
+  }
   const double halfDiagonal = 0.5 * vlength(binSize_);
   const double smallestBin = std::min({binSize_[0], binSize_[1], binSize_[2]});
   const double largestBin = std::max({binSize_[0], binSize_[1], binSize_[2]});

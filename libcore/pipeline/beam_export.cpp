@@ -81,6 +81,7 @@ void setConformal(BeamSource& s, const Node& lattice) {
   const double alongY = perTurn * size[1], alongZ = perTurn * size[2];  // arc per radian
   const double halfTurn = kPi * alongY, pole = kPi * alongZ;
   s.smallestCell = std::min({size[0], size[1], size[2]});
+  if (lattice.param("struts").text == "straight") s.chainDepth = 0;  // chords, as the field's
   s.toWorld = [=](const Vec3& q) {
     const double angle = q[1] / alongY;
     Vec3 local;
@@ -111,10 +112,11 @@ void setConformal(BeamSource& s, const Node& lattice) {
     for (const StrutPiece& p : strutsInBox(cell, size, {0, 0, 0}, coordinates)) {
       const double middle = 0.5 * (p.a[1] + p.b[1]);
       if (middle < -halfTurn || middle >= halfTurn) continue;  // its copy a turn away is kept
-      // on a sphere, the part between the poles (the field's latitude is in [0, pole])
+      // the part out from the axis or centre and, on a sphere, between the poles (the
+      // field's distance is at least 0 and its latitude in [0, pole])
       StrutPiece piece = p;
-      if (sphere &&
-          !clip(p.a, p.b, {-HUGE_VAL, -HUGE_VAL, 0.0}, {HUGE_VAL, HUGE_VAL, pole}, &piece))
+      if (!clip(p.a, p.b, {0.0, -HUGE_VAL, sphere ? 0.0 : -HUGE_VAL},
+                {HUGE_VAL, HUGE_VAL, sphere ? pole : HUGE_VAL}, &piece))
         continue;
       kept.push_back(piece);
     }

@@ -8,6 +8,7 @@ import pytest
 
 import FRepExamples
 import FRepHSpline as H
+import FRepHSplineStruts as S
 from FRepPaths import frepcore
 
 
@@ -400,9 +401,9 @@ def test_struts_along_an_arched_hspline_follow_it(doc):
     for i, dz in ((1, 5.0), (2, 9.0), (3, 9.0), (4, 5.0)):  # an arch along u
         H.nudge_cvs(obj, [(0, i, j) for j in range(5)], delta=(0, 0, dz))
     doc.recompute()
-    assert H.default_shell_thickness(obj) == pytest.approx(1.5)  # a twentieth of 30
+    assert S.default_shell_thickness(obj) == pytest.approx(1.5)  # a twentieth of 30
     FRepMeshing.set_preview_cells(doc, 160)
-    top, result = H.struts_along(obj, 3.0, cell=1.5)
+    top, result = S.struts_along(obj, 3.0, cell=1.5)
     doc.recompute()
     assert top.isValid(), top.getStatusString()
     assert top.Label == "Struts along " + obj.Label
@@ -420,5 +421,54 @@ def test_struts_along_an_arched_hspline_follow_it(doc):
         assert d < 1.5 + result["deviation"] + cell, (p.Vector, d)
     # the arch's top: the shell reaches above the surface's highest point
     assert top.Mesh.BoundBox.ZMax > obj.Shape.BoundBox.ZMax + 0.5
-    with pytest.raises(ValueError, match="thickness"):
-        H.struts_along(obj, 0.0)
+    assert float(top.Deviation) == pytest.approx(result["deviation"])
+    names = [o.Name for o in doc.Objects]
+    with pytest.raises(ValueError, match="property 'Thickness' = 0 mm is out of range"):
+        S.struts_along(obj, 0.0)
+    assert [o.Name for o in doc.Objects] == names  # (none left behind)
+
+
+def test_struts_along_follow_the_surface_when_it_changes(doc, tmp_path):
+    """The Struts along feature is fitted again when its surface's CVs move or a setting
+    changes: the cells rise with a raised arch; a wrong setting is one line naming the
+    property; Struts straight and the settings save and reopen."""
+    obj = H.make_plane(doc, 6, 5, 30.0, 20.0)
+    doc.recompute()
+    struts = S.make_struts_along(doc, obj, thickness=3.0, cell=1.5)
+    doc.recompute()
+    assert struts.isValid(), struts.getStatusString()
+    flat_top = struts.Mesh.BoundBox.ZMax
+    assert flat_top < 1.5 + 0.5
+    H.nudge_cvs(obj, [(0, i, j) for i in (2, 3) for j in range(5)], delta=(0, 0, 8.0))
+    doc.recompute()
+    assert struts.isValid(), struts.getStatusString()
+    assert struts.Mesh.BoundBox.ZMax > flat_top + 4.0  # the cells rose with the surface
+    assert 0 < float(struts.Deviation) < 0.05 * 3.0
+    raised = struts.Mesh.CountFacets
+    struts.CellType = "bcc"
+    doc.recompute()
+    assert struts.isValid() and struts.Mesh.CountFacets != raised
+    struts.Thickness = 0.0
+    doc.recompute()
+    assert not struts.isValid()
+    message = struts.getStatusString()
+    assert "property 'Thickness' = 0 mm is out of range; allowed: (0, inf) mm" in message
+    assert "\n" not in message.strip()
+    struts.Thickness = 3.0
+    struts.Struts = "straight"
+    doc.recompute()
+    assert struts.isValid(), struts.getStatusString()
+    path = str(tmp_path / "struts-along.FCStd")
+    name, facets = struts.Name, struts.Mesh.CountFacets
+    doc.saveAs(path)
+    again = FreeCAD.openDocument(path)
+    try:
+        reopened = again.getObject(name)
+        reopened.touch()
+        again.recompute()
+        assert reopened.isValid(), reopened.getStatusString()
+        assert reopened.Struts == "straight" and reopened.CellType == "bcc"
+        assert reopened.Surface.Name == obj.Name
+        assert reopened.Mesh.CountFacets == facets
+    finally:
+        FreeCAD.closeDocument(again.Name)

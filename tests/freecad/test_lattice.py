@@ -226,14 +226,54 @@ def test_straight_struts_follow_the_lattice_and_export_one_beam_a_strut(doc, tmp
     assert 100 < straight["beams"] < curved["beams"]
     bent.Struts = "straight"
     doc.recompute()
-    path = str(tmp_path / "straight.FCStd")
-    name = bent.Name
-    doc.saveAs(path)
-    again = FreeCAD.openDocument(path)
+    _reopens_straight(doc, bent, tmp_path / "straight.FCStd", middle, 0.1)
+
+
+def _reopens_straight(doc, obj, path, middle, radius):
+    """Saved and reopened, obj keeps Struts straight: the field at a chord's middle is
+    still the radius."""
+    name = obj.Name
+    doc.saveAs(str(path))
+    again = FreeCAD.openDocument(str(path))
     try:
         again.recompute()
         reopened = again.getObject(name)
         assert reopened.Struts == "straight" and reopened.isValid()
-        assert FRepTree.shape_of(reopened)(*middle) == pytest.approx(0.1, abs=1e-9)
+        assert FRepTree.shape_of(reopened)(*middle) == pytest.approx(radius, abs=1e-9)
     finally:
         FreeCAD.closeDocument(again.Name)
+
+
+def test_cells_round_a_cylinder_take_straight_struts(doc, tmp_path):
+    """Octet cells round a tube's axis: Struts 'straight' makes each strut the chord between
+    its ends round the axis (the field is the radius at the chord's middle; curved, the strut
+    bows away from it), one beam a strut in a beam 3MF, and the choice saves and reopens."""
+    import math
+    import FRepExport
+    cells = F.make("strut_lattice", doc, cell_type="simple_cubic", cell=(2.0, 2.0, 2.0),
+                   radius=0.2, conform="cylinder", around=16)
+    tube = F.make("difference", doc, inputs=[
+        F.make("cylinder", doc, radius=9.0, length=8.0),
+        F.make("cylinder", doc, radius=5.0, length=10.0)])
+    part = F.make("intersection", doc, inputs=[cells, tube])
+    doc.recompute()
+    assert part.isValid(), part.getStatusString()
+    assert cells.Struts == "curved"
+    # a strut round the axis at 6 from it, from one cell's corner to the next
+    turn = 2.0 * math.pi / 16
+    a, b = (6.0, 0.0, 0.0), (6.0 * math.cos(turn), 6.0 * math.sin(turn), 0.0)
+    middle = [(a[i] + b[i]) / 2 for i in range(3)]
+    assert FRepTree.shape_of(cells)(*middle) < 0.2 - 0.02  # curved: the chord misses it
+    curved = FRepExport.export_objects([part], str(tmp_path / "curved.3mf"), cells=96,
+                                       fmt="3mf-beams")
+    assert curved["written"], curved["text"]
+    cells.Struts = "straight"
+    doc.recompute()
+    assert part.isValid(), part.getStatusString()
+    assert FRepTree.shape_of(cells)(*middle) == pytest.approx(0.2, abs=1e-9)
+    straight = FRepExport.export_objects([part], str(tmp_path / "straight.3mf"), cells=96,
+                                         fmt="3mf-beams")
+    assert straight["written"], straight["text"]
+    assert frepcore.read_3mf_beams(str(tmp_path / "straight.3mf"))["beams"] == straight["beams"]
+    assert 100 < straight["beams"] < curved["beams"]
+    _reopens_straight(doc, cells, tmp_path / "round.FCStd", middle, 0.2)
