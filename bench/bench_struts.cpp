@@ -13,6 +13,10 @@
 //                       cells (each point pulled back through the lattice's inverse), 1 kept
 //                       straight between their ends' images (the struts binned in the world).
 //                       Counter `bytes`: the straight struts' bins.
+//   BM_ConformalLatticeEval/s/g  octet cells of 2 round an axis, 28 a turn (struts 0.3), at
+//                       points of a pipe of radii 7 and 10, 20 long: s = 0 the struts curved
+//                       round the axis, 1 straight (chords, each layer's made on first use:
+//                       the first iteration makes them).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -20,6 +24,7 @@
 
 #include "frep/ffd_field.h"
 #include "frep/field_sources.h"
+#include "frep/node_helpers.h"
 #include "frep/periodic_segments.h"
 #include "frep/straight_struts.h"
 #include "frep/strut_cells.h"
@@ -130,6 +135,42 @@ void BM_BentLatticeEval(benchmark::State& state) {
 }
 
 BENCHMARK(BM_BentLatticeEval)
+    ->ArgsProduct({{0, 1}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+void BM_ConformalLatticeEval(benchmark::State& state) {
+  const bool straight = state.range(0) != 0, gradient = state.range(1) != 0;
+  const Program p = compile(makeNode("strut_lattice",
+                                     {{"cell_type", textValue("octet")},
+                                      {"cell", vec3Value({2, 2, 2})},
+                                      {"radius", realValue(0.3)},
+                                      {"conform", textValue("cylinder")},
+                                      {"around", realValue(28)},
+                                      {"struts", textValue(straight ? "straight" : "curved")}},
+                                     {}));
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> radius(7.0, 10.0), angle(0.0, 2.0 * kPi), along(0, 20);
+  const std::size_t n = 100000;
+  std::vector<double> x(n), y(n), z(n), out(n);
+  std::vector<Dual> dx(n), dy(n), dz(n), dout(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r = radius(rng), a = angle(rng);
+    x[i] = r * std::cos(a), y[i] = r * std::sin(a), z[i] = along(rng);
+    dx[i] = Dual(x[i], 1, 0, 0), dy[i] = Dual(y[i], 0, 1, 0), dz[i] = Dual(z[i], 0, 0, 1);
+  }
+  for (auto _ : state) {
+    if (gradient)
+      p.evalGradientBatch(dx.data(), dy.data(), dz.data(), n, dout.data());
+    else
+      p.evalBatch(x.data(), y.data(), z.data(), n, out.data());
+  }
+  state.SetLabel(straight ? "straight" : "curved");
+  state.counters["points/s"] =
+      benchmark::Counter(double(n), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+BENCHMARK(BM_ConformalLatticeEval)
     ->ArgsProduct({{0, 1}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
