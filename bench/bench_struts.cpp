@@ -20,6 +20,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <functional>
 #include <random>
 
 #include "frep/ffd_field.h"
@@ -55,18 +56,16 @@ NodePtr latticeNode(int k) {
                   {});
 }
 
-void BM_LatticeEval(benchmark::State& state) {
-  const int k = int(state.range(0));
-  const bool gradient = state.range(1) != 0;
-  const NodePtr node = latticeNode(k);
-  const Program p = compile(node);
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<double> u(0.0, 50.0);  // 50 cells a side
+// Times the program over 100,000 points from `point`, values or values and gradients in
+// one batch per iteration, and reports the points a second.
+void timeBatch(benchmark::State& state, const Program& p, const std::function<Vec3()>& point,
+               bool gradient) {
   const std::size_t n = 100000;
   std::vector<double> x(n), y(n), z(n), out(n);
   std::vector<Dual> dx(n), dy(n), dz(n), dout(n);
   for (std::size_t i = 0; i < n; ++i) {
-    x[i] = u(rng), y[i] = u(rng), z[i] = u(rng);
+    const Vec3 q = point();
+    x[i] = q[0], y[i] = q[1], z[i] = q[2];
     dx[i] = Dual(x[i], 1, 0, 0), dy[i] = Dual(y[i], 0, 1, 0), dz[i] = Dual(z[i], 0, 0, 1);
   }
   for (auto _ : state) {
@@ -75,11 +74,26 @@ void BM_LatticeEval(benchmark::State& state) {
     else
       p.evalBatch(x.data(), y.data(), z.data(), n, out.data());
   }
+  state.counters["points/s"] =
+      benchmark::Counter(double(n), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void BM_LatticeEval(benchmark::State& state) {
+  const int k = int(state.range(0));
+  const bool gradient = state.range(1) != 0;
+  const NodePtr node = latticeNode(k);
+  const Program p = compile(node);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 50.0);  // 50 cells a side
+  timeBatch(
+      state, p,
+      [&] {
+        return Vec3{u(rng), u(rng), u(rng)};
+      },
+      gradient);
   state.SetLabel(k == 0   ? "gyroid"
                  : k == 7 ? "voronoi_foam"
                           : unitCells().at(std::size_t(k - 1)).id);
-  state.counters["points/s"] =
-      benchmark::Counter(double(n), benchmark::Counter::kIsIterationInvariantRate);
   double bytes =
       double(p.instructionCount() * sizeof(Instruction) + p.constants().size() * sizeof(double));
   if (k == 7)
@@ -113,23 +127,13 @@ void BM_BentLatticeEval(benchmark::State& state) {
   const Program p = compile(makeNode("ffd", params, {octet}));
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> along(-10.0, 10.0), across(-2.0, 2.0);
-  const std::size_t n = 100000;
-  std::vector<double> x(n), y(n), z(n), out(n);
-  std::vector<Dual> dx(n), dy(n), dz(n), dout(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 q = bend.deform({along(rng), across(rng), across(rng)});
-    x[i] = q[0], y[i] = q[1], z[i] = q[2];
-    dx[i] = Dual(x[i], 1, 0, 0), dy[i] = Dual(y[i], 0, 1, 0), dz[i] = Dual(z[i], 0, 0, 1);
-  }
-  for (auto _ : state) {
-    if (gradient)
-      p.evalGradientBatch(dx.data(), dy.data(), dz.data(), n, dout.data());
-    else
-      p.evalBatch(x.data(), y.data(), z.data(), n, out.data());
-  }
+  timeBatch(
+      state, p,
+      [&] {
+        return bend.deform({along(rng), across(rng), across(rng)});
+      },
+      gradient);
   state.SetLabel(straight ? "straight" : "curved");
-  state.counters["points/s"] =
-      benchmark::Counter(double(n), benchmark::Counter::kIsIterationInvariantRate);
   if (straight)
     state.counters["bytes"] = double(straightStrutFields(*octet, bend).struts->memoryBytes());
 }
@@ -151,23 +155,14 @@ void BM_ConformalLatticeEval(benchmark::State& state) {
                                      {}));
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> radius(7.0, 10.0), angle(0.0, 2.0 * kPi), along(0, 20);
-  const std::size_t n = 100000;
-  std::vector<double> x(n), y(n), z(n), out(n);
-  std::vector<Dual> dx(n), dy(n), dz(n), dout(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const double r = radius(rng), a = angle(rng);
-    x[i] = r * std::cos(a), y[i] = r * std::sin(a), z[i] = along(rng);
-    dx[i] = Dual(x[i], 1, 0, 0), dy[i] = Dual(y[i], 0, 1, 0), dz[i] = Dual(z[i], 0, 0, 1);
-  }
-  for (auto _ : state) {
-    if (gradient)
-      p.evalGradientBatch(dx.data(), dy.data(), dz.data(), n, dout.data());
-    else
-      p.evalBatch(x.data(), y.data(), z.data(), n, out.data());
-  }
+  timeBatch(
+      state, p,
+      [&] {
+        const double r = radius(rng), a = angle(rng);
+        return Vec3{r * std::cos(a), r * std::sin(a), along(rng)};
+      },
+      gradient);
   state.SetLabel(straight ? "straight" : "curved");
-  state.counters["points/s"] =
-      benchmark::Counter(double(n), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 BENCHMARK(BM_ConformalLatticeEval)
